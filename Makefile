@@ -1,0 +1,34 @@
+# `make demo` runs the main job on the embedded default probe; `make test` runs every test.
+# Each creates its own virtual environment in .venv on first use.
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+
+.PHONY: demo test lint bench sysdeps clean
+
+$(BIN)/.installed: pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/pip install -q --upgrade pip
+	$(BIN)/pip install -q -e '.[test]'
+	touch $@
+
+# System libraries for the OpenGL conformance tests (EGL + Mesa's llvmpipe), installed when missing.
+sysdeps:
+	@ldconfig -p | grep -q 'libEGL.so.1' && ldconfig -p | grep -q 'libGLX_mesa\|libgallium\|libEGL_mesa' || \
+	  { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libegl1 libgl1-mesa-dri libegl-mesa0 >/dev/null; }
+
+demo: $(BIN)/.installed
+	$(BIN)/bakeshop info
+	$(BIN)/bakeshop convert bakeshop/data/default_probe.hdr demo/default_probe.exr
+
+test: $(BIN)/.installed sysdeps
+	$(BIN)/python -m pytest -n 2 -q
+
+lint: $(BIN)/.installed
+	$(BIN)/ruff check bakeshop tests benchmarks
+
+bench: $(BIN)/.installed
+	for b in benchmarks/bench_*.py; do $(BIN)/python $$b || exit 1; done
+
+clean:
+	rm -rf $(VENV) demo

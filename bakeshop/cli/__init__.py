@@ -1,0 +1,1 @@
+"""The ``bakeshop`` command: argument parsing, progress and messages. No algorithm lives here."""

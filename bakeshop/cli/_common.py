@@ -1,0 +1,36 @@
+"""Small helpers shared by the command modules: argument types and output safety."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import click
+
+from bakeshop.errors import ArgumentError
+
+
+def refuse_overwriting_inputs(output: str | os.PathLike, *inputs: str | os.PathLike) -> None:
+    """Raise :class:`ArgumentError` when ``output`` is one of ``inputs`` (same file on disk)."""
+    out = Path(output)
+    for path in inputs:
+        p = Path(path)
+        if out.resolve() == p.resolve() or (out.exists() and p.exists() and out.samefile(p)):
+            raise ArgumentError("refusing to write over the command's own input", output)
+
+
+def parse_size(text: str) -> tuple[int, int] | int:
+    """Parse ``'WxH'`` into ``(width, height)`` or ``'N'`` into ``N`` (positive integers)."""
+    try:
+        parts = [int(p) for p in text.lower().split("x")]
+    except ValueError:
+        parts = []
+    if len(parts) not in (1, 2) or min(parts) < 1:
+        raise ArgumentError(f"invalid size {text!r}: expected N or WxH with positive integers")
+    return parts[0] if len(parts) == 1 else (parts[0], parts[1])
+
+
+#: click type for input files: must exist, readable, not a directory.
+INPUT = click.Path(exists=True, dir_okay=False, readable=True, path_type=Path)
+#: click type for output files.
+OUTPUT = click.Path(dir_okay=False, writable=True, path_type=Path)

@@ -1,0 +1,147 @@
+"""Image files to arrays and back.
+
+``read_image(path)`` returns a float32 ``(H, W, C)`` array, C in {1, 3, 4}, linear values, row 0 at
+the top of the picture; ``write_image(path, image, **options)`` writes one, atomically. The codec
+is chosen by the file's extension (the table :data:`CODECS`, plain data) and, on read, checked
+against the file's magic bytes: a file whose content is another format than its name says is
+refused with an error naming what it really is.
+
+Each codec is one module of this package exposing ``NAME``, ``sniff(head) -> bool``,
+``read(path, **options) -> (image, metadata)`` and ``write(path, image, **options)``.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+from pathlib import Path
+
+import numpy as np
+
+from bakeshop.errors import BakeshopError, FormatError, UnsupportedError
+from bakeshop.io._files import atomic_path
+
+#: codec module -> the file extensions it owns.
+CODECS: dict[str, tuple[str, ...]] = {
+    "pfm": (".pfm",),
+    "rgbe": (".hdr", ".pic", ".rgbe"),
+    "tga": (".tga",),
+    "exr": (".exr",),
+    "ldr": (".png", ".jpg", ".jpeg"),
+}
+
+#: bytes read from the head of a file to recognise its format.
+SNIFF_BYTES = 64
+
+__all__ = ["CODECS", "read_image", "write_image", "codec_for", "sniff_format"]
+
+
+def _module(name: str):
+    return importlib.import_module(f"bakeshop.io.{name}")
+
+
+def codec_for(path: str | os.PathLike) -> str:
+    """The codec name that owns ``path``'s extension; :class:`UnsupportedError` if none does."""
+    ext = Path(path).suffix.lower()
+    for name, extensions in CODECS.items():
+        if ext in extensions:
+            return name
+    known = ", ".join(e for exts in CODECS.values() for e in exts)
+    raise UnsupportedError(f"unknown image extension {ext!r}; bakeshop reads and writes {known}", path)
+
+
+def sniff_format(head: bytes) -> str | None:
+    """The codec whose magic bytes match ``head``, or None (TGA has no magic and never matches)."""
+    for name in CODECS:
+        if name != "tga" and _module(name).sniff(head):
+            return name
+    return None
+
+
+def read_image(path: str | os.PathLike, *, with_metadata: bool = False, **options):
+    """Read an image file as a float32 ``(H, W, C)`` array.
+
+    Parameters
+    ----------
+    path : path-like
+        The file; its extension picks the codec (see :data:`CODECS`).
+    with_metadata : bool
+        Also return a dict of what the file says beyond the pixels: at least ``format`` and
+        ``stored`` (the sample type in the file), plus codec-specific entries.
+    **options
+        Passed to the codec's reader (for example ``raw=True`` for Radiance files, which keeps
+        the stored values instead of dividing by the file's EXPOSURE).
+
+    Returns
+    -------
+    image : (H, W, C) float32
+    metadata : dict, only with ``with_metadata=True``
+
+    Raises
+    ------
+    bakeshop.errors.BakeshopError
+        Unknown extension, a file that is another format than its name says, or a truncated,
+        corrupt or absurdly large file.
+    """
+    name = codec_for(path)
+    try:
+        with open(path, "rb") as f:
+            head = f.read(SNIFF_BYTES)
+    except OSError as e:
+        raise BakeshopError(e.strerror or str(e), path) from None
+    codec = _module(name)
+    if not codec.sniff(head):
+        actual = sniff_format(head)
+        if actual is not None and actual != name:
+            raise FormatError(
+                f"the file is {_module(actual).NAME}, not {codec.NAME} as its extension says; "
+                "rename it",
+                path,
+            )
+        if name != "tga":
+            raise FormatError(f"not a {codec.NAME} file (bad magic bytes)", path)
+    try:
+        image, meta = codec.read(Path(path), **options)
+    except BakeshopError as e:
+        if e.path is None:
+            e.path = os.fspath(path)
+        raise
+    except MemoryError:
+        raise FormatError("the image is too large for this machine's memory", path) from None
+    meta.setdefault("format", codec.NAME)
+    return (image, meta) if with_metadata else image
+
+
+def write_image(path: str | os.PathLike, image, **options) -> None:
+    """Write ``image`` ((H, W) or (H, W, C) array, C in {1, 3, 4}) to ``path``, atomically.
+
+    The codec is picked by the extension; ``options`` go to it (see each codec's ``write``). The
+    file appears complete or not at all: it is written beside the target and renamed.
+    """
+    name = codec_for(path)
+    image = as_image(image, path)
+    codec = _module(name)
+    with atomic_path(path) as tmp:
+        try:
+            codec.write(tmp, image, **options)
+        except BakeshopError as e:
+            if e.path is None:
+                e.path = os.fspath(path)
+            raise
+
+
+def as_image(image, path=None) -> np.ndarray:
+    """Return ``image`` as a C-contiguous ``(H, W, C)`` array (C in {1, 3, 4}) of its own dtype.
+
+    A 2-D array becomes one channel. Any other shape raises :class:`ArgumentError`.
+    """
+    from bakeshop.errors import ArgumentError
+
+    a = np.asarray(image)
+    if a.ndim == 2:
+        a = a[:, :, None]
+    if a.ndim != 3 or a.shape[2] not in (1, 3, 4) or a.shape[0] < 1 or a.shape[1] < 1:
+        raise ArgumentError(
+            f"an image must be (H, W) or (H, W, C) with C in 1, 3, 4; got shape {a.shape}", path
+        )
+    return np.ascontiguousarray(a)
