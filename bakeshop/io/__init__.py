@@ -7,12 +7,14 @@ against the file's magic bytes: a file whose content is another format than its 
 refused with an error naming what it really is.
 
 Each codec is one module of this package exposing ``NAME``, ``sniff(head) -> bool``,
-``read(path, **options) -> (image, metadata)`` and ``write(path, image, **options)``.
+``read(path, *, ...) -> (image, metadata)`` and ``write(path, image, *, ...)``, whose options are
+keyword-only parameters (an option a codec does not take is refused with the list it does).
 """
 
 from __future__ import annotations
 
 import importlib
+import inspect
 import os
 from pathlib import Path
 
@@ -90,6 +92,7 @@ def read_image(path: str | os.PathLike, *, with_metadata: bool = False, **option
     except OSError as e:
         raise BakeshopError(e.strerror or str(e), path) from None
     codec = _module(name)
+    _check_options(codec.read, options, codec.NAME, path)
     if not codec.sniff(head):
         actual = sniff_format(head)
         if actual is not None and actual != name:
@@ -121,6 +124,7 @@ def write_image(path: str | os.PathLike, image, **options) -> None:
     name = codec_for(path)
     image = as_image(image, path)
     codec = _module(name)
+    _check_options(codec.write, options, codec.NAME, path)
     with atomic_path(path) as tmp:
         try:
             codec.write(tmp, image, **options)
@@ -128,6 +132,21 @@ def write_image(path: str | os.PathLike, image, **options) -> None:
             if e.path is None:
                 e.path = os.fspath(path)
             raise
+
+
+def _check_options(function, options: dict, format_name: str, path) -> None:
+    """Refuse options that the codec function does not take, naming the ones it does."""
+    parameters = inspect.signature(function).parameters
+    accepted = [n for n, p in parameters.items() if p.kind is p.KEYWORD_ONLY]
+    unknown = sorted(set(options) - set(accepted))
+    if unknown:
+        from bakeshop.errors import ArgumentError
+
+        raise ArgumentError(
+            f"{format_name} takes no option {', '.join(map(repr, unknown))}; "
+            f"its options are: {', '.join(accepted) or 'none'}",
+            path,
+        )
 
 
 def as_image(image, path=None) -> np.ndarray:
