@@ -137,6 +137,8 @@ def write_image(path: str | os.PathLike, image, **options) -> None:
 def _check_options(function, options: dict, format_name: str, path) -> None:
     """Refuse options that the codec function does not take, naming the ones it does."""
     parameters = inspect.signature(function).parameters
+    if any(p.kind is p.VAR_KEYWORD for p in parameters.values()):
+        return
     accepted = [n for n, p in parameters.items() if p.kind is p.KEYWORD_ONLY]
     unknown = sorted(set(options) - set(accepted))
     if unknown:
