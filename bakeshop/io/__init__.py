@@ -32,10 +32,14 @@ CODECS: dict[str, tuple[str, ...]] = {
     "ldr": (".png", ".jpg", ".jpeg"),
 }
 
+#: codecs that store floating-point values; the others store 8- or 16-bit integers that the
+#: readers scale to [0, 1] (display-encoded pictures, never linearised silently).
+HDR_CODECS = frozenset({"pfm", "rgbe", "exr"})
+
 #: bytes read from the head of a file to recognise its format.
 SNIFF_BYTES = 64
 
-__all__ = ["CODECS", "read_image", "write_image", "codec_for", "sniff_format"]
+__all__ = ["CODECS", "HDR_CODECS", "read_image", "write_image", "codec_for", "sniff_format"]
 
 
 def _module(name: str):
