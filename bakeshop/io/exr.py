@@ -1,0 +1,303 @@
+"""OpenEXR (.exr) through the reference implementation's own Python bindings (``OpenEXR`` 3.x).
+
+Reading returns the data window of one part (the first unless ``part=`` says otherwise); tiled
+and mip-mapped files give their top level. Half, float and uint channels all become float32
+(half and uint values exactly, uint up to 2^24). The channels that make the image are found by
+name, in the default layer or a named one (``layer="diffuse"`` reads ``diffuse.R`` ...):
+
+====================  ==========================================
+channels in the layer  image
+====================  ==========================================
+R, G, B (+ A)          (H, W, 3) RGB or (H, W, 4) RGBA
+Y                      (H, W, 1)
+Y, A                   (H, W, 4): Y copied to R, G and B, then A
+any single channel     (H, W, 1) (a depth ``Z``, a mask ...)
+====================  ==========================================
+
+Other channels of the part are listed in the metadata as ``ignored_channels``. Luminance-chroma
+(``RY``, ``BY``) and sub-sampled channels are refused rather than read wrongly.
+
+Writing stores half floats by default (``pixel_type="float"`` for 32-bit), as scanlines with
+the named compression. Half holds magnitudes up to 65504: finite values beyond are *clamped* to
++-65504 (OpenEXR's own conversion would make them infinite, and one infinite texel poisons every
+integral over a light probe); NaN and +-Inf are stored as they are. Write ``pixel_type="float"``
+to keep a sun brighter than 65504.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import sys
+import tempfile
+
+import numpy as np
+import OpenEXR
+
+from bakeshop.errors import (
+    ArgumentError,
+    BakeshopError,
+    FormatError,
+    UnsupportedError,
+    validate_choice,
+)
+from bakeshop.io._files import MAX_PIXELS, check_dimensions
+
+NAME = "OpenEXR"
+MAGIC = b"\x76\x2f\x31\x01"
+
+#: user name -> OpenEXR compression, every method this build of OpenEXR offers. zstd and the
+#: htj2k methods are recent (OpenEXR 3.4): older readers cannot open files written with them.
+COMPRESSIONS = {
+    name.removesuffix("_COMPRESSION").lower(): value
+    for name, value in OpenEXR.Compression.__members__.items()
+    if not name.startswith("NUM_")
+}
+#: the methods that reproduce every half and float value exactly.
+LOSSLESS = ("none", "rle", "zips", "zip", "piz", "zstd", "htj2k256", "htj2k32")
+
+PIXEL_TYPES = {"half": np.float16, "float": np.float32}
+HALF_MAX = 65504.0
+
+_STORED = {np.dtype(np.float16): "half", np.dtype(np.float32): "float", np.dtype(np.uint32): "uint"}
+
+
+def sniff(head: bytes) -> bool:
+    """True when ``head`` starts with the OpenEXR magic number 76 2f 31 01."""
+    return head[:4] == MAGIC
+
+
+@contextlib.contextmanager
+def _library_messages():
+    """Collect what OpenEXR prints while reading (Python stdout and C stderr) into a list.
+
+    The bindings report a corrupt chunk by printing a warning and returning an empty file, and
+    the C core prints its own diagnostics on stderr; both become the reason of the
+    :class:`FormatError` instead of stray lines on the terminal.
+    """
+    messages: list[str] = []
+    text = io.StringIO()
+    with tempfile.TemporaryFile() as err:
+        sys.stderr.flush()
+        saved = os.dup(2)
+        os.dup2(err.fileno(), 2)
+        try:
+            with contextlib.redirect_stdout(text):
+                yield messages
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            err.seek(0)
+            lines = text.getvalue() + err.read().decode("utf-8", "replace")
+            messages.extend(line.strip() for line in lines.splitlines() if line.strip())
+
+
+def _reason(messages: list[str], error: Exception | None = None) -> str:
+    said = [str(error)] if error is not None and str(error) else []
+    said += [m.removeprefix("Warning: ") for m in messages]
+    detail = "; ".join(said)[:300]
+    return "corrupt or truncated OpenEXR file" + (f" (OpenEXR says: {detail})" if detail else "")
+
+
+def _open(path, *, header_only: bool):
+    f, error = None, None
+    with _library_messages() as messages:
+        try:
+            f = OpenEXR.File(os.fspath(path), separate_channels=True, header_only=header_only)
+        except MemoryError:
+            raise
+        except Exception as e:  # the bindings raise RuntimeError, ValueError, IndexError ...
+            error = e
+    if f is None or not f.parts:
+        raise FormatError(_reason(messages, error))
+    return f
+
+
+def _window(box) -> tuple[tuple[int, int], tuple[int, int]]:
+    lo, hi = box
+    return (int(lo[0]), int(lo[1])), (int(hi[0]), int(hi[1]))
+
+
+def _pick_channels(names: list[str], layer: str | None) -> tuple[str, list[str], bool]:
+    """The layer read, its channel names in image order, and whether Y must become RGB."""
+    layers: dict[str, dict[str, str]] = {}
+    for name in names:
+        prefix, _, base = name.rpartition(".")
+        layers.setdefault(prefix, {})[base.upper()] = name
+
+    def recognise(chans: dict[str, str]) -> tuple[list[str], bool] | None:
+        if "RY" in chans or "BY" in chans:
+            raise UnsupportedError(
+                "luminance-chroma (Y, RY, BY) OpenEXR images are not supported; "
+                "convert them to RGB with OpenEXR's exrmultipart or another tool"
+            )
+        if {"R", "G", "B"} <= chans.keys():
+            return [chans[c] for c in "RGBA" if c in chans], False
+        if "Y" in chans:
+            return ([chans["Y"], chans["A"]], True) if "A" in chans else ([chans["Y"]], False)
+        if len(chans) == 1:
+            return list(chans.values()), False
+        return None
+
+    if layer is not None:
+        if layer not in layers:
+            raise ArgumentError(
+                f"no layer {layer!r} in the file; its layers: "
+                + ", ".join(repr(k) for k in sorted(layers))
+            )
+        found = recognise(layers[layer])
+        if found is None:
+            raise UnsupportedError(
+                f"layer {layer!r} has channels {sorted(layers[layer].values())}, "
+                "none of which make an RGB, RGBA, Y or single-channel image"
+            )
+        return layer, *found
+    if "" in layers and (found := recognise(layers[""])) is not None:
+        return "", *found
+    candidates = {k: f for k, v in layers.items() if (f := recognise(v)) is not None}
+    if len(candidates) == 1:
+        (name, found), *_ = candidates.items()
+        return name, *found
+    raise UnsupportedError(
+        f"cannot tell which of the channels {sorted(names)} make the image"
+        + (
+            "; pass layer= one of " + ", ".join(repr(k) for k in sorted(candidates))
+            if candidates
+            else ": no RGB, RGBA or Y set"
+        )
+    )
+
+
+def read(
+    path, *, part: int = 0, layer: str | None = None, max_pixels: int = MAX_PIXELS
+) -> tuple[np.ndarray, dict]:
+    """Read one part of an OpenEXR file as a float32 image.
+
+    Parameters
+    ----------
+    path : path-like
+    part : int
+        Index of the part of a multi-part file.
+    layer : str, optional
+        The layer whose channels make the image (``"diffuse"`` for ``diffuse.R`` ...); by
+        default the unnamed layer, or the only layer holding a recognisable channel set.
+    max_pixels : int
+        Refuse data windows larger than this before reading any pixels.
+
+    Returns
+    -------
+    image : (H, W, C) float32
+        The data window, row 0 at the top (its ``ymin``).
+    metadata : dict
+        ``stored`` (sample type, ``"half"``, ``"float"`` or ``"uint"``, or a ``/``-joined list
+        when the channels differ), ``channel_types`` (name -> type), ``channels`` (the names
+        read, in image order), ``ignored_channels``, ``layer``, ``compression``,
+        ``data_window`` and ``display_window`` (``((xmin, ymin), (xmax, ymax))``, inclusive),
+        ``storage`` (``"scanline"`` or ``"tiled"``), ``levels`` (``"one"``, ``"mipmap"``,
+        ``"ripmap"``: only the top level is read), ``parts`` and, when the file says,
+        ``envmap`` (``"latlong"`` or ``"cube"``).
+    """
+    header_file = _open(path, header_only=True)
+    if not 0 <= part < len(header_file.parts):
+        raise ArgumentError(f"part {part} requested, the file has {len(header_file.parts)}")
+    header = header_file.header(part)
+    storage = header["type"].name
+    if storage.startswith("deep"):
+        raise UnsupportedError("deep OpenEXR images (several samples per pixel) are not supported")
+    data_window = _window(header["dataWindow"])
+    (x0, y0), (x1, y1) = data_window
+    check_dimensions(x1 - x0 + 1, y1 - y0 + 1, max_pixels=max_pixels)
+    descriptions = {c.name: c for c in header["channels"]}
+    layer_name, names, grey_alpha = _pick_channels(list(descriptions), layer)
+    for name in names:
+        c = descriptions[name]
+        if c.xSampling != 1 or c.ySampling != 1:
+            raise UnsupportedError(
+                f"channel {name!r} is sub-sampled ({c.xSampling}x{c.ySampling}); "
+                "bakeshop reads only full-resolution channels"
+            )
+    del header_file
+
+    f = _open(path, header_only=False)
+    channels = f.channels(part)
+    missing = [n for n in names if n not in channels]
+    if missing:
+        raise FormatError(_reason([f"channels {missing} could not be read"]))
+    planes = [channels[n].pixels for n in names]
+    height, width = planes[0].shape[:2]
+    if any(p.shape != (height, width) for p in planes):
+        raise FormatError(_reason(["channels of different sizes"]))
+    if grey_alpha:
+        planes = [planes[0], planes[0], planes[0], planes[1]]
+    image = np.empty((height, width, len(planes)), np.float32)
+    for i, plane in enumerate(planes):
+        image[:, :, i] = plane
+
+    types = {n: _STORED.get(channels[n].pixels.dtype, str(channels[n].pixels.dtype)) for n in names}
+    tiles = header.get("tiles")
+    levels = {"ONE_LEVEL": "one", "MIPMAP_LEVELS": "mipmap", "RIPMAP_LEVELS": "ripmap"}
+    meta = {
+        "stored": "/".join(sorted(set(types.values()))),
+        "channel_types": types,
+        "channels": names,
+        "ignored_channels": sorted(set(descriptions) - set(names)),
+        "layer": layer_name,
+        "compression": header["compression"].name.removesuffix("_COMPRESSION").lower(),
+        "data_window": data_window,
+        "display_window": _window(header["displayWindow"]),
+        "storage": "tiled" if storage == "tiledimage" else "scanline",
+        "levels": levels.get(tiles.mode.name, tiles.mode.name) if tiles is not None else "one",
+        "parts": len(f.parts),
+    }
+    if "envmap" in header:
+        meta["envmap"] = header["envmap"].name.removeprefix("ENVMAP_").lower()
+    return image, meta
+
+
+def to_half(image: np.ndarray) -> np.ndarray:
+    """Convert to float16, clamping finite values beyond +-65504 (NaN and +-Inf kept).
+
+    Rounding is IEEE round-to-nearest-even, as OpenEXR's own float-to-half conversion.
+    """
+    a = np.asarray(image)
+    with np.errstate(over="ignore"):
+        half = a.astype(np.float16)
+    overflow = np.isinf(half) & np.isfinite(a)
+    if overflow.any():
+        half[overflow] = np.copysign(np.float16(HALF_MAX), a[overflow])
+    return half
+
+
+def write(path, image, *, pixel_type: str = "half", compression: str = "zip") -> None:
+    """Write an image as a scanline OpenEXR file.
+
+    Parameters
+    ----------
+    path : path-like
+    image : (H, W, C) array, C in {1, 3, 4}
+        Values as they are (integers become floats of the same value). C = 1 is written as
+        channel ``Y``, C = 3 as ``R, G, B``, C = 4 as ``R, G, B, A``.
+    pixel_type : {"half", "float"}
+        Sample type in the file. Half clamps finite values beyond +-65504 (see the module notes).
+    compression : str
+        One of :data:`COMPRESSIONS`: ``"zip"`` (default), ``"none"``, ``"rle"``, ``"zips"``,
+        ``"piz"``, ``"zstd"``, ``"htj2k256"``, ``"htj2k32"`` are lossless; ``"pxr24"`` is
+        lossless for half but rounds float to 24 bits; ``"b44"``, ``"b44a"``, ``"dwaa"``,
+        ``"dwab"`` are lossy.
+    """
+    validate_choice(pixel_type, tuple(PIXEL_TYPES), "EXR pixel type")
+    validate_choice(compression, tuple(COMPRESSIONS), "EXR compression")
+    a = np.asarray(image)
+    if a.dtype.kind not in "fiu":
+        raise ArgumentError(f"cannot write {a.dtype} samples to OpenEXR")
+    a = to_half(a) if pixel_type == "half" else a.astype(np.float32, copy=False)
+    names = {1: "Y", 3: "RGB", 4: "RGBA"}[a.shape[2]]
+    channels = {n: np.ascontiguousarray(a[:, :, i]) for i, n in enumerate(names)}
+    header = {"compression": COMPRESSIONS[compression], "type": OpenEXR.scanlineimage}
+    try:
+        OpenEXR.File(header, channels).write(os.fspath(path))
+    except MemoryError:
+        raise
+    except Exception as e:
+        raise BakeshopError(f"OpenEXR could not write the file: {e}") from None
