@@ -1,0 +1,211 @@
+"""Portable float map (PFM): uncompressed float32 pixels behind a three-token text header.
+
+Layout of a file::
+
+    PF\\n                 magic: "PF" colour (3 channels), "Pf" grey (1), "PF4" RGBA (4, read only)
+    768 512\\n            width height
+    -1.0\\n               scale: its sign is the byte order (negative: little-endian), its
+                         magnitude a free number kept as metadata ``scale``
+    <float32 pixels>     rows stored bottom to top, channels interleaved
+
+The header tokens are separated by any whitespace; ``#`` comments up to the end of a line are
+skipped between tokens (netpbm-style, which some writers emit), and a CR LF after the scale
+(files written in text mode on Windows) is recognised by the file's size.
+
+Reading maps the file into memory (``numpy.memmap``, copy-on-write): a file in the machine's byte
+order is returned as a flipped view of the map, so opening a multi-gigabyte PFM costs no copy and
+no time until pixels are touched; the array is writable and writes stay private to the process.
+A file in the other byte order is converted into a native float32 array in memory (one copy:
+code downstream expects native float32, not a byte-swapped dtype).
+
+``PF4`` is a four-channel extension written by a few tools (not part of the original format); it
+is read but never written: bakeshop writes only the two standard kinds.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+
+import numpy as np
+
+from bakeshop.errors import ArgumentError, FormatError
+from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
+
+NAME = "PFM"
+
+_CHANNELS = {b"PF": 3, b"Pf": 1, b"PF4": 4}
+_MAGIC_OF = {3: "PF", 1: "Pf"}
+_WHITESPACE = b" \t\r\n\v\f"
+#: a header longer than this (comments included) is not a PFM header.
+_MAX_HEADER = 1 << 16
+#: rows converted per block, so neither reading nor writing holds a second copy of the image.
+_BLOCK_ROWS = 256
+_NATIVE = "<" if sys.byteorder == "little" else ">"
+
+
+def sniff(head: bytes) -> bool:
+    """True if ``head`` starts like a PFM file (``PF``, ``Pf`` or ``PF4``, then whitespace)."""
+    return any(
+        head.startswith(magic) and len(head) > len(magic) and head[len(magic)] in _WHITESPACE
+        for magic in _CHANNELS
+    )
+
+
+def _tokens(head: bytes, count: int):
+    """The first ``count`` whitespace-separated tokens of ``head`` and the offset after the last.
+
+    ``#`` starts a comment that runs to the end of its line. Raises FormatError when the header
+    is not complete within ``head``.
+    """
+    tokens = []
+    i, n = 0, len(head)
+    while len(tokens) < count:
+        while i < n and (head[i] in _WHITESPACE or head[i] == ord("#")):
+            if head[i] == ord("#"):
+                while i < n and head[i] not in b"\r\n":
+                    i += 1
+            else:
+                i += 1
+        start = i
+        while i < n and head[i] not in _WHITESPACE and head[i] != ord("#"):
+            i += 1
+        if i >= n:
+            raise FormatError("truncated or malformed PFM header")
+        tokens.append(head[start:i])
+    return tokens, i
+
+
+def _header(path: str | os.PathLike, max_pixels: int) -> dict:
+    """Parse the header of a PFM file and check it against the file's size and the size limits.
+
+    Returns
+    -------
+    dict
+        ``width``, ``height``, ``channels``, ``byteorder`` ('<' or '>'), ``scale`` (magnitude),
+        ``offset`` (where the pixels start) and ``size`` (the file's size in bytes).
+    """
+    with open(path, "rb") as f:
+        head = f.read(_MAX_HEADER)
+        size = os.fstat(f.fileno()).st_size
+    (magic, w, h, s), end = _tokens(head, 4)
+    if magic not in _CHANNELS:
+        raise FormatError(f"not a PFM file: magic {magic[:8]!r}")
+    if not (w.isdigit() and h.isdigit()):
+        raise FormatError(f"malformed PFM header: size {w[:20]!r} x {h[:20]!r}")
+    try:
+        scale = float(s)
+    except ValueError:
+        scale = math.nan
+    if not math.isfinite(scale):
+        raise FormatError(f"malformed PFM header: scale {s[:20]!r}")
+    width, height, channels = int(w), int(h), _CHANNELS[magic]
+    check_dimensions(width, height, channels, max_pixels=max_pixels)
+    needed = width * height * channels * 4
+    # The scale ends with exactly one whitespace byte; a CR LF pair shows in the file's size.
+    offset = end + 1
+    if head[end : end + 2] == b"\r\n" and size - offset == needed + 1:
+        offset += 1
+    check_payload(needed, size - offset)
+    return {
+        "width": width,
+        "height": height,
+        "channels": channels,
+        "byteorder": "<" if math.copysign(1.0, scale) < 0 else ">",
+        "scale": abs(scale),
+        "offset": offset,
+        "size": size,
+    }
+
+
+def read(path: str | os.PathLike, *, memmap: bool = True, max_pixels: int = MAX_PIXELS):
+    """Read a PFM file.
+
+    Parameters
+    ----------
+    path : path-like
+    memmap : bool
+        True (default): a file in the machine's byte order is returned as a copy-on-write view
+        of a memory map of the file (no copy; pixels are read from disk when touched). False:
+        the pixels are read into memory. Files in the other byte order are always converted into
+        memory.
+    max_pixels : int
+        Largest accepted width * height.
+
+    Returns
+    -------
+    image : (H, W, C) float32
+        C is 3 for ``PF``, 1 for ``Pf``, 4 for ``PF4``; row 0 is the top of the picture (the
+        file's last row).
+    metadata : dict
+        ``format`` ('PFM'), ``stored`` ('float32'), ``byteorder`` ('<' little-endian, '>'
+        big-endian), ``scale`` (the magnitude of the header's scale) and ``memmap`` (whether the
+        array is a view of the file).
+    """
+    header = _header(path, max_pixels)
+    height, width, channels = shape = header["height"], header["width"], header["channels"]
+    stored = np.dtype(header["byteorder"] + "f4")
+    native = header["byteorder"] == _NATIVE
+    if native and memmap:
+        mapped = np.memmap(path, dtype=stored, mode="c", offset=header["offset"], shape=shape)
+        image = mapped.view(np.ndarray)[::-1]
+    else:
+        # Blocks of rows, flipped and converted to native order on the way in: the peak memory is
+        # the image plus one block.
+        image = np.empty(shape, np.float32)
+        with open(path, "rb") as f:
+            f.seek(header["offset"])
+            for top in range(0, height, _BLOCK_ROWS):
+                rows = min(_BLOCK_ROWS, height - top)
+                block = np.fromfile(f, dtype=stored, count=rows * width * channels)
+                if block.size != rows * width * channels:
+                    raise FormatError("truncated PFM pixel data")
+                image[height - top - rows : height - top] = block.reshape(rows, width, -1)[::-1]
+    metadata = {
+        "format": NAME,
+        "stored": "float32",
+        "byteorder": header["byteorder"],
+        "scale": header["scale"],
+        "memmap": bool(native and memmap),
+    }
+    return image, metadata
+
+
+def write(path: str | os.PathLike, image, *, byteorder: str = "<", scale: float = 1.0) -> None:
+    """Write a 1- or 3-channel image as a PFM file (``Pf`` or ``PF``), rows bottom to top.
+
+    Parameters
+    ----------
+    path : path-like
+    image : (H, W) or (H, W, C) array, C in {1, 3}
+        Converted to float32 (values outside float32's range become +-inf).
+    byteorder : {'<', '>'}
+        '<' little-endian (the common choice; written as a negative scale), '>' big-endian.
+    scale : float
+        The magnitude written in the header (positive, finite); readers mostly ignore it.
+    """
+    from bakeshop.errors import validate_choice
+    from bakeshop.io import as_image
+
+    validate_choice(byteorder, ("<", ">"), "PFM byte order")
+    scale = float(scale)
+    if not (math.isfinite(scale) and scale > 0):
+        raise ArgumentError(f"the PFM scale must be positive and finite; got {scale!r}")
+    image = as_image(image)
+    if image.dtype.kind not in "fiub":
+        raise ArgumentError(f"cannot write {image.dtype} pixels as PFM float32")
+    height, width, channels = image.shape
+    if channels not in _MAGIC_OF:
+        raise ArgumentError(
+            f"PFM stores 1 (grey) or 3 (RGB) channels, not {channels}; "
+            "drop the alpha channel first (image[..., :3])"
+        )
+    signed = -scale if byteorder == "<" else scale
+    header = f"{_MAGIC_OF[channels]}\n{width} {height}\n{signed!r}\n".encode("ascii")
+    dtype = np.dtype(byteorder + "f4")
+    with open(path, "wb") as f:
+        f.write(header)
+        for stop in range(height, 0, -_BLOCK_ROWS):
+            block = image[max(stop - _BLOCK_ROWS, 0) : stop][::-1]
+            f.write(np.ascontiguousarray(block, dtype=dtype).data)
