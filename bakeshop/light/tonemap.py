@@ -14,7 +14,8 @@ import math
 
 import numpy as np
 
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.statistics import luminance
 
 #: IEC 61966-2-1 sRGB transfer function constants: the linear segment's end in linear light,
 #: its slope, and the power segment's offset and exponent.
@@ -82,11 +83,10 @@ def srgb_encode(linear) -> np.ndarray:
     Part 2-1: Default RGB colour space - sRGB.
     """
     a = _float_array(linear)
-    t = a.dtype.type
-    mag = np.abs(a)
+    mag = np.abs(a, dtype=np.float64)  # float64 inside: encode(1) is exactly 1 in float32 too
     with np.errstate(invalid="ignore"):
-        power = t(1.0 + SRGB_OFFSET) * mag ** t(1.0 / SRGB_GAMMA) - t(SRGB_OFFSET)
-        v = np.where(mag <= t(SRGB_LINEAR_LIMIT), t(SRGB_SLOPE) * mag, power)
+        power = (1.0 + SRGB_OFFSET) * mag ** (1.0 / SRGB_GAMMA) - SRGB_OFFSET
+        v = np.where(mag <= SRGB_LINEAR_LIMIT, SRGB_SLOPE * mag, power)
     return np.copysign(v, a).astype(a.dtype, copy=False)
 
 
@@ -112,9 +112,373 @@ def srgb_decode(encoded) -> np.ndarray:
     IEC 61966-2-1:1999 (see :func:`srgb_encode`).
     """
     a = _float_array(encoded)
-    t = a.dtype.type
-    mag = np.abs(a)
+    mag = np.abs(a, dtype=np.float64)
     with np.errstate(invalid="ignore"):
-        power = ((mag + t(SRGB_OFFSET)) / t(1.0 + SRGB_OFFSET)) ** t(SRGB_GAMMA)
-        v = np.where(mag <= t(SRGB_ENCODED_LIMIT), mag / t(SRGB_SLOPE), power)
+        power = ((mag + SRGB_OFFSET) / (1.0 + SRGB_OFFSET)) ** SRGB_GAMMA
+        v = np.where(mag <= SRGB_ENCODED_LIMIT, mag / SRGB_SLOPE, power)
     return np.copysign(v, a).astype(a.dtype, copy=False)
+
+
+def _colour_channels(image) -> tuple[np.ndarray, int]:
+    """``image`` as a float array and the number of its leading colour channels (alpha excluded).
+
+    (H, W) is one grey channel; (..., C) with C in {1, 3} is all colour; C = 4 keeps its last
+    channel as alpha, untouched by tone operators and encoding.
+    """
+    a = _float_array(image)
+    if a.ndim == 2:
+        return a, 0  # 0: the whole array is one grey channel
+    if a.ndim < 2 or a.shape[-1] not in (1, 3, 4):
+        raise ArgumentError(f"an image must be (H, W) or (..., C) with C in 1, 3, 4; got {a.shape}")
+    return a, min(a.shape[-1], 3)
+
+
+def _luminance(a: np.ndarray, colour: int) -> np.ndarray:
+    if colour == 0:
+        return a
+    return luminance(a[..., :colour])
+
+
+def reinhard(image, *, white: float | None = None) -> np.ndarray:
+    """Reinhard's global operator with a white point, applied to luminance, hue preserved.
+
+    With L the luminance of a pixel (Rec. 709 weights) and L_white the smallest luminance that
+    maps to white (Reinhard et al. 2002, eq. 4)::
+
+        L_d = L (1 + L / L_white^2) / (1 + L)
+
+    and every colour channel is scaled by L_d / L, so the ratios between R, G and B (hue and
+    saturation) are kept. ``white=None`` is L_white -> infinity, eq. 3: L_d = L / (1 + L).
+    The scene scaling of eq. 2 (key a over the log-average luminance) is the exposure step
+    before the operator: see :func:`auto_exposure`.
+
+    Parameters
+    ----------
+    image : (H, W) or (..., C) float, C in {1, 3, 4}
+        Linear, exposed values. Alpha (C = 4) passes through.
+    white : float or None
+        L_white, in the units of ``image`` after exposure (> 0).
+
+    Returns
+    -------
+    ndarray, shape and float dtype of ``image``
+        Display-referred linear values. Luminance is in [0, 1) (reaches 1 at L = L_white and
+        exceeds it above); a saturated colour can have one channel above 1 while its luminance
+        is below, so clamp before encoding. Pixels of luminance <= 0 are left unchanged; NaN
+        and infinite luminance give NaN.
+
+    References
+    ----------
+    E. Reinhard, M. Stark, P. Shirley and J. Ferwerda, "Photographic Tone Reproduction for
+    Digital Images", ACM TOG 21(3) (SIGGRAPH 2002), doi:10.1145/566654.566575.
+    """
+    a, colour = _colour_channels(image)
+    t = a.dtype.type
+    lum = np.maximum(_luminance(a, colour), t(0))
+    if white is None:
+        scale = t(1) / (t(1) + lum)
+    else:
+        white = float(white)
+        if not (np.isfinite(white) and white > 0):
+            raise ArgumentError(f"Reinhard white point must be positive and finite, got {white}")
+        with np.errstate(invalid="ignore"):
+            scale = (t(1) + lum / t(white * white)) / (t(1) + lum)
+    out = a.copy()
+    if colour == 0:
+        out *= scale
+    else:
+        out[..., :colour] *= scale[..., None]
+    return out
+
+
+#: Narkowicz's fit of the ACES RRT+ODT (sRGB, 1000 nit) curve: x (a x + b) / (x (c x + d) + e).
+NARKOWICZ = (2.51, 0.03, 2.43, 0.59, 0.14)
+#: Hill's fit: linear sRGB -> ACES AP1 with the RRT's saturation (rows sum to 1) ...
+HILL_INPUT = np.array(
+    [[0.59719, 0.35458, 0.04823], [0.07600, 0.90834, 0.01566], [0.02840, 0.13383, 0.83777]]
+)
+#: ... and back, with the ODT's desaturation.
+HILL_OUTPUT = np.array(
+    [[1.60475, -0.53108, -0.07367], [-0.10208, 1.10813, -0.00605], [-0.00327, -0.07276, 1.07602]]
+)
+
+ACES_FITS = ("hill", "narkowicz")
+
+
+def aces_filmic(image, *, fit: str = "hill") -> np.ndarray:
+    """ACES-fitted filmic tone curve: a cheap fit of the ACES RRT + sRGB ODT.
+
+    ``fit="hill"`` (default) is Stephen Hill's fit (BakingLab, 2016): the colour is taken to
+    ACES AP1 with the RRT saturation (matrix :data:`HILL_INPUT`), each channel goes through::
+
+        f(v) = (v (v + 0.0245786) - 0.000090537) / (v (0.983729 v + 0.4329510) + 0.238081)
+
+    and it comes back with the ODT desaturation (:data:`HILL_OUTPUT`). It follows the reference
+    transform closely, including its hue and saturation shifts.
+    ``fit="narkowicz"`` is Krzysztof Narkowicz's per-channel curve (2016)::
+
+        f(x) = x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)
+
+    which matches the luminance curve only (it over-saturates bright colours).
+
+    Parameters
+    ----------
+    image : (H, W) or (..., C) float, C in {1, 3, 4}
+        Linear scene values after exposure (mid grey near 0.18). Grey images (C = 1) go through
+        the curve alone (both matrices map grey to grey). Alpha passes through.
+    fit : {"hill", "narkowicz"}
+
+    Returns
+    -------
+    ndarray, shape and float dtype of ``image``
+        Display-referred linear values clamped to [0, 1] (both fits saturate as published);
+        encode with :func:`srgb_encode`. NaN stays NaN.
+
+    References
+    ----------
+    Academy Color Encoding System, RRT and ODT (Academy S-2014-004).
+    K. Narkowicz, "ACES Filmic Tone Mapping Curve", 2016,
+    https://knarkowicz.wordpress.com/2016/01/06/aces-filmic-tone-mapping-curve/.
+    S. Hill, BakingLab ``ACES.hlsl``, 2016, https://github.com/TheRealMJP/BakingLab.
+    """
+    validate_choice(fit, ACES_FITS, "ACES fit")
+    a, colour = _colour_channels(image)
+    out = a.copy()
+    x = (out if colour == 0 else out[..., :colour]).astype(np.float64)
+    with np.errstate(invalid="ignore", over="ignore"):
+        if fit == "narkowicz":
+            pa, pb, pc, pd, pe = NARKOWICZ
+            y = x * (pa * x + pb) / (x * (pc * x + pd) + pe)
+        else:
+            if colour == 3:
+                x = x @ HILL_INPUT.T
+            y = (x * (x + 0.0245786) - 0.000090537) / (x * (0.983729 * x + 0.4329510) + 0.238081)
+            if colour == 3:
+                y = y @ HILL_OUTPUT.T
+    y = np.clip(y, 0.0, 1.0)
+    if colour == 0:
+        out[...] = y
+    else:
+        out[..., :colour] = y
+    return out
+
+
+TONE_OPERATORS = ("none", "reinhard", "aces")
+
+
+def tonemap(image, *, ev: float = 0.0, operator: str = "none", white: float | None = None):
+    """Exposure, then a tone operator, then clamping: display-referred linear values in [0, 1].
+
+    Parameters
+    ----------
+    image : (H, W) or (..., C) float, C in {1, 3, 4}
+        Linear scene values.
+    ev : float
+        Exposure in stops, applied first (:func:`exposure`).
+    operator : {"none", "reinhard", "aces"}
+        "none" only clamps; "reinhard" is :func:`reinhard` with ``white``; "aces" is
+        :func:`aces_filmic` with Hill's fit.
+    white : float or None
+        Reinhard's white point (after exposure); ignored by the other operators.
+
+    Returns
+    -------
+    ndarray, shape of ``image``
+        Values in [0, 1] (NaN becomes 0), ready for :func:`to_srgb8`. Alpha is clamped only.
+    """
+    validate_choice(operator, TONE_OPERATORS, "tone operator")
+    a = exposure(image, ev)
+    if operator == "reinhard":
+        a = reinhard(a, white=white)
+    elif operator == "aces":
+        a = aces_filmic(a)
+    return np.clip(np.nan_to_num(a, nan=0.0), 0, 1)
+
+
+DITHERS = ("none", "triangular")
+
+
+def to_srgb8(linear, *, dither: str = "none", seed: int = 0) -> np.ndarray:
+    """Display-referred linear values -> 8-bit sRGB code values (uint8), with optional dither.
+
+    Colour channels are clamped to [0, 1], encoded with :func:`srgb_encode` and rounded to
+    ``round(255 V)``; alpha (C = 4) is clamped and quantised without encoding. NaN becomes 0.
+
+    ``dither="triangular"`` adds, before rounding, noise with a triangular distribution on
+    (-1, 1) code values (the sum of two uniform variables, TPDF), which makes the expected
+    quantised value equal the unquantised one and turns banding in smooth gradients into
+    fine grain; values that clip (encoded <= 0 or >= 1) are left undithered so black and
+    blown-out white stay clean. The noise is seeded (``seed``), so a bake is reproducible.
+    The rounding error is then up to one code value instead of half.
+
+    Returns
+    -------
+    ndarray of uint8, shape of ``linear``
+    """
+    validate_choice(dither, DITHERS, "dither")
+    a, colour = _colour_channels(linear)
+    v = np.clip(np.nan_to_num(a.astype(np.float32), nan=0.0), 0, 1)
+    if colour == 0:
+        v = srgb_encode(v)
+    else:
+        v[..., :colour] = srgb_encode(v[..., :colour])
+    v *= np.float32(255)
+    if dither == "triangular":
+        rng = np.random.default_rng(seed)
+        noise = rng.random(v.shape, np.float32) - rng.random(v.shape, np.float32)
+        inside = (v > 0) & (v < 255)
+        if colour == 4:
+            inside[..., 3] = False
+        v += np.where(inside, noise, np.float32(0))
+    return np.clip(np.rint(v), 0, 255).astype(np.uint8)
+
+
+#: Standard deviation of the centre component of the metering weight, in short sides of the frame.
+CENTER_SIGMA = 1 / 6
+
+
+def metering_weights(shape: tuple[int, int], *, center_weight: float = 0.75) -> np.ndarray:
+    """Centre-weighted metering weights of an (H, W) frame, summing to 1.
+
+    ``w = (1 - W) / (H W) + W g / sum(g)`` with ``g = exp(-r^2 / (2 sigma^2))``, r the distance
+    of a pixel centre from the frame centre and sigma = 1/6 of the frame's short side
+    (:data:`CENTER_SIGMA`): a fraction W of the total weight lies in a smooth centre spot (86%
+    of it within the central disc whose diameter is 2/3 of the short side), the rest is spread
+    evenly over the frame, as a camera's centre-weighted average metering does (which gives the
+    centre 60 to 80 percent). W = 0 is the plain average over the frame; W = 1 meters the
+    centre spot only. The spot is smooth so that a bright object crossing it changes the
+    exposure gradually.
+
+    Parameters
+    ----------
+    shape : (H, W)
+    center_weight : float in [0, 1]
+        W, the fraction of the total weight given to the centre spot.
+
+    Returns
+    -------
+    (H, W) float64, sums to 1
+    """
+    w_c = float(center_weight)
+    if not 0.0 <= w_c <= 1.0:
+        raise ArgumentError(f"centre weight must be in [0, 1], got {center_weight}")
+    h, w = (int(s) for s in shape[:2])
+    if h < 1 or w < 1:
+        raise ArgumentError(f"cannot meter an empty frame of shape {shape}")
+    sigma = CENTER_SIGMA * min(h, w)
+    y = np.arange(h) + 0.5 - h / 2
+    x = np.arange(w) + 0.5 - w / 2
+    g = np.exp(-(y[:, None] ** 2 + x[None, :] ** 2) / (2 * sigma * sigma))
+    return (1.0 - w_c) / (h * w) + w_c * g / g.sum()
+
+
+def log_average_luminance(image, *, center_weight: float = 0.75, delta: float = 1e-4) -> float:
+    """Weighted log-average luminance ``exp(sum w log(delta + L) / sum w)`` of a frame.
+
+    Reinhard et al. 2002, eq. 1 (the scene's "key"), with the centre-weighted ``w`` of
+    :func:`metering_weights` instead of a plain average. Pixels whose luminance is not finite
+    are left out (their weight too); negative luminance counts as 0. ``delta`` (in the image's
+    units) keeps black pixels from sending the logarithm to -infinity.
+
+    Parameters
+    ----------
+    image : (H, W) or (H, W, C) float, C in {1, 3, 4}
+    center_weight : float in [0, 1]
+    delta : float > 0
+
+    Returns
+    -------
+    float, in the units of ``image``
+    """
+    a, colour = _colour_channels(image)
+    if a.ndim not in (2, 3):
+        raise ArgumentError(f"metering needs one (H, W) or (H, W, C) frame; got {a.shape}")
+    if not delta > 0:
+        raise ArgumentError(f"delta must be positive, got {delta}")
+    lum = _luminance(a, colour).astype(np.float64)
+    w = metering_weights(lum.shape, center_weight=center_weight)
+    ok = np.isfinite(lum)
+    if not (ok & (w > 0)).any():
+        raise ArgumentError("cannot meter a frame without finite pixels")
+    logs = np.log(delta + np.maximum(lum[ok], 0.0))
+    return float(np.exp(np.sum(w[ok] * logs) / np.sum(w[ok])))
+
+
+#: Reinhard's "middle grey" key: the exposed log-average luminance of a normal-key scene.
+MIDDLE_GREY = 0.18
+
+
+def auto_exposure(
+    image, *, center_weight: float = 0.75, key: float = MIDDLE_GREY, delta: float = 1e-4
+) -> float:
+    """Exposure in EV that maps the centre-weighted log-average luminance to ``key``.
+
+    ``ev = log2(key / L_avg)`` with L_avg from :func:`log_average_luminance`: after
+    ``exposure(image, ev)`` the frame's metered log-average is ``key`` (Reinhard et al. 2002,
+    eq. 2, with a = ``key``; 0.18 is middle grey, lower keys for dark scenes).
+
+    Returns
+    -------
+    float, stops
+    """
+    if not key > 0:
+        raise ArgumentError(f"key must be positive, got {key}")
+    avg = log_average_luminance(image, center_weight=center_weight, delta=delta)
+    return float(np.log2(key / avg))
+
+
+def adapt_exposure(
+    targets,
+    *,
+    frame_time: float,
+    tau_brighter: float = 0.5,
+    tau_darker: float = 2.0,
+    start: float | None = None,
+) -> np.ndarray:
+    """Temporal adaptation of exposure over a sequence of frames, as an eye or camera adapts.
+
+    The adapted exposure follows each frame's target (for example :func:`auto_exposure`) with
+    a first-order exponential lag in stops::
+
+        ev[k] = ev[k-1] + (target[k] - ev[k-1]) (1 - exp(-frame_time / tau))
+
+    with tau = ``tau_brighter`` when the scene got brighter than the eye is adapted to
+    (target < ev[k-1]: less exposure is needed) and ``tau_darker`` otherwise; eyes adapt to
+    light faster than to dark. The update is the exact solution of
+    d ev / dt = (target - ev) / tau over one frame, so a step in the target is followed by
+    1 - exp(-t / tau) of the step after time t: 63.2% after one time constant, whatever the
+    frame rate.
+
+    Parameters
+    ----------
+    targets : (N,) float
+        Target exposure of each frame, stops.
+    frame_time : float
+        Seconds between frames (1 / fps), > 0.
+    tau_brighter, tau_darker : float
+        Time constants in seconds (> 0).
+    start : float or None
+        Exposure the eye is adapted to before the first frame; None starts adapted to the
+        first frame's target.
+
+    Returns
+    -------
+    (N,) float64
+        Adapted exposure of each frame, stops.
+    """
+    t = np.asarray(targets, dtype=np.float64).reshape(-1)
+    checks = {"frame_time": frame_time, "tau_brighter": tau_brighter, "tau_darker": tau_darker}
+    for name, value in checks.items():
+        if not (np.isfinite(value) and value > 0):
+            raise ArgumentError(f"{name} must be positive and finite, got {value}")
+    if not np.isfinite(t).all():
+        raise ArgumentError("target exposures must be finite")
+    gain_brighter = -np.expm1(-frame_time / tau_brighter)
+    gain_darker = -np.expm1(-frame_time / tau_darker)
+    out = np.empty_like(t)
+    ev = t[0] if (start is None and t.size) else start
+    for k, target in enumerate(t):
+        gain = gain_brighter if target < ev else gain_darker
+        ev = ev + (target - ev) * gain
+        out[k] = ev
+    return out
