@@ -12,3 +12,13 @@ OIIO_SRGB_ATOL = 2e-5
 FLOAT32_VALUE = 1e-6
 #: the mean of an image after resampling, relative (the issue asks 1e-5; float32 gives ~1e-7).
 FLOAT32_MEAN = 1e-6
+
+#: DFG terms by 4096-sample Hammersley importance sampling vs brute-force quadrature (absolute).
+DFG_QUADRATURE_ATOL = 4e-3
+#: Karis' analytic fit (after Lazarov 2013) vs UE4's Schlick-Smith DFG table: RMS over the table
+#: and worst texel (absolute). The fit is loose: its own author quotes it as approximate.
+DFG_FIT_RMS = 0.08
+DFG_FIT_MAX = 0.21
+
+#: exact Fresnel reflectance vs the amplitude (rs, rp) equations, both float64 (absolute).
+FRESNEL_AMPLITUDE_ATOL = 1e-7
