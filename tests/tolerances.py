@@ -22,3 +22,35 @@ DFG_FIT_MAX = 0.21
 
 #: exact Fresnel reflectance vs the amplitude (rs, rp) equations, both float64 (absolute).
 FRESNEL_AMPLITUDE_ATOL = 1e-7
+
+#: real SH basis vs scipy's complex sph_harm_y converted to the real form, degree <= 48 (abs).
+SH_BASIS = 1e-10
+#: SH Gram matrix by exact Gauss-Legendre x trapezoid quadrature vs the identity (absolute).
+SH_QUADRATURE = 1e-12
+#: irradiance method "auto" vs "exact": RMS over the DIM relative to its RMS, and the worst texel
+#: relative to its own exact value (the issue's bound: 0.1 % RMS, 0.5 % max).
+IRRADIANCE_AUTO_RMS = 1e-3
+IRRADIANCE_AUTO_MAX = 5e-3
+#: "exact" irradiance vs closed forms at float64 (relative).
+IRRADIANCE_EXACT = 1e-9
+#: sun detection on synthetic skies: direction (degrees) and solid angle (relative).
+SUN_DIRECTION_DEG = 0.5
+SUN_SOLID_ANGLE = 0.10
+
+#: unit normals after one renormalisation: float64 and float32 (absolute, per component).
+FLOAT64_UNIT = 1e-14
+FLOAT32_UNIT = 4e-7
+#: ground-truth normals by central differences (step 1e-5) vs a method exact for the surface.
+GROUND_TRUTH_EXACT_DEG = 1e-4
+#: mean error of the exact blend when the detail is 16x finer than the macro curvature matters.
+GROUND_TRUTH_CURVATURE_DEG = 0.03
+
+# --- bakeshop.sphere ---------------------------------------------------------------------------
+#: unit length of computed directions (absolute).
+SPHERE_DIRECTION_ATOL = 1e-12
+#: directions -> coordinates -> texel centres, per texel of the largest edge (float64 formulas).
+SPHERE_COORD_ATOL = 1e-12
+#: sum of a layout's texel solid angles vs 4 pi (relative; telescoping sums are exact).
+SPHERE_SOLID_ANGLE_RTOL = 1e-12
+#: one texel's solid angle vs 40-point Gauss quadrature of the layout's density (relative).
+SPHERE_TEXEL_OMEGA_RTOL = 1e-9
