@@ -1,0 +1,85 @@
+"""Mip chains of 2-D textures and cube maps, as the GPU texture containers (DDS, KTX) hold them."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from bakeshop.errors import ArgumentError
+from bakeshop.io._files import MAX_SIDE
+
+#: Sample types the containers store, by name.
+DTYPES = {"float16": np.dtype("<f2"), "float32": np.dtype("<f4")}
+
+#: Most mip levels a texture may have (a 2^20 side has 21).
+MAX_LEVELS = 21
+
+
+def mip_size(size: int, level: int) -> int:
+    """Side of mip ``level`` of a texture whose level 0 is ``size`` (floor halving, at least 1)."""
+    return max(1, size >> level)
+
+
+def check_levels(mips) -> tuple[list[np.ndarray], bool]:
+    """Validate a mip chain and return it as a list of float arrays plus whether it is a cube.
+
+    Parameters
+    ----------
+    mips : sequence of arrays
+        Level 0 first. Each level is ``(H, W, C)`` (a 2-D texture; ``(H, W)`` is one channel) or
+        ``(6, S, S, C)`` (a cube map in OpenGL face order), C in 1..4, level ``m`` of size
+        ``max(1, size0 >> m)`` per side, all with the same channels.
+
+    Returns
+    -------
+    levels : list of arrays of shape (H, W, C) or (6, S, S, C)
+    cube : bool
+    """
+    if isinstance(mips, np.ndarray) or not len(mips):
+        raise ArgumentError("a mip chain is a non-empty list of arrays, level 0 first")
+    if len(mips) > MAX_LEVELS:
+        raise ArgumentError(f"at most {MAX_LEVELS} mip levels, got {len(mips)}")
+    first = np.asarray(mips[0])
+    cube = first.ndim == 4
+    levels = []
+    for m, level in enumerate(mips):
+        a = np.asarray(level)
+        if a.dtype.kind not in "fiu":
+            raise ArgumentError(f"mip {m}: cannot store {a.dtype} samples as floats")
+        if cube:
+            if a.ndim != 4 or a.shape[0] != 6 or a.shape[1] != a.shape[2]:
+                raise ArgumentError(f"mip {m} of a cube map must be (6, S, S, C); got {a.shape}")
+            shape = a.shape[1:3]
+        else:
+            if a.ndim == 2:
+                a = a[..., None]
+            if a.ndim != 3:
+                raise ArgumentError(f"mip {m} of a 2-D texture must be (H, W, C); got {a.shape}")
+            shape = a.shape[:2]
+        if m == 0:
+            height, width = shape
+            channels = a.shape[-1]
+            if not (1 <= height <= MAX_SIDE and 1 <= width <= MAX_SIDE):
+                raise ArgumentError(f"texture size {width}x{height} out of range")
+            if not 1 <= channels <= 4:
+                raise ArgumentError(f"a texture has 1 to 4 channels, got {channels}")
+        expected = (mip_size(height, m), mip_size(width, m))
+        if shape != expected or a.shape[-1] != channels:
+            raise ArgumentError(
+                f"mip {m} must be {expected[1]}x{expected[0]} with {channels} channels "
+                f"(each level halves the previous); got shape {a.shape}"
+            )
+        if a.dtype.kind == "f" and np.isnan(a).any():
+            raise ArgumentError(f"mip {m} holds NaN values")
+        levels.append(a)
+    if max(height, width) >> (len(levels) - 1) == 0:
+        raise ArgumentError(f"{len(levels)} mip levels is more than a {width}x{height} texture has")
+    return levels, cube
+
+
+def encode(level: np.ndarray, dtype: np.dtype) -> np.ndarray:
+    """``level`` as little-endian ``dtype`` samples; half clamps finite values to +-65504."""
+    if dtype == DTYPES["float16"]:
+        from bakeshop.io.exr import to_half
+
+        return to_half(level.astype(np.float32, copy=False)).astype("<f2", copy=False)
+    return level.astype(dtype, copy=False)

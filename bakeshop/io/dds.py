@@ -1,0 +1,230 @@
+"""DirectDraw Surface (DDS): float cube maps and 2-D textures with their mip chains.
+
+The container Direct3D engines load prefiltered environment maps from. Layout of a file written
+here (Microsoft, "DDS file layout", "DDS_HEADER", "DDS_HEADER_DXT10"; all fields little-endian
+uint32)::
+
+    "DDS "                  magic
+    DDS_HEADER (124 bytes)  size 124, flags CAPS|HEIGHT|WIDTH|PITCH|PIXELFORMAT[|MIPMAPCOUNT],
+                            height, width, pitch (bytes per row of level 0), depth 0, mip count,
+                            11 reserved, DDS_PIXELFORMAT (size 32, flags FOURCC, "DX10"),
+                            caps TEXTURE[|COMPLEX|MIPMAP], caps2 CUBEMAP|all six faces (cubes)
+    DDS_HEADER_DXT10        DXGI format, dimension TEXTURE2D (3), misc flags TEXTURECUBE (4)
+                            for cubes, array size 1, misc flags 2 (alpha mode) 0
+    pixels                  for each face (+X, -X, +Y, -Y, +Z, -Z; one for a 2-D texture):
+                            for each mip level: its rows top to bottom, texels RGBA interleaved
+
+Sample types: ``float16`` (the default: half the memory, what engines sample environment maps
+in) and ``float32``; 1, 2 and 4 channels are stored as R, RG and RGBA (DXGI_FORMAT_R16_FLOAT,
+R16G16_FLOAT, R16G16B16A16_FLOAT or the 32-bit ones). Three channels are padded to RGBA with
+alpha 1: DXGI has no 16-bit RGB format, and filtering 32-bit RGB is optional in Direct3D. Half
+clamps finite values beyond +-65504 (a sun is brighter than that in some probes: use float32 to
+keep it).
+
+Cube faces are stored in OpenGL's order and orientation (bakeshop's internal cube), which is
+also Direct3D's face order and addressing rule; a Direct3D engine whose world is left-handed
+(z forward) wants the ``directx`` face set of :func:`bakeshop.sphere.cube.cube_to_faces` instead,
+which the caller passes in.
+
+The reader takes what this writer writes plus the legacy floating-point FourCC codes (D3DFMT
+111 to 116) that older tools write without the DX10 header; block-compressed formats are refused
+with :class:`~bakeshop.errors.UnsupportedError`.
+"""
+
+from __future__ import annotations
+
+import os
+import struct
+
+import numpy as np
+
+from bakeshop.errors import FormatError, UnsupportedError, validate_choice
+from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload
+from bakeshop.io._levels import DTYPES, MAX_LEVELS, check_levels, encode, mip_size
+
+NAME = "DDS"
+MAGIC = b"DDS "
+
+# DDS_HEADER flags, caps and pixel-format flags (Microsoft's names).
+DDSD_CAPS, DDSD_HEIGHT, DDSD_WIDTH, DDSD_PITCH = 0x1, 0x2, 0x4, 0x8
+DDSD_PIXELFORMAT, DDSD_MIPMAPCOUNT, DDSD_DEPTH = 0x1000, 0x20000, 0x800000
+DDPF_FOURCC = 0x4
+DDSCAPS_COMPLEX, DDSCAPS_TEXTURE, DDSCAPS_MIPMAP = 0x8, 0x1000, 0x400000
+DDSCAPS2_CUBEMAP, DDSCAPS2_ALLFACES, DDSCAPS2_VOLUME = 0x200, 0xFC00, 0x200000
+D3D10_RESOURCE_DIMENSION_TEXTURE2D = 3
+DDS_RESOURCE_MISC_TEXTURECUBE = 0x4
+
+#: DXGI_FORMAT -> (sample dtype name, channels), the uncompressed float formats.
+DXGI_FORMATS = {
+    2: ("float32", 4),  # R32G32B32A32_FLOAT
+    6: ("float32", 3),  # R32G32B32_FLOAT (read only)
+    10: ("float16", 4),  # R16G16B16A16_FLOAT
+    16: ("float32", 2),  # R32G32_FLOAT
+    34: ("float16", 2),  # R16G16_FLOAT
+    41: ("float32", 1),  # R32_FLOAT
+    54: ("float16", 1),  # R16_FLOAT
+}
+#: legacy D3DFORMAT FourCC codes of float formats -> (dtype name, channels).
+D3D_FORMATS = {
+    111: ("float16", 1),
+    112: ("float16", 2),
+    113: ("float16", 4),
+    114: ("float32", 1),
+    115: ("float32", 2),
+    116: ("float32", 4),
+}
+
+_HEADER = struct.Struct("<4s7I44s2I4s5I5I")  # magic, DDS_HEADER with its DDS_PIXELFORMAT
+_DX10 = struct.Struct("<5I")
+
+__all__ = ["write_dds", "read_dds", "sniff"]
+
+
+def sniff(head: bytes) -> bool:
+    """True if ``head`` starts with the DDS magic and a 124-byte header size."""
+    return head[:4] == MAGIC and head[4:8] == struct.pack("<I", 124)
+
+
+def write_dds(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None:
+    """Write a mip chain (a cube map or a 2-D texture) as a DDS file with the DX10 header.
+
+    Parameters
+    ----------
+    path : path-like
+        Written atomically (a failed write leaves no partial file).
+    mips : sequence of arrays, level 0 first
+        Cube map levels ``(6, S, S, C)`` in OpenGL face order, or 2-D levels ``(H, W, C)`` (or
+        ``(H, W)``), C in 1..4, each level half the previous (floor, at least 1). NaN is refused.
+    dtype : {"float16", "float32"}
+        Stored sample type (DXGI_FORMAT_R16G16B16A16_FLOAT and friends, or the 32-bit ones).
+    """
+    validate_choice(dtype, tuple(DTYPES), "DDS sample type")
+    levels, cube = check_levels(mips)
+    channels = levels[0].shape[-1]
+    stored = 4 if channels == 3 else channels
+    fmt = next(k for k, v in DXGI_FORMATS.items() if v == (dtype, stored))
+    height, width = levels[0].shape[-3:-1]
+    itemsize = DTYPES[dtype].itemsize
+    flags = DDSD_CAPS | DDSD_HEIGHT | DDSD_WIDTH | DDSD_PITCH | DDSD_PIXELFORMAT
+    caps = DDSCAPS_TEXTURE
+    if len(levels) > 1:
+        flags |= DDSD_MIPMAPCOUNT
+        caps |= DDSCAPS_COMPLEX | DDSCAPS_MIPMAP
+    caps2 = 0
+    if cube:
+        caps |= DDSCAPS_COMPLEX
+        caps2 = DDSCAPS2_CUBEMAP | DDSCAPS2_ALLFACES
+    header = _HEADER.pack(
+        MAGIC, 124, flags, height, width, width * stored * itemsize, 0, len(levels), bytes(44),
+        32, DDPF_FOURCC, b"DX10", 0, 0, 0, 0, 0, caps, caps2, 0, 0, 0,
+    )  # fmt: skip
+    dx10 = _DX10.pack(
+        fmt, D3D10_RESOURCE_DIMENSION_TEXTURE2D, DDS_RESOURCE_MISC_TEXTURECUBE if cube else 0, 1, 0
+    )
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        f.write(header + dx10)
+        for face in range(6 if cube else 1):
+            for level in levels:
+                texels = level[face] if cube else level
+                if channels == 3:
+                    texels = np.concatenate([texels, np.ones_like(texels[..., :1])], axis=-1)
+                f.write(np.ascontiguousarray(encode(texels, DTYPES[dtype])).tobytes())
+
+
+def read_dds(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
+    """Read an uncompressed float DDS file (a cube map or a 2-D texture with its mips).
+
+    Parameters
+    ----------
+    path : path-like
+    max_pixels : int
+        Largest accepted width * height of level 0 (per face).
+
+    Returns
+    -------
+    mips : list of float32 arrays
+        Level 0 first; ``(6, S, S, C)`` per level for a cube map (faces in file order, which is
+        OpenGL's), ``(H, W, C)`` for a 2-D texture.
+    metadata : dict
+        ``format`` ("DDS"), ``stored`` ("float16" or "float32"), ``cube`` (bool), ``dxgi_format``
+        (int; the legacy FourCC code's DXGI equivalent) and ``header`` ("DX10" or "legacy").
+
+    Raises
+    ------
+    bakeshop.errors.FormatError
+        Not a DDS file, an inconsistent header, or fewer bytes than the header promises.
+    bakeshop.errors.UnsupportedError
+        Block-compressed or integer formats, volume textures and texture arrays.
+    """
+    with open(path, "rb") as f:
+        head = f.read(_HEADER.size + _DX10.size)
+        size = os.fstat(f.fileno()).st_size
+    if len(head) < _HEADER.size or not sniff(head):
+        raise FormatError("not a DDS file (bad magic or header size)")
+    fields = _HEADER.unpack_from(head)
+    flags, height, width, _pitch, depth, mip_count = fields[2:8]
+    pf_size, pf_flags, fourcc = fields[9:12]
+    caps, caps2 = fields[17:19]
+    if pf_size != 32:
+        raise FormatError(f"bad DDS pixel format size {pf_size} (expected 32)")
+    offset = _HEADER.size
+    if not pf_flags & DDPF_FOURCC:
+        raise UnsupportedError("only floating-point DDS formats are supported (no FourCC code)")
+    if fourcc == b"DX10":
+        if len(head) < offset + _DX10.size:
+            raise FormatError("truncated DDS file: the DX10 header is missing")
+        fmt, dimension, misc, array_size, _ = _DX10.unpack_from(head, offset)
+        offset += _DX10.size
+        if fmt not in DXGI_FORMATS:
+            raise UnsupportedError(
+                f"DXGI format {fmt} is not supported (only uncompressed float formats)"
+            )
+        if dimension != D3D10_RESOURCE_DIMENSION_TEXTURE2D:
+            raise UnsupportedError(f"DDS resource dimension {dimension}: only 2-D textures")
+        if array_size != 1:
+            raise UnsupportedError(f"texture arrays are not supported (array size {array_size})")
+        cube = bool(misc & DDS_RESOURCE_MISC_TEXTURECUBE)
+        dtype, channels = DXGI_FORMATS[fmt]
+        kind = "DX10"
+    else:
+        code = struct.unpack("<I", fourcc)[0]
+        if code not in D3D_FORMATS:
+            raise UnsupportedError(
+                f"DDS format {fourcc!r} is not supported (only uncompressed float formats)"
+            )
+        dtype, channels = D3D_FORMATS[code]
+        fmt = next(k for k, v in DXGI_FORMATS.items() if v == (dtype, channels))
+        cube = bool(caps2 & DDSCAPS2_CUBEMAP)
+        if cube and caps2 & DDSCAPS2_ALLFACES != DDSCAPS2_ALLFACES:
+            raise UnsupportedError("cube maps with missing faces are not supported")
+        kind = "legacy"
+    if caps2 & DDSCAPS2_VOLUME or (flags & DDSD_DEPTH and depth > 1):
+        raise UnsupportedError("volume textures are not supported")
+    if not (1 <= width and 1 <= height and width * height <= max_pixels):
+        raise FormatError(f"DDS size {width}x{height} out of range (limit {max_pixels} pixels)")
+    if cube and width != height:
+        raise FormatError(f"a cube map's faces must be square; the header says {width}x{height}")
+    levels = mip_count if flags & DDSD_MIPMAPCOUNT or mip_count > 1 else 1
+    levels = max(levels, 1)
+    if levels > MAX_LEVELS or max(width, height) >> (levels - 1) == 0:
+        raise FormatError(f"{levels} mip levels is more than a {width}x{height} texture has")
+    itemsize = DTYPES[dtype].itemsize
+    shapes = [(mip_size(height, m), mip_size(width, m), channels) for m in range(levels)]
+    face_bytes = sum(h * w * c for h, w, c in shapes) * itemsize
+    faces = 6 if cube else 1
+    check_payload(faces * face_bytes, size - offset)
+    raw = np.fromfile(
+        path, dtype=DTYPES[dtype], offset=offset, count=faces * face_bytes // itemsize
+    )
+    mips = [np.empty(((faces,) if cube else ()) + s, np.float32) for s in shapes]
+    start = 0
+    for face in range(faces):
+        for m, (h, w, c) in enumerate(shapes):
+            block = raw[start : start + h * w * c].reshape(h, w, c)
+            if cube:
+                mips[m][face] = block
+            else:
+                mips[m][...] = block
+            start += h * w * c
+    metadata = {"format": NAME, "stored": dtype, "cube": cube, "dxgi_format": fmt, "header": kind}
+    return mips, metadata

@@ -1,0 +1,112 @@
+"""KTX 1.1 cube maps and 2-D textures: header bytes against the Khronos specification, round
+trips, row padding, and broken files."""
+
+import struct
+
+import numpy as np
+import pytest
+
+from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
+from bakeshop.io.ktx import read_ktx, write_ktx
+from tests.io.test_dds import chain
+
+
+def u32(data, offset):
+    return struct.unpack_from("<I", data, offset)[0]
+
+
+def test_cube_header_matches_the_specification(tmp_path):
+    mips = chain(16, 4, 5)
+    path = tmp_path / "env.ktx"
+    write_ktx(path, mips, dtype="float16")
+    data = path.read_bytes()
+    assert data[:12] == bytes(
+        [0xAB, 0x4B, 0x54, 0x58, 0x20, 0x31, 0x31, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A]
+    )
+    assert u32(data, 12) == 0x04030201
+    assert u32(data, 16) == 0x140B and u32(data, 20) == 2  # GL_HALF_FLOAT, 2 bytes
+    assert u32(data, 24) == 0x1908 and u32(data, 28) == 0x881A  # GL_RGBA, GL_RGBA16F
+    assert u32(data, 32) == 0x1908
+    assert (u32(data, 36), u32(data, 40), u32(data, 44)) == (16, 16, 0)
+    assert u32(data, 48) == 0 and u32(data, 52) == 6 and u32(data, 56) == 5
+    kv = u32(data, 60)
+    assert kv % 4 == 0 and b"KTXorientation\x00S=r,T=d\x00" in data[64 : 64 + kv]
+    offset = 64 + kv
+    assert u32(data, offset) == 16 * 16 * 8  # imageSize of one face of level 0
+    face1 = np.frombuffer(data, "<f2", 16 * 16 * 4, offset + 4 + 16 * 16 * 8)
+    np.testing.assert_array_equal(face1.reshape(16, 16, 4), mips[0][1].astype(np.float16))
+    total = 64 + kv + sum(4 + 6 * max(1, 16 >> m) ** 2 * 8 for m in range(5))
+    assert len(data) == total
+
+
+def test_rows_are_padded_to_four_bytes(tmp_path):
+    # An RGB half texel is 6 bytes: rows of odd width need 2 bytes of padding (GL_UNPACK_ALIGNMENT).
+    mips = chain(3, 3, 2, cube=False)
+    write_ktx(tmp_path / "t.ktx", mips, dtype="float16")
+    data = (tmp_path / "t.ktx").read_bytes()
+    offset = 64 + u32(data, 60)
+    assert u32(data, offset) == 3 * 20  # rows of 18 bytes padded to 20
+    got, meta = read_ktx(tmp_path / "t.ktx")
+    assert meta["gl_internal_format"] == 0x881B and not meta["cube"]
+    for a, b in zip(got, mips, strict=True):
+        np.testing.assert_array_equal(a, b.astype(np.float16).astype(np.float32))
+
+
+@pytest.mark.parametrize("dtype", ["float16", "float32"])
+@pytest.mark.parametrize("channels", [1, 2, 3, 4])
+@pytest.mark.parametrize("cube", [True, False])
+def test_round_trip(tmp_path, dtype, channels, cube):
+    mips = chain(8, channels, 4, cube=cube)
+    write_ktx(tmp_path / "t.ktx", mips, dtype=dtype)
+    got, meta = read_ktx(tmp_path / "t.ktx")
+    assert meta["cube"] is cube and meta["stored"] == dtype
+    assert meta["key_values"] == {"KTXorientation": b"S=r,T=d\x00"}
+    for a, b in zip(got, mips, strict=True):
+        np.testing.assert_array_equal(a, b.astype(dtype).astype(np.float32))
+
+
+def test_big_endian_files_are_read(tmp_path):
+    mips = chain(4, 4, 3)
+    write_ktx(tmp_path / "t.ktx", mips, dtype="float32")
+    data = (tmp_path / "t.ktx").read_bytes()
+    fields = struct.unpack_from("<13I", data, 12)
+    kv = fields[-1]
+    out = bytearray(data[:12] + struct.pack(">13I", *fields))
+    out += struct.pack(">I", u32(data, 64)) + data[68 : 64 + kv]
+    offset = 64 + kv
+    for _ in range(3):
+        size = u32(data, offset)
+        out += struct.pack(">I", size)
+        out += np.frombuffer(data, "<f4", 6 * size // 4, offset + 4).astype(">f4").tobytes()
+        offset += 4 + 6 * size
+    (tmp_path / "be.ktx").write_bytes(bytes(out))
+    got, _ = read_ktx(tmp_path / "be.ktx")
+    for a, b in zip(got, mips, strict=True):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_bad_chain_is_refused(tmp_path):
+    with pytest.raises(ArgumentError):
+        write_ktx(tmp_path / "t.ktx", [np.zeros((6, 4, 4, 4)), np.zeros((6, 1, 1, 4))])
+    with pytest.raises(ArgumentError):
+        write_ktx(tmp_path / "t.ktx", [np.zeros((4, 4, 4))], dtype="float64")
+    assert not list(tmp_path.iterdir())
+
+
+def test_broken_files(tmp_path):
+    write_ktx(tmp_path / "t.ktx", chain(8, 4, 4))
+    data = (tmp_path / "t.ktx").read_bytes()
+    cases = {
+        "short.ktx": (data[:40], FormatError),
+        "truncated.ktx": (data[:-2], FormatError),
+        "magic.ktx": (b"\x00" + data[1:], FormatError),
+        "endian.ktx": (data[:12] + b"\x00\x00\x00\x00" + data[16:], FormatError),
+        "huge.ktx": (data[:36] + struct.pack("<2I", 1 << 20, 1 << 20) + data[44:], FormatError),
+        "bc6h.ktx": (data[:28] + struct.pack("<I", 0x8E8F) + data[32:], UnsupportedError),
+        "faces.ktx": (data[:52] + struct.pack("<I", 5) + data[56:], FormatError),
+        "kv.ktx": (data[:60] + struct.pack("<I", 1 << 30) + data[64:], FormatError),
+    }
+    for name, (content, error) in cases.items():
+        (tmp_path / name).write_bytes(content)
+        with pytest.raises(error):
+            read_ktx(tmp_path / name)
