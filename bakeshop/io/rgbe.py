@@ -1,0 +1,489 @@
+"""Radiance picture files (.hdr, .pic): RGBE and XYZE pixels, flat or run-length encoded.
+
+A file is a text header, a resolution string and the pixels (Ward, "Real Pixels", Graphics Gems
+II, 1991, doi:10.1016/B978-0-08-050754-5.50025-2; the Radiance reference manual, "Radiance file
+formats")::
+
+    #?RADIANCE                    magic: "#?" then the writing program's name
+    FORMAT=32-bit_rle_rgbe        or 32-bit_rle_xyze; lines of VARIABLE=value or comments
+    EXPOSURE=2.0                  optional, may repeat
+                                  a blank line ends the header
+    -Y 512 +X 1024                the resolution string: orientation and size
+    <scanlines>
+
+Each pixel is four bytes: three mantissas sharing one exponent byte. bakeshop decodes with
+Radiance's own reconstruction, ``(m + 0.5) * 2**(e - 136)`` (zero when ``e == 0``): the centre
+of the interval of values the bytes stand for.
+
+Scanlines are stored flat (4 bytes per pixel), in the old run-length form (a pixel ``1, 1, 1, n``
+repeats the previous pixel ``n << shift`` times, the shift growing by 8 for each consecutive
+repeat pixel), or in the new form (``2, 2, hi, lo`` then each of the four byte planes as runs and
+literals), chosen per scanline exactly as Radiance's reader chooses.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+
+import numba
+import numpy as np
+
+from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
+from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
+
+NAME = "Radiance HDR"
+
+#: Radiance's standard primaries (``STDPRIMS`` in its ``color.h``): CIE xy of red, green, blue and
+#: the white point (equal-energy white E).
+RADIANCE_PRIMARIES = ((0.640, 0.330), (0.290, 0.600), (0.150, 0.060), (1 / 3, 1 / 3))
+
+
+def _xyz_to_rgb(primaries) -> np.ndarray:
+    """The CIE XYZ -> linear RGB matrix of ``primaries`` ((x, y) of R, G, B, white), scaled so
+    that the white point with Y = 1 maps to RGB (1, 1, 1): the derivation of Radiance's
+    ``compxyz2rgbmat``."""
+    xy = np.array(primaries, dtype=np.float64)
+    xyz = np.column_stack([xy[:, 0] / xy[:, 1], np.ones(4), (1 - xy.sum(axis=1)) / xy[:, 1]])
+    columns = xyz[:3].T  # XYZ of each primary at Y = 1, as columns
+    weights = np.linalg.solve(columns, xyz[3])
+    return np.linalg.inv(columns * weights)
+
+
+#: CIE XYZ -> linear RGB with :data:`RADIANCE_PRIMARIES`, applied to XYZE files on read.
+XYZ_TO_RGB = _xyz_to_rgb(RADIANCE_PRIMARIES)
+
+#: Where the header must have ended (Radiance headers carry the history of commands applied).
+_MAX_HEADER = 1 << 20
+_RESOLUTION = re.compile(rb"\s*([-+])([XY])\s+(\d+)\s+([-+])([XY])\s+(\d+)\s*")
+_FORMATS = {b"32-bit_rle_rgbe": "rgbe", b"32-bit_rle_xyze": "xyze"}
+#: Scanline lengths that the new run-length form can encode (Radiance's MINELEN, MAXELEN).
+_RLE_MIN, _RLE_MAX = 8, 0x7FFF
+#: Values below this are written as black: the smallest value with a normalised mantissa.
+_SMALLEST = 2.0**-128
+
+# Status codes of the numba decoder.
+_OK, _TRUNCATED, _OVERRUN, _EMPTY_RUN, _LENGTH, _NO_PREVIOUS = range(6)
+_PROBLEMS = {
+    _TRUNCATED: "the file ends inside the scanline",
+    _OVERRUN: "a run overruns the end of the scanline",
+    _EMPTY_RUN: "a run of length 0",
+    _LENGTH: "its run-length header gives another scanline length than the resolution string",
+    _NO_PREVIOUS: "an old-style repeat with no previous pixel",
+}
+
+
+def sniff(head: bytes) -> bool:
+    """True if ``head`` starts like a Radiance file: ``#?`` and a program name (``#?RADIANCE``,
+    ``#?RGBE``, or whatever program wrote it)."""
+    return head.startswith(b"#?")
+
+
+def _header(data: np.ndarray) -> tuple[dict, int]:
+    """Parse the header and resolution string; return the facts and the offset of the pixels."""
+    head = data[:_MAX_HEADER].tobytes()
+    if not head.startswith(b"#?"):
+        raise FormatError("not a Radiance file (it does not start with '#?')")
+    position = 0
+    lines = []
+    while True:
+        end = head.find(b"\n", position)
+        if end < 0:
+            what = "has no end" if len(head) >= _MAX_HEADER else "is truncated"
+            raise FormatError(f"the Radiance header {what}")
+        line = head[position:end].rstrip(b"\r")
+        position = end + 1
+        if not line and lines:
+            break
+        lines.append(line)
+    end = head.find(b"\n", position)
+    if end < 0:
+        raise FormatError("truncated file: no resolution string after the header")
+    resolution = head[position:end].rstrip(b"\r")
+    match = _RESOLUTION.fullmatch(resolution)
+    if match is None or match[2] == match[5]:
+        raise FormatError(f"malformed resolution string {resolution[:40]!r}")
+    facts = _variables(lines)
+    ymajor = match[2] == b"Y"
+    sizes = {match[2]: int(match[3]), match[5]: int(match[6])}
+    signs = {match[2]: match[1].decode(), match[5]: match[4].decode()}
+    facts.update(
+        width=sizes[b"X"],
+        height=sizes[b"Y"],
+        ymajor=ymajor,
+        xsign=signs[b"X"],
+        ysign=signs[b"Y"],
+        orientation=" ".join(m.decode() for m in (match[1] + match[2], match[4] + match[5])),
+    )
+    return facts, end + 1
+
+
+def _numbers(value: bytes, count: int, name: str, *, positive: bool = True) -> list[float]:
+    """``count`` finite numbers (positive ones if ``positive``) from a header value."""
+    try:
+        numbers = [float(v) for v in value.split()]
+    except ValueError:
+        numbers = []
+    valid = [math.isfinite(v) and (v > 0 or not positive) for v in numbers]
+    if len(numbers) != count or not all(valid):
+        raise FormatError(f"invalid {name} line in the header: {value[:60]!r}")
+    return numbers
+
+
+def _variables(lines: list[bytes]) -> dict:
+    """The meaning of the header lines (the first is the ``#?PROGRAM`` magic)."""
+    facts = {
+        "program": lines[0][2:].decode("latin-1").strip(),
+        "stored": "rgbe",
+        "exposure": 1.0,
+        "colorcorr": [1.0, 1.0, 1.0],
+        "header": [line.decode("latin-1") for line in lines[1:]],
+    }
+    for line in lines[1:]:
+        key, sep, value = line.strip().partition(b"=")
+        if not sep:
+            continue
+        if key == b"FORMAT":
+            value = value.strip()
+            if value not in _FORMATS:
+                raise UnsupportedError(
+                    f"Radiance pixel format {value[:40].decode('latin-1')!r} is not supported "
+                    "(only 32-bit_rle_rgbe and 32-bit_rle_xyze)"
+                )
+            facts["stored"] = _FORMATS[value]
+        elif key == b"EXPOSURE":
+            facts["exposure"] *= _numbers(value, 1, "EXPOSURE")[0]
+        elif key == b"COLORCORR":
+            corr = _numbers(value, 3, "COLORCORR")
+            facts["colorcorr"] = [a * b for a, b in zip(facts["colorcorr"], corr, strict=True)]
+        elif key == b"PRIMARIES":
+            facts["primaries"] = tuple(_numbers(value, 8, "PRIMARIES", positive=False))
+        elif key == b"PIXASPECT":
+            facts["pixaspect"] = facts.get("pixaspect", 1.0) * _numbers(value, 1, "PIXASPECT")[0]
+    return facts
+
+
+@numba.njit(cache=True, nogil=True)
+def _decode(data, pos, nscan, scanlen, out, factors, dry):
+    """Decode ``nscan`` scanlines of ``scanlen`` pixels from ``data[pos:]`` into ``out[scan,
+    pixel, channel]`` (float32, any strides), multiplying channel c by ``factors[c]``.
+
+    With ``dry`` nothing is written: the pass only checks that the data holds the whole image.
+    Returns (status, scanline, position after the last byte used).
+    """
+    n = data.size
+    line = np.zeros((scanlen, 4), np.uint8)
+    previous = np.zeros(4, np.uint8)
+    has_previous = False
+    scale = np.empty(256, np.float64)
+    for e in range(256):
+        scale[e] = math.ldexp(1.0, e - 136)
+    for s in range(nscan):
+        if (
+            _RLE_MIN <= scanlen <= _RLE_MAX
+            and pos + 4 <= n
+            and data[pos] == 2
+            and data[pos + 1] == 2
+            and data[pos + 2] < 128
+        ):
+            if (np.int64(data[pos + 2]) << 8) + data[pos + 3] != scanlen:
+                return _LENGTH, s, pos
+            pos += 4
+            for c in range(4):
+                j = 0
+                while j < scanlen:
+                    if pos >= n:
+                        return _TRUNCATED, s, pos
+                    code = np.int64(data[pos])
+                    pos += 1
+                    if code > 128:
+                        count = code - 128
+                        if j + count > scanlen:
+                            return _OVERRUN, s, pos
+                        if pos >= n:
+                            return _TRUNCATED, s, pos
+                        value = data[pos]
+                        pos += 1
+                        for k in range(j, j + count):
+                            line[k, c] = value
+                    else:
+                        count = code
+                        if count == 0:
+                            return _EMPTY_RUN, s, pos
+                        if j + count > scanlen:
+                            return _OVERRUN, s, pos
+                        if pos + count > n:
+                            return _TRUNCATED, s, pos
+                        for k in range(count):
+                            line[j + k, c] = data[pos + k]
+                        pos += count
+                    j += count
+        else:
+            j = 0
+            shift = 0
+            while j < scanlen:
+                if pos + 4 > n:
+                    return _TRUNCATED, s, pos
+                if data[pos] == 1 and data[pos + 1] == 1 and data[pos + 2] == 1:
+                    e = np.int64(data[pos + 3])
+                    pos += 4
+                    if e != 0:
+                        if shift > 24 or j + (e << shift) > scanlen:
+                            return _OVERRUN, s, pos
+                        if j == 0 and not has_previous:
+                            return _NO_PREVIOUS, s, pos
+                        count = e << shift
+                        for k in range(j, j + count):
+                            for c in range(4):
+                                line[k, c] = previous[c] if k == 0 else line[k - 1, c]
+                        j += count
+                    shift += 8
+                else:
+                    for c in range(4):
+                        line[j, c] = data[pos + c]
+                    pos += 4
+                    j += 1
+                    shift = 0
+        for c in range(4):
+            previous[c] = line[scanlen - 1, c]
+        has_previous = True
+        if not dry:
+            for j in range(scanlen):
+                e = line[j, 3]
+                if e == 0:
+                    for c in range(3):
+                        out[s, j, c] = 0.0
+                else:
+                    f = scale[e]
+                    for c in range(3):
+                        out[s, j, c] = (line[j, c] + 0.5) * f * factors[c]
+    return _OK, nscan, pos
+
+
+def read(path: str | os.PathLike, *, raw: bool = False, max_pixels: int = MAX_PIXELS):
+    """Read a Radiance .hdr / .pic file.
+
+    Parameters
+    ----------
+    path : path-like
+    raw : bool
+        False (default): pixel values are divided by the product of the header's ``EXPOSURE``
+        lines and, per channel, of its ``COLORCORR`` lines, giving back the radiance that was
+        rendered or captured before a tool (pfilt, an exposure slider) scaled it, as Radiance
+        defines them. True: the stored values as they are.
+    max_pixels : int
+        Largest accepted width * height.
+
+    Returns
+    -------
+    image : (H, W, 3) float32
+        Linear RGB, row 0 at the top, whatever the file's orientation. XYZE files are converted
+        to RGB with Radiance's standard primaries (:data:`XYZ_TO_RGB`).
+    metadata : dict
+        ``format``; ``stored`` ('rgbe' or 'xyze'); ``program`` (after ``#?``); ``exposure``
+        (product of the EXPOSURE lines, 1 if none); ``colorcorr`` (per-channel product of the
+        COLORCORR lines); ``primaries`` (the 8 numbers of a PRIMARIES line, when there is one:
+        kept, not applied); ``pixaspect`` when given; ``orientation`` (the resolution string's
+        axes, e.g. '-Y +X'); ``raw``; ``converted`` ('XYZ to RGB with Radiance's standard
+        primaries', XYZE files only); ``header`` (every header line after the magic).
+    """
+    try:
+        data = np.fromfile(path, dtype=np.uint8)
+    except OSError as e:
+        raise FormatError(f"cannot read the file: {e.strerror or e}") from None
+    facts, offset = _header(data)
+    width, height = facts["width"], facts["height"]
+    check_dimensions(width, height, 3, max_pixels=max_pixels)
+    nscan, scanlen = (height, width) if facts["ymajor"] else (width, height)
+    available = data.size - offset
+    check_payload(4 * nscan, available, "scanlines (at least 4 bytes each)")
+    factors = np.ones(3, np.float64)
+    if not raw:
+        factors /= facts["exposure"] * np.asarray(facts["colorcorr"])
+    # Run lengths let a small file describe a large image. When the file is smaller than the
+    # most compact new-style encoding of the image, a first pass that allocates nothing checks
+    # that the data really covers the image before the image is allocated.
+    if _RLE_MIN <= scanlen <= _RLE_MAX:
+        least = nscan * (4 + 8 * -(-scanlen // 127))
+    else:
+        least = 4 * nscan * scanlen
+    if available < least:
+        nothing = np.empty((1, 1, 3), np.float32)
+        _check(_decode(data, offset, nscan, scanlen, nothing, factors, True), nscan)
+    image = np.empty((height, width, 3), np.float32)
+    view = image
+    if facts["ysign"] == "+":
+        view = view[::-1]
+    if facts["xsign"] == "-":
+        view = view[:, ::-1]
+    if not facts["ymajor"]:
+        view = view.transpose(1, 0, 2)
+    _check(_decode(data, offset, nscan, scanlen, view, factors, False), nscan)
+    metadata = {
+        "format": NAME,
+        "stored": facts["stored"],
+        "program": facts["program"],
+        "exposure": facts["exposure"],
+        "colorcorr": tuple(facts["colorcorr"]),
+        "orientation": facts["orientation"],
+        "raw": bool(raw),
+        "header": facts["header"],
+    }
+    for key in ("primaries", "pixaspect"):
+        if key in facts:
+            metadata[key] = facts[key]
+    if facts["stored"] == "xyze":
+        _to_rgb(image)
+        metadata["converted"] = "XYZ to RGB with Radiance's standard primaries"
+    return image, metadata
+
+
+def _check(result, nscan: int) -> None:
+    status, scanline, _ = result
+    if status != _OK:
+        raise FormatError(
+            f"corrupt pixel data in scanline {scanline + 1} of {nscan}: {_PROBLEMS[status]}"
+        )
+
+
+def _to_rgb(image: np.ndarray, rows: int = 256) -> None:
+    """XYZ -> RGB in place, in float64 blocks of rows (one rounding, no copy of the image)."""
+    for top in range(0, image.shape[0], rows):
+        image[top : top + rows] = image[top : top + rows].astype(np.float64) @ XYZ_TO_RGB.T
+
+
+@numba.njit(cache=True, nogil=True)
+def _rgbe_pixel(r, g, b, out):
+    """Encode one linear RGB pixel into ``out[0:4]`` with the error-minimising bytes for the
+    (m + 0.5) reconstruction: the largest component picks the smallest exponent that holds it
+    (mantissa in [128, 256)) and each mantissa is the floor, i.e. the interval holding the value,
+    whose centre is the nearest reconstruction. NaN and negatives become 0; values beyond the
+    largest RGBE value (about 1.7e38, infinities included) saturate to it."""
+    big = 2.0**128
+    r = min(r, big) if r > 0 else 0.0
+    g = min(g, big) if g > 0 else 0.0
+    b = min(b, big) if b > 0 else 0.0
+    v = max(r, max(g, b))
+    if v < _SMALLEST:
+        out[0] = 0
+        out[1] = 0
+        out[2] = 0
+        out[3] = 0
+        return
+    e = math.frexp(v)[1] + 128
+    if e > 255:
+        e = 255
+    inv = math.ldexp(1.0, 136 - e)
+    out[0] = min(int(math.floor(r * inv)), 255)
+    out[1] = min(int(math.floor(g * inv)), 255)
+    out[2] = min(int(math.floor(b * inv)), 255)
+    out[3] = e
+
+
+@numba.njit(cache=True, nogil=True)
+def _rle_plane(plane, buf, pos):
+    """Append one byte plane as new-style runs (>= 4 equal bytes, <= 127 per run) and literals
+    (<= 128 per packet) to ``buf`` at ``pos``; return the new position. This is the packing of
+    Radiance's fwritecolrs and of Walter's rgbe.c."""
+    n = plane.size
+    cur = 0
+    while cur < n:
+        begin = cur
+        run = 0
+        old_run = 0
+        while run < 4 and begin < n:
+            begin += run
+            old_run = run
+            run = 1
+            while begin + run < n and run < 127 and plane[begin + run] == plane[begin]:
+                run += 1
+        if 1 < old_run and old_run == begin - cur:
+            buf[pos] = 128 + old_run
+            buf[pos + 1] = plane[cur]
+            pos += 2
+            cur = begin
+        while cur < begin:
+            count = min(begin - cur, 128)
+            buf[pos] = count
+            for k in range(count):
+                buf[pos + 1 + k] = plane[cur + k]
+            pos += count + 1
+            cur += count
+        if run >= 4:
+            buf[pos] = 128 + run
+            buf[pos + 1] = plane[begin]
+            pos += 2
+            cur += run
+    return pos
+
+
+@numba.njit(cache=True, nogil=True)
+def _encode(image, rle):
+    """Encode an (H, W, C) float image (C = 1 grey or 3 RGB) into Radiance scanlines; return the
+    bytes (only the first ``length`` are used) and ``length``."""
+    height, width, channels = image.shape
+    per_line = 4 + 4 * (width + (width + 127) // 128) if rle else 4 * width
+    buf = np.empty(height * per_line, np.uint8)
+    line = np.empty((4, width), np.uint8)
+    pixel = np.empty(4, np.uint8)
+    pos = 0
+    for y in range(height):
+        for x in range(width):
+            r = np.float64(image[y, x, 0])
+            g = np.float64(image[y, x, 1 if channels == 3 else 0])
+            b = np.float64(image[y, x, 2 if channels == 3 else 0])
+            _rgbe_pixel(r, g, b, pixel)
+            for c in range(4):
+                line[c, x] = pixel[c]
+        if rle:
+            buf[pos] = 2
+            buf[pos + 1] = 2
+            buf[pos + 2] = width >> 8
+            buf[pos + 3] = width & 255
+            pos += 4
+            for c in range(4):
+                pos = _rle_plane(line[c], buf, pos)
+        else:
+            for x in range(width):
+                for c in range(4):
+                    buf[pos + c] = line[c, x]
+                pos += 4
+    return buf, pos
+
+
+def write(path: str | os.PathLike, image, *, rle: bool = True) -> None:
+    """Write a Radiance RGBE file, scanlines top to bottom (``-Y H +X W``).
+
+    Parameters
+    ----------
+    path : path-like
+    image : (H, W) or (H, W, C) array, C in {1, 3}
+        Linear values; grey is written as R = G = B. Negative values and NaN are written as 0;
+        values beyond RGBE's largest (about 1.7e38, infinities included) saturate to it;
+        values below 2**-128 become 0. Everything else is stored with the mantissas and exponent
+        closest to it under the (m + 0.5) reconstruction: the error is at most half a step of
+        the pixel's largest component's exponent, ``2**(e - 137)``.
+    rle : bool
+        True (default): new-style run-length encoding, or flat scanlines where the width is
+        outside 8..32767, which that encoding cannot represent. False: flat scanlines.
+    """
+    from bakeshop.io import as_image
+
+    image = as_image(image)
+    if image.dtype.kind not in "fiub":
+        raise ArgumentError(f"cannot write {image.dtype} pixels as Radiance RGBE")
+    height, width, channels = image.shape
+    if channels not in (1, 3):
+        raise ArgumentError(
+            f"Radiance .hdr stores RGB, not {channels} channels; "
+            "drop the alpha channel first (image[..., :3])"
+        )
+    rle = bool(rle) and _RLE_MIN <= width <= _RLE_MAX
+    if image.dtype not in (np.float32, np.float64):
+        image = image.astype(np.float32)
+    encoded, length = _encode(image, rle)
+    header = f"#?RADIANCE\nSOFTWARE=bakeshop\nFORMAT=32-bit_rle_rgbe\n\n-Y {height} +X {width}\n"
+    with open(path, "wb") as f:
+        f.write(header.encode("ascii"))
+        f.write(encoded[:length].data)
