@@ -63,3 +63,12 @@ XYZ_MATRIX_ATOL = 1e-12
 #: OpenEXR's lossy compressions (b44/b44a on half, dwaa/dwab at their default level 45, pxr24's
 #: 24-bit floats) on a smooth test image, relative: measured worst 7.8e-3 (dwa), 1.9e-3 (b44).
 EXR_LOSSY_RTOL = 1e-2
+#: bilinear remap of a smooth environment (|f''| ~ 1) from ~0.3 degree texels: h^2/8 |f''| plus
+#: the curvature of the layout's grid, ~1e-4 measured; worst (1.1e-3) within two texels of a cube
+#: corner, where the mean of three texels stands in for the missing fourth (absolute).
+SPHERE_BILINEAR_SMOOTH_ATOL = 2e-3
+#: nearest remap of the same: half a texel diagonal times |grad f| ~ 0.6 (absolute).
+SPHERE_NEAREST_SMOOTH_ATOL = 1.5e-2
+#: latlong 512x256 -> cube 128 -> latlong of the smooth environment (absolute; 6e-4 at the 99.9th
+#: percentile, 1.8e-3 worst, next to cube corners).
+SPHERE_LATLONG_CUBE_ROUND_TRIP_ATOL = 2.5e-3

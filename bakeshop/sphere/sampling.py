@@ -1,0 +1,265 @@
+"""Sampling environments at directions and remapping any layout to any layout.
+
+Filters:
+
+- ``nearest``: the texel containing the direction.
+- ``bilinear``: the four texels around the direction, weighted by the fractional position,
+  across seams: latlong wraps in longitude and continues across a pole on the opposite
+  meridian, a cube face borrows its neighbour's texels and a cube corner's missing fourth
+  texel is the mean of the other three (OpenGL's seamless cube map filtering), an octahedral
+  map folds back over its edges, and a disk layout's texels outside the disk stand for the
+  disk texel radially inside them (so the rim never fades to black).
+- ``area``: an antialiasing filter for downsampling, see :func:`remap`.
+
+Geometry is computed once per (source layout and shape, destination layout and shape,
+rotation, filter) and cached: the texel indices and weights of every output texel. Applying a
+cached plan is one numba-parallel gather over the output.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numba
+import numpy as np
+
+from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.sphere.layouts import Layout, layout
+
+FILTERS = ("nearest", "bilinear", "area")
+
+#: number of cached remap plans (each holds indices and weights for every output texel).
+PLAN_CACHE_SIZE = 4
+
+
+# --- rotation -----------------------------------------------------------------------------------
+
+
+def rotation_matrix(yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0) -> np.ndarray:
+    """The 3x3 rotation ``R = R_y(yaw) R_x(pitch) R_z(roll)``, angles in degrees.
+
+    Each factor is a right-handed (counter-clockwise seen from the axis' tip) rotation about a
+    world axis: yaw about +Y (up), pitch about +X (right), roll about +Z (backward). Roll is
+    applied first, yaw last. Rotating an environment by ``R`` moves what was seen in direction
+    ``d`` to direction ``R d``: ``yaw=90`` brings the forward view (-Z) to the left (-X),
+    ``pitch=90`` brings the forward view up (+Y).
+    """
+    y, p, r = np.radians([yaw, pitch, roll])
+    cy, sy, cp, sp, cr, sr = np.cos(y), np.sin(y), np.cos(p), np.sin(p), np.cos(r), np.sin(r)
+    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    rx = np.array([[1, 0, 0], [0, cp, -sp], [0, sp, cp]])
+    rz = np.array([[cr, -sr, 0], [sr, cr, 0], [0, 0, 1]])
+    return ry @ rx @ rz
+
+
+def as_rotation(rotation) -> np.ndarray | None:
+    """``rotation`` as an orthogonal 3x3 float64 matrix, or None for no rotation.
+
+    Accepts None, a ``(yaw, pitch, roll)`` triple in degrees (see :func:`rotation_matrix`) or a
+    3x3 orthogonal matrix (a reflection, determinant -1, is accepted: it mirrors the world).
+    """
+    if rotation is None:
+        return None
+    m = np.asarray(rotation, dtype=np.float64)
+    if m.shape == (3,):
+        m = rotation_matrix(*m)
+    if m.shape != (3, 3) or not np.all(np.isfinite(m)):
+        raise ArgumentError(
+            f"rotation must be (yaw, pitch, roll) in degrees or a 3x3 matrix; got shape {m.shape}"
+        )
+    if not np.allclose(m @ m.T, np.eye(3), atol=1e-6):
+        raise ArgumentError("a rotation matrix must be orthogonal (R @ R.T == I within 1e-6)")
+    if np.allclose(m, np.eye(3), rtol=0, atol=1e-15):
+        return None
+    return m
+
+
+# --- kernels ----------------------------------------------------------------------------------
+
+
+@numba.njit(parallel=True, cache=True)
+def _gather_nearest(src, index, out):
+    for p in numba.prange(index.shape[0]):
+        i = index[p]
+        for c in range(src.shape[1]):
+            out[p, c] = src[i, c] if i >= 0 else 0
+
+
+@numba.njit(parallel=True, cache=True)
+def _gather_bilinear(src, index, frac, out):
+    for p in numba.prange(index.shape[0]):
+        i0, i1, i2, i3 = index[p, 0], index[p, 1], index[p, 2], index[p, 3]
+        fx, fy = frac[p, 0], frac[p, 1]
+        w0, w1 = (1 - fx) * (1 - fy), fx * (1 - fy)
+        w2, w3 = (1 - fx) * fy, fx * fy
+        if i0 >= 0 and i1 >= 0 and i2 >= 0 and i3 >= 0:
+            for c in range(src.shape[1]):
+                out[p, c] = w0 * src[i0, c] + w1 * src[i1, c] + w2 * src[i2, c] + w3 * src[i3, c]
+        elif i0 < 0 and i1 < 0:
+            for c in range(src.shape[1]):
+                out[p, c] = 0
+        else:
+            # a cube corner: the missing texel is the mean of the other three
+            for c in range(src.shape[1]):
+                v0 = src[i0, c] if i0 >= 0 else 0
+                v1 = src[i1, c] if i1 >= 0 else 0
+                v2 = src[i2, c] if i2 >= 0 else 0
+                v3 = src[i3, c] if i3 >= 0 else 0
+                m = (v0 + v1 + v2 + v3) / 3
+                v0 = v0 if i0 >= 0 else m
+                v1 = v1 if i1 >= 0 else m
+                v2 = v2 if i2 >= 0 else m
+                v3 = v3 if i3 >= 0 else m
+                out[p, c] = w0 * v0 + w1 * v1 + w2 * v2 + w3 * v3
+
+
+# --- images -------------------------------------------------------------------------------------
+
+
+def _as_environment(image, lay: Layout):
+    """(float image with a channel axis, spatial shape, True if the channel axis was added)."""
+    a = np.asarray(image)
+    spatial = 3 if lay.cubic else 2
+    if a.ndim not in (spatial, spatial + 1):
+        want = "(6, S, S) or (6, S, S, C)" if lay.cubic else "(H, W) or (H, W, C)"
+        raise ArgumentError(f"a {lay.name} image must be {want}; got shape {a.shape}")
+    squeeze = a.ndim == spatial
+    if squeeze:
+        a = a[..., None]
+    if a.shape[-1] < 1:
+        raise ArgumentError(f"an image needs at least one channel; got shape {a.shape}")
+    lay.check_shape(a.shape[:-1])
+    if a.dtype != np.float64:
+        a = a.astype(np.float32, copy=False)
+    return a, a.shape[:-1], squeeze
+
+
+def _taps(lay: Layout, shape, dirs, filter: str):
+    coords = lay.coordinates(dirs, shape)
+    index, frac = lay.taps(coords, shape, filter)
+    index = index.astype(np.int32)
+    if frac is not None:
+        frac = frac.astype(np.float32)
+    return index, frac
+
+
+def _apply(flat_src, index, frac):
+    out = np.empty((index.shape[0], flat_src.shape[1]), flat_src.dtype)
+    if frac is None:
+        _gather_nearest(flat_src, index, out)
+    else:
+        _gather_bilinear(flat_src, index, frac.astype(flat_src.dtype, copy=False), out)
+    return out
+
+
+def sample(image, layout_name, dirs, *, filter: str = "bilinear") -> np.ndarray:
+    """Values of an environment at directions.
+
+    Parameters
+    ----------
+    image : array
+        The environment in layout ``layout_name``: ``(H, W[, C])``, or ``(6, S, S[, C])`` for a
+        cube; float32 (other types are converted) or float64, linear radiance.
+    layout_name : str or Layout
+        One of :data:`~bakeshop.sphere.layouts.LAYOUT_NAMES`.
+    dirs : (..., 3) array
+        Directions in the world frame (need not be normalised).
+    filter : {"nearest", "bilinear"}
+
+    Returns
+    -------
+    (..., C) array (``(...)`` for a single-channel image given without channel axis)
+        float32 (float64 for float64 images). NaN or Inf in a texel spreads to the samples that
+        use it.
+    """
+    validate_choice(filter, ("nearest", "bilinear"), "sampling filter")
+    lay = layout(layout_name)
+    img, _, squeeze = _as_environment(image, lay)
+    base = lay.base
+    img = base_img = lay.prepare(img)
+    d = np.asarray(dirs, dtype=np.float64)
+    if d.ndim < 1 or d.shape[-1] != 3:
+        raise ArgumentError(f"directions must be an array of shape (..., 3); got {d.shape}")
+    index, frac = _taps(base, base_img.shape[:-1], d.reshape(-1, 3), filter)
+    out = _apply(np.ascontiguousarray(img.reshape(-1, img.shape[-1])), index, frac)
+    out = out.reshape(d.shape[:-1] + (img.shape[-1],))
+    return out[..., 0] if squeeze else out
+
+
+# --- remap --------------------------------------------------------------------------------------
+
+
+@functools.lru_cache(maxsize=PLAN_CACHE_SIZE)
+def _plan(src: str, src_shape, dst: str, dst_shape, filter: str, rotation: bytes | None):
+    s, d = layout(src), layout(dst)
+    dirs, valid = d.base.directions(dst_shape)
+    dirs = dirs.reshape(-1, 3)
+    if rotation is not None:
+        # out(d) = in(R^T d); as row vectors, d^T R
+        dirs = dirs @ np.frombuffer(rotation).reshape(3, 3)
+    index, frac = _taps(s, src_shape, dirs, filter)
+    index[~valid.reshape(-1)] = -1
+    index.setflags(write=False)
+    if frac is not None:
+        frac.setflags(write=False)
+    return index, frac
+
+
+def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None) -> np.ndarray:
+    """Convert an environment from layout ``src`` to layout ``dst``.
+
+    Parameters
+    ----------
+    image : array
+        ``(H, W[, C])``, or ``(6, S, S[, C])`` when ``src`` is ``"cube"``; linear values.
+    src, dst : str
+        Layout names (:data:`~bakeshop.sphere.layouts.LAYOUT_NAMES`).
+    size : int or (int, int), optional
+        Output size as for :meth:`Layout.shape`: a latlong's height or ``(width, height)``, a
+        square layout's edge, a cube's (or cross's) face edge. Default: about as many valid
+        texels as the source has.
+    filter : {"bilinear", "nearest", "area"}
+        ``area`` is for downsampling (see Notes).
+    rotation : (yaw, pitch, roll) degrees or (3, 3) array, optional
+        Rotate the environment: what the input shows in direction ``d`` appears in the output
+        at ``R d`` (see :func:`rotation_matrix`).
+
+    Returns
+    -------
+    array
+        ``dst``'s shape plus the channel axis (none if the input had none); float32 (float64
+        for float64 input). Texels outside a disk layout's disk, and the unused squares of a
+        cross, are 0 in every channel (alpha too).
+
+    Notes
+    -----
+    Every output texel centre's direction is looked up in the source with the chosen filter;
+    the geometry (which source texels, which weights) is cached per
+    (src, source shape, dst, output shape, filter, rotation), so converting many images of
+    one size costs one gather each.
+    """
+    validate_choice(filter, FILTERS, "filter")
+    s, d = layout(src), layout(dst)
+    img, _, squeeze = _as_environment(image, s)
+    img = s.prepare(img)
+    src_shape = img.shape[:-1]
+    if size is None:
+        size = d.default_size(int(np.count_nonzero(s.base.solid_angles(src_shape))))
+    dst_shape = d.shape(size)
+    base_shape = dst_shape if d.base is d else d.base.shape(d.face_size(dst_shape))
+    rot = as_rotation(rotation)
+    key = None if rot is None else rot.tobytes()
+    flat = np.ascontiguousarray(img.reshape(-1, img.shape[-1]))
+    if filter == "area":
+        from bakeshop.sphere.area import remap_area
+
+        out = remap_area(flat, s.base, src_shape, d.base, base_shape, rot)
+    else:
+        index, frac = _plan(s.base.name, src_shape, d.base.name, base_shape, filter, key)
+        out = _apply(flat, index, frac)
+    out = out.reshape(base_shape + (img.shape[-1],))
+    if d.base is not d:
+        from bakeshop.sphere.cube import cube_to_view
+
+        out = cube_to_view(out, d.name)
+    return out[..., 0] if squeeze else out

@@ -1,0 +1,254 @@
+"""Sampling and remapping against analytic environments: a smooth function of direction and a
+checker whose cells have known directions, into every layout; seams, corners, poles, rotation,
+disk masks and bad input."""
+
+import numpy as np
+import pytest
+
+from bakeshop.errors import ArgumentError
+from bakeshop.sphere import LAYOUT_NAMES, cube_to_view, layout, remap, rotation_matrix, sample
+from tests.tolerances import (
+    SPHERE_BILINEAR_SMOOTH_ATOL,
+    SPHERE_LATLONG_CUBE_ROUND_TRIP_ATOL,
+    SPHERE_NEAREST_SMOOTH_ATOL,
+)
+
+
+def smooth(d):
+    """A smooth RGB environment: every channel has curvature in every direction."""
+    x, y, z = d[..., 0], d[..., 1], d[..., 2]
+    return np.stack([1 + 0.5 * x + 0.3 * y - 0.2 * z + 0.4 * x * y, np.exp(z), 1 + y * y], -1)
+
+
+def environment(name, size, fn=smooth):
+    """fn evaluated at the texel centres of layout ``name`` (invalid texels 0)."""
+    lay = layout(name)
+    shape = lay.shape(size)
+    dirs, valid = lay.directions(shape)
+    img = fn(dirs).astype(np.float32)
+    img[~valid] = 0
+    return img
+
+
+SOURCES = {  # sizes giving texels of about 0.3 degrees
+    "latlong": 600,
+    "cube": 300,
+    "angular": 1200,
+    "mirrorball": 1200,
+    "octahedral": 600,
+    "dual-paraboloid": 600,
+    "cross-vertical": 300,
+}
+
+
+@pytest.mark.parametrize("src", SOURCES)
+@pytest.mark.parametrize("filter", ["nearest", "bilinear"])
+def test_smooth_environment_into_every_layout(src, filter):
+    img = environment(src, SOURCES[src])
+    bound = SPHERE_BILINEAR_SMOOTH_ATOL if filter == "bilinear" else SPHERE_NEAREST_SMOOTH_ATOL
+    for dst in LAYOUT_NAMES:
+        d = layout(dst)
+        out = remap(img, src, dst, 24, filter=filter)
+        dirs, valid = d.directions(d.shape(24))
+        assert out.shape == d.shape(24) + (3,) and out.dtype == np.float32
+        err = np.abs(out - smooth(dirs)).max(axis=-1)
+        if src == "mirrorball":
+            # the mirror ball squeezes the back hemisphere into its rim: only -Z's neighbourhood
+            # is poorly sampled (a physical limit of the photograph, not of the filter)
+            valid = valid & (dirs[..., 2] > -0.9)
+        assert err[valid].max() < bound, (dst, err[valid].max())
+        assert np.all(out[~d.directions(d.shape(24))[1]] == 0)
+
+
+def checker(d):
+    """1 or 0 on 30 x 30 degree cells of longitude and colatitude (edges on texel edges of a
+    720 x 360 latlong)."""
+    phi = np.arctan2(d[..., 0], -d[..., 2])
+    theta = np.arctan2(np.hypot(d[..., 0], d[..., 2]), d[..., 1])
+    cell = np.floor(phi / (np.pi / 6)) + np.floor(theta / (np.pi / 6))
+    return (cell % 2)[..., None].astype(np.float32)
+
+
+def distance_to_cell_edge(d):
+    phi = np.arctan2(d[..., 0], -d[..., 2])
+    theta = np.arctan2(np.hypot(d[..., 0], d[..., 2]), d[..., 1])
+    step = np.pi / 6
+    dp = np.abs((phi + step / 2) % step - step / 2) * np.sin(theta)
+    dt = np.abs((theta + step / 2) % step - step / 2)
+    return np.minimum(dp, dt)
+
+
+@pytest.mark.parametrize("dst", LAYOUT_NAMES)
+def test_checker_of_known_directions(dst):
+    """Cell edges lie on source texel edges, so nearest is exact everywhere, and bilinear is
+    exact wherever the direction is more than one source texel from an edge."""
+    src = environment("latlong", 360, checker)
+    d = layout(dst)
+    shape = d.shape(32)
+    dirs, valid = d.directions(shape)
+    truth = checker(dirs)
+    edge = distance_to_cell_edge(dirs)
+    near = remap(src, "latlong", dst, 32, filter="nearest")
+    ok = valid & (edge > 1e-9)
+    np.testing.assert_array_equal(near[ok], truth[ok])
+    bil = remap(src, "latlong", dst, 32, filter="bilinear")
+    far = valid & (edge > 1.5 * np.pi / 360)
+    np.testing.assert_allclose(bil[far], truth[far], atol=1e-6)
+
+
+def test_latlong_cube_latlong_round_trip():
+    """latlong 512 x 256 -> cube 128 (about the same texel count) -> latlong 512 x 256."""
+    img = environment("latlong", 256)
+    cube = remap(img, "latlong", "cube", 128)
+    back = remap(cube, "cube", "latlong", 256)
+    err = np.abs(back - img)
+    assert err.max() < SPHERE_LATLONG_CUBE_ROUND_TRIP_ATOL
+
+
+# --- seams ---------------------------------------------------------------------------------------
+
+
+def test_cube_corner_is_the_mean_of_three_faces():
+    """At a cube corner, bilinear filtering uses the mean of the three corner texels, as
+    OpenGL's seamless cube map filtering does."""
+    rng = np.random.default_rng(0)
+    s = 8
+    cube = rng.random((6, s, s, 2)).astype(np.float32)
+    v = sample(cube, "cube", np.array([1.0, 1.0, 1.0]))
+    # (x, y, z) = (+, +, +): +X texel (row 0, col 0), +Y (row S-1, col S-1), +Z (row 0, col S-1)
+    expected = (cube[0, 0, 0] + cube[2, s - 1, s - 1] + cube[4, 0, s - 1]) / 3
+    np.testing.assert_allclose(v, expected, rtol=1e-6)
+
+
+def test_cube_edge_blends_both_faces():
+    """A direction on the +X/+Z edge halfway between texel rows blends the two faces' edge
+    texels 50/50 (and never clamps to one face)."""
+    s = 4
+    cube = np.zeros((6, s, s), np.float32)
+    cube[0] = 1.0  # +X
+    cube[4] = 3.0  # +Z
+    v = sample(cube, "cube", np.array([1.0, 0.0, 1.0]))
+    assert v == pytest.approx(2.0, rel=1e-6)
+
+
+def test_latlong_seam_and_poles():
+    h, w = 16, 32
+    img = np.arange(h * w, dtype=np.float32).reshape(h, w)
+    # the back (+Z) seam, halfway between the last and first columns
+    theta = np.pi * 5.5 / h
+    d = np.array([0.0, np.cos(theta), np.sin(theta)])
+    assert sample(img, "latlong", d) == pytest.approx((img[5, 0] + img[5, -1]) / 2)
+    # at the north pole, every texel of row 0 and its opposite meridian meet
+    s = environment("latlong", 64)
+    for pole in ([0.0, 1.0, 0.0], [0.0, -1.0, 0.0]):
+        p = np.array(pole)
+        np.testing.assert_allclose(sample(s, "latlong", p), smooth(p), atol=2e-3)
+
+
+def test_octahedral_edges_fold():
+    """Bilinear samples next to the map's folded edges and corners (the lower hemisphere near
+    the x = 0 and z = 0 planes, and -Y) are as accurate as anywhere else on the map."""
+    img = environment("octahedral", 64)
+    rng = np.random.default_rng(2)
+    d = rng.normal(size=(200000, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    err = np.abs(sample(img, "octahedral", d) - smooth(d)).max(axis=-1)
+    ad = np.abs(d)
+    edge = (d[:, 1] < 0) & ((ad[:, 0] < 0.03) | (ad[:, 2] < 0.03) | (ad[:, 1] > 0.97))
+    assert edge.sum() > 1000
+    assert err[edge].max() < 1.5 * err[~edge].max()
+
+
+# --- rotation, masks, types, errors --------------------------------------------------------------
+
+
+def test_rotation_moves_what_was_at_d_to_R_d():
+    img = environment("latlong", 256)
+    for angles in [(90, 0, 0), (0, 90, 0), (0, 0, 90), (30, -20, 75)]:
+        r = rotation_matrix(*angles)
+        out = remap(img, "latlong", "cube", 32, rotation=angles)
+        dirs, _ = layout("cube").directions((6, 32, 32))
+        np.testing.assert_allclose(out, smooth(dirs @ r), atol=SPHERE_BILINEAR_SMOOTH_ATOL)
+        np.testing.assert_array_equal(out, remap(img, "latlong", "cube", 32, rotation=r))
+
+
+def test_rotation_axes_and_signs():
+    r = rotation_matrix(yaw=90)
+    np.testing.assert_allclose(r @ [0, 0, -1], [-1, 0, 0], atol=1e-15)  # forward turns left
+    np.testing.assert_allclose(rotation_matrix(pitch=90) @ [0, 0, -1], [0, 1, 0], atol=1e-15)
+    np.testing.assert_allclose(rotation_matrix(roll=90) @ [1, 0, 0], [0, 1, 0], atol=1e-15)
+    # a bright spot ahead ends up on the left after yaw = 90
+    img = np.zeros((64, 128), np.float32)
+    img[30:34, 62:66] = 1  # around -Z
+    out = remap(img, "latlong", "latlong", rotation=(90, 0, 0))
+    assert out[30:34, 30:34].min() > 0.2 and out[:, 60:68].max() == 0
+
+
+def test_disks_write_zero_outside_and_alpha_follows():
+    img = np.ones((64, 128, 4), np.float32)
+    for dst in ("angular", "mirrorball", "dual-paraboloid", "cross-vertical", "cross-horizontal"):
+        d = layout(dst)
+        out = remap(img, "latlong", dst, 32)
+        _, valid = d.directions(d.shape(32))
+        assert np.all(out[~valid] == 0) and np.all(out[valid] == 1)
+
+
+def test_mirrorball_rim_has_no_nan():
+    img = environment("mirrorball", 64)
+    for dst in ("latlong", "cube", "mirrorball", "angular"):
+        assert np.all(np.isfinite(remap(img, "mirrorball", dst, 32)))
+    d, v = layout("mirrorball").directions((64, 64))
+    assert np.all(np.isfinite(d))
+
+
+def test_types_and_channel_axis():
+    img = environment("latlong", 32)
+    assert remap(img[..., 0], "latlong", "cube", 8).shape == (6, 8, 8)
+    assert remap(img.astype(np.float64), "latlong", "cube", 8).dtype == np.float64
+    assert remap((img * 100).astype(np.uint16), "latlong", "cube", 8).dtype == np.float32
+    cube = remap(img, "latlong", "cube", 8)
+    cross = remap(img, "latlong", "cross-vertical", 8)
+    np.testing.assert_array_equal(cross, cube_to_view(cube, "cross-vertical"))
+    assert remap(img, "latlong", "cube").shape == (6, 18, 18, 3)  # default: same texel count
+    dirs = np.random.default_rng(0).normal(size=(4, 5, 3))
+    assert sample(img, "latlong", dirs).shape == (4, 5, 3)
+    assert sample(img[..., 0], "latlong", dirs[0, 0]).shape == ()
+
+
+def test_sample_agrees_with_remap():
+    img = environment("octahedral", 64)
+    d = layout("angular")
+    dirs, valid = d.directions((20, 20))
+    np.testing.assert_array_equal(
+        sample(img, "octahedral", dirs)[valid], remap(img, "octahedral", "angular", 20)[valid]
+    )
+
+
+def test_nan_spreads_only_to_its_neighbours():
+    img = np.ones((32, 64), np.float32)
+    img[10, 20] = np.nan
+    out = remap(img, "latlong", "latlong", 16)
+    assert 0 < np.isnan(out).sum() <= 4
+
+
+@pytest.mark.parametrize(
+    ("args", "kwargs", "match"),
+    [
+        ((np.zeros((8, 16)), "latlong", "cube"), {"filter": "cubic"}, "filter"),
+        ((np.zeros((8, 16)), "latlong", "spherical"), {}, "layout"),
+        ((np.zeros((8, 10)), "angular", "cube"), {}, "square"),
+        ((np.zeros((6, 8, 9, 3)), "cube", "latlong"), {}, "cube"),
+        ((np.zeros(5), "latlong", "cube"), {}, "shape"),
+        ((np.zeros((8, 16)), "latlong", "cube"), {"rotation": np.ones((3, 3))}, "orthogonal"),
+        ((np.zeros((8, 16)), "latlong", "cube"), {"rotation": (1, 2)}, "rotation"),
+        ((np.zeros((8, 16)), "latlong", "octahedral"), {"size": 7}, "even"),
+    ],
+)
+def test_bad_arguments(args, kwargs, match):
+    with pytest.raises(ArgumentError, match=match):
+        remap(*args, **kwargs)
+
+
+def test_bad_directions():
+    with pytest.raises(ArgumentError, match="directions"):
+        sample(np.zeros((8, 16)), "latlong", np.zeros((4, 2)))
