@@ -39,7 +39,7 @@ SUN_SOLID_ANGLE = 0.10
 
 #: unit normals after one renormalisation: float64 and float32 (absolute, per component).
 FLOAT64_UNIT = 1e-14
-FLOAT32_UNIT = 4e-7
+FLOAT32_UNIT = 1e-6
 #: ground-truth normals by central differences (step 1e-5) vs a method exact for the surface.
 GROUND_TRUTH_EXACT_DEG = 1e-4
 #: mean error of the exact blend when the detail is 16x finer than the macro curvature matters.
