@@ -63,6 +63,12 @@ XYZ_MATRIX_ATOL = 1e-12
 #: OpenEXR's lossy compressions (b44/b44a on half, dwaa/dwab at their default level 45, pxr24's
 #: 24-bit floats) on a smooth test image, relative: measured worst 7.8e-3 (dwa), 1.9e-3 (b44).
 EXR_LOSSY_RTOL = 1e-2
+
+#: flat-water fresnel bake, 8-bit baked lookup vs runtime path, 1k probes, bilinear, away from
+#: the horizon band and clipped footprints: largest error in 8-bit steps ...
+FLAT_WATER_MAX_STEPS = 2
+#: ... and the largest fraction of (direction, channel) pairs more than one step off.
+FLAT_WATER_OVER_ONE = 2e-4
 #: bilinear remap of a smooth environment (|f''| ~ 1) from ~0.3 degree texels: h^2/8 |f''| plus
 #: the curvature of the layout's grid, ~1e-4 measured; worst (1.1e-3) within two texels of a cube
 #: corner, where the mean of three texels stands in for the missing fourth (absolute).
@@ -72,3 +78,6 @@ SPHERE_NEAREST_SMOOTH_ATOL = 1.5e-2
 #: latlong 512x256 -> cube 128 -> latlong of the smooth environment (absolute; 6e-4 at the 99.9th
 #: percentile, 1.8e-3 worst, next to cube corners).
 SPHERE_LATLONG_CUBE_ROUND_TRIP_ATOL = 2.5e-3
+
+#: a float32 result written to a half-float EXR and read back (relative: 2^-11 rounding).
+HALF_FLOAT_RTOL = 1e-3
