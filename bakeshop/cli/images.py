@@ -83,7 +83,7 @@ def _print_info(r: dict) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    console = Console()
+    console = Console(soft_wrap=True)
     names = {1: "Y", 3: "RGB", 4: "RGBA"}.get(r["channels"], "?" * r["channels"])
     stops = r["dynamic_range_stops"]
     guess = ", ".join(r["layout_guess"]) or "none (not a panorama shape)"
