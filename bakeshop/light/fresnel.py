@@ -16,6 +16,7 @@ C. Schlick, "An Inexpensive BRDF Model for Physically-based Rendering", Computer
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from bakeshop import sphere
@@ -86,16 +87,30 @@ def fresnel_dielectric(cos_i, ior: float = WATER_IOR) -> np.ndarray:
     """
     n = _check_ior(ior)
     c = _cosines(cos_i)
-    out_dtype = c.dtype
-    c = c.astype(np.float64)
+    out = np.empty(c.shape, np.float64)
+    _reflectance_array(np.ascontiguousarray(c, dtype=np.float64).reshape(-1), n, out.reshape(-1))
+    return out.astype(c.dtype, copy=False)
+
+
+@numba.njit(cache=True, inline="always")
+def _reflectance(c: float, n: float) -> float:
+    """The formula of :func:`fresnel_dielectric` for one cosine (clipped to [0, 1] here)."""
+    if c != c:
+        return c  # NaN
+    c = min(max(c, 0.0), 1.0)
     g2 = n * n - 1.0 + c * c
-    with np.errstate(invalid="ignore", divide="ignore"):
-        g = np.sqrt(np.maximum(g2, 0.0))
-        a = (g - c) / (g + c)
-        b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0)
-        r = 0.5 * a * a * (1.0 + b * b)
-    r = np.where(g2 <= 0.0, 1.0, r)  # total internal reflection (only possible for n < 1)
-    return r.astype(out_dtype, copy=False)
+    if g2 <= 0.0:
+        return 1.0  # total internal reflection (only possible for n < 1)
+    g = np.sqrt(g2)
+    a = (g - c) / (g + c)
+    b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0)
+    return 0.5 * a * a * (1.0 + b * b)
+
+
+@numba.njit(cache=True, parallel=True)
+def _reflectance_array(c, n, out):
+    for i in numba.prange(c.size):
+        out[i] = _reflectance(c[i], n)
 
 
 def fresnel_schlick(cos_i, ior: float = WATER_IOR) -> np.ndarray:
@@ -185,22 +200,41 @@ def bake_fresnel(
         disk are 0.
     """
     validate_choice(below, BELOW_MODES, "below-horizon mode")
+    n = _check_ior(ior)
     up = _unit_axis(up)
     lay = sphere.layout(layout)
     a, grey = _as_environment(image, lay)
     dirs, valid = lay.directions(a.shape[:-1])
-    cos = dirs @ up
-    factor = fresnel_dielectric(np.abs(cos), ior).astype(a.dtype)
-    factor[~valid | (cos < 0)] = 0
-    colour = min(a.shape[-1], 3)
-    out = a.copy()
-    out[..., :colour] *= factor[..., None]
+    out = np.empty_like(a)
+    _bake_upper(
+        dirs.reshape(-1, 3),
+        valid.reshape(-1),
+        up,
+        n,
+        a.reshape(-1, a.shape[-1]),
+        out.reshape(-1, a.shape[-1]),
+        min(a.shape[-1], 3),
+    )
     if below == "mirror":
+        cos = dirs @ up
         lower = valid & (cos < 0)
         mirrored = dirs[lower] - 2.0 * cos[lower, None] * up
         fetched = sphere.sample(a, layout, mirrored, filter="bilinear")
-        out[lower, :colour] = fetched[:, :colour] * fresnel_dielectric(-cos[lower], ior)[:, None]
+        colour = min(a.shape[-1], 3)
+        out[lower, :colour] = fetched[:, :colour] * fresnel_dielectric(-cos[lower], n)[:, None]
     return out[..., 0] if grey else out
+
+
+@numba.njit(cache=True, parallel=True)
+def _bake_upper(dirs, valid, up, n, image, out, colour):
+    """out = image * R(d . up) above the plane, 0 below and outside the layout; alpha copied."""
+    for i in numba.prange(dirs.shape[0]):
+        c = dirs[i, 0] * up[0] + dirs[i, 1] * up[1] + dirs[i, 2] * up[2]
+        f = _reflectance(c, n) if (valid[i] and c >= 0.0) else 0.0
+        for k in range(colour):
+            out[i, k] = image[i, k] * f
+        for k in range(colour, image.shape[1]):
+            out[i, k] = image[i, k]
 
 
 #: Fraction of the reflected hemisphere's solid angle that the automatic LDR exposure lets clip.

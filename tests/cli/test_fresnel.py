@@ -103,8 +103,22 @@ def test_fresnel_bad_arguments(sky, tmp_path, capsys):
 def test_tonemap_single_frame(sky, tmp_path):
     path, image = sky
     out = tmp_path / "preview.png"
-    assert main(["tonemap", str(path), str(out), "--operator", "reinhard", "--white", "4",
-                 "--exposure", "-1"]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                "tonemap",
+                str(path),
+                str(out),
+                "--operator",
+                "reinhard",
+                "--white",
+                "4",
+                "--exposure",
+                "-1",
+            ]
+        )
+        == 0
+    )
     expect = to_srgb8(tonemap(image, ev=-1, operator="reinhard", white=4))
     np.testing.assert_array_equal(cv2.imread(str(out))[..., ::-1], expect)
 
@@ -119,8 +133,10 @@ def test_tonemap_sequence_adapts(tmp_path, capsys):
     out = tmp_path / "out_{frame:03d}.png"
     args = ["tonemap", str(tmp_path / "in_*.exr"), str(out), "--operator", "none"]
     assert main([*args, "--fps", "10", "--tau-brighter", "0.1", "--center-weight", "0"]) == 0
-    targets = [auto_exposure(np.full((8, 16, 3), v, np.float32), center_weight=0) for v in
-               [0.05] * 3 + [5.0] * 3]  # fmt: skip
+    targets = [
+        auto_exposure(np.full((8, 16, 3), v, np.float32), center_weight=0)
+        for v in [0.05] * 3 + [5.0] * 3
+    ]
     evs = adapt_exposure(targets, frame_time=0.1, tau_brighter=0.1, tau_darker=2.0)
     for i, ev in enumerate(evs):
         got = cv2.imread(str(tmp_path / f"out_{i:03d}.png"))[..., ::-1]

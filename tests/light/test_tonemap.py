@@ -118,8 +118,9 @@ def test_reinhard_white_point_maps_to_one_and_none_is_eq3():
     assert reinhard(grey[:, None], white=3.0)[2, 0] == pytest.approx(1.0)
     np.testing.assert_allclose(reinhard(grey[:, None])[:, 0], grey / (1 + grey))
     # (H, W) input is a grey image
-    np.testing.assert_allclose(reinhard(grey.reshape(2, 2), white=2.0).ravel(),
-                               _reinhard_by_hand(grey, 2.0))  # fmt: skip
+    np.testing.assert_allclose(
+        reinhard(grey.reshape(2, 2), white=2.0).ravel(), _reinhard_by_hand(grey, 2.0)
+    )
     rgba = np.array([[[1.0, 1.0, 1.0, 0.25]]])
     assert reinhard(rgba)[0, 0, 3] == 0.25
     with pytest.raises(ArgumentError):
@@ -140,8 +141,11 @@ def test_aces_narkowicz_formula():
 def _hill_scalar(rgb):
     # BakingLab ACES.hlsl, transcribed loop by loop.
     m_in = [[0.59719, 0.35458, 0.04823], [0.07600, 0.90834, 0.01566], [0.02840, 0.13383, 0.83777]]
-    m_out = [[1.60475, -0.53108, -0.07367], [-0.10208, 1.10813, -0.00605],
-             [-0.00327, -0.07276, 1.07602]]  # fmt: skip
+    m_out = [
+        [1.60475, -0.53108, -0.07367],
+        [-0.10208, 1.10813, -0.00605],
+        [-0.00327, -0.07276, 1.07602],
+    ]
     v = [sum(m_in[i][j] * rgb[j] for j in range(3)) for i in range(3)]
     v = [
         (x * (x + 0.0245786) - 0.000090537) / (x * (0.983729 * x + 0.4329510) + 0.238081) for x in v
@@ -160,8 +164,11 @@ def test_aces_hill_matches_transcription_and_is_monotonic():
         y = aces_filmic(ramp, fit=fit)[:, 0]
         assert np.all(np.diff(y) >= 0) and y.max() <= 1 and y.min() >= 0
     # grey through the matrices equals the curve alone (rows of both matrices sum to 1)
-    np.testing.assert_allclose(aces_filmic(np.full((1, 1, 3), 0.4))[0, 0],
-                               aces_filmic(np.full((1, 1), 0.4))[0, 0], atol=2e-5)  # fmt: skip
+    np.testing.assert_allclose(
+        aces_filmic(np.full((1, 1, 3), 0.4))[0, 0],
+        aces_filmic(np.full((1, 1), 0.4))[0, 0],
+        atol=2e-5,
+    )
 
 
 def test_tonemap_pipeline_and_srgb8():
