@@ -81,3 +81,9 @@ SPHERE_LATLONG_CUBE_ROUND_TRIP_ATOL = 2.5e-3
 
 #: a float32 result written to a half-float EXR and read back (relative: 2^-11 rounding).
 HALF_FLOAT_RTOL = 1e-3
+
+#: JPEG at quality 95, 4:4:4, on a smooth gradient: largest error in 8-bit levels.
+JPEG_Q95_ATOL = 3
+#: Two libjpeg builds (Pillow's and OpenCV's) decoding the same JPEG: their IDCTs may differ by
+#: one level per sample.
+JPEG_DECODER_ATOL = 1

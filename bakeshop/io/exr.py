@@ -50,7 +50,7 @@ MAGIC = b"\x76\x2f\x31\x01"
 #: user name -> OpenEXR compression, every method this build of OpenEXR offers. zstd and the
 #: htj2k methods are recent (OpenEXR 3.4): older readers cannot open files written with them.
 COMPRESSIONS = {
-    name.removesuffix("_COMPRESSION").lower(): value
+    {"no": "none"}.get(short := name.removesuffix("_COMPRESSION").lower(), short): value
     for name, value in OpenEXR.Compression.__members__.items()
     if not name.startswith("NUM_")
 }
@@ -100,18 +100,61 @@ def _reason(messages: list[str], error: Exception | None = None) -> str:
     return "corrupt or truncated OpenEXR file" + (f" (OpenEXR says: {detail})" if detail else "")
 
 
-def _open(path, *, header_only: bool):
-    f, error = None, None
+def _library(action, *args):
+    """Return ``action(*args)`` (a call into OpenEXR); its failures become a FormatError.
+
+    The bindings raise RuntimeError, ValueError, IndexError, UnicodeDecodeError ... for corrupt
+    files, or print a warning and return an empty file (``action`` then returns None).
+    """
+    result, error = None, None
     with _library_messages() as messages:
         try:
-            f = OpenEXR.File(os.fspath(path), separate_channels=True, header_only=header_only)
+            result = action(*args)
         except MemoryError:
             raise
-        except Exception as e:  # the bindings raise RuntimeError, ValueError, IndexError ...
+        except Exception as e:
             error = e
-    if f is None or not f.parts:
+    if result is None:
         raise FormatError(_reason(messages, error))
-    return f
+    return result
+
+
+_LEVELS = {"ONE_LEVEL": "one", "MIPMAP_LEVELS": "mipmap", "RIPMAP_LEVELS": "ripmap"}
+
+
+def _headers(path) -> list[dict] | None:
+    """What bakeshop needs of each part's header, as plain Python values.
+
+    ``channels`` is a list of (name, x sampling, y sampling); a missing required attribute
+    raises KeyError here, inside :func:`_library`.
+    """
+    f = OpenEXR.File(os.fspath(path), separate_channels=True, header_only=True)
+    parts = []
+    for i in range(len(f.parts)):
+        header = f.header(i)
+        storage = header.get("type", OpenEXR.scanlineimage).name
+        tiles = header.get("tiles")
+        part = {
+            "channels": [(c.name, c.xSampling, c.ySampling) for c in header["channels"]],
+            "compression": header["compression"],
+            "data_window": _window(header["dataWindow"]),
+            "display_window": _window(header["displayWindow"]),
+            "storage": {"scanlineimage": "scanline", "tiledimage": "tiled"}.get(storage, storage),
+            "levels": "one" if tiles is None else _LEVELS.get(tiles.mode.name, tiles.mode.name),
+        }
+        if "envmap" in header:
+            part["envmap"] = header["envmap"].name.removeprefix("ENVMAP_").lower()
+        parts.append(part)
+    return parts or None
+
+
+def _pixels(path, part: int, names: list[str]) -> dict[str, np.ndarray] | None:
+    """The pixel arrays of the named channels of one part."""
+    f = OpenEXR.File(os.fspath(path), separate_channels=True)
+    if part >= len(f.parts):
+        return None
+    channels = f.channels(part)
+    return {n: channels[n].pixels for n in names if n in channels}
 
 
 def _window(box) -> tuple[tuple[int, int], tuple[int, int]]:
@@ -198,33 +241,29 @@ def read(
         ``"ripmap"``: only the top level is read), ``parts`` and, when the file says,
         ``envmap`` (``"latlong"`` or ``"cube"``).
     """
-    header_file = _open(path, header_only=True)
-    if not 0 <= part < len(header_file.parts):
-        raise ArgumentError(f"part {part} requested, the file has {len(header_file.parts)}")
-    header = header_file.header(part)
-    storage = header["type"].name
-    if storage.startswith("deep"):
+    headers = _library(_headers, path)
+    if not 0 <= part < len(headers):
+        raise ArgumentError(f"part {part} requested, the file has {len(headers)}")
+    header = headers[part]
+    descriptions = header["channels"]
+    if header["storage"].startswith("deep"):
         raise UnsupportedError("deep OpenEXR images (several samples per pixel) are not supported")
-    data_window = _window(header["dataWindow"])
-    (x0, y0), (x1, y1) = data_window
+    (x0, y0), (x1, y1) = header["data_window"]
     check_dimensions(x1 - x0 + 1, y1 - y0 + 1, max_pixels=max_pixels)
-    descriptions = {c.name: c for c in header["channels"]}
-    layer_name, names, grey_alpha = _pick_channels(list(descriptions), layer)
-    for name in names:
-        c = descriptions[name]
-        if c.xSampling != 1 or c.ySampling != 1:
+    all_names = [name for name, _, _ in descriptions]
+    layer_name, names, grey_alpha = _pick_channels(all_names, layer)
+    for name, xs, ys in descriptions:
+        if name in names and (xs != 1 or ys != 1):
             raise UnsupportedError(
-                f"channel {name!r} is sub-sampled ({c.xSampling}x{c.ySampling}); "
+                f"channel {name!r} is sub-sampled ({xs}x{ys}); "
                 "bakeshop reads only full-resolution channels"
             )
-    del header_file
 
-    f = _open(path, header_only=False)
-    channels = f.channels(part)
-    missing = [n for n in names if n not in channels]
+    pixels = _library(_pixels, path, part, names)
+    missing = [n for n in names if n not in pixels]
     if missing:
         raise FormatError(_reason([f"channels {missing} could not be read"]))
-    planes = [channels[n].pixels for n in names]
+    planes = [pixels[n] for n in names]
     height, width = planes[0].shape[:2]
     if any(p.shape != (height, width) for p in planes):
         raise FormatError(_reason(["channels of different sizes"]))
@@ -234,24 +273,24 @@ def read(
     for i, plane in enumerate(planes):
         image[:, :, i] = plane
 
-    types = {n: _STORED.get(channels[n].pixels.dtype, str(channels[n].pixels.dtype)) for n in names}
-    tiles = header.get("tiles")
-    levels = {"ONE_LEVEL": "one", "MIPMAP_LEVELS": "mipmap", "RIPMAP_LEVELS": "ripmap"}
+    types = {n: _STORED.get(pixels[n].dtype, str(pixels[n].dtype)) for n in names}
     meta = {
         "stored": "/".join(sorted(set(types.values()))),
         "channel_types": types,
         "channels": names,
-        "ignored_channels": sorted(set(descriptions) - set(names)),
+        "ignored_channels": sorted(set(all_names) - set(names)),
         "layer": layer_name,
-        "compression": header["compression"].name.removesuffix("_COMPRESSION").lower(),
-        "data_window": data_window,
-        "display_window": _window(header["displayWindow"]),
-        "storage": "tiled" if storage == "tiledimage" else "scanline",
-        "levels": levels.get(tiles.mode.name, tiles.mode.name) if tiles is not None else "one",
-        "parts": len(f.parts),
+        "compression": {v: k for k, v in COMPRESSIONS.items()}.get(
+            header["compression"], header["compression"].name
+        ),
+        "data_window": header["data_window"],
+        "display_window": header["display_window"],
+        "storage": header["storage"],
+        "levels": header["levels"],
+        "parts": len(headers),
     }
     if "envmap" in header:
-        meta["envmap"] = header["envmap"].name.removeprefix("ENVMAP_").lower()
+        meta["envmap"] = header["envmap"]
     return image, meta
 
 

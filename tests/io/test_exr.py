@@ -1,0 +1,368 @@
+"""OpenEXR: the shared sample files against OpenImageIO, exact round trips for half and float with
+every lossless compression, the half overflow rule, channel sets and layers, files written by
+OpenImageIO, and corrupt files (fuzzing included).
+
+Peers: OpenImageIO reads and writes EXR with its own build of the OpenEXR library. OpenCV 5's
+wheel has no EXR codec (cv2.imread returns None even with OPENCV_IO_ENABLE_OPENEXR), and imageio
+delegates EXR to plugins that are not installed, so OpenImageIO is the independent reference.
+Odd channel layouts are built with the OpenEXR bindings directly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import OpenEXR
+import OpenImageIO as oiio
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from bakeshop.errors import ArgumentError, BakeshopError, FormatError, UnsupportedError
+from bakeshop.io import exr, read_image, write_image
+from tests.tolerances import EXR_LOSSY_RTOL
+
+
+def oiio_read(path):
+    f = oiio.ImageInput.open(str(path))
+    try:
+        return f.read_image("float"), f.spec()
+    finally:
+        f.close()
+
+
+def same_bits(a, b):
+    a, b = np.asarray(a, np.float32), np.asarray(b, np.float32)
+    return a.shape == b.shape and np.array_equal(a.view(np.uint32), b.view(np.uint32))
+
+
+def hdr_image(height=13, width=29, channels=3, seed=0):
+    rng = np.random.default_rng(seed)
+    image = np.exp(rng.normal(0, 2, (height, width, channels))).astype(np.float32)
+    assert image.max() < 65504  # half holds it all
+    image[0, :4, 0] = [0.0, -0.0, -2.5, 1e-6]
+    return image
+
+
+def write_raw(path, channels, header=None):
+    """A file written by the OpenEXR bindings with exactly the given channels."""
+    head = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    OpenEXR.File({**head, **(header or {})}, dict(channels)).write(str(path))  # it edits the dict
+    return path
+
+
+# --- the shared sample files ---------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", ["KernerEnvLatLong.exr", "OrientationLatLong.exr"])
+def test_shared_files_match_openimageio(shared_data, name):
+    path = shared_data / "exr" / name
+    image, meta = read_image(path, with_metadata=True)
+    reference, spec = oiio_read(path)
+    assert list(spec.channelnames) == ["R", "G", "B", "A"]
+    assert image.shape == (512, 1024, 4) and image.dtype == np.float32
+    assert same_bits(image, reference)
+    assert meta["stored"] == "half" and meta["compression"] == "zip"
+    assert meta["channels"] == ["R", "G", "B", "A"] and meta["envmap"] == "latlong"
+    assert meta["data_window"] == meta["display_window"] == ((0, 0), (1023, 511))
+
+
+def test_tiled_mipmapped_file_reads_its_top_level(shared_data):
+    _, meta = read_image(shared_data / "exr" / "KernerEnvLatLong.exr", with_metadata=True)
+    assert meta["storage"] == "tiled" and meta["levels"] == "mipmap"
+
+
+# --- writing: round trips, compressions, overflow ------------------------------------------------
+
+
+@pytest.mark.parametrize("channels", [1, 3, 4])
+def test_float_round_trip_is_bit_exact_and_openimageio_agrees(tmp_path, channels):
+    image = hdr_image(channels=channels)
+    image.flat[5:8] = [np.nan, np.inf, -np.inf]
+    path = tmp_path / "f.exr"
+    write_image(path, image, pixel_type="float")
+    back, meta = read_image(path, with_metadata=True)
+    assert same_bits(back, image)
+    assert meta["stored"] == "float" and meta["channels"] == list(
+        {1: "Y", 3: "RGB", 4: "RGBA"}[channels]
+    )
+    reference, spec = oiio_read(path)
+    assert same_bits(reference, image)
+    assert spec.format == oiio.FLOAT
+
+
+def test_half_is_the_default_and_rounds_to_nearest_even(tmp_path):
+    image = hdr_image()
+    write_image(tmp_path / "h.exr", image)
+    back, meta = read_image(tmp_path / "h.exr", with_metadata=True)
+    assert meta["stored"] == "half" and meta["compression"] == "zip"
+    assert same_bits(back, image.astype(np.float16))  # numpy's cast is IEEE round-to-nearest-even
+    reference, spec = oiio_read(tmp_path / "h.exr")
+    assert spec.format == oiio.HALF and same_bits(reference, back)
+
+
+@pytest.mark.parametrize("compression", exr.LOSSLESS)
+@pytest.mark.parametrize("pixel_type", ["half", "float"])
+def test_lossless_compressions_round_trip_exactly(tmp_path, compression, pixel_type):
+    image = hdr_image(37, 41, 4, seed=2)
+    image[10:20] = 1.5  # flat areas for the run-length and predictive coders
+    path = tmp_path / "c.exr"
+    write_image(path, image, pixel_type=pixel_type, compression=compression)
+    back, meta = read_image(path, with_metadata=True)
+    expected = image.astype(np.float16) if pixel_type == "half" else image
+    assert same_bits(back, expected)
+    assert meta["compression"] == compression and meta["stored"] == pixel_type
+
+
+@pytest.mark.parametrize("compression", ["none", "zip", "piz", "rle", "zips", "pxr24"])
+def test_compressions_written_are_read_by_openimageio(tmp_path, compression):
+    image = hdr_image(seed=3)
+    write_image(tmp_path / "o.exr", image, compression=compression)
+    reference, spec = oiio_read(tmp_path / "o.exr")
+    assert same_bits(reference, image.astype(np.float16))
+    assert spec.get_string_attribute("compression") == compression
+
+
+@pytest.mark.parametrize("compression", ["b44", "b44a", "dwaa", "dwab", "pxr24"])
+def test_lossy_compressions_stay_close(tmp_path, compression):
+    y, x = np.mgrid[0:64, 0:64].astype(np.float32)
+    image = np.stack([np.sin(x / 9) + 2, np.cos(y / 7) + 2, (x + y) / 64 + 1], -1)
+    pixel_type = "float" if compression == "pxr24" else "half"  # b44 leaves float untouched
+    write_image(tmp_path / "l.exr", image, pixel_type=pixel_type, compression=compression)
+    back = read_image(tmp_path / "l.exr")
+    np.testing.assert_allclose(back, image, rtol=EXR_LOSSY_RTOL)
+    assert not same_bits(back, image.astype(np.float16 if pixel_type == "half" else np.float32))
+
+
+def test_half_overflow_clamps_finite_values_and_keeps_nan_and_inf(tmp_path):
+    image = np.array(
+        [[[1e5, -1e5, 65504.0], [65519.0, 65520.0, 3.4e38], [np.inf, -np.inf, np.nan]]], np.float32
+    )
+    write_image(tmp_path / "o.exr", image)
+    back = read_image(tmp_path / "o.exr")
+    expected = [[65504, -65504, 65504], [65504, 65504, 65504], [np.inf, -np.inf, np.nan]]
+    np.testing.assert_array_equal(back[0], np.array(expected, np.float32))
+    # float keeps them
+    write_image(tmp_path / "f.exr", image, pixel_type="float")
+    assert same_bits(read_image(tmp_path / "f.exr"), image)
+
+
+def test_integer_and_float64_input_are_written_by_value(tmp_path):
+    write_image(tmp_path / "i.exr", np.arange(12, dtype=np.uint16).reshape(2, 2, 3) * 1000)
+    np.testing.assert_array_equal(read_image(tmp_path / "i.exr").ravel(), np.arange(12) * 1000)
+    write_image(tmp_path / "d.exr", np.full((2, 2), 0.1), pixel_type="float")
+    assert read_image(tmp_path / "d.exr").shape == (2, 2, 1)
+
+
+def test_bad_write_options(tmp_path):
+    with pytest.raises(ArgumentError, match="compression 'lzma'"):
+        write_image(tmp_path / "a.exr", np.zeros((2, 2, 3)), compression="lzma")
+    with pytest.raises(ArgumentError, match="pixel type 'double'"):
+        write_image(tmp_path / "a.exr", np.zeros((2, 2, 3)), pixel_type="double")
+    with pytest.raises(ArgumentError, match="bool"):
+        write_image(tmp_path / "a.exr", np.zeros((2, 2, 3), bool))
+    assert not list(tmp_path.iterdir())
+
+
+# --- files written by OpenImageIO ----------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("fmt", "channels"), [("half", 3), ("float", 4), ("half", 1)])
+def test_files_written_by_openimageio(tmp_path, fmt, channels):
+    image = hdr_image(channels=channels, seed=4)
+    path = tmp_path / "oiio.exr"
+    out = oiio.ImageOutput.create(str(path))
+    spec = oiio.ImageSpec(image.shape[1], image.shape[0], channels, fmt)
+    if channels == 1:
+        spec.channelnames = ("Y",)
+    spec.attribute("compression", "piz")
+    out.open(str(path), spec)
+    out.write_image(image)
+    out.close()
+    back, meta = read_image(path, with_metadata=True)
+    expected = image.astype(np.float16) if fmt == "half" else image
+    assert same_bits(back, expected)
+    assert meta["stored"] == fmt and meta["compression"] == "piz"
+
+
+def test_tiled_file_written_by_openimageio(tmp_path):
+    image = hdr_image(70, 90, 3, seed=5)
+    path = tmp_path / "t.exr"
+    out = oiio.ImageOutput.create(str(path))
+    spec = oiio.ImageSpec(90, 70, 3, "float")
+    spec.tile_width = spec.tile_height = 32
+    out.open(str(path), spec)
+    out.write_image(image)
+    out.close()
+    back, meta = read_image(path, with_metadata=True)
+    assert same_bits(back, image) and meta["storage"] == "tiled"
+
+
+# --- channel sets and layers ---------------------------------------------------------------------
+
+
+def test_grey_alpha_becomes_rgba_and_extra_channels_are_listed(tmp_path):
+    y = np.arange(6, dtype=np.float32).reshape(2, 3)
+    a = np.full((2, 3), 0.5, np.float32)
+    image, meta = read_image(write_raw(tmp_path / "ya.exr", {"Y": y, "A": a}), with_metadata=True)
+    np.testing.assert_array_equal(image, np.stack([y, y, y, a], -1))
+    rgbz = {"R": y, "G": y + 1, "B": y + 2, "Z": a}
+    image, meta = read_image(write_raw(tmp_path / "z.exr", rgbz), with_metadata=True)
+    np.testing.assert_array_equal(image, np.stack([y, y + 1, y + 2], -1))
+    assert meta["ignored_channels"] == ["Z"]
+
+
+def test_single_unnamed_channel_and_uint(tmp_path):
+    depth = np.arange(6, dtype=np.uint32).reshape(2, 3) * 1000003
+    image, meta = read_image(write_raw(tmp_path / "u.exr", {"id": depth}), with_metadata=True)
+    np.testing.assert_array_equal(image[..., 0], depth.astype(np.float32))
+    assert meta["stored"] == "uint" and meta["channels"] == ["id"]
+
+
+def test_mixed_channel_types(tmp_path):
+    r = np.ones((2, 2), np.float16)
+    g = np.full((2, 2), 1 / 3, np.float32)
+    path = write_raw(tmp_path / "m.exr", {"R": r, "G": g, "B": g})
+    image, meta = read_image(path, with_metadata=True)
+    assert meta["stored"] == "float/half"
+    assert meta["channel_types"] == {"R": "half", "G": "float", "B": "float"}
+    assert image[0, 0, 1] == np.float32(1 / 3)
+
+
+def test_layers(tmp_path):
+    planes = {
+        f"{layer}.{c}": np.full((2, 2), i + 10 * k, np.float32)
+        for k, layer in enumerate(["diffuse", "specular"])
+        for i, c in enumerate("RGB")
+    }
+    path = write_raw(tmp_path / "layers.exr", planes)
+    with pytest.raises(UnsupportedError, match="layer= one of 'diffuse', 'specular'"):
+        read_image(path)
+    image, meta = read_image(path, layer="specular", with_metadata=True)
+    np.testing.assert_array_equal(image[0, 0], [10, 11, 12])
+    assert meta["layer"] == "specular" and meta["channels"] == [
+        "specular.R",
+        "specular.G",
+        "specular.B",
+    ]
+    with pytest.raises(ArgumentError, match="no layer 'beauty'"):
+        read_image(path, layer="beauty")
+    # a single layer is found without being named, and the default layer wins over named ones
+    only = write_raw(tmp_path / "one.exr", {k: v for k, v in planes.items() if "diffuse" in k})
+    assert read_image(only, with_metadata=True)[1]["layer"] == "diffuse"
+    default = {"R": planes["diffuse.R"] + 5, "G": planes["diffuse.G"], "B": planes["diffuse.B"]}
+    both = write_raw(tmp_path / "both.exr", {**planes, **default})
+    image, meta = read_image(both, with_metadata=True)
+    assert meta["layer"] == "" and image[0, 0, 0] == 5
+
+
+def test_unrecognisable_channel_sets(tmp_path):
+    uv = {"U": np.zeros((2, 2), np.float32), "V": np.zeros((2, 2), np.float32)}
+    with pytest.raises(UnsupportedError, match="no RGB, RGBA or Y set"):
+        read_image(write_raw(tmp_path / "uv.exr", uv))
+    ryby = {k: np.zeros((2, 2), np.float32) for k in ("Y", "RY", "BY")}
+    with pytest.raises(UnsupportedError, match="luminance-chroma"):
+        read_image(write_raw(tmp_path / "ryby.exr", ryby))
+
+
+def test_data_window_is_reported(tmp_path):
+    planes = {c: np.full((3, 4), i, np.float32) for i, c in enumerate("RGB")}
+    header = {
+        "dataWindow": (np.array([10, 20], np.int32), np.array([13, 22], np.int32)),
+        "displayWindow": (np.array([0, 0], np.int32), np.array([99, 49], np.int32)),
+    }
+    image, meta = read_image(write_raw(tmp_path / "w.exr", planes, header), with_metadata=True)
+    assert image.shape == (3, 4, 3)
+    assert meta["data_window"] == ((10, 20), (13, 22))
+    assert meta["display_window"] == ((0, 0), (99, 49))
+
+
+def test_multipart_file(tmp_path):
+    parts = [
+        OpenEXR.Part({}, {"R": np.zeros((2, 2), np.float32), "G": np.zeros((2, 2), np.float32),
+                          "B": np.zeros((2, 2), np.float32)}, "beauty"),
+        OpenEXR.Part({}, {"Z": np.full((2, 2), 7, np.float32)}, "depth"),
+    ]  # fmt: skip
+    OpenEXR.File(parts).write(str(tmp_path / "mp.exr"))
+    image, meta = read_image(tmp_path / "mp.exr", part=1, with_metadata=True)
+    assert image.shape == (2, 2, 1) and image[0, 0, 0] == 7 and meta["parts"] == 2
+    with pytest.raises(ArgumentError, match="part 2"):
+        read_image(tmp_path / "mp.exr", part=2)
+
+
+# --- corrupt files -------------------------------------------------------------------------------
+
+
+def small_file(tmp_path):
+    write_image(tmp_path / "s.exr", hdr_image(3, 4, 3), compression="none")
+    return (tmp_path / "s.exr").read_bytes()
+
+
+def test_truncated_and_corrupt_files_are_format_errors_and_print_nothing(tmp_path, capfd):
+    data = small_file(tmp_path)
+    path = tmp_path / "bad.exr"
+    path.write_bytes(data[: len(data) // 2])
+    with pytest.raises(FormatError, match="corrupt or truncated OpenEXR") as e:
+        read_image(path)
+    assert e.value.path == str(path)
+    path.write_bytes(data[:4])
+    with pytest.raises(FormatError):
+        read_image(path)
+    out, err = capfd.readouterr()
+    assert out == "" and err == ""
+
+
+def test_absurd_data_window_is_refused_before_reading(tmp_path):
+    planes = {c: np.zeros((1, 1), np.float32) for c in "RGB"}
+    path = write_raw(tmp_path / "big.exr", planes)
+    with pytest.raises(FormatError, match="exceeds the limit"):
+        exr.read(path, max_pixels=0)
+
+
+FUZZ = settings(
+    max_examples=100, deadline=3000, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+
+
+def decode(path, data):
+    path.write_bytes(data)
+    try:
+        return read_image(path)
+    except BakeshopError:
+        return None
+
+
+@pytest.fixture(scope="module")
+def seed_files(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("exr_seeds")
+    seeds = []
+    for compression in ("none", "zip", "piz"):
+        write_image(folder / "s.exr", hdr_image(3, 5, 4), compression=compression)
+        seeds.append((folder / "s.exr").read_bytes())
+    return seeds
+
+
+def test_truncation_at_every_offset(tmp_path, seed_files):
+    path = tmp_path / "t.exr"
+    for data in seed_files:
+        assert decode(path, data) is not None
+        for end in range(len(data)):
+            assert decode(path, data[:end]) is None, end
+
+
+@FUZZ
+@given(st.binary(max_size=300))
+def test_random_bytes(tmp_path, data):
+    decode(tmp_path / "r.exr", exr.MAGIC + data)
+
+
+@FUZZ
+@given(
+    st.integers(0, 2),
+    st.lists(st.tuples(st.integers(0, 400), st.integers(0, 255)), min_size=1, max_size=6),
+)
+def test_mutations_of_valid_files(tmp_path, seed_files, which, edits):
+    data = bytearray(seed_files[which])
+    for position, value in edits:
+        if position < len(data):
+            data[position] = value
+    decode(tmp_path / "m.exr", bytes(data))
