@@ -87,3 +87,9 @@ JPEG_Q95_ATOL = 3
 #: Two libjpeg builds (Pillow's and OpenCV's) decoding the same JPEG: their IDCTs may differ by
 #: one level per sample.
 JPEG_DECODER_ATOL = 1
+
+#: two paths that sample the same detail texels (transfer vs place_detail), float32 (absolute).
+TRANSFER_SAME_SAMPLES = 2e-6
+#: transfer on a 256-segment cylinder vs the analytic surface gradient: faceting of the normals
+#: and bilinear sampling of a 256-texel tile (degrees; measured 0.02).
+TRANSFER_ANALYTIC_DEG = 0.05

@@ -186,7 +186,8 @@ def _place(lo, hi, t, w0, h0, affine, cos_r, sin_r, sign_x, sign_y, out):
                 out[j, i, 2] = 1.0
 
 
-def _pair(value, what: str) -> tuple[float, float]:
+def as_pair(value, what: str) -> tuple[float, float]:
+    """A finite number or pair as ``(a, b)``; :class:`ArgumentError` naming ``what`` otherwise."""
     v = np.asarray(value, dtype=np.float64).reshape(-1)
     if v.size == 1:
         v = np.repeat(v, 2)
@@ -227,8 +228,8 @@ def place_detail(
     height, width = (int(s) for s in shape)
     if height < 1 or width < 1:
         raise ArgumentError(f"invalid output shape {shape}")
-    tu, tv = _pair(tile, "tile")
-    ou, ov = _pair(offset, "offset")
+    tu, tv = as_pair(tile, "tile")
+    ou, ov = as_pair(offset, "offset")
     if tu == 0 or tv == 0:
         raise ArgumentError(f"tile must be non-zero; got {tile!r}")
     if not math.isfinite(rotation):
@@ -359,8 +360,8 @@ def apply_layers(macro, layers, *, method: str = DEFAULT_METHOD) -> np.ndarray:
         d = np.asarray(layer.normals)
         identity = (
             d.shape[:2] == shape
-            and _pair(layer.tile, "tile") == (1.0, 1.0)
-            and _pair(layer.offset, "offset") == (0.0, 0.0)
+            and as_pair(layer.tile, "tile") == (1.0, 1.0)
+            and as_pair(layer.offset, "offset") == (0.0, 0.0)
             and layer.rotation % 360 == 0
         )
         placed = (

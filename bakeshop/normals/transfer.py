@@ -1,0 +1,643 @@
+"""Transfer ("unwrap") a tileable detail normal map into a mesh's macro UV layout.
+
+Given the low-poly mesh with its UV set (the layout of the macro normal map) and a detail map
+applied through a second UV set or a planar, box or triplanar projection in object space, this
+bakes the detail into the macro layout, so it can then be blended with the macro map texel by
+texel (:mod:`bakeshop.normals.blend`):
+
+1. **Tangents**: MikkTSpace-compatible per-corner tangents for each UV set
+   (:func:`corner_tangents`), so the baked map decodes correctly in engines that reconstruct
+   the tangent frame with MikkTSpace (Unreal, Unity, Blender, glTF viewers).
+2. **Rasterise** each triangle in macro UV space (:func:`rasterize_uv`): every texel centre
+   inside a triangle gets the triangle and its barycentric coordinates.
+3. **Detail coordinates and sample**: interpolate the second UV set or project the interpolated
+   object-space position; sample the detail bilinearly with wrap-around from its mip chain at
+   the level of the triangle's footprint (:mod:`bakeshop.normals.tiling`).
+4. **Rotate** the detail normal into the world: through the detail UV set's MikkTSpace frame
+   (uv2), or as the surface gradient of the projected height (planar, box, triplanar;
+   Mikkelsen 2020), then into the macro tangent frame with the exact inverse of the frame an
+   engine reconstructs (:func:`world_to_tangent`).
+5. **Dilate** UV islands (:func:`dilate`) so mip levels do not bleed background into seams.
+
+Texture coordinates have v up (OBJ, trimesh, OpenGL): (u, v) lies at column u W and row
+(1 - v) H of a W x H map. glTF files store v down; :func:`load_mesh` converts.
+
+References
+----------
+M. S. Mikkelsen, "Simulation of wrinkled surfaces revisited", MSc thesis, University of
+Copenhagen, 2008, and the reference implementation ``mikktspace.c``
+(https://github.com/mmikk/MikkTSpace).
+M. S. Mikkelsen, "Surface Gradient-Based Bump Mapping Framework", JCGT 9(3), 2020,
+https://jcgt.org/published/0009/03/04/.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numba
+import numpy as np
+from scipy import ndimage
+
+from bakeshop import progress
+from bakeshop.errors import ArgumentError, FormatError, validate_choice
+from bakeshop.normals.tiling import as_pair, mip_chain, sample_wrapped
+
+PROJECTIONS = ("uv2", "planar", "box", "triplanar")
+AXES = ("x", "y", "z")
+
+#: the (s, t) axes of the planar projection along each object axis, seen from that axis' +
+#: side with the other axes right and up: along z (x, y); along x (-z, y); along y (x, -z).
+PROJECTION_AXES = {
+    "x": (np.array([0.0, 0.0, -1.0]), np.array([0.0, 1.0, 0.0])),
+    "y": (np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, -1.0])),
+    "z": (np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])),
+}
+
+#: texels per chunk of the per-texel work: bounds the temporaries to ~100 MB.
+_CHUNK = 1 << 18
+
+__all__ = [
+    "PROJECTIONS",
+    "UVMesh",
+    "load_mesh",
+    "corner_tangents",
+    "rasterize_uv",
+    "world_to_tangent",
+    "dilate",
+    "transfer_detail",
+]
+
+
+@dataclass
+class UVMesh:
+    """A triangle mesh with its UV sets, as the transfer needs it.
+
+    Attributes
+    ----------
+    positions : (V, 3) float64
+        Object-space positions.
+    faces : (F, 3) int64
+        Counter-clockwise triangles (vertex indices).
+    normals : (V, 3) float64
+        Vertex normals as the engine shades with them (unit length).
+    uv : (V, 2) float64
+        The macro UV set, v up.
+    uv2 : (V, 2) float64 or None
+        A second UV set for the detail, v up.
+    """
+
+    positions: np.ndarray
+    faces: np.ndarray
+    normals: np.ndarray
+    uv: np.ndarray
+    uv2: np.ndarray | None = None
+
+    def __post_init__(self):
+        self.positions = np.asarray(self.positions, np.float64)
+        self.faces = np.asarray(self.faces, np.int64)
+        self.uv = np.asarray(self.uv, np.float64)
+        v = len(self.positions)
+        if self.positions.ndim != 2 or self.positions.shape[1] != 3:
+            raise ArgumentError(f"positions must be (V, 3); got {self.positions.shape}")
+        if self.faces.ndim != 2 or self.faces.shape[1] != 3 or len(self.faces) == 0:
+            raise ArgumentError(f"faces must be (F, 3) with F > 0; got {self.faces.shape}")
+        if self.faces.min() < 0 or self.faces.max() >= v:
+            raise ArgumentError("faces index vertices that do not exist")
+        if self.normals is None:
+            self.normals = _angle_weighted_normals(self.positions, self.faces)
+        self.normals = np.asarray(self.normals, np.float64)
+        for name in ("normals", "uv", "uv2"):
+            a = getattr(self, name)
+            if a is None:
+                continue
+            a = np.asarray(a, np.float64)
+            width = 3 if name == "normals" else 2
+            if a.shape != (v, width):
+                raise ArgumentError(f"{name} must be ({v}, {width}); got {a.shape}")
+            if not np.isfinite(a).all():
+                raise ArgumentError(f"{name} contain NaN or infinite values")
+            setattr(self, name, a)
+        if not np.isfinite(self.positions).all():
+            raise ArgumentError("positions contain NaN or infinite values")
+
+
+def _angle_weighted_normals(positions, faces):
+    p = positions[faces]
+    normals = np.zeros_like(positions)
+    face_n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    face_n /= np.maximum(np.linalg.norm(face_n, axis=1, keepdims=True), 1e-300)
+    for k in range(3):
+        a = p[:, (k + 1) % 3] - p[:, k]
+        b = p[:, (k + 2) % 3] - p[:, k]
+        cos = np.einsum("ij,ij->i", a, b) / np.maximum(
+            np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300
+        )
+        np.add.at(normals, faces[:, k], face_n * np.arccos(np.clip(cos, -1, 1))[:, None])
+    length = np.linalg.norm(normals, axis=1, keepdims=True)
+    return np.where(length > 0, normals / np.where(length > 0, length, 1), (0.0, 0.0, 1.0))
+
+
+# --- loading -------------------------------------------------------------------------------
+
+
+def _gltf_with_named_texcoords(path: Path):
+    """The glTF's JSON (and GLB binary chunk) with TEXCOORD_n renamed to _TEXCOORD_n, which
+    trimesh keeps as plain vertex attributes (its own UV handling keeps only TEXCOORD_0 and
+    only on primitives with a material)."""
+    import json
+    import struct
+
+    data = path.read_bytes()
+    binary = None
+    if path.suffix.lower() == ".glb":
+        if len(data) < 20 or data[:4] != b"glTF":
+            raise FormatError("not a binary glTF file (bad magic bytes)", path)
+        length = struct.unpack_from("<I", data, 12)[0]
+        header = json.loads(data[20 : 20 + length])
+        rest = data[20 + length :]
+        if len(rest) >= 8:
+            size = struct.unpack_from("<I", rest, 0)[0]
+            binary = rest[8 : 8 + size]
+    else:
+        header = json.loads(data)
+    for mesh in header.get("meshes", []):
+        for prim in mesh.get("primitives", []):
+            attrs = prim.get("attributes", {})
+            for key in [k for k in attrs if k.startswith("TEXCOORD_")]:
+                attrs["_" + key] = attrs.pop(key)
+    payload = json.dumps(header).encode()
+    if binary is not None:
+        payload += b" " * (-len(payload) % 4)
+        binary += b"\0" * (-len(binary) % 4)
+        chunks = struct.pack("<I4s", len(payload), b"JSON") + payload
+        chunks += struct.pack("<I4s", len(binary), b"BIN\0") + binary
+        return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks, "glb"
+    return payload, "gltf"
+
+
+def load_mesh(path: str | os.PathLike) -> UVMesh:
+    """Load a triangle mesh with its UV sets from OBJ or glTF (.gltf, .glb) through trimesh.
+
+    All meshes of a glTF scene are merged with their node transforms applied. The macro UV set
+    is ``vt`` (OBJ) or ``TEXCOORD_0``; ``uv2`` is glTF's ``TEXCOORD_1`` when present (OBJ has
+    one UV set). Normals are the file's (``vn``, ``NORMAL``), else trimesh's vertex normals.
+    glTF's v-down texture coordinates are turned to v up.
+    """
+    import trimesh
+
+    path = Path(path)
+    ext = path.suffix.lower()
+    if ext not in (".obj", ".gltf", ".glb"):
+        raise ArgumentError(f"unsupported mesh format {ext!r}: use .obj, .gltf or .glb", path)
+    try:
+        if ext == ".obj":
+            mesh = trimesh.load(path, force="mesh", process=False, maintain_order=True)
+        else:
+            import io
+
+            data, kind = _gltf_with_named_texcoords(path)
+            resolver = trimesh.resolvers.FilePathResolver(str(path))
+            mesh = trimesh.load(
+                io.BytesIO(data), file_type=kind, force="mesh", process=False, resolver=resolver
+            )
+    except (OSError, ValueError, KeyError, IndexError) as e:
+        raise FormatError(f"cannot read the mesh: {e}", path) from None
+    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
+        raise FormatError("the file holds no triangles", path)
+    if ext == ".obj":
+        uv = getattr(mesh.visual, "uv", None)
+        uv2 = None
+    else:
+        attrs = mesh.vertex_attributes
+        uv = attrs.get("_TEXCOORD_0")
+        uv2 = attrs.get("_TEXCOORD_1")
+        uv = None if uv is None else np.asarray(uv, np.float64) * (1, -1) + (0, 1)
+        uv2 = None if uv2 is None else np.asarray(uv2, np.float64) * (1, -1) + (0, 1)
+    if uv is None or len(uv) != len(mesh.vertices):
+        raise FormatError("the mesh has no texture coordinates (a macro UV set is needed)", path)
+    try:
+        return UVMesh(mesh.vertices, mesh.faces, np.asarray(mesh.vertex_normals), uv, uv2)
+    except ArgumentError as e:
+        e.path = os.fspath(path)
+        raise
+
+
+# --- tangents ------------------------------------------------------------------------------
+
+
+def corner_tangents(positions, normals, uv, faces) -> np.ndarray:
+    """MikkTSpace tangents and bitangent signs at the corners of each triangle.
+
+    Follows ``mikktspace.c`` in the common case: each triangle's tangent is the direction of
+    increasing u, dP/du = (t31_v d1 - t21_v d2) / (2 * signed UV area) with d1, d2 its edges;
+    at each corner it is projected onto the plane of the vertex normal (Gram-Schmidt),
+    normalised, weighted by the corner's angle and summed over the triangles that share the
+    vertex, where "vertex" means the same position, normal and UV, and triangles of opposite
+    UV orientation (mirrored islands) are kept apart; the sum is normalised. The sign is +1
+    for triangles whose UVs keep their orientation, -1 for mirrored ones; an engine then
+    builds the bitangent B = sign * cross(N, T).
+
+    Differences from ``mikktspace.c``: triangles with a degenerate UV or position triangle
+    contribute nothing (MikkTSpace gives them the tangent of a neighbour sharing the vertex; a
+    corner touched only by degenerate triangles gets the projection of +X, or +Y, here), and
+    quads are taken as the two triangles the mesh already holds (MikkTSpace may pick its own
+    diagonal for an untriangulated quad). On meshes without such triangles the results agree.
+
+    Parameters
+    ----------
+    positions, normals : (V, 3) float arrays
+    uv : (V, 2) float array
+    faces : (F, 3) int array
+
+    Returns
+    -------
+    (F, 3, 4) float64: unit tangent (x, y, z) and sign w at each corner.
+    """
+    p = positions[faces]
+    t = uv[faces]
+    d1, d2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    t21, t31 = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
+    area = t21[:, 0] * t31[:, 1] - t21[:, 1] * t31[:, 0]
+    sign = np.where(area > 0, 1.0, -1.0)
+    vos = t31[:, 1, None] * d1 - t21[:, 1, None] * d2
+    length = np.linalg.norm(vos, axis=1)
+    ok = (area != 0) & (length > 0)
+    vos = np.where(ok[:, None], vos * (sign / np.where(ok, length, 1))[:, None], 0.0)
+    # "vertex" = same position, normal and uv; slot = vertex x orientation
+    key = np.concatenate([positions, normals, uv], axis=1)
+    _, vertex = np.unique(key, axis=0, return_inverse=True)
+    vertex = vertex.reshape(-1)
+    slots = vertex[faces] * 2 + (sign > 0)[:, None]
+    acc = np.zeros((2 * (vertex.max() + 1), 3))
+    n = normals[faces]
+    for k in range(3):
+        a = p[:, (k + 1) % 3] - p[:, k]
+        b = p[:, (k + 2) % 3] - p[:, k]
+        la, lb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
+        cos = np.einsum("ij,ij->i", a, b) / np.maximum(la * lb, 1e-300)
+        angle = np.where((la > 0) & (lb > 0), np.arccos(np.clip(cos, -1, 1)), 0.0)
+        proj = vos - np.einsum("ij,ij->i", vos, n[:, k])[:, None] * n[:, k]
+        pl = np.linalg.norm(proj, axis=1, keepdims=True)
+        proj = np.where(pl > 0, proj / np.where(pl > 0, pl, 1), 0.0)
+        np.add.at(acc, slots[:, k], proj * angle[:, None])
+    tangent = acc[slots]  # (F, 3, 3)
+    tl = np.linalg.norm(tangent, axis=2, keepdims=True)
+    missing = tl[..., 0] <= 1e-12
+    if missing.any():
+        nn = n[missing]
+        fallback = np.where(np.abs(nn[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+        fallback -= np.einsum("ij,ij->i", fallback, nn)[:, None] * nn
+        tangent[missing] = fallback
+        tl = np.linalg.norm(tangent, axis=2, keepdims=True)
+    out = np.empty(faces.shape + (4,))
+    out[..., :3] = tangent / tl
+    out[..., 3] = sign[:, None]
+    return out
+
+
+# --- rasterisation and dilation -----------------------------------------------------------
+
+
+@numba.njit(cache=True)
+def _rasterize(tex, faces, face_map, bary):
+    height, width = face_map.shape
+    for f in range(faces.shape[0]):
+        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+        ax, ay, bx, by, cx, cy = tex[a, 0], tex[a, 1], tex[b, 0], tex[b, 1], tex[c, 0], tex[c, 1]
+        area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+        if not (abs(area) > 0) or not math.isfinite(area):
+            continue
+        eps = -1e-9
+        x0 = max(int(math.ceil(min(ax, bx, cx) - 0.5)), 0)
+        x1 = min(int(math.floor(max(ax, bx, cx) - 0.5)), width - 1)
+        y0 = max(int(math.ceil(min(ay, by, cy) - 0.5)), 0)
+        y1 = min(int(math.floor(max(ay, by, cy) - 0.5)), height - 1)
+        for j in range(y0, y1 + 1):
+            py = j + 0.5
+            for i in range(x0, x1 + 1):
+                px = i + 0.5
+                w0 = ((bx - px) * (cy - py) - (by - py) * (cx - px)) / area
+                w1 = ((cx - px) * (ay - py) - (cy - py) * (ax - px)) / area
+                w2 = 1.0 - w0 - w1
+                if w0 >= eps and w1 >= eps and w2 >= eps:
+                    face_map[j, i] = f
+                    bary[j, i, 0] = w0
+                    bary[j, i, 1] = w1
+
+
+def rasterize_uv(uv, faces, shape) -> tuple[np.ndarray, np.ndarray]:
+    """Which triangle covers each texel centre of a UV layout, and where.
+
+    Parameters
+    ----------
+    uv : (V, 2) float array
+        Texture coordinates, v up; (u, v) lies at column u W, row (1 - v) H.
+    faces : (F, 3) int array
+    shape : (H, W)
+
+    Returns
+    -------
+    face : (H, W) int32
+        Index of the triangle whose closed interior holds the texel centre, -1 where none
+        does. Where UV triangles overlap (stacked or mirrored islands) the later one wins.
+    bary : (H, W, 3) float64
+        Barycentric coordinates of the texel centre in that triangle (0 where uncovered).
+    """
+    height, width = (int(s) for s in shape)
+    tex = np.empty((len(uv), 2))
+    tex[:, 0] = uv[:, 0] * width
+    tex[:, 1] = (1 - uv[:, 1]) * height
+    face = np.full((height, width), -1, np.int32)
+    b = np.zeros((height, width, 2))
+    _rasterize(tex, np.ascontiguousarray(faces, np.int64), face, b)
+    bary = np.empty((height, width, 3))
+    bary[..., :2] = b
+    bary[..., 2] = np.where(face >= 0, 1 - b[..., 0] - b[..., 1], 0.0)
+    return face, bary
+
+
+def dilate(image, covered, *, pixels: int | None = 16, background=(0.0, 0.0, 1.0)) -> np.ndarray:
+    """Extend UV islands over the empty texels around them (edge padding).
+
+    Each uncovered texel within ``pixels`` texels (Euclidean) of an island takes the value of
+    the nearest covered texel; farther ones take ``background``. Mip levels then average
+    island texels with copies of their own borders instead of the background, so seams do not
+    bleed. ``pixels=None`` fills every texel.
+
+    Parameters
+    ----------
+    image : (H, W, C) array
+    covered : (H, W) bool array
+    pixels : int or None
+    background : sequence of C floats
+
+    Returns
+    -------
+    (H, W, C) array, a new array of image's dtype.
+    """
+    covered = np.asarray(covered, bool)
+    out = np.array(image)
+    if not covered.any():
+        out[...] = background
+        return out
+    distance, (rows, cols) = ndimage.distance_transform_edt(~covered, return_indices=True)
+    out = out[rows, cols]
+    if pixels is not None:
+        out[distance > pixels] = background
+    return out
+
+
+# --- frames --------------------------------------------------------------------------------
+
+
+def world_to_tangent(world, tangent, sign, normal) -> np.ndarray:
+    """Tangent-space normal m that an engine turns back into the world normal ``world``.
+
+    MikkTSpace's pixel shader reconstructs normalize(m_x T + m_y B + m_z N) with the
+    interpolated, unnormalised T and N and B = sign * cross(N, T); this is its exact inverse,
+    m = normalize([T B N]^-1 world), computed with the cofactors (B x N, N x T, T x B).
+
+    Parameters
+    ----------
+    world, tangent, normal : (N, 3) float arrays
+    sign : (N,) float array of +-1
+
+    Returns
+    -------
+    (N, 3) unit normals in the tangent frame; (0, 0, 1) where the frame is degenerate.
+    """
+    bitangent = sign[:, None] * np.cross(normal, tangent)
+    rows = (np.cross(bitangent, normal), np.cross(normal, tangent), np.cross(tangent, bitangent))
+    det = np.einsum("ij,ij->i", tangent, rows[0])
+    m = np.stack([np.einsum("ij,ij->i", world, r) for r in rows], axis=1)
+    m *= np.sign(det)[:, None]
+    length = np.linalg.norm(m, axis=1, keepdims=True)
+    good = (np.abs(det) > 1e-12)[:, None] & (length > 0)
+    return np.where(good, m / np.where(good, length, 1), (0.0, 0.0, 1.0))
+
+
+def _rotation(rotation: float):
+    th = math.radians(rotation)
+    return math.cos(th), math.sin(th)
+
+
+def _detail_texels(q, shape0):
+    """Detail texel coordinates of detail-tile coordinates q (N, 2) (v up)."""
+    h0, w0 = shape0
+    return q[:, 0] * w0, (1 - q[:, 1]) * h0
+
+
+def _place_coordinates(st, tile, offset, rotation):
+    """q = R(-theta) diag(tile) st + offset: the tiling of :mod:`bakeshop.normals.tiling`."""
+    c, s = _rotation(rotation)
+    a = st[:, 0] * tile[0]
+    b = st[:, 1] * tile[1]
+    return np.stack([c * a + s * b + offset[0], -s * a + c * b + offset[1]], axis=1)
+
+
+def _rotate_xy(d, rotation, tile):
+    c, s = _rotation(rotation)
+    x = (c * d[:, 0] - s * d[:, 1]) * math.copysign(1, tile[0])
+    y = (s * d[:, 0] + c * d[:, 1]) * math.copysign(1, tile[1])
+    return x, y
+
+
+def _face_lod(coords_at_corners, macro_texels, faces):
+    """log2 of each face's footprint: detail texels per macro texel (GPU-style max axis)."""
+    d = coords_at_corners  # (F, 3, 2) detail texels
+    m = macro_texels[faces]  # (F, 3, 2) macro texels
+    dm = np.stack([m[:, 1] - m[:, 0], m[:, 2] - m[:, 0]], axis=2)  # (F, 2, 2) columns
+    dd = np.stack([d[:, 1] - d[:, 0], d[:, 2] - d[:, 0]], axis=2)
+    det = dm[:, 0, 0] * dm[:, 1, 1] - dm[:, 0, 1] * dm[:, 1, 0]
+    safe = np.where(np.abs(det) > 1e-300, det, 1.0)
+    inv = (
+        np.stack(
+            [np.stack([dm[:, 1, 1], -dm[:, 0, 1]], 1), np.stack([-dm[:, 1, 0], dm[:, 0, 0]], 1)], 1
+        )
+        / safe[:, None, None]
+    )
+    jac = dd @ inv  # detail texels per macro texel
+    footprint = np.maximum(
+        np.linalg.norm(jac[:, :, 0], axis=1), np.linalg.norm(jac[:, :, 1], axis=1)
+    )
+    return np.where(np.abs(det) > 1e-300, np.log2(np.maximum(footprint, 1.0)), 0.0)
+
+
+@dataclass
+class _Placement:
+    chain: list
+    tile: tuple[float, float]
+    offset: tuple[float, float]
+    rotation: float
+
+
+def _projected_gradient(place, st, lod, e_s, e_t):
+    """Volume gradient of the detail height projected along (e_s, e_t): -(x e_s + y e_t) / z."""
+    q = _place_coordinates(st, place.tile, place.offset, place.rotation)
+    d = sample_wrapped(place.chain, *_detail_texels(q, place.chain[0].shape[:2]), lod=lod)
+    d = d.astype(np.float64)
+    d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
+    x, y = _rotate_xy(d, place.rotation, place.tile)
+    z = np.maximum(d[:, 2], 1e-6)
+    return -(x[:, None] * e_s + y[:, None] * e_t) / z[:, None]
+
+
+def transfer_detail(
+    mesh: UVMesh,
+    detail,
+    shape,
+    *,
+    projection: str = "uv2",
+    tile=1.0,
+    offset=(0.0, 0.0),
+    rotation: float = 0.0,
+    axis: str = "z",
+    sharpness: float = 4.0,
+    padding: int | None = 16,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Bake a tileable detail normal map into the mesh's macro UV layout (module notes).
+
+    Parameters
+    ----------
+    mesh : UVMesh
+        The low-poly mesh; ``mesh.uv`` is the macro layout.
+    detail : (h, w, 3) float array
+        Unit normals of one tile of the detail (OpenGL tangent frame).
+    shape : (H, W)
+        Size of the output (the macro map's).
+    projection : {"uv2", "planar", "box", "triplanar"}
+        How the detail is applied: through ``mesh.uv2``; projected along ``axis``; per triangle
+        along the object axis closest to its normal; or blended over the three axes with
+        weights |N_i|^sharpness.
+    tile : float or (float, float)
+        Repetitions of the detail per unit of uv2, or per object-space unit for projections.
+    offset, rotation
+        Pattern offset (tiles) and counter-clockwise rotation (degrees), as in
+        :func:`bakeshop.normals.tiling.place_detail`.
+    axis : {"x", "y", "z"}
+        Projection axis of ``"planar"`` (see :data:`PROJECTION_AXES`).
+    sharpness : float
+        Exponent of the triplanar weights.
+    padding : int or None
+        Texels of dilation around UV islands (None: fill the whole map).
+
+    Returns
+    -------
+    normals : (H, W, 3) float32
+        The detail in the macro map's tangent frame (MikkTSpace), flat (0, 0, 1) far from
+        islands. Blend it onto the macro map with ``tile=1``.
+    covered : (H, W) bool
+        Texels whose centre lies in a triangle.
+
+    Notes
+    -----
+    For uv2, the world normal is normalize(d_x T2 + d_y B2 + d_z N) with the MikkTSpace frame
+    of the second UV set, as a shader sampling the detail through uv2 computes it. For the
+    projections the detail is a height field h(s, t) over the projection plane, displaced
+    along the surface normal; its surface gradient is the projection of the volume gradient
+    g = h_s e_s + h_t e_t onto the tangent plane, and the world normal is normalize(N - g +
+    (g . N) N) (Mikkelsen 2020, section on triplanar projection); triplanar sums the three
+    surface gradients with the weights.
+    """
+    validate_choice(projection, PROJECTIONS, "projection")
+    validate_choice(axis, AXES, "projection axis")
+    if projection == "uv2" and mesh.uv2 is None:
+        raise ArgumentError(
+            "the mesh has no second UV set (glTF TEXCOORD_1); use a planar, box or "
+            "triplanar projection"
+        )
+    d = np.asarray(detail)
+    if d.ndim != 3 or d.shape[2] != 3:
+        raise ArgumentError(f"a detail normal map must be (h, w, 3); got shape {d.shape}")
+    height, width = (int(s) for s in shape)
+    if height < 1 or width < 1 or height * width > 1 << 28:
+        raise ArgumentError(f"invalid output size {width}x{height}")
+    place = _Placement(mip_chain(d), as_pair(tile, "tile"), as_pair(offset, "offset"), rotation)
+    if place.tile[0] == 0 or place.tile[1] == 0 or not math.isfinite(rotation):
+        raise ArgumentError("tile must be non-zero and rotation finite")
+    faces = mesh.faces
+    with progress.step("tangents"):
+        frame = corner_tangents(mesh.positions, mesh.normals, mesh.uv, faces)
+        frame2 = None
+        if projection == "uv2":
+            frame2 = corner_tangents(mesh.positions, mesh.normals, mesh.uv2, faces)
+    with progress.step("rasterising"):
+        face_map, bary = rasterize_uv(mesh.uv, faces, (height, width))
+    covered = face_map >= 0
+    texels = np.flatnonzero(covered)
+    macro_texels = np.stack([mesh.uv[:, 0] * width, (1 - mesh.uv[:, 1]) * height], axis=1)
+    h0, w0 = place.chain[0].shape[:2]
+
+    def face_lods(st_corners):  # (F, 3, 2) pattern coordinates at the corners
+        q = _place_coordinates(st_corners.reshape(-1, 2), place.tile, place.offset, rotation)
+        x, y = _detail_texels(q, (h0, w0))
+        return _face_lod(np.stack([x, y], axis=1).reshape(-1, 3, 2), macro_texels, faces)
+
+    p_corner = mesh.positions[faces]
+    face_normal = np.cross(p_corner[:, 1] - p_corner[:, 0], p_corner[:, 2] - p_corner[:, 0])
+    if projection == "uv2":
+        lods = {"uv2": face_lods(mesh.uv2[faces])}
+    else:
+        lods = {a: face_lods(p_corner @ np.stack(PROJECTION_AXES[a], axis=1)) for a in AXES}
+    box_axis = np.argmax(np.abs(face_normal), axis=1)
+
+    out = np.zeros((height * width, 3), np.float32)
+    out[:, 2] = 1
+    flat_bary = bary.reshape(-1, 3)
+    flat_face = face_map.reshape(-1)
+    for start in progress.track(range(0, len(texels), _CHUNK), "transferring"):
+        idx = texels[start : start + _CHUNK]
+        f = flat_face[idx].astype(np.int64)
+        b = flat_bary[idx]
+        corners = faces[f]
+
+        def interp(values, b=b, corners=corners):
+            return np.einsum("nk,nkc->nc", b, values[corners])
+
+        def interp_corner(values, b=b, f=f):
+            return np.einsum("nk,nkc->nc", b, values[f])
+
+        normal = interp(mesh.normals)
+        tangent = interp_corner(frame[..., :3])
+        sign = frame[f, 0, 3]
+        if projection == "uv2":
+            st = interp(mesh.uv2)
+            q = _place_coordinates(st, place.tile, place.offset, rotation)
+            dn = sample_wrapped(place.chain, *_detail_texels(q, (h0, w0)), lod=lods["uv2"][f])
+            dn = dn.astype(np.float64)
+            x, y = _rotate_xy(dn, rotation, place.tile)
+            t2 = interp_corner(frame2[..., :3])
+            b2 = frame2[f, 0, 3][:, None] * np.cross(normal, t2)
+            world = x[:, None] * t2 + y[:, None] * b2 + dn[:, 2:] * normal
+        else:
+            n_hat = normal / np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+            pos = interp(mesh.positions)
+            if projection == "triplanar":
+                weights = np.abs(n_hat) ** sharpness
+                weights /= np.maximum(weights.sum(axis=1, keepdims=True), 1e-300)
+                grad = np.zeros_like(pos)
+                for k, a in enumerate(AXES):
+                    e_s, e_t = PROJECTION_AXES[a]
+                    st = np.stack([pos @ e_s, pos @ e_t], axis=1)
+                    grad += weights[:, k : k + 1] * _projected_gradient(
+                        place, st, lods[a][f], e_s, e_t
+                    )
+            else:
+                chosen = box_axis[f] if projection == "box" else np.full(len(f), AXES.index(axis))
+                grad = np.zeros_like(pos)
+                for k, a in enumerate(AXES):
+                    sel = chosen == k
+                    if not sel.any():
+                        continue
+                    e_s, e_t = PROJECTION_AXES[a]
+                    st = np.stack([pos[sel] @ e_s, pos[sel] @ e_t], axis=1)
+                    grad[sel] = _projected_gradient(place, st, lods[a][f[sel]], e_s, e_t)
+            surface_grad = grad - np.einsum("ij,ij->i", grad, n_hat)[:, None] * n_hat
+            world = n_hat - surface_grad
+        out[idx] = world_to_tangent(world, tangent, sign, normal)
+    normals = dilate(out.reshape(height, width, 3), covered, pixels=padding)
+    return normals, covered
