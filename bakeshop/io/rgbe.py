@@ -353,32 +353,56 @@ def _to_rgb(image: np.ndarray, rows: int = 256) -> None:
         image[top : top + rows] = image[top : top + rows].astype(np.float64) @ XYZ_TO_RGB.T
 
 
+#: float32 bit patterns: +infinity (larger patterns are NaN) and the sign bit.
+_INF_BITS, _SIGN_BIT = 0x7F800000, 0x80000000
+_FLOAT32_MAX = float(np.finfo(np.float32).max)
+
+
 @numba.njit(cache=True, nogil=True)
-def _rgbe_pixel(r, g, b, out):
-    """Encode one linear RGB pixel into ``out[0:4]`` with the error-minimising bytes for the
-    (m + 0.5) reconstruction: the largest component picks the smallest exponent that holds it
-    (mantissa in [128, 256)) and each mantissa is the floor, i.e. the interval holding the value,
-    whose centre is the nearest reconstruction. NaN and negatives become 0; values beyond the
-    largest RGBE value (about 1.7e38, infinities included) saturate to it."""
-    big = 2.0**128
-    r = min(r, big) if r > 0 else 0.0
-    g = min(g, big) if g > 0 else 0.0
-    b = min(b, big) if b > 0 else 0.0
-    v = max(r, max(g, b))
-    if v < _SMALLEST:
-        out[0] = 0
-        out[1] = 0
-        out[2] = 0
-        out[3] = 0
-        return
-    e = math.frexp(v)[1] + 128
-    if e > 255:
-        e = 255
-    inv = math.ldexp(1.0, 136 - e)
-    out[0] = min(int(math.floor(r * inv)), 255)
-    out[1] = min(int(math.floor(g * inv)), 255)
-    out[2] = min(int(math.floor(b * inv)), 255)
-    out[3] = e
+def _rgbe_row(values, bits, line):
+    """Encode one row of linear pixels into ``line[0:4, x]`` (R, G, B mantissas and exponent).
+
+    ``values`` is a (W, C) float32 row (C = 1 grey, or 3) and ``bits`` the same memory as
+    uint32. The bytes minimise the error of the (m + 0.5) reconstruction: the largest component
+    picks the smallest exponent that holds it (its mantissa in [128, 256)) and each mantissa is
+    the floor, the interval holding the value, whose centre is the nearest reconstruction.
+    NaN and negatives become 0; values beyond RGBE's largest (about 1.7e38, infinities
+    included) saturate to it; values below 2**-128 make a black pixel. The exponent is read
+    from the largest component's bit pattern (non-negative floats order like their bits).
+    """
+    width, channels = values.shape
+    inv = np.empty(256, np.float64)
+    for e in range(256):
+        inv[e] = math.ldexp(1.0, 136 - e)
+    smallest = 1 << 21  # the bits of 2**-128, a float32 subnormal
+    for x in range(width):
+        top = 0
+        largest = 0
+        for c in range(3):
+            k = c if channels == 3 else 0
+            b = bits[x, k]
+            if b < _SIGN_BIT and b <= _INF_BITS and b > top:
+                top = b
+                largest = k
+        if top < smallest:
+            for c in range(4):
+                line[c, x] = 0
+            continue
+        biased = top >> 23
+        if biased >= 2:
+            e = min(biased + 2, 255)
+        else:  # a subnormal float32 or the smallest normals: let frexp find the exponent
+            e = math.frexp(np.float64(values[x, largest]))[1] + 128
+        scale = inv[e]
+        for c in range(3):
+            k = c if channels == 3 else 0
+            b = bits[x, k]
+            if b >= _SIGN_BIT or b > _INF_BITS:
+                line[c, x] = 0
+            else:
+                v = np.float64(min(values[x, k], _FLOAT32_MAX)) * scale
+                line[c, x] = int(min(v, 255.0))
+        line[3, x] = e
 
 
 @numba.njit(cache=True, nogil=True)
@@ -420,22 +444,16 @@ def _rle_plane(plane, buf, pos):
 
 @numba.njit(cache=True, nogil=True)
 def _encode(image, rle):
-    """Encode an (H, W, C) float image (C = 1 grey or 3 RGB) into Radiance scanlines; return the
-    bytes (only the first ``length`` are used) and ``length``."""
+    """Encode a C-contiguous (H, W, C) float32 image (C = 1 grey or 3 RGB) into Radiance
+    scanlines; return the bytes (only the first ``length`` are used) and ``length``."""
     height, width, channels = image.shape
     per_line = 4 + 4 * (width + (width + 127) // 128) if rle else 4 * width
     buf = np.empty(height * per_line, np.uint8)
     line = np.empty((4, width), np.uint8)
-    pixel = np.empty(4, np.uint8)
+    bits = image.view(np.uint32)
     pos = 0
     for y in range(height):
-        for x in range(width):
-            r = np.float64(image[y, x, 0])
-            g = np.float64(image[y, x, 1 if channels == 3 else 0])
-            b = np.float64(image[y, x, 2 if channels == 3 else 0])
-            _rgbe_pixel(r, g, b, pixel)
-            for c in range(4):
-                line[c, x] = pixel[c]
+        _rgbe_row(image[y], bits[y], line)
         if rle:
             buf[pos] = 2
             buf[pos + 1] = 2
@@ -480,8 +498,7 @@ def write(path: str | os.PathLike, image, *, rle: bool = True) -> None:
             "drop the alpha channel first (image[..., :3])"
         )
     rle = bool(rle) and _RLE_MIN <= width <= _RLE_MAX
-    if image.dtype not in (np.float32, np.float64):
-        image = image.astype(np.float32)
+    image = np.ascontiguousarray(image, dtype=np.float32)
     encoded, length = _encode(image, rle)
     header = f"#?RADIANCE\nSOFTWARE=bakeshop\nFORMAT=32-bit_rle_rgbe\n\n-Y {height} +X {width}\n"
     with open(path, "wb") as f:
