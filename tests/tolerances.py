@@ -33,6 +33,9 @@ IRRADIANCE_AUTO_RMS = 1e-3
 IRRADIANCE_AUTO_MAX = 5e-3
 #: "exact" irradiance vs closed forms at float64 (relative).
 IRRADIANCE_EXACT = 1e-9
+#: the DIM of a uniform environment of 1 from a 512x256 latlong, any method: the texel
+#: quadrature's O(h^2) error (measured 1e-5 exact and sh, 7e-5 auto).
+UNIFORM_DIM = 1e-4
 #: sun detection on synthetic skies: direction (degrees) and solid angle (relative).
 SUN_DIRECTION_DEG = 0.5
 SUN_SOLID_ANGLE = 0.10

@@ -1,0 +1,478 @@
+"""Diffuse irradiance maps (DIMs): exact, spherical-harmonic and fast exact ("auto") convolution.
+
+The irradiance at a surface with unit normal n lit by an environment of radiance L is
+
+    E(n) = integral over the sphere of L(w) max(0, n . w) dw,
+
+and a DIM stores ``E / pi``: the radiance an albedo-1 Lambertian surface reflects, so a uniform
+environment of 1 gives a DIM of 1 (DESIGN.md). Everything here works on the directions and
+solid angles of the sphere layouts (:mod:`bakeshop.sphere`), so any input layout gives any
+output layout.
+
+Methods
+-------
+``exact``
+    The quadrature over every source texel for every output texel (HDRShop's diffuse
+    convolution): ``E(n_i) = sum_j L_j omega_j max(0, n_i . w_j)``. O(N_in N_out); the
+    reference.
+``sh``
+    Projection on real spherical harmonics to an order L and convolution with the clamped
+    cosine's ``A_l`` (Ramamoorthi and Hanrahan 2001; L = 2 is their 9-coefficient form).
+    Smooth and cheap, but not exact: L = 2 misses up to ~10 % near a sun's terminator.
+``auto`` (default)
+    The exact quadrature over a compressed source: texels are grouped into the bins of a
+    coarse latlong grid and each bin becomes one source carrying the bin's total energy
+    ``sum L omega`` (per channel), placed at the energy-weighted centroid of its texels'
+    directions, so the zeroth and first moments of every bin are kept and the error is of
+    second order in the bin's angular size. Bins holding more than :data:`HOT_FRACTION` of the
+    environment's energy (a sun, a lamp, a window) are split into four finer bins, recursively,
+    down to single texels. The result agrees with ``exact`` within 0.1 % RMS and 0.5 % maximum
+    relative error on real probes (tests/light/test_irradiance.py measures it) at a cost that no
+    longer depends on the input's resolution beyond one pass over its texels.
+
+References
+----------
+R. Ramamoorthi and P. Hanrahan, "An efficient representation for irradiance environment maps",
+SIGGRAPH 2001, doi:10.1145/383259.383317.
+G. Miller and C. R. Hoffman, "Illumination and reflection maps: simulated objects in simulated
+and real environments", SIGGRAPH 1984 course notes (the diffuse convolution).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, NamedTuple
+
+import numba
+import numpy as np
+
+from bakeshop import progress
+from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.light import sh
+
+if TYPE_CHECKING:
+    from bakeshop.light.sun import Sun
+
+#: the irradiance methods, the default first.
+METHODS = ("auto", "exact", "sh")
+
+#: edge of the coarsest bin grid of ``auto`` (6 * 40**2 = 9600 bins of at most 2.9 degrees,
+#: where the cosine kernel's second-order error is ~1e-4).
+BASE_BINS = 40
+
+#: a bin with more than this fraction of the environment's energy is split (``auto``).
+HOT_FRACTION = 1e-3
+
+#: the finest bin grid's edge (2**20 bins per face edge: far below any texel).
+_MAX_BINS = 1 << 20
+
+#: output texels per block of the exact kernel (progress granularity).
+_BLOCK = 4096
+
+
+@numba.njit(parallel=True, fastmath=True, cache=True)
+def _cosine_sum(normals, dirs, energy, starts, axes, sin_half, linear, out):  # pragma: no cover
+    # out[i, c] = sum_j energy[c, j] * max(0, normals[i] . dirs[:, j]) with the sources sorted
+    # into groups g (members starts[g]..starts[g+1]) inside a cone (axis, half-angle b). A group
+    # wholly below the horizon of n adds nothing; one wholly above it adds n . linear[g, c]
+    # (= sum_j e_cj w_j) exactly; only the groups the horizon crosses are summed member by
+    # member. Float64 throughout; fastmath only lets the reductions vectorise.
+    for i in numba.prange(normals.shape[0]):
+        nx, ny, nz = normals[i, 0], normals[i, 1], normals[i, 2]
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
+        for g in range(axes.shape[0]):
+            c = nx * axes[g, 0] + ny * axes[g, 1] + nz * axes[g, 2]
+            if c < -sin_half[g] - 1e-12:
+                continue
+            if c > sin_half[g] + 1e-12:
+                a0 += nx * linear[g, 0, 0] + ny * linear[g, 0, 1] + nz * linear[g, 0, 2]
+                a1 += nx * linear[g, 1, 0] + ny * linear[g, 1, 1] + nz * linear[g, 1, 2]
+                a2 += nx * linear[g, 2, 0] + ny * linear[g, 2, 1] + nz * linear[g, 2, 2]
+                continue
+            for j in range(starts[g], starts[g + 1]):
+                c = max(nx * dirs[0, j] + ny * dirs[1, j] + nz * dirs[2, j], 0.0)
+                a0 += c * energy[0, j]
+                a1 += c * energy[1, j]
+                a2 += c * energy[2, j]
+        out[i, 0] = a0
+        out[i, 1] = a1
+        out[i, 2] = a2
+
+
+def _groups(dirs, energy):
+    """Sort sources into cone-bounded groups for :func:`_cosine_sum`.
+
+    The group size balances the two costs per normal: testing every group (~4 pi / h**2 for
+    groups of angular size h) and summing the members of the groups its horizon crosses
+    (~N h), the first ~1.5**3 times dearer per item: h = 1.5 (8 pi / N)**(1/3).
+    """
+    n = dirs.shape[0]
+    h = 1.5 * (8 * math.pi / max(n, 1)) ** (1 / 3)
+    size = int(np.clip(round(2 / h), 1, 1024))
+    bins = _bins(dirs, np.empty(0, np.int64), size)
+    order = np.argsort(bins, kind="stable")
+    counts = np.bincount(bins, minlength=6 * size * size)
+    counts = counts[counts > 0]
+    starts = np.concatenate([[0], np.cumsum(counts)])
+    d = dirs[order]
+    e = np.zeros((n, 3))
+    e[:, : energy.shape[1]] = energy[order]
+    axes = np.add.reduceat(d, starts[:-1], axis=0)
+    norm = np.linalg.norm(axes, axis=1, keepdims=True)
+    axes = np.divide(axes, norm, out=np.tile([1.0, 0.0, 0.0], (len(axes), 1)), where=norm > 0)
+    cos_min = np.minimum.reduceat(
+        np.einsum("ij,ij->i", d, np.repeat(axes, counts, axis=0)), starts[:-1]
+    )
+    sin_half = np.where(cos_min > 0, np.sqrt(np.clip(1 - cos_min**2, 0, 1)), 2.0)
+    linear = np.add.reduceat(e[:, :, None] * d[:, None, :], starts[:-1], axis=0)
+    return np.ascontiguousarray(d.T), np.ascontiguousarray(e.T), starts, axes, sin_half, linear
+
+
+def cosine_sum(normals, directions, energy, *, description: str = "irradiance") -> np.ndarray:
+    """Irradiance of a set of point sources: ``E_i = sum_j e_j max(0, n_i . w_j)``.
+
+    The exact kernel behind every method: a discretised environment is a set of sources, one per
+    texel, each with direction ``w_j`` and energy ``e_j = L_j omega_j``. Sources are grouped in
+    small cones; a cone wholly above a normal's horizon contributes the exact linear sum
+    ``n . sum_j e_j w_j`` and one wholly below contributes nothing, so only the cones the
+    horizon crosses are summed source by source. The result is the full sum (to rounding) at
+    O(M N**(2/3)) instead of O(M N).
+
+    Parameters
+    ----------
+    normals : (M, 3) array_like
+        Unit surface normals.
+    directions : (N, 3) array_like
+        Unit directions towards the sources.
+    energy : (N, C) array_like
+        Radiance times solid angle of each source (W m^-2 for radiance in W m^-2 sr^-1), C <= 3.
+
+    Returns
+    -------
+    (M, C) float64
+        Irradiance (not divided by pi).
+    """
+    n = np.ascontiguousarray(np.asarray(normals, dtype=np.float64).reshape(-1, 3))
+    w = np.asarray(directions, dtype=np.float64).reshape(-1, 3)
+    e = np.asarray(energy, dtype=np.float64)
+    e = e.reshape(e.shape[0], -1)
+    channels = e.shape[1]
+    if e.shape[0] != w.shape[0] or channels > 3:
+        raise ArgumentError(f"energy {e.shape} does not match {w.shape[0]} source directions")
+    out = np.zeros((n.shape[0], 3))
+    if w.shape[0] == 0:
+        return out[:, :channels]
+    grouped = _groups(w, e)
+    blocks = range(0, n.shape[0], _BLOCK)
+    if n.shape[0] * w.shape[0] ** (2 / 3) > 3e9:  # about a second of work or more
+        blocks = progress.track(blocks, description)
+    for start in blocks:
+        _cosine_sum(n[start : start + _BLOCK], *grouped, out[start : start + _BLOCK])
+    return out[:, :channels]
+
+
+def texels(image, layout):
+    """An environment's texels as flat arrays, for everything that integrates over it.
+
+    Parameters
+    ----------
+    image : (..., C) array_like
+        The environment in ``layout`` (C in {1, 3, 4}; alpha is dropped).
+    layout : str or Layout
+
+    Returns
+    -------
+    values : (N, C') float32 or float64
+        Radiance of each texel (a view when possible).
+    dirs : (N, 3) float64
+        Unit direction of each texel centre.
+    omega : (N,) float64
+        Solid angle of each texel; 0 where the layout has no texel (outside a disk).
+    shape : tuple
+        The spatial shape, to put results back in the layout.
+    """
+    from bakeshop.sphere import layout as get_layout
+
+    lay = get_layout(layout)
+    img = np.asarray(image)
+    if img.dtype.kind not in "fiu" or img.ndim < 3:
+        raise ArgumentError(f"an environment must be a numeric (..., C) array; got {img.shape}")
+    if img.shape[-1] not in (1, 3, 4):
+        raise ArgumentError(f"an environment needs 1, 3 or 4 channels, got {img.shape[-1]}")
+    spatial = lay.check_shape(img.shape[:-1])
+    img = img[..., :3] if img.shape[-1] == 4 else img
+    if img.dtype not in (np.float32, np.float64):
+        img = img.astype(np.float32)
+    if not np.isfinite(img).all():
+        raise ArgumentError("the environment has NaN or infinite values; fix or clamp them first")
+    dirs, valid = lay.directions(spatial)
+    omega = np.where(valid, lay.solid_angles(spatial), 0.0)
+    n = int(np.prod(spatial))
+    return img.reshape(n, -1), dirs.reshape(n, 3), omega.reshape(n), spatial
+
+
+@numba.njit(cache=True)
+def _bin_of(x, y, z, size):  # pragma: no cover - compiled
+    # A private spatial hash of directions: cube-face bins, size x size per face, that nest
+    # (bin i at 2*size holds bins 2i and 2i+1). Not a panorama layout: faces are unoriented.
+    ax, ay, az = abs(x), abs(y), abs(z)
+    if ax >= ay and ax >= az:
+        face, u, v, m = (0 if x > 0 else 1), y, z, ax
+    elif ay >= az:
+        face, u, v, m = (2 if y > 0 else 3), x, z, ay
+    else:
+        face, u, v, m = (4 if z > 0 else 5), x, y, az
+    if m == 0.0:
+        return 0
+    i = min(int((u / m + 1.0) * 0.5 * size), size - 1)
+    j = min(int((v / m + 1.0) * 0.5 * size), size - 1)
+    return (face * size + j) * size + i
+
+
+@numba.njit(parallel=True, cache=True)
+def _bins(dirs, subset, size):  # pragma: no cover - compiled
+    count = subset.shape[0] if subset.shape[0] > 0 else dirs.shape[0]
+    out = np.empty(count, np.int64)
+    for k in numba.prange(count):
+        t = subset[k] if subset.shape[0] > 0 else np.int64(k)
+        out[k] = _bin_of(dirs[t, 0], dirs[t, 1], dirs[t, 2], size)
+    return out
+
+
+@numba.njit(cache=True)
+def _accumulate(values, dirs, omega, subset, index, sums):  # pragma: no cover - compiled
+    # sums[index[k]] += (energy per channel..., weight, weight * direction) of texel k (of all
+    # texels, or of those listed in subset); weight = sum over channels of |energy|.
+    channels = values.shape[1]
+    for k in range(index.shape[0]):
+        t = subset[k] if subset.shape[0] > 0 else np.int64(k)
+        w = omega[t]
+        if w == 0.0:
+            continue
+        b = index[k]
+        total = 0.0
+        for c in range(channels):
+            e = values[t, c] * w
+            sums[b, c] += e
+            total += abs(e)
+        sums[b, channels] += total
+        for a in range(3):
+            sums[b, channels + 1 + a] += total * dirs[t, a]
+
+
+def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float = HOT_FRACTION):
+    """Group an environment's texels into moment-preserving bins, finer where energy gathers.
+
+    Each bin becomes one source with the bin's energy ``sum L omega`` per channel, at the
+    weighted centroid of its texels' directions (weight: the energy summed over channels), so
+    every bin keeps its zeroth and first moments and replacing it by a point source errs only
+    to second order in its angular size. Bins holding more than ``hot_fraction`` of the total
+    energy are split in four, recursively, down to single texels.
+
+    Parameters
+    ----------
+    values : (N, C) float array
+        Radiance of each texel.
+    dirs : (N, 3) float64
+        Unit texel directions.
+    omega : (N,) float64
+        Texel solid angles (0 for no texel).
+    base : int
+        Edge of the coarsest bin grid: ``6 * base**2`` cube-face bins.
+    hot_fraction : float
+        Split threshold as a fraction of the total energy.
+
+    Returns
+    -------
+    dirs : (K, 3) float64
+    energy : (K, C) float64
+        The sources; ``energy`` sums to the environment's ``sum L omega``.
+    """
+    channels = values.shape[1]
+    size = base
+    subset = np.empty(0, np.int64)  # empty: every texel
+    out_dirs, out_energy = [], []
+    threshold = None
+    while True:
+        bins = _bins(dirs, subset, size)
+        if subset.size:
+            uniq, index = np.unique(bins, return_inverse=True)
+            n_bins = uniq.size
+        else:
+            index, n_bins = bins, 6 * size * size
+        sums = np.zeros((n_bins, channels + 4))
+        _accumulate(values, dirs, omega, subset, index, sums)
+        weight = sums[:, channels]
+        if threshold is None:
+            threshold = hot_fraction * weight.sum()
+        # split a bin that holds too much energy, unless it is a single texel
+        hot = (weight > threshold) & (np.bincount(index, minlength=n_bins) > 1)
+        if size >= _MAX_BINS:
+            hot[:] = False
+        moment = sums[:, channels + 1 :]
+        norm = np.linalg.norm(moment, axis=1)
+        emit = ~hot & (norm > 0)
+        out_dirs.append(moment[emit] / norm[emit, None])
+        out_energy.append(sums[emit, :channels])
+        if not hot.any():
+            break
+        in_hot = hot[index]
+        subset = np.flatnonzero(in_hot) if not subset.size else subset[in_hot]
+        size *= 2
+    return np.concatenate(out_dirs), np.concatenate(out_energy)
+
+
+def _normals(to: str, size):
+    from bakeshop.sphere import layout
+
+    lay = layout(to)
+    shape = lay.shape(size)
+    dirs, valid = lay.directions(shape)
+    return shape, dirs, valid
+
+
+def sh_coefficients(image, layout, *, order: int = 2) -> np.ndarray:
+    """Project an environment on real SH to ``order``, weighting texels by their solid angles.
+
+    Returns
+    -------
+    ((order + 1)**2, C) float64
+        Radiance coefficients (see :mod:`bakeshop.light.sh`; ``sh.irradiance_coefficients``
+        turns them into the DIM's).
+    """
+    values, dirs, omega, _ = texels(image, layout)
+    with progress.step(f"projecting on spherical harmonics to order {order}"):
+        return sh.project(values, dirs, omega, order=order)
+
+
+def irradiance(
+    image,
+    layout: str,
+    *,
+    to: str = "latlong",
+    size=(360, 180),
+    method: str = "auto",
+    order: int = 2,
+) -> np.ndarray:
+    """The DIM (``E / pi``) of an environment, in any layout and size.
+
+    Parameters
+    ----------
+    image : (..., C) array_like
+        The environment's radiance in ``layout``: ``(H, W, C)`` for flat layouts,
+        ``(6, S, S, C)`` for a cube; C in {1, 3, 4} (alpha is dropped). NaN and Inf are refused.
+    layout : str
+        The input's layout name (see :func:`bakeshop.sphere.layout`).
+    to : str
+        The output layout.
+    size : int or (int, int)
+        The output size as the layout reads it (``(W, H)`` for latlong; default 360x180).
+    method : {"auto", "exact", "sh"}
+        See the module docstring. ``auto`` is exact within 0.1 % RMS / 0.5 % max.
+    order : int
+        SH order for ``method="sh"`` (2: the classic 9 coefficients per channel).
+
+    Returns
+    -------
+    (..., C') float32
+        ``E / pi`` per output texel (0 outside a disk layout's disk); C' = 3 for RGBA input.
+    """
+    validate_choice(method, METHODS, "irradiance method")
+    shape, normals, valid = _normals(to, size)
+    if method == "sh":
+        coeffs = sh_coefficients(image, layout, order=order)
+        dim = sh.evaluate(sh.irradiance_coefficients(coeffs), normals)
+    else:
+        values, dirs, omega, _ = texels(image, layout)
+        dim = _dim(values, dirs, omega, normals, method)
+    dim[~valid] = 0
+    return dim.astype(np.float32)
+
+
+def _dim(values, dirs, omega, normals, method):
+    """E / pi at ``normals`` (..., 3) from texels, by ``exact`` or ``auto``."""
+    if method == "auto":
+        with progress.step("grouping the environment's texels"):
+            dirs, energy = compress(values, dirs, omega)
+    else:
+        energy = values * omega[:, None]
+    e = cosine_sum(normals.reshape(-1, 3), dirs, energy)
+    return e.reshape(normals.shape[:-1] + (-1,)) / math.pi
+
+
+class DimPair(NamedTuple):
+    """What :func:`dim_pair` returns."""
+
+    #: (..., C) float32: the DIM of the probe as photographed (lit surfaces).
+    sun_dim: np.ndarray
+    #: (..., C) float32: the DIM of the probe without its sun (surfaces in shadow).
+    shadow_dim: np.ndarray
+    #: the probe with its sun painted out, in the input's layout, shape and dtype.
+    shadow_probe: np.ndarray
+    #: the sun's measurements, or None when the probe has none (then both DIMs are equal).
+    sun: Sun | None
+
+
+def dim_pair(
+    image,
+    layout: str,
+    *,
+    to: str = "latlong",
+    size=(360, 180),
+    method: str = "auto",
+    order: int = 2,
+) -> DimPair:
+    """The sun DIM, the shadow DIM, the sun-removed probe and the sun, from one probe.
+
+    The sun is found and painted out (:mod:`bakeshop.light.sun`); the shadow DIM is the DIM of
+    the painted probe (by ``method``), and the sun DIM adds the exact irradiance of what was
+    painted out, so ``sun_dim - shadow_dim`` is the sun's own contribution, close to
+    ``E_sun max(0, n . s) / pi``.
+
+    Parameters
+    ----------
+    image : (..., C) array_like
+        The probe in ``layout``.
+    layout : str
+    to, size, method, order
+        As for :func:`irradiance`.
+
+    Returns
+    -------
+    DimPair
+        ``(sun_dim, shadow_dim, shadow_probe, sun)``.
+    """
+    from bakeshop.light import sun as sun_module
+
+    validate_choice(method, METHODS, "irradiance method")
+    shape, normals, valid = _normals(to, size)
+    values, dirs, omega, _ = texels(image, layout)
+    with progress.step("finding the sun"):
+        removal = sun_module._split(image, layout, values, dirs, omega)
+    probe = np.array(image, copy=True)
+    if removal is not None:
+        flat = probe.reshape(-1, probe.shape[-1])
+        flat[removal.index, : values.shape[1]] = removal.filled
+        values = flat[:, : values.shape[1]]
+    if method == "sh":
+        coeffs = sh.project(values, dirs, omega, order=order)
+        shadow = sh.evaluate(sh.irradiance_coefficients(coeffs), normals)
+    else:
+        shadow = _dim(values, dirs, omega, normals, method)
+    lit = shadow
+    if removal is not None:
+        i = removal.index
+        original = np.asarray(image).reshape(-1, probe.shape[-1])[i, : values.shape[1]]
+        excess = original.astype(np.float64) - removal.filled
+        e = cosine_sum(normals.reshape(-1, 3), dirs[i], excess * omega[i, None])
+        lit = shadow + e.reshape(shadow.shape) / math.pi
+    shadow[~valid] = 0
+    lit[~valid] = 0
+    return DimPair(
+        lit.astype(np.float32),
+        shadow.astype(np.float32),
+        probe,
+        None if removal is None else removal.sun,
+    )

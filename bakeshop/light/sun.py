@@ -1,0 +1,320 @@
+"""The sun in a light probe: find it, measure it, and paint it out.
+
+A sun is the brightest compact region of a probe that stands clearly above the sky around it
+and dominates every other compact light in it. Overcast, indoor and dawn probes have none:
+their brightest spots are dim against their surroundings (an overcast sky), or one of several
+alike (ceiling lamps, softboxes). Once found, the sun is removed by filling its region from
+the surrounding sky with a harmonic (Laplace) interpolation, solved on a small gnomonic patch
+around it so that any layout, its seams and its poles are handled alike; what the fill took
+away (the *excess*, probe minus fill) is the sun's own light.
+
+Measurements (all from the excess, per channel where a colour is meant):
+
+- ``direction``: the excess-luminance-weighted centroid of the region's directions, a unit
+  ``[x, y, z]`` in DESIGN.md's frame (+Y up, -Z forward, +X right);
+- ``solid_angle_sr``: the equivalent disk, ``sum(excess * omega) / plateau`` where the plateau
+  is the mean excess of the texels within 10 % of the brightest (exact for a uniform disk; a
+  sun clipped by the camera gives its clipped size);
+- ``angular_radius_deg``: the radius of a disk of that solid angle;
+- ``color``: the mean excess radiance over that disk, ``sum(excess * omega) / solid_angle``;
+- ``irradiance``: the excess's irradiance on a surface facing the sun,
+  ``sum excess * omega * max(0, s . w)`` (not divided by pi).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from bakeshop.io._files import atomic_path
+from bakeshop.statistics import luminance
+
+#: the sun's peak must exceed the sky around it (median of a ring) by this factor.
+CONTRAST = 20.0
+#: ... and its excess energy that of the next brightest compact light by this factor.
+DOMINANCE = 8.0
+#: largest sun accepted: the core (above half the peak) lies within this angle (degrees).
+MAX_RADIUS_DEG = 10.0
+#: the region removed reaches MASK_SCALE times the core's radius, plus two texels.
+MASK_SCALE = 2.0
+#: the mask extends while the mean luminance of its rim exceeds this many times the sky's.
+GLARE = 2.0
+#: texels whose excess is within this fraction of the brightest form the plateau.
+PLATEAU = 0.9
+#: the filled patch has at most this many pixels on a side.
+PATCH_MAX = 256
+
+
+@dataclass(frozen=True)
+class Sun:
+    """What :func:`find_sun` measures (see the module docstring for each definition).
+
+    Attributes
+    ----------
+    direction : (3,) float64
+        Unit vector towards the sun, world frame.
+    angular_radius_deg : float
+    solid_angle_sr : float
+    color : (C,) float64
+        Mean radiance of the sun's disk above the sky behind it.
+    irradiance : (C,) float64
+        Irradiance at normal incidence (E, not E / pi), in radiance units times sr.
+    mask_radius_deg : float
+        Angular radius of the region that :func:`remove_sun` fills.
+    """
+
+    direction: np.ndarray
+    angular_radius_deg: float
+    solid_angle_sr: float
+    color: np.ndarray
+    irradiance: np.ndarray
+    mask_radius_deg: float
+
+    def to_dict(self) -> dict:
+        """The ``sun.json`` document: plain lists and floats."""
+        return {
+            "direction": [float(v) for v in self.direction],
+            "angular_radius_deg": float(self.angular_radius_deg),
+            "solid_angle_sr": float(self.solid_angle_sr),
+            "color": [float(v) for v in self.color],
+            "irradiance": [float(v) for v in self.irradiance],
+            "mask_radius_deg": float(self.mask_radius_deg),
+        }
+
+
+def write_json(path: str | os.PathLike, sun: Sun | None) -> None:
+    """Write ``sun.json`` atomically: :meth:`Sun.to_dict`, or ``{"sun": null}`` when none."""
+    doc = {"sun": None} if sun is None else sun.to_dict()
+    with atomic_path(path) as tmp:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(json.dumps(doc, indent=1) + "\n")
+
+
+@dataclass(frozen=True)
+class _Candidate:
+    index: int  # texel of the peak
+    peak: float  # its luminance
+    sky: float  # median luminance of the ring around it
+    core_radius: float  # radians
+    mask_radius: float  # radians
+    excess: float  # sum of (luminance - sky)+ * omega within the mask
+
+
+def _tangent_frame(a):
+    helper = np.array([0.0, 1.0, 0.0]) if abs(a[1]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    t1 = np.cross(helper, a)
+    t1 /= np.linalg.norm(t1)
+    return t1, np.cross(a, t1)
+
+
+def _candidate(lum, dirs, omega, k) -> _Candidate:
+    """Measure the compact light whose brightest texel is ``k``."""
+    d0 = dirs[k]
+    cosines = dirs @ d0
+    search = math.radians(max(4 * MAX_RADIUS_DEG, 20.0))
+    near = np.flatnonzero((cosines > math.cos(search)) & (omega > 0))
+    ang = np.arccos(np.clip(cosines[near], -1, 1))
+    lum_n = lum[near]
+    pitch = max(math.sqrt(omega[k]), 1e-6)
+    peak = float(lum[k])
+    # rings one texel wide: the core ends at the first non-empty ring below half the peak
+    ring = (ang / pitch).astype(np.int64)
+    ring_max = np.full(ring.max() + 1, -np.inf)
+    np.maximum.at(ring_max, ring, lum_n)
+    sky = 0.0
+    core = pitch
+    for _ in range(3):  # the sky ring depends on the core's size and vice versa
+        inner = max(3 * core, core + 3 * pitch, math.radians(2.0))
+        in_ring = (ang > inner) & (ang < 2 * inner)
+        sky = float(np.median(lum_n[in_ring])) if in_ring.any() else 0.0
+        half = sky + 0.5 * (peak - sky)
+        below = np.flatnonzero((ring_max < half) & np.isfinite(ring_max))
+        core = (below[0] if below.size else ring_max.size) * pitch
+    # the mask covers the core's rim and the glare around it: it reaches at least MASK_SCALE
+    # core radii, and on until the rings' mean luminance falls to GLARE times the sky's
+    mask = MASK_SCALE * core + 2 * pitch
+    counts = np.bincount(ring)
+    ring_mean = np.bincount(ring, lum_n) / np.maximum(counts, 1)
+    first = int(math.ceil(mask / pitch))
+    faint = np.flatnonzero((ring_mean[first:] <= GLARE * sky) & (counts[first:] > 0))
+    glare = (first + (faint[0] if faint.size else ring_mean.size)) * pitch
+    mask = max(mask, min(glare, inner))
+    inside = ang < mask
+    excess = float((np.clip(lum_n[inside] - sky, 0, None) * omega[near][inside]).sum())
+    return _Candidate(k, peak, sky, core, mask, excess)
+
+
+def _detect(lum, dirs, omega) -> _Candidate | None:
+    lum = np.where(omega > 0, lum, 0)
+    k = int(np.argmax(lum))
+    if not lum[k] > 0:
+        return None
+    sun = _candidate(lum, dirs, omega, k)
+    if sun.peak < CONTRAST * sun.sky or sun.core_radius > math.radians(MAX_RADIUS_DEG):
+        return None
+    # the next brightest compact light, away from this one, must be much weaker
+    exclude = max(3 * sun.mask_radius, math.radians(4.0))
+    rest = np.where(dirs @ dirs[k] < math.cos(exclude), lum, 0)
+    k2 = int(np.argmax(rest))
+    if rest[k2] > 0:
+        other = _candidate(lum, dirs, omega, k2)
+        # a rival is a light about as compact as the sun, not a broad patch of bright sky
+        limit = min(math.radians(MAX_RADIUS_DEG), max(4 * sun.core_radius, math.radians(2.0)))
+        compact = other.peak >= CONTRAST * other.sky and other.core_radius <= limit
+        if compact and sun.excess < DOMINANCE * other.excess:
+            return None
+    return sun
+
+
+def _harmonic_fill(image, layout, centre, radius, pitch):
+    """Fill the disk of angular ``radius`` around ``centre`` harmonically from its surroundings.
+
+    Returns a function mapping directions inside the disk to filled values.
+    """
+    from scipy import sparse
+    from scipy.ndimage import map_coordinates
+    from scipy.sparse.linalg import splu
+
+    from bakeshop.sphere import sample
+
+    t1, t2 = _tangent_frame(centre)
+    extent = math.tan(min(radius + 4 * pitch, math.radians(80)))
+    step = max(math.tan(pitch), 2 * extent / (PATCH_MAX - 1))
+    half = int(math.ceil(extent / step))
+    n = 2 * half + 1
+    u = (np.arange(n) - half) * step
+    uu, vv = np.meshgrid(u, u, indexing="xy")
+    dirs = centre + uu[..., None] * t1 + vv[..., None] * t2
+    dirs /= np.linalg.norm(dirs, axis=-1, keepdims=True)
+    patch = np.asarray(sample(image, layout, dirs, filter="bilinear"), dtype=np.float64)
+    if patch.ndim == 2:
+        patch = patch[..., None]
+    unknown = np.hypot(uu, vv) < math.tan(radius)
+    unknown[[0, -1], :] = False  # a known border (the disk never reaches it)
+    unknown[:, [0, -1]] = False
+    ids = -np.ones((n, n), np.int64)
+    ids[unknown] = np.arange(np.count_nonzero(unknown))
+    rows, cols, rhs = [], [], np.zeros((np.count_nonzero(unknown), patch.shape[-1]))
+    ys, xs = np.nonzero(unknown)
+    me = ids[ys, xs]
+    rows.append(me)
+    cols.append(me)
+    data = [np.full(me.size, 4.0)]
+    for dy, dx in ((0, 1), (0, -1), (1, 0), (-1, 0)):
+        ny, nx = ys + dy, xs + dx
+        nb = ids[ny, nx]
+        inner = nb >= 0
+        rows.append(me[inner])
+        cols.append(nb[inner])
+        data.append(-np.ones(np.count_nonzero(inner)))
+        np.add.at(rhs, me[~inner], patch[ny[~inner], nx[~inner]])
+    if me.size:
+        a = sparse.csc_matrix(
+            (np.concatenate(data), (np.concatenate(rows), np.concatenate(cols))),
+            shape=(me.size, me.size),
+        )
+        patch[unknown] = splu(a).solve(rhs)
+
+    def fill(d):
+        w = d @ np.stack([t1, t2, centre], 1)
+        x = w[:, 0] / w[:, 2] / step + half
+        y = w[:, 1] / w[:, 2] / step + half
+        return np.stack(
+            [map_coordinates(patch[..., c], [y, x], order=1) for c in range(patch.shape[-1])], 1
+        )
+
+    return fill
+
+
+@dataclass(frozen=True)
+class _Removal:
+    sun: Sun
+    index: np.ndarray  # texels that were filled
+    filled: np.ndarray  # their new values (n, C)
+
+
+def _split(image, layout, values, dirs, omega) -> _Removal | None:
+    """Detect the sun among the texels and compute its fill; None when there is no sun."""
+    cand = _detect(luminance(values), dirs, omega)
+    if cand is None:
+        return None
+    centre = dirs[cand.index]
+    pitch = math.sqrt(omega[cand.index])
+    index = np.flatnonzero((dirs @ centre > math.cos(cand.mask_radius)) & (omega > 0))
+    fill = _harmonic_fill(image, layout, centre, cand.mask_radius, pitch)
+    filled = np.minimum(fill(dirs[index]), values[index])  # removing light never adds any
+    excess = values[index].astype(np.float64) - filled
+    energy = excess * omega[index, None]
+    ex_lum = luminance(excess)
+    weight = np.clip(ex_lum, 0, None) * omega[index]
+    centroid = (weight[:, None] * dirs[index]).sum(0)
+    direction = centroid / np.linalg.norm(centroid) if weight.sum() > 0 else centre
+    plateau_set = ex_lum >= PLATEAU * ex_lum.max()
+    plateau = float(ex_lum[plateau_set].mean())
+    total = energy.sum(0)
+    solid_angle = float(min(luminance(total) / plateau, 4 * math.pi)) if plateau > 0 else 0.0
+    radius = math.degrees(math.acos(max(1 - solid_angle / (2 * math.pi), -1.0)))
+    cosine = np.clip(dirs[index] @ direction, 0, None)
+    sun = Sun(
+        direction=direction,
+        angular_radius_deg=radius,
+        solid_angle_sr=solid_angle,
+        color=total / solid_angle if solid_angle > 0 else np.zeros_like(total),
+        irradiance=(energy * cosine[:, None]).sum(0),
+        mask_radius_deg=math.degrees(cand.mask_radius),
+    )
+    return _Removal(sun, index, filled.astype(values.dtype))
+
+
+def find_sun(image, layout: str) -> Sun | None:
+    """Find and measure the sun of a light probe.
+
+    Parameters
+    ----------
+    image : (..., C) array_like
+        The probe's radiance in ``layout`` (``(H, W, C)``, or ``(6, S, S, C)`` for a cube).
+    layout : str
+        Its layout (:func:`bakeshop.sphere.layout`).
+
+    Returns
+    -------
+    Sun or None
+        None when the probe has no sun (no compact light CONTRAST times brighter than the sky
+        around it and DOMINANCE times stronger than any other).
+    """
+    from bakeshop.light.irradiance import texels
+
+    values, dirs, omega, _ = texels(image, layout)
+    found = _split(image, layout, values, dirs, omega)
+    return None if found is None else found.sun
+
+
+def remove_sun(image, layout: str):
+    """The probe with its sun painted out, and the sun.
+
+    Parameters
+    ----------
+    image : (..., C) array_like
+        The probe in ``layout``.
+    layout : str
+
+    Returns
+    -------
+    probe : (..., C) array
+        A copy of ``image`` (same dtype; alpha kept) whose sun region is filled harmonically
+        from the sky around it; an unchanged copy when there is no sun.
+    sun : Sun or None
+    """
+    from bakeshop.light.irradiance import texels
+
+    values, dirs, omega, _ = texels(image, layout)
+    found = _split(image, layout, values, dirs, omega)
+    out = np.array(image, copy=True)
+    if found is not None:
+        flat = out.reshape(-1, out.shape[-1])
+        flat[found.index, : values.shape[1]] = found.filled
+    return out, None if found is None else found.sun
