@@ -158,6 +158,20 @@ def test_old_style_rle_with_shifting_counts(tmp_path):
     np.testing.assert_array_equal(read_image(path), reference_decode(expected))
 
 
+def test_peers_read_no_old_style_rle(tmp_path):
+    a, b = random_rgbe((2,), seed=17)
+    path = tmp_path / "old.hdr"
+    path.write_bytes(
+        HEADER + b"-Y 2 +X 300\n" + bytes(a) + bytes([1, 1, 1, 43, 1, 1, 1, 1]) + bytes(b) * 300
+    )
+    expected = reference_decode(np.stack([np.tile(a, (300, 1)), np.tile(b, (300, 1))]))
+    np.testing.assert_array_equal(read_image(path), expected)
+    assert cv2.imread(str(path), cv2.IMREAD_UNCHANGED) is None
+    inp = oiio.ImageInput.open(str(path))
+    assert inp is None or inp.read_image("float") is None
+    oiio.geterror()
+
+
 def test_scanline_starting_like_rle_but_not_rle_is_a_flat_pixel(tmp_path):
     # Radiance's rule: 2, 2, b, e with b >= 128 is an ordinary pixel, not an RLE header.
     picture = random_rgbe((2, 9), seed=6)
@@ -347,6 +361,24 @@ def test_bakeshop_reads_what_opencv_and_openimageio_write(tmp_path):
     out.close()
     theirs = oiio_read(tmp_path / "o.hdr")
     np.testing.assert_array_equal(read_image(tmp_path / "o.hdr"), peer_to_radiance(theirs))
+
+
+@pytest.mark.parametrize("orientation", ORIENTATIONS)
+def test_peers_on_other_orientations(tmp_path, orientation):
+    # What docs/formats.md says of the peers. OpenCV reads the standard orientation only;
+    # OpenImageIO returns file order with an EXIF Orientation, and after reorient() agrees with
+    # Radiance's pix2loc except for +X +Y and -X -Y, which it swaps (the picture turned 180).
+    picture = random_rgbe((9, 11), seed=16)
+    path = tmp_path / "p.hdr"
+    path.write_bytes(hand_built(picture, orientation, "rle"))
+    expected = reference_decode(picture)
+    np.testing.assert_array_equal(read_image(path), expected)
+    theirs = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    assert (theirs is not None) == (orientation == "-Y +X")
+    upright = oiio.ImageBufAlgo.reorient(oiio.ImageBuf(str(path))).get_pixels(oiio.FLOAT)
+    if orientation in ("+X +Y", "-X -Y"):
+        expected = expected[::-1, ::-1]
+    np.testing.assert_array_equal(peer_to_radiance(upright), expected)
 
 
 def test_real_probes_read_as_opencv_and_openimageio_read_them(shared_data):
