@@ -44,6 +44,7 @@ from scipy import ndimage
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, FormatError, validate_choice
+from bakeshop.normals.encoding import normalize
 from bakeshop.normals.tiling import as_pair, mip_chain, sample_wrapped
 
 PROJECTIONS = ("uv2", "planar", "box", "triplanar")
@@ -497,6 +498,7 @@ def transfer_detail(
     rotation: float = 0.0,
     axis: str = "z",
     sharpness: float = 4.0,
+    strength: float = 1.0,
     padding: int | None = 16,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Bake a tileable detail normal map into the mesh's macro UV layout (module notes).
@@ -522,6 +524,8 @@ def transfer_detail(
         Projection axis of ``"planar"`` (see :data:`PROJECTION_AXES`).
     sharpness : float
         Exponent of the triplanar weights.
+    strength : float
+        Height scale of the detail: its normals become normalize(s x, s y, z).
     padding : int or None
         Texels of dilation around UV islands (None: fill the whole map).
 
@@ -556,6 +560,10 @@ def transfer_detail(
     height, width = (int(s) for s in shape)
     if height < 1 or width < 1 or height * width > 1 << 28:
         raise ArgumentError(f"invalid output size {width}x{height}")
+    if not math.isfinite(strength):
+        raise ArgumentError(f"strength must be finite; got {strength}")
+    if strength != 1:
+        d = normalize(d * np.array([strength, strength, 1.0], np.float32))
     place = _Placement(mip_chain(d), as_pair(tile, "tile"), as_pair(offset, "offset"), rotation)
     if place.tile[0] == 0 or place.tile[1] == 0 or not math.isfinite(rotation):
         raise ArgumentError("tile must be non-zero and rotation finite")

@@ -1,0 +1,587 @@
+"""``bakeshop normals``: combine, transfer, from-height, check and convert normal maps."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+import numpy as np
+
+from bakeshop.cli._common import INPUT, OUTPUT, parse_size, refuse_overwriting_inputs
+from bakeshop.cli.images import parse_options
+from bakeshop.errors import ArgumentError
+from bakeshop.normals.blend import DEFAULT_METHOD, METHODS
+from bakeshop.normals.encoding import CONVENTIONS, ENCODINGS
+
+CONTEXT = {"max_content_width": 100}
+
+_convention = click.option(
+    "--convention",
+    type=click.Choice(CONVENTIONS),
+    default="gl",
+    show_default=True,
+    help="Green channel of the macro map and of OUT: gl = Y+ (OpenGL, Blender, Unity, glTF), "
+    "dx = Y- (DirectX, Unreal).",
+)
+_detail_convention = click.option(
+    "--detail-convention",
+    type=click.Choice(CONVENTIONS),
+    default=None,
+    help="Green channel of the detail maps, when it differs from --convention.",
+)
+_encoding = click.option(
+    "--encoding",
+    type=click.Choice(ENCODINGS),
+    default="packed",
+    show_default=True,
+    help="packed: stored (n + 1) / 2, as every 8/16-bit map and most EXR bakes; signed: float "
+    "files that store the components in [-1, 1].",
+)
+_writer = click.option(
+    "-O",
+    "--option",
+    "options",
+    multiple=True,
+    metavar="KEY=VALUE",
+    help="A writer option for OUT, repeatable: PNG bits=8|16; EXR pixel_type=half|float.",
+)
+
+
+def _pair_text(text: str, what: str) -> tuple[float, float]:
+    """'4' -> (4, 4); '4x2' -> (4, 2); also accepts negative and fractional numbers."""
+    parts = text.lower().split("x")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        values = []
+    if len(values) not in (1, 2):
+        raise ArgumentError(f"invalid {what} {text!r}: expected A or AxB")
+    return (values[0], values[-1])
+
+
+def _ids(texts) -> list:
+    """'3' -> 3 (grey level); '#ff8000' or '255,128,0' -> (255, 128, 0)."""
+    ids = []
+    for text in texts:
+        t = text.strip()
+        try:
+            if t.startswith("#") and len(t) == 7:
+                ids.append(tuple(int(t[i : i + 2], 16) for i in (1, 3, 5)))
+            elif "," in t or "/" in t:
+                ids.append(tuple(int(v) for v in t.replace("/", ",").split(",")))
+            else:
+                ids.append(int(t))
+        except ValueError:
+            raise ArgumentError(
+                f"invalid material ID {text!r}: a grey level 0-255, #rrggbb or r/g/b"
+            ) from None
+    return ids
+
+
+_LAYER_KEYS = ("tile", "offset", "rotate", "strength", "mask", "id", "convention")
+
+
+def _parse_layer(spec: str) -> dict:
+    """``'grit.png,tile=16,rotate=30,mask=barrel.png'`` -> the layer's settings."""
+    path, *pairs = spec.split(",")
+    layer = {"path": Path(path), "ids": []}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        key = key.strip()
+        if not sep or key not in _LAYER_KEYS:
+            raise ArgumentError(
+                f"invalid layer setting {pair!r} in {spec!r}: use KEY=VALUE with KEY one of "
+                + ", ".join(_LAYER_KEYS)
+            )
+        if key == "id":
+            layer["ids"].append(value)
+        else:
+            layer[key] = value
+    if not layer["path"].is_file():
+        raise ArgumentError("detail layer file not found", layer["path"])
+    return layer
+
+
+def _build_layers(shape, settings, method_convention, encoding):
+    """Read each layer's detail map and mask into DetailLayer objects."""
+    from bakeshop.io import read_image
+    from bakeshop.normals.encoding import read_normal_map
+    from bakeshop.normals.tiling import DetailLayer, mask_weights
+
+    layers = []
+    for s in settings:
+        convention = s.get("convention") or method_convention
+        if convention not in CONVENTIONS:
+            raise ArgumentError(f"unknown convention {convention!r} for layer", s["path"])
+        detail = read_normal_map(s["path"], convention=convention, encoding=encoding)
+        mask = None
+        if s.get("mask"):
+            mask = mask_weights(read_image(s["mask"]), shape, ids=_ids(s["ids"]) or None)
+        elif s["ids"]:
+            raise ArgumentError("a material ID needs a mask (the ID map)", s["path"])
+        numbers = {}
+        for key, default in (("rotate", 0.0), ("strength", 1.0)):
+            try:
+                numbers[key] = float(s.get(key, default))
+            except ValueError:
+                raise ArgumentError(f"invalid {key} {s[key]!r}", s["path"]) from None
+        layers.append(
+            DetailLayer(
+                detail,
+                tile=_pair_text(str(s.get("tile", "1")), "tile"),
+                offset=_pair_text(str(s.get("offset", "0")), "offset"),
+                rotation=numbers["rotate"],
+                strength=numbers["strength"],
+                mask=mask,
+            )
+        )
+    return layers
+
+
+@click.group(context_settings=CONTEXT)
+def normals():
+    """Tangent-space normal maps: combine macro and micro detail correctly, transfer a tileable
+    detail into a mesh's UV layout, make normals from heights, check and convert maps.
+
+    \b
+    Example:
+      bakeshop normals combine rifle_n.png wood_n.png out.png --tile 8 --mask stock.png
+      bakeshop normals transfer rifle.glb grit_n.png grit_in_uvs.png --size 2048 \\
+          --projection triplanar --tile 20
+    """
+
+
+@normals.command(context_settings=CONTEXT)
+@click.argument("macro", type=INPUT)
+@click.argument("detail", type=INPUT)
+@click.argument("out", type=OUTPUT)
+@click.option(
+    "--method",
+    type=click.Choice(METHODS),
+    default=DEFAULT_METHOD,
+    show_default=True,
+    help="Blend method (docs/normals.md compares them): exact is exact for a detail unwrapped "
+    "onto the macro UVs; rnm for detail laid out by arc length; pd for heights added along "
+    "the low-poly normal; sg, whiteout, udn, overlay and linear for comparison.",
+)
+@click.option(
+    "--tile",
+    default="1",
+    show_default=True,
+    metavar="N|UxV",
+    help="Repetitions of DETAIL across the macro map (negative mirrors).",
+)
+@click.option(
+    "--offset",
+    default="0",
+    show_default=True,
+    metavar="U|UxV",
+    help="Shift of the pattern, in tiles.",
+)
+@click.option(
+    "--rotate",
+    default=0.0,
+    show_default=True,
+    metavar="DEG",
+    help="Counter-clockwise rotation of the pattern; the normals turn with it.",
+)
+@click.option(
+    "--strength",
+    default=1.0,
+    show_default=True,
+    metavar="S",
+    help="Height scale of the detail (0 = none, negative inverts).",
+)
+@click.option(
+    "--mask",
+    type=INPUT,
+    default=None,
+    help="Where DETAIL applies: a greyscale weight map, or with --mask-id an ID map.",
+)
+@click.option(
+    "--mask-id",
+    "mask_ids",
+    multiple=True,
+    metavar="ID",
+    help="Material ID in --mask where DETAIL applies, repeatable: grey level 0-255, "
+    "#rrggbb or r/g/b.",
+)
+@click.option(
+    "--layer",
+    "layers",
+    multiple=True,
+    metavar="FILE[,KEY=VALUE...]",
+    help="A further detail layer, repeatable, applied in order after DETAIL. Keys: "
+    "tile, offset, rotate, strength, mask, id (repeatable), convention.",
+)
+@_convention
+@_detail_convention
+@_encoding
+@_writer
+def combine(
+    macro,
+    detail,
+    out,
+    method,
+    tile,
+    offset,
+    rotate,
+    strength,
+    mask,
+    mask_ids,
+    layers,
+    convention,
+    detail_convention,
+    encoding,
+    options,
+):
+    """Blend tileable DETAIL normal maps onto the MACRO normal map; write OUT.
+
+    The detail is tiled over the macro map's UV square (--tile, --offset, --rotate) with
+    wrap-around trilinear filtering, so tiles meet without seams and minified detail is
+    prefiltered. Each further --layer is blended onto the result of the ones before it; masks
+    of another size are resampled to the macro map's.
+
+    \b
+    Example:
+      bakeshop normals combine rifle_n.png wood_n.png rifle_wood.png --tile 8 \\
+          --mask ids.png --mask-id '#8a4b20' \\
+          --layer 'grit_n.png,tile=24,rotate=30,strength=0.6,mask=ids.png,id=#9090a0'
+      bakeshop normals combine macro.tga detail.tga out.tga --method rnm --convention dx
+    """
+    from bakeshop.normals.encoding import read_normal_map, write_normal_map
+    from bakeshop.normals.tiling import apply_layers
+
+    settings = [
+        {
+            "path": Path(detail),
+            "tile": tile,
+            "offset": offset,
+            "rotate": rotate,
+            "strength": strength,
+            "mask": mask,
+            "ids": list(mask_ids),
+        }
+    ] + [_parse_layer(spec) for spec in layers]
+    refuse_overwriting_inputs(
+        out, macro, *(s["path"] for s in settings), *(s["mask"] for s in settings if s.get("mask"))
+    )
+    base = read_normal_map(macro, convention=convention, encoding=encoding)
+    built = _build_layers(base.shape[:2], settings, detail_convention or convention, encoding)
+    result = apply_layers(base, built, method=method)
+    write_normal_map(
+        out, result, convention=convention, encoding=encoding, **parse_options(options)
+    )
+    h, w = result.shape[:2]
+    click.echo(f"wrote {out}: {w}x{h}, {len(built)} detail layer(s) blended with {method}")
+
+
+@normals.command(context_settings=CONTEXT)
+@click.argument("mesh", type=INPUT)
+@click.argument("detail", type=INPUT)
+@click.argument("out", type=OUTPUT)
+@click.option(
+    "--size",
+    default=None,
+    metavar="N|WxH",
+    help="Size of OUT (the macro map's); taken from --macro when given.",
+)
+@click.option(
+    "--projection",
+    type=click.Choice(["uv2", "planar", "box", "triplanar"]),
+    default="uv2",
+    show_default=True,
+    help="How DETAIL is applied: the mesh's second UV set (glTF TEXCOORD_1), or a "
+    "projection in object space.",
+)
+@click.option(
+    "--axis",
+    type=click.Choice(["x", "y", "z"]),
+    default="z",
+    show_default=True,
+    help="Axis of the planar projection.",
+)
+@click.option(
+    "--tile",
+    default="1",
+    show_default=True,
+    metavar="N|UxV",
+    help="Repetitions per unit of uv2, or per object-space unit for projections.",
+)
+@click.option(
+    "--offset",
+    default="0",
+    show_default=True,
+    metavar="U|UxV",
+    help="Shift of the pattern, in tiles.",
+)
+@click.option(
+    "--rotate",
+    default=0.0,
+    show_default=True,
+    metavar="DEG",
+    help="Counter-clockwise rotation of the pattern.",
+)
+@click.option(
+    "--strength", default=1.0, show_default=True, metavar="S", help="Height scale of the detail."
+)
+@click.option(
+    "--sharpness",
+    default=4.0,
+    show_default=True,
+    help="Exponent of the triplanar blend weights |N_i|^k.",
+)
+@click.option(
+    "--padding",
+    default=16,
+    show_default=True,
+    metavar="PX",
+    help="Texels of dilation around UV islands (0 = none, -1 = fill the whole map).",
+)
+@click.option(
+    "--macro",
+    type=INPUT,
+    default=None,
+    help="Also blend the transferred detail onto this macro normal map (same layout).",
+)
+@click.option(
+    "--method",
+    type=click.Choice(METHODS),
+    default=DEFAULT_METHOD,
+    show_default=True,
+    help="Blend method with --macro.",
+)
+@_convention
+@_detail_convention
+@_encoding
+@_writer
+def transfer(
+    mesh,
+    detail,
+    out,
+    size,
+    projection,
+    axis,
+    tile,
+    offset,
+    rotate,
+    strength,
+    sharpness,
+    padding,
+    macro,
+    method,
+    convention,
+    detail_convention,
+    encoding,
+    options,
+):
+    """Bake the tileable DETAIL normal map into the UV layout of MESH (OBJ, glTF, GLB); write OUT.
+
+    Every texel of the macro UV layout gets the detail as the mesh shows it through its second
+    UV set or an object-space projection, rotated into the macro map's MikkTSpace tangent
+    frame, so OUT can be blended onto the macro map texel by texel (or pass --macro to do it
+    here). UV islands are dilated by --padding texels so mip levels don't bleed at seams.
+
+    \b
+    Example:
+      bakeshop normals transfer rifle.glb wood_n.png wood_uv.png --size 2048 --tile 4
+      bakeshop normals transfer rifle.obj grit_n.png rifle_final.png --projection triplanar \\
+          --tile 30 --macro rifle_n.png
+    """
+    from bakeshop.normals.blend import blend
+    from bakeshop.normals.encoding import read_normal_map, write_normal_map
+    from bakeshop.normals.transfer import load_mesh, transfer_detail
+
+    refuse_overwriting_inputs(out, mesh, detail, *([macro] if macro else []))
+    base = None
+    if macro is not None:
+        base = read_normal_map(macro, convention=convention, encoding=encoding)
+        shape = base.shape[:2]
+    elif size is None:
+        raise ArgumentError("give --size (or --macro, whose size is used)")
+    else:
+        wanted = parse_size(size)
+        shape = (wanted, wanted) if isinstance(wanted, int) else (wanted[1], wanted[0])
+    d = read_normal_map(detail, convention=detail_convention or convention, encoding=encoding)
+    m = load_mesh(mesh)
+    result, covered = transfer_detail(
+        m,
+        d,
+        shape,
+        projection=projection,
+        tile=_pair_text(tile, "tile"),
+        offset=_pair_text(offset, "offset"),
+        rotation=rotate,
+        axis=axis,
+        sharpness=sharpness,
+        strength=strength,
+        padding=None if padding < 0 else padding,
+    )
+    if base is not None:
+        result = blend(base, result, method=method)
+    write_normal_map(
+        out, result, convention=convention, encoding=encoding, **parse_options(options)
+    )
+    h, w = shape
+    click.echo(
+        f"wrote {out}: {w}x{h}, {len(m.faces)} triangles, {covered.mean():.1%} of texels "
+        f"covered, {projection} projection"
+        + (f", blended with {method}" if base is not None else "")
+    )
+
+
+@normals.command("from-height", context_settings=CONTEXT)
+@click.argument("height", type=INPUT)
+@click.argument("out", type=OUTPUT)
+@click.option(
+    "--strength",
+    default=1.0,
+    show_default=True,
+    metavar="S",
+    help="Height in texels of one unit of stored height (an 8-bit map's full range).",
+)
+@click.option(
+    "--derivative",
+    type=click.Choice(["central", "sobel"]),
+    default="central",
+    show_default=True,
+    help="Central differences, or Sobel (smoother).",
+)
+@click.option("--no-wrap", is_flag=True, help="Clamp at the edges (the map is not tileable).")
+@click.option("--channel", default=0, show_default=True, help="Channel of HEIGHT to use.")
+@_convention
+@_encoding
+@_writer
+def from_height(height, out, strength, derivative, no_wrap, channel, convention, encoding, options):
+    """Make a normal map OUT from the height map HEIGHT.
+
+    n = normalize(-S dh/dx, -S dh/dy, 1) with y up the picture; wraps around the edges unless
+    --no-wrap (tileable detail maps should wrap).
+
+    \b
+    Example:
+      bakeshop normals from-height grit_height.png grit_n.png --strength 8
+      bakeshop normals from-height rock_h.exr rock_n.png --derivative sobel --convention dx
+    """
+    from bakeshop.io import read_image
+    from bakeshop.normals.encoding import write_normal_map
+    from bakeshop.normals.height import height_to_normal
+
+    refuse_overwriting_inputs(out, height)
+    image = read_image(height)
+    if not 0 <= channel < image.shape[2]:
+        raise ArgumentError(
+            f"--channel {channel}: the file has {image.shape[2]} channel(s)", height
+        )
+    n = height_to_normal(
+        image[:, :, channel], strength=strength, derivative=derivative, wrap=not no_wrap
+    )
+    write_normal_map(out, n, convention=convention, encoding=encoding, **parse_options(options))
+    click.echo(
+        f"wrote {out}: {n.shape[1]}x{n.shape[0]} normals ({derivative}, strength "
+        f"{strength:g}, {'clamped' if no_wrap else 'wrapped'} edges)"
+    )
+
+
+@normals.command(context_settings=CONTEXT)
+@click.argument("maps", nargs=-1, required=True, type=INPUT)
+@click.option("--xy", is_flag=True, help="Two-channel (BC5) maps: z is reconstructed.")
+@click.option(
+    "--tolerance", default=0.1, show_default=True, help="Allowed | |n| - 1 | of the stored vectors."
+)
+@_encoding
+def check(maps, xy, tolerance, encoding):
+    """Report texels of normal MAPS that are far from unit length or point into the surface.
+
+    Exits with status 1 when any texel is flagged (0 when all maps are clean), so it can gate
+    an asset pipeline.
+
+    \b
+    Example:
+      bakeshop normals check textures/*_n.png
+      bakeshop normals check rifle_n_bc5.png --xy
+    """
+    from bakeshop.io import read_image
+    from bakeshop.normals.encoding import check_normals
+
+    status = 0
+    for path in maps:
+        r = check_normals(
+            read_image(path),
+            encoding=encoding,
+            channels="xy" if xy else "xyz",
+            length_tolerance=tolerance,
+        )
+        verdict = "ok" if r.ok else "FLAGGED"
+        click.echo(
+            f"{path}: {verdict}: {r.texels} texels, {r.off_unit} off unit length "
+            f"(> {tolerance:g}), {r.into_surface} into the surface, {r.invalid} NaN/Inf; "
+            f"length {r.min_length:.3f}..{r.max_length:.3f}"
+        )
+        for row, col, length, z in r.worst[:5]:
+            click.echo(f"  row {row}, column {col}: length {length:.3f}, z {z:.3f}")
+        if not r.ok and r.into_surface > r.texels // 2 and not xy:
+            click.echo("  (most texels point inwards: is it a two-channel map? try --xy)")
+        status |= not r.ok
+    return status
+
+
+@normals.command(context_settings=CONTEXT)
+@click.argument("source", type=INPUT)
+@click.argument("target", type=OUTPUT)
+@click.option(
+    "--from",
+    "source_convention",
+    type=click.Choice(CONVENTIONS),
+    required=True,
+    help="Convention of SOURCE.",
+)
+@click.option(
+    "--to",
+    "target_convention",
+    type=click.Choice(CONVENTIONS),
+    required=True,
+    help="Convention of TARGET.",
+)
+@click.option("--xy", is_flag=True, help="SOURCE is a two-channel (BC5) map: rebuild z.")
+@click.option("--renormalize", is_flag=True, help="Rescale every vector to unit length.")
+@_encoding
+@_writer
+def convert(
+    source, target, source_convention, target_convention, xy, renormalize, encoding, options
+):
+    """Convert a normal map between the OpenGL (Y+) and DirectX (Y-) conventions.
+
+    Without --xy or --renormalize only the green channel changes (G -> 1 - G, exactly: an
+    8-bit value c becomes 255 - c), so converting twice gives back the same file.
+
+    \b
+    Example:
+      bakeshop normals convert brick_dx.png brick_gl.png --from dx --to gl
+      bakeshop normals convert rifle_bc5.png rifle_n.png --from gl --to gl --xy
+    """
+    from bakeshop.io import read_image, write_image
+    from bakeshop.normals.encoding import decode_normals, encode_normals
+
+    refuse_overwriting_inputs(target, source)
+    image = read_image(source)
+    if xy or renormalize:
+        n = decode_normals(
+            image, convention=source_convention, encoding=encoding, channels="xy" if xy else "xyz"
+        )
+        values = encode_normals(n, convention=target_convention, encoding=encoding)
+        if image.shape[2] == 4:
+            values = np.concatenate([values, image[:, :, 3:]], axis=2)
+    else:
+        if image.shape[2] < 3:
+            raise ArgumentError("a normal map needs at least three channels (or --xy)", source)
+        values = image.copy()
+        if source_convention != target_convention:
+            values[:, :, 1] = -values[:, :, 1] if encoding == "signed" else 1 - values[:, :, 1]
+    write_image(target, values, **parse_options(options))
+    click.echo(f"wrote {target}: {source_convention} -> {target_convention}")
+
+
+def register(group: click.Group) -> None:
+    """Add the ``normals`` command group to the root command."""
+    group.add_command(normals)
