@@ -7,6 +7,7 @@ every value a reader returned goes back to the same integer.
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError
@@ -44,9 +45,20 @@ def float_to_unsigned(image: np.ndarray, bits: int, path=None) -> np.ndarray:
             f"or {np.dtype(target).name} values",
             path,
         )
-    top = np.float32((1 << bits) - 1)
-    v = np.nan_to_num(a.astype(np.float32), copy=False, nan=0.0, posinf=1.0, neginf=0.0)
-    np.clip(v, 0.0, 1.0, out=v)
-    v *= top
-    np.rint(v, out=v)
-    return v.astype(target)
+    out = np.empty(a.shape, target)
+    _quantize(a.astype(np.float32, copy=False).reshape(-1), (1 << bits) - 1, out.reshape(-1))
+    return out
+
+
+@numba.njit(cache=True, parallel=True)
+def _quantize(values, top, out):  # pragma: no cover - compiled
+    """out = rint(clip(v, 0, 1) * top), NaN -> 0, in one pass."""
+    scale = np.float32(top)
+    for i in numba.prange(values.size):
+        v = values[i]
+        if not v > 0:  # NaN, zero and negatives
+            out[i] = 0
+        elif v >= 1:
+            out[i] = top
+        else:
+            out[i] = np.rint(v * scale)

@@ -2,9 +2,10 @@
 
 An 8-bit sample v reads as v / 255 and a 16-bit one as v / 65535, whatever the file says about
 its colour space: sRGB-encoded data stays encoded (the ``srgb``, ``gamma`` and ``icc_profile``
-metadata say what the file declares). Decode to linear yourself when the data is colour, e.g.
-with :func:`bakeshop.light.tonemap` helpers; normal maps, masks and height maps are data and must
-not be decoded. Commands that make display images say in their ``--help`` when they sRGB-encode.
+metadata say what the file declares). Decode to linear yourself when the data is colour, with
+:func:`bakeshop.light.tonemap.srgb_decode` (``bakeshop convert --srgb-decode``); normal maps,
+masks and height maps are data and must not be decoded. Commands that make display images say in
+their ``--help`` when they sRGB-encode.
 
 Channels (DESIGN: C in {1, 3, 4}):
 
@@ -364,36 +365,46 @@ def _read_jpeg(data: bytes, max_pixels: int) -> tuple[np.ndarray, dict]:
 # --- writing -------------------------------------------------------------------------------------
 
 
-#: |b| of a filtered byte b read as signed, the cost libpng's filter heuristic sums.
-_FILTER_COST = np.abs(np.arange(256, dtype=np.uint8).view(np.int8).astype(np.int16)).astype(
-    np.uint8
-)
+@numba.njit(cache=True, inline="always")
+def _filtered(rows, y, i, kind, bpp):  # pragma: no cover - compiled
+    """Byte i of row y under PNG filter ``kind`` (0 none, 1 sub, 2 up, 3 average, 4 Paeth)."""
+    x = np.int32(rows[y, i])
+    if kind == 0:
+        return x & 0xFF
+    a = np.int32(rows[y, i - bpp]) if i >= bpp else np.int32(0)
+    if kind == 1:
+        return (x - a) & 0xFF
+    b = np.int32(rows[y - 1, i]) if y > 0 else np.int32(0)
+    if kind == 2:
+        return (x - b) & 0xFF
+    if kind == 3:
+        return (x - ((a + b) >> 1)) & 0xFF
+    c = np.int32(rows[y - 1, i - bpp]) if y > 0 and i >= bpp else np.int32(0)
+    p = a + b - c
+    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+    return (x - (a if pa <= pb and pa <= pc else (b if pb <= pc else c))) & 0xFF
 
 
-def _filtered_rows(rows: np.ndarray, previous: np.ndarray, bpp: int) -> np.ndarray:
-    """Filter a block of rows ((n, S) uint8; ``previous`` is the row above, or zeros), each with
-    the filter of least sum of absolute signed bytes (libpng's heuristic); (n, S + 1) uint8.
+@numba.njit(cache=True, parallel=True)
+def _filter_rows(rows, bpp, out):  # pragma: no cover - compiled
+    """Filter each row of ``rows`` ((H, S) uint8) into ``out`` ((H, S + 1)), choosing per row the
+    filter with the least sum of absolute signed bytes (libpng's heuristic).
     """
-    x = rows.astype(np.int16)
-    up = np.concatenate([previous[None].astype(np.int16), x[:-1]])
-    left = np.zeros_like(x)
-    left[:, bpp:] = x[:, :-bpp]
-    upleft = np.zeros_like(x)
-    upleft[:, bpp:] = up[:, :-bpp]
-    p = left + up - upleft
-    pa, pb, pc = np.abs(p - left), np.abs(p - up), np.abs(p - upleft)
-    paeth = np.where((pa <= pb) & (pa <= pc), left, np.where(pb <= pc, up, upleft))
-    del p, pa, pb, pc
-    out = np.empty((rows.shape[0], rows.shape[1] + 1), np.uint8)
-    best_cost = np.full(rows.shape[0], np.iinfo(np.int64).max)
-    for kind, predictor in enumerate((0, left, up, (left + up) >> 1, paeth)):
-        candidate = (x - predictor).astype(np.uint8)  # modulo 256
-        cost = _FILTER_COST[candidate].sum(axis=1, dtype=np.int64)
-        better = cost < best_cost
-        best_cost[better] = cost[better]
-        out[better, 0] = kind
-        out[better, 1:] = candidate[better]
-    return out
+    height, stride = rows.shape
+    for y in numba.prange(height):
+        best, best_cost = 0, np.int64(1) << 62
+        for kind in range(5):
+            cost = np.int64(0)
+            for i in range(stride):
+                d = _filtered(rows, y, i, kind, bpp)
+                cost += d if d < 128 else 256 - d
+                if cost >= best_cost:
+                    break
+            if cost < best_cost:
+                best, best_cost = kind, cost
+        out[y, 0] = best
+        for i in range(stride):
+            out[y, i + 1] = _filtered(rows, y, i, best, bpp)
 
 
 def _chunk(kind: bytes, payload: bytes) -> bytes:
@@ -410,15 +421,11 @@ def _write_png(path, values: np.ndarray, bits: int, compression: int) -> None:
     colour = {1: 0, 3: 2, 4: 6}[channels]
     rows = values.astype(">u2") if bits == 16 else values
     rows = np.ascontiguousarray(rows).view(np.uint8).reshape(height, -1)
-    bpp = channels * bits // 8
+    filtered = np.empty((height, rows.shape[1] + 1), np.uint8)
+    _filter_rows(rows, channels * bits // 8, filtered)
     compressor = zlib.compressobj(compression)
-    block = max(1, (1 << 20) // rows.shape[1])  # about 1 MB of samples per block
-    parts = []
-    previous = np.zeros(rows.shape[1], np.uint8)
-    for y in range(0, height, block):
-        filtered = _filtered_rows(rows[y : y + block], previous, bpp)
-        parts.append(compressor.compress(filtered.tobytes()))
-        previous = rows[min(y + block, height) - 1]
+    block = max(1, (1 << 22) // filtered.shape[1])  # about 4 MB per call
+    parts = [compressor.compress(filtered[y : y + block]) for y in range(0, height, block)]
     parts.append(compressor.flush())
     idat = b"".join(parts)
     with open(path, "wb") as f:
