@@ -22,6 +22,7 @@ import numpy as np
 from bakeshop import sphere
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.light.tonemap import exposure, srgb_decode, to_srgb8
+from bakeshop.sphere import _maps
 
 #: Index of refraction of water at visible wavelengths (about 20 C, 589 nm).
 WATER_IOR = 1.333
@@ -196,26 +197,17 @@ def bake_fresnel(
     Returns
     -------
     ndarray, shape of ``image``, float32 (float64 stays float64)
-        Radiance times reflectance, in the units of ``image``. Texels outside a disk layout's
-        disk are 0.
+        Radiance times reflectance, in the units of ``image``; alpha is kept. Texels outside
+        a disk layout's disk, and the unused squares of a cross, are 0 (alpha too).
     """
     validate_choice(below, BELOW_MODES, "below-horizon mode")
     n = _check_ior(ior)
     up = _unit_axis(up)
     lay = sphere.layout(layout)
     a, grey = _as_environment(image, lay)
-    dirs, valid = lay.directions(a.shape[:-1])
-    out = np.empty_like(a)
-    _bake_upper(
-        dirs.reshape(-1, 3),
-        valid.reshape(-1),
-        up,
-        n,
-        a.reshape(-1, a.shape[-1]),
-        out.reshape(-1, a.shape[-1]),
-        min(a.shape[-1], 3),
-    )
+    out = _bake_upper(a, lay, up, n)
     if below == "mirror":
+        dirs, valid = lay.directions(a.shape[:-1])
         cos = dirs @ up
         lower = valid & (cos < 0)
         mirrored = dirs[lower] - 2.0 * cos[lower, None] * up
@@ -225,16 +217,46 @@ def bake_fresnel(
     return out[..., 0] if grey else out
 
 
+def _bake_upper(a: np.ndarray, lay, up: np.ndarray, n: float) -> np.ndarray:
+    """``a`` times R(d . up) above the plane, 0 below and outside the layout's valid texels.
+
+    Texel directions come from the layout's own scalar maps (:mod:`bakeshop.sphere._maps`)
+    inside the kernel, so no direction array is built; a cross or strip is baked as its cube.
+    """
+    if lay.base is not lay:
+        cube = _bake_upper(lay.prepare(a), lay.base, up, n)
+        return sphere.cube_to_view(cube, lay.name).astype(a.dtype, copy=False)
+    faces, h, w = a.shape[:-1] if lay.cubic else (1, *a.shape[:-1])
+    out = np.empty_like(a)
+    channels = a.shape[-1]
+    _bake_texels(
+        lay.kind,
+        faces,
+        h,
+        w,
+        up,
+        n,
+        np.ascontiguousarray(a).reshape(-1, channels),
+        out.reshape(-1, channels),
+        min(channels, 3),
+    )
+    return out
+
+
 @numba.njit(cache=True, parallel=True)
-def _bake_upper(dirs, valid, up, n, image, out, colour):
-    """out = image * R(d . up) above the plane, 0 below and outside the layout; alpha copied."""
-    for i in numba.prange(dirs.shape[0]):
-        c = dirs[i, 0] * up[0] + dirs[i, 1] * up[1] + dirs[i, 2] * up[2]
-        f = _reflectance(c, n) if (valid[i] and c >= 0.0) else 0.0
-        for k in range(colour):
-            out[i, k] = image[i, k] * f
-        for k in range(colour, image.shape[1]):
-            out[i, k] = image[i, k]
+def _bake_texels(kind, faces, h, w, up, n, image, out, colour):
+    for row in numba.prange(faces * h):
+        f, j = divmod(row, h)
+        for i in range(w):
+            p = row * w + i
+            dx, dy, dz = _maps.direction(kind, h, w, f, i + 0.5, j + 0.5)
+            c = dx * up[0] + dy * up[1] + dz * up[2]
+            valid = _maps.valid(kind, h, w, f, i, j)
+            r = _reflectance(c, n) if (valid and c >= 0.0) else 0.0
+            for k in range(colour):
+                out[p, k] = image[p, k] * r
+            for k in range(colour, image.shape[1]):
+                out[p, k] = image[p, k] if valid else 0.0
 
 
 #: Fraction of the reflected hemisphere's solid angle that the automatic LDR exposure lets clip.

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError, validate_choice
@@ -83,11 +84,9 @@ def srgb_encode(linear) -> np.ndarray:
     Part 2-1: Default RGB colour space - sRGB.
     """
     a = _float_array(linear)
-    mag = np.abs(a, dtype=np.float64)  # float64 inside: encode(1) is exactly 1 in float32 too
-    with np.errstate(invalid="ignore"):
-        power = (1.0 + SRGB_OFFSET) * mag ** (1.0 / SRGB_GAMMA) - SRGB_OFFSET
-        v = np.where(mag <= SRGB_LINEAR_LIMIT, SRGB_SLOPE * mag, power)
-    return np.copysign(v, a).astype(a.dtype, copy=False)
+    out = np.empty_like(a)
+    _apply(_ENCODE, a, out)
+    return out
 
 
 def srgb_decode(encoded) -> np.ndarray:
@@ -112,11 +111,45 @@ def srgb_decode(encoded) -> np.ndarray:
     IEC 61966-2-1:1999 (see :func:`srgb_encode`).
     """
     a = _float_array(encoded)
-    mag = np.abs(a, dtype=np.float64)
-    with np.errstate(invalid="ignore"):
-        power = ((mag + SRGB_OFFSET) / (1.0 + SRGB_OFFSET)) ** SRGB_GAMMA
-        v = np.where(mag <= SRGB_ENCODED_LIMIT, mag / SRGB_SLOPE, power)
-    return np.copysign(v, a).astype(a.dtype, copy=False)
+    out = np.empty_like(a)
+    _apply(_DECODE, a, out)
+    return out
+
+
+_ENCODE, _DECODE = 0, 1
+
+
+@numba.njit(cache=True, inline="always")
+def _srgb_encode1(x: float) -> float:
+    """The IEC 61966-2-1 encoding of one value, odd-extended to negatives; NaN stays NaN."""
+    m = abs(x)
+    if m <= SRGB_LINEAR_LIMIT:
+        v = SRGB_SLOPE * m
+    else:
+        v = (1.0 + SRGB_OFFSET) * m ** (1.0 / SRGB_GAMMA) - SRGB_OFFSET
+    return -v if x < 0 else v
+
+
+@numba.njit(cache=True, inline="always")
+def _srgb_decode1(x: float) -> float:
+    m = abs(x)
+    if m <= SRGB_ENCODED_LIMIT:
+        v = m / SRGB_SLOPE
+    else:
+        v = ((m + SRGB_OFFSET) / (1.0 + SRGB_OFFSET)) ** SRGB_GAMMA
+    return -v if x < 0 else v
+
+
+@numba.njit(cache=True, parallel=True)
+def _apply_flat(which, a, out):
+    for i in numba.prange(a.size):
+        x = np.float64(a[i])
+        out[i] = _srgb_encode1(x) if which == _ENCODE else _srgb_decode1(x)
+
+
+def _apply(which: int, a: np.ndarray, out: np.ndarray) -> None:
+    """Run a curve over any-shaped ``a`` into ``out`` (same shape), in float64 arithmetic."""
+    _apply_flat(which, np.ascontiguousarray(a).reshape(-1), out.reshape(-1))
 
 
 def _colour_channels(image) -> tuple[np.ndarray, int]:
@@ -307,7 +340,7 @@ def to_srgb8(linear, *, dither: str = "none", seed: int = 0) -> np.ndarray:
     ``dither="triangular"`` adds, before rounding, noise with a triangular distribution on
     (-1, 1) code values (the sum of two uniform variables, TPDF), which makes the expected
     quantised value equal the unquantised one and turns banding in smooth gradients into
-    fine grain; values that clip (encoded <= 0 or >= 1) are left undithered so black and
+    fine grain; values that clip (linear <= 0 or >= 1) are left undithered so black and
     blown-out white stay clean. The noise is seeded (``seed``), so a bake is reproducible.
     The rounding error is then up to one code value instead of half.
 
@@ -317,20 +350,42 @@ def to_srgb8(linear, *, dither: str = "none", seed: int = 0) -> np.ndarray:
     """
     validate_choice(dither, DITHERS, "dither")
     a, colour = _colour_channels(linear)
-    v = np.clip(np.nan_to_num(a.astype(np.float32), nan=0.0), 0, 1)
-    if colour == 0:
-        v = srgb_encode(v)
-    else:
-        v[..., :colour] = srgb_encode(v[..., :colour])
-    v *= np.float32(255)
-    if dither == "triangular":
-        rng = np.random.default_rng(seed)
-        noise = rng.random(v.shape, np.float32) - rng.random(v.shape, np.float32)
-        inside = (v > 0) & (v < 255)
-        if colour == 4:
-            inside[..., 3] = False
-        v += np.where(inside, noise, np.float32(0))
-    return np.clip(np.rint(v), 0, 255).astype(np.uint8)
+    channels = 1 if colour == 0 else a.shape[-1]
+    out = np.empty(a.shape, np.uint8)
+    _srgb8(
+        np.ascontiguousarray(a).reshape(-1, channels),
+        max(colour, 1),
+        dither == "triangular",
+        np.uint64(seed & 0xFFFFFFFF),
+        out.reshape(-1, channels),
+    )
+    return out
+
+
+@numba.njit(cache=True, inline="always")
+def _uniform(key):
+    """A uniform number in [0, 1) from a 64-bit key (SplitMix64's finaliser): counter-based, so
+    the dither is the same whatever the number of threads."""
+    z = key + np.uint64(0x9E3779B97F4A7C15)
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    z = z ^ (z >> np.uint64(31))
+    return np.float64(z >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+
+
+@numba.njit(cache=True, parallel=True)
+def _srgb8(a, colour, dither, seed, out):
+    channels = a.shape[1]
+    base = seed << np.uint64(34)
+    for p in numba.prange(a.shape[0]):
+        for k in range(channels):
+            x = np.float64(a[p, k])
+            x = 0.0 if x != x else min(max(x, 0.0), 1.0)
+            q = 255.0 * (_srgb_encode1(x) if k < colour else x)
+            if dither and k < colour and 0.0 < x < 1.0:
+                key = base + np.uint64(2 * (p * channels + k))
+                q += _uniform(key) - _uniform(key + np.uint64(1))
+            out[p, k] = np.uint8(min(max(np.rint(q), 0.0), 255.0))
 
 
 #: Standard deviation of the centre component of the metering weight, in short sides of the frame.

@@ -141,6 +141,23 @@ def test_bake_cube_with_up_axis_z_against_the_face_table():
         assert above.sum() == s * s // 2
 
 
+@pytest.mark.parametrize("name", sphere.LAYOUT_NAMES)
+def test_bake_every_layout_agrees_with_its_texel_directions(name):
+    lay = sphere.layout(name)
+    shape = lay.shape(12)
+    rng = np.random.default_rng(1)
+    env = rng.uniform(0.5, 2.0, size=(*shape, 4))
+    up = np.array([0.3, 0.9, -0.2])
+    out = bake_fresnel(env, name, up=up, ior=1.4)
+    dirs, valid = lay.directions(shape)
+    cos = dirs @ (up / np.linalg.norm(up))
+    factor = np.where(valid & (cos >= 0), fresnel_from_amplitudes(np.clip(cos, 0, 1), 1.4), 0)
+    grazing = np.abs(cos) < 1e-12  # on the plane: the sign of a rounded dot product decides
+    expect = env[..., :3] * factor[..., None]
+    np.testing.assert_allclose(out[~grazing, :3], expect[~grazing], rtol=1e-12)
+    np.testing.assert_array_equal(out[..., 3], np.where(valid, env[..., 3], 0))
+
+
 def test_bake_channels_dtypes_and_errors():
     env = _latlong_env(channels=4)
     out = bake_fresnel(env, "latlong")

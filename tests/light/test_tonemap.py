@@ -195,6 +195,10 @@ def test_triangular_dither_is_unbiased_bounded_and_spares_clipped_values():
     ends[:, :25] = 1.0
     d = to_srgb8(ends, dither="triangular")
     assert set(np.unique(d[:, :25])) == {255} and set(np.unique(d[:, 25:])) == {0}
+    half_alpha = np.full((20, 20, 4), 0.3, np.float32)
+    half_alpha[..., 3] = 0.5
+    d = to_srgb8(half_alpha, dither="triangular")
+    assert np.all(d[..., 3] == 128) and len(np.unique(d[..., :3])) > 1  # alpha: linear, no dither
 
 
 # --- metering and adaptation ------------------------------------------------------------------
