@@ -209,9 +209,8 @@ def _decode_png16(data: bytes, header: dict, chunks) -> np.ndarray:
     return out
 
 
-def _colour_key(values: np.ndarray, key) -> np.ndarray:
+def _colour_key(values: np.ndarray, key: np.ndarray) -> np.ndarray:
     """Append an alpha channel that is 0 where the pixel equals the tRNS colour key."""
-    key = np.atleast_1d(np.asarray(key, values.dtype))
     opaque = np.iinfo(values.dtype).max
     alpha = np.where((values == key).all(axis=-1), 0, opaque).astype(values.dtype)
     return np.concatenate([values, alpha[..., None]], axis=-1)
@@ -244,14 +243,18 @@ def _open_with_pillow(data: bytes, max_pixels: int) -> Image.Image:
 
 
 def _pillow_values(image: Image.Image) -> tuple[np.ndarray, int]:
-    """Pillow image -> ((H, W, C) unsigned samples, bit depth)."""
+    """Pillow image -> ((H, W, C) unsigned samples, their bit depth: 8 or 16).
+
+    Grey + alpha becomes RGBA and a palette RGB(A) (with its tRNS alpha); colour keys of grey and
+    RGB images are left to the caller. 1-bit grey is scaled to 0/255 as Pillow scales 2 and
+    4-bit grey (v * 85, v * 17), so every low-depth v reads as v / (2^n - 1).
+    """
     mode = image.mode
-    key = image.info.get("transparency")
     if mode == "P" or mode == "PA":
-        image = image.convert("RGBA" if key is not None or mode == "PA" else "RGB")
-        return np.asarray(image), 8
+        alpha = "transparency" in image.info or mode == "PA"
+        return np.asarray(image.convert("RGBA" if alpha else "RGB")), 8
     if mode == "1":
-        return np.asarray(image, np.uint8)[..., None], 1
+        return np.asarray(image, np.uint8)[..., None] * np.uint8(255), 8
     if mode in ("I;16", "I;16B", "I;16L", "I"):
         values = np.asarray(image).astype(np.uint16)[..., None]
         bits = 16
@@ -265,10 +268,6 @@ def _pillow_values(image: Image.Image) -> tuple[np.ndarray, int]:
         raise UnsupportedError(f"unsupported pixel mode {mode!r}")
     if mode == "LA":
         values = _expand_grey_alpha(values)
-    elif key is not None and not isinstance(key, bytes):  # bytes: a key Pillow could not parse
-        values = _colour_key(values, key)
-        if values.shape[-1] == 2:
-            values = _expand_grey_alpha(values)
     return values, bits
 
 
@@ -306,31 +305,27 @@ def _read_png(data: bytes, max_pixels: int) -> tuple[np.ndarray, dict]:
         )
     kinds = {kind for kind, *_ in chunks}
     colour_name = COLOUR_TYPES[header["colour"]][0]
-    if header["depth"] == 16 and header["colour"] in (2, 4, 6):
+    colour, depth = header["colour"], header["depth"]
+    if depth == 16 and colour in (2, 4, 6):
         values = _decode_png16(data, header, chunks)
-        if header["colour"] == 4:
+        if colour == 4:
             values = _expand_grey_alpha(values)
-        elif header["colour"] == 2 and b"tRNS" in kinds:
-            kind, s, e = next(c for c in chunks if c[0] == b"tRNS")
-            if e - s - 12 == 6:
-                values = _colour_key(values, np.frombuffer(data[s + 8 : e - 4], ">u2"))
         bits = 16
     else:
         if dropped:
             data = PNG_MAGIC + b"".join(data[s:e] for _, s, e in chunks)
         values, bits = _pillow_values(_open_with_pillow(data, max_pixels))
-        if header["colour"] == 3:
-            bits = 8  # palette entries are 8-bit whatever the index depth
-    if bits == 1 or header["depth"] in (2, 4) and header["colour"] == 0:
-        # Pillow scales 2- and 4-bit grey to 0..255 (v * 85, v * 17): the same v / (2^n - 1)
-        stored = f"uint{header['depth']}"
-        image = unsigned_to_float(values, 8) if bits == 8 else values.astype(np.float32)
-    else:
-        stored = f"uint{bits}"
-        image = unsigned_to_float(values, bits)
+    trns = [data[s + 8 : e - 4] for kind, s, e in chunks if kind == b"tRNS"]
+    if colour in (0, 2) and trns and len(trns[0]) == 2 * values.shape[-1]:
+        # a colour key, in the file's sample units; low-depth grey was scaled to 8 bits
+        key = np.frombuffer(trns[0], ">u2").astype(np.int64)
+        key = key * (255 // ((1 << depth) - 1)) if depth < 8 else key
+        values = _colour_key(values, key)
+        if colour == 0:
+            values = _expand_grey_alpha(values)
     meta = {
         "format": "PNG",
-        "stored": stored,
+        "stored": f"uint{depth if colour == 0 else bits}",
         "bits": header["depth"],
         "colour": colour_name,
         "interlaced": header["interlaced"],
@@ -341,7 +336,7 @@ def _read_png(data: bytes, max_pixels: int) -> tuple[np.ndarray, dict]:
     for kind, s, e in chunks:
         if kind == b"gAMA" and e - s - 12 == 4:
             meta["gamma"] = struct.unpack_from(">I", data, s + 8)[0] / 100000
-    return image, meta
+    return unsigned_to_float(values, bits), meta
 
 
 def _read_jpeg(data: bytes, max_pixels: int) -> tuple[np.ndarray, dict]:

@@ -202,6 +202,39 @@ def test_16_bit_rgb_colour_key(tmp_path):
     np.testing.assert_array_equal(levels(image[..., :3], 16), samples)
 
 
+def pack_grey(values: np.ndarray, depth: int) -> bytes:
+    """Rows of grey samples of ``depth`` bits as filter-0 scanlines (PNG packs MSB first)."""
+    if depth == 16:
+        return unfiltered(values[..., None])
+    bits = np.unpackbits(values.astype(np.uint8)[..., None], axis=-1)[..., 8 - depth :]
+    packed = np.packbits(bits.reshape(values.shape[0], -1), axis=1)
+    return b"".join(b"\x00" + r.tobytes() for r in packed)
+
+
+@pytest.mark.parametrize("depth", [1, 2, 4, 8, 16])
+def test_grey_colour_key_at_every_depth(tmp_path, depth):
+    top = (1 << depth) - 1
+    values = (np.arange(24).reshape(3, 8) * 37) % (top + 1)
+    key = int(values[1, 3])
+    trns = chunk(b"tRNS", struct.pack(">H", key))
+    data = png_bytes(8, 3, depth, 0, pack_grey(values, depth), before_idat=[trns])
+    image = read_image(write_bytes(tmp_path, data))
+    assert image.shape == (3, 8, 4)
+    np.testing.assert_array_equal(image[..., 3], (values != key).astype(np.float32))
+    np.testing.assert_array_equal(image[..., 0], (values / top).astype(np.float32))
+
+
+def test_rgb_colour_key_8_bit(tmp_path):
+    samples = random_samples((3, 4, 3), 8)
+    samples[2, 1] = (9, 8, 7)
+    trns = chunk(b"tRNS", struct.pack(">HHH", 9, 8, 7))
+    data = png_bytes(4, 3, 8, 2, unfiltered(samples, "u1"), before_idat=[trns])
+    image = read_image(write_bytes(tmp_path, data))
+    expected = np.ones((3, 4), np.float32)
+    expected[(samples == (9, 8, 7)).all(-1)] = 0
+    np.testing.assert_array_equal(image[..., 3], expected)
+
+
 @pytest.mark.parametrize("depth", [1, 2, 4])
 def test_low_bit_depth_grey(tmp_path, depth):
     values = np.arange(24, dtype=np.uint8).reshape(3, 8) % (1 << depth)
