@@ -92,7 +92,7 @@ def _header(path: str | os.PathLike, max_pixels: int) -> dict:
     (magic, w, h, s), end = _tokens(head, 4)
     if magic not in _CHANNELS:
         raise FormatError(f"not a PFM file: magic {magic[:8]!r}")
-    if not (w.isdigit() and h.isdigit()):
+    if not (w.isdigit() and h.isdigit() and len(w) <= 12 and len(h) <= 12):
         raise FormatError(f"malformed PFM header: size {w[:20]!r} x {h[:20]!r}")
     try:
         scale = float(s)

@@ -56,12 +56,10 @@ XYZ_TO_RGB = _xyz_to_rgb(RADIANCE_PRIMARIES)
 
 #: Where the header must have ended (Radiance headers carry the history of commands applied).
 _MAX_HEADER = 1 << 20
-_RESOLUTION = re.compile(rb"\s*([-+])([XY])\s+(\d+)\s+([-+])([XY])\s+(\d+)\s*")
+_RESOLUTION = re.compile(rb"\s*([-+])([XY])\s+(\d{1,12})\s+([-+])([XY])\s+(\d{1,12})\s*")
 _FORMATS = {b"32-bit_rle_rgbe": "rgbe", b"32-bit_rle_xyze": "xyze"}
 #: Scanline lengths that the new run-length form can encode (Radiance's MINELEN, MAXELEN).
 _RLE_MIN, _RLE_MAX = 8, 0x7FFF
-#: Values below this are written as black: the smallest value with a normalised mantissa.
-_SMALLEST = 2.0**-128
 
 # Status codes of the numba decoder.
 _OK, _TRUNCATED, _OVERRUN, _EMPTY_RUN, _LENGTH, _NO_PREVIOUS = range(6)
@@ -374,7 +372,7 @@ def _rgbe_row(values, bits, line):
     inv = np.empty(256, np.float64)
     for e in range(256):
         inv[e] = math.ldexp(1.0, 136 - e)
-    smallest = 1 << 21  # the bits of 2**-128, a float32 subnormal
+    smallest = 1 << 21  # the bits of 2**-128 (a float32 subnormal), the least normalised RGBE
     for x in range(width):
         top = 0
         largest = 0

@@ -206,6 +206,7 @@ def test_bakeshop_reads_what_openimageio_writes(tmp_path, channels):
         (b"PF\n5 6\n1e999\n" + bytes(400), "scale"),
         (b"PF\n5 6\nabc\n" + bytes(400), "scale"),
         (b"PF\n99999999 99999999\n-1.0\n" + bytes(400), "exceeds"),
+        (b"PF\n" + b"9" * 5000 + b" 6\n-1.0\n" + bytes(400), "size"),  # beyond int()'s digits
         (b"PF\n" + b"#" * 70000, "header"),
     ],
 )

@@ -420,6 +420,7 @@ GOOD = random_rgbe((2, 8), seed=13)
         (corrupt(bytes(64), b"-Y 2 +Y 8\n"), "resolution"),
         (corrupt(bytes(64), b"-Y 0 +X 8\n"), "size"),
         (corrupt(bytes(64), b"-Y 100000000 +X 100000000\n"), "exceeds"),
+        (corrupt(bytes(64), b"-Y " + b"9" * 5000 + b" +X 8\n"), "resolution"),
         (corrupt(bytes(64), b""), "resolution"),
         (b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n", "header is truncated"),
         (b"#?RADIANCE\nEXPOSURE=0\n\n-Y 2 +X 8\n" + bytes(64), "EXPOSURE"),
