@@ -24,6 +24,7 @@ import functools
 import numpy as np
 
 from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.sphere import _maps
 from bakeshop.sphere import cube as _cube
 
 #: largest accepted edge length of any layout, in texels.
@@ -32,10 +33,6 @@ MAX_EDGE = 1 << 16
 MAX_TEXELS = 1 << 29
 
 _GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(24)
-
-
-def _unit(v):
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
 def _dirs_array(dirs) -> np.ndarray:
@@ -83,6 +80,14 @@ class Layout:
 
     # -- the three operations --------------------------------------------------------------------
 
+    #: kind number of the layout's maps in :mod:`bakeshop.sphere._maps`.
+    kind = -1
+
+    def _hw(self, shape) -> tuple[int, int, int]:
+        """(h, w, faces) of a checked shape, as the maps take them."""
+        h, w = self.check_shape(shape)
+        return h, w, 1
+
     def directions(self, shape) -> tuple[np.ndarray, np.ndarray]:
         """Unit directions of the texel centres and the validity mask.
 
@@ -98,21 +103,38 @@ class Layout:
             (the nearest meaningful one), never NaN.
         valid : shape bool
         """
-        raise NotImplementedError
+        shape = self.check_shape(shape)
+        return self.directions_at(self._centres(shape), shape), self._valid(shape)
+
+    def _valid(self, shape) -> np.ndarray:
+        return np.ones(shape, bool)
 
     def directions_at(self, coords, shape) -> np.ndarray:
         """Unit directions at continuous texel coordinates: the inverse of :meth:`coordinates`.
 
         ``coords`` is ``(..., 2)`` ``(x, y)`` (``(..., 3)`` ``(face, x, y)`` for the cube);
         returns ``(..., 3)`` float64. Points outside a disk give the direction of the disk's
-        nearest point; points in the unused squares of a cross give -Z.
+        nearest point.
         """
-        raise NotImplementedError
+        h, w, _ = self._hw(shape)
+        c = np.asarray(coords, dtype=np.float64)
+        if c.shape[-1] != (3 if self.cubic else 2):
+            raise ArgumentError(f"{self.name} coordinates must be (..., {3 if self.cubic else 2})")
+        flat = c.reshape(-1, c.shape[-1])
+        if not self.cubic:
+            flat = np.concatenate([np.zeros((len(flat), 1)), flat], axis=1)
+        out = np.empty((len(flat), 3))
+        _maps.directions_at(self.kind, h, w, np.ascontiguousarray(flat), out)
+        return out.reshape(c.shape[:-1] + (3,))
 
     def _centres(self, shape):
         h, w = shape[-2:]
         x, y = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
-        return np.stack([x, y], axis=-1)
+        c = np.stack([x, y], axis=-1)
+        if self.cubic:
+            f = np.broadcast_to(np.arange(6.0)[:, None, None, None], (6, h, w, 1))
+            c = np.concatenate([f, np.broadcast_to(c, (6, h, w, 2))], axis=-1)
+        return c
 
     def solid_angles(self, shape) -> np.ndarray:
         """Solid angle of each texel in steradians, float64 ``shape``; 0 where invalid.
@@ -137,44 +159,14 @@ class Layout:
             ``(x, y)``: column and row coordinates, texel ``i``'s centre at ``i + 0.5``, in
             ``[0, W] x [0, H]``. Cube layouts return ``(..., 3)``: ``(face, x, y)``.
         """
-        raise NotImplementedError
+        h, w, _ = self._hw(shape)
+        d = _dirs_array(dirs)
+        out = np.empty((d.size // 3, 3))
+        _maps.coordinates_of(self.kind, h, w, np.ascontiguousarray(d.reshape(-1, 3)), out)
+        out = out.reshape(d.shape[:-1] + (3,))
+        return out if self.cubic else out[..., 1:]
 
-    # -- sampling support (used by bakeshop.sphere.sampling) -----------------------------------
-
-    def _resolve(self, ix, iy, shape, coords):
-        """Flat texel index of integer texel ``(ix, iy)`` (possibly one texel outside the image
-        or the disk) used when filtering around the sample point ``coords``."""
-        raise NotImplementedError
-
-    def taps(self, coords, shape, filter: str):
-        """Flat source texel indices and weights for sampling at continuous ``coords``.
-
-        Returns ``(index, frac)``: nearest: ``index`` (...,) and ``frac`` None; bilinear:
-        ``index`` (..., 4) for texels (x0, y0), (x0+1, y0), (x0, y0+1), (x0+1, y0+1) and
-        ``frac`` (..., 2) the fractional position (fx, fy) between them. An index of -1 is a
-        texel that does not exist (a cube corner): the filter replaces it with the mean of the
-        other three, as OpenGL's seamless cube filtering does.
-        """
-        x, y = coords[..., -2], coords[..., -1]
-        if filter == "nearest":
-            ix = np.floor(x).astype(np.int64)
-            iy = np.floor(y).astype(np.int64)
-            return self._resolve(ix, iy, shape, coords), None
-        xs, ys = x - 0.5, y - 0.5
-        x0, y0 = np.floor(xs), np.floor(ys)
-        frac = np.stack([xs - x0, ys - y0], axis=-1)
-        x0 = x0.astype(np.int64)
-        y0 = y0.astype(np.int64)
-        index = np.stack(
-            [
-                self._resolve(x0, y0, shape, coords),
-                self._resolve(x0 + 1, y0, shape, coords),
-                self._resolve(x0, y0 + 1, shape, coords),
-                self._resolve(x0 + 1, y0 + 1, shape, coords),
-            ],
-            axis=-1,
-        )
-        return index, frac
+    # -- cube views ----------------------------------------------------------------------------
 
     @property
     def base(self) -> Layout:
@@ -194,6 +186,7 @@ class LatLong(Layout):
     ``d = (sin theta sin phi, cos theta, -sin theta cos phi)``; centre column -Z, top row +Y."""
 
     name = "latlong"
+    kind = _maps.LATLONG
 
     def shape(self, size):
         if isinstance(size, (tuple, list)):
@@ -209,47 +202,12 @@ class LatLong(Layout):
     def default_size(self, texels):
         return max(1, round(np.sqrt(texels / 2)))
 
-    def directions(self, shape):
-        h, w = self.check_shape(shape)
-        phi = 2 * np.pi * ((np.arange(w) + 0.5) / w - 0.5)
-        theta = np.pi * (np.arange(h) + 0.5) / h
-        st, ct = np.sin(theta)[:, None], np.cos(theta)[:, None]
-        d = np.empty((h, w, 3))
-        d[..., 0] = st * np.sin(phi)
-        d[..., 1] = ct
-        d[..., 2] = -st * np.cos(phi)
-        return d, np.ones((h, w), bool)
-
-    def directions_at(self, coords, shape):
-        h, w = self.check_shape(shape)
-        c = np.asarray(coords, dtype=np.float64)
-        phi = 2 * np.pi * (c[..., 0] / w - 0.5)
-        theta = np.pi * c[..., 1] / h
-        st = np.sin(theta)
-        return np.stack([st * np.sin(phi), np.cos(theta), -st * np.cos(phi)], axis=-1)
-
     def solid_angles(self, shape):
         h, w = self.check_shape(shape)
         # exact: the band between theta_j and theta_j+1 covers 2 pi (cos theta_j - cos theta_j+1)
         c = np.cos(np.pi * np.arange(h + 1) / h)
         band = (c[:-1] - c[1:]) * (2 * np.pi / w)
         return np.repeat(band[:, None], w, axis=1)
-
-    def coordinates(self, dirs, shape):
-        h, w = self.check_shape(shape)
-        d = _dirs_array(dirs)
-        x, y, z = d[..., 0], d[..., 1], d[..., 2]
-        phi = np.arctan2(x, -z)
-        theta = np.arctan2(np.hypot(x, z), y)
-        return np.stack([(phi / (2 * np.pi) + 0.5) * w, theta / np.pi * h], axis=-1)
-
-    def _resolve(self, ix, iy, shape, coords):
-        h, w = shape
-        # across a pole, the texel beyond row 0 is row 0 half a turn away
-        over = (iy < 0) | (iy >= h)
-        ix = np.where(over, ix + w // 2, ix) % w
-        iy = np.clip(iy, 0, h - 1)
-        return iy * w + ix
 
 
 # --- disk layouts -----------------------------------------------------------------------------
@@ -291,68 +249,18 @@ class _Disk(Layout):
         """G(rho) / rho^2 as a function of q = rho^2."""
         raise NotImplementedError
 
-    def _disk_directions(self, a, b, disk):
-        raise NotImplementedError
-
-    def _disk_coordinates(self, d):
-        """(a, b, disk) of directions."""
-        raise NotImplementedError
-
-    def directions(self, shape):
-        n, _ = self.check_shape(shape)
-        valid = np.concatenate([self._overlap(n)] * self.disks, axis=1)
-        return self.directions_at(self._centres(shape), shape), valid
-
-    def directions_at(self, coords, shape):
-        n, _ = self.check_shape(shape)
-        c = np.asarray(coords, dtype=np.float64)
-        disk = np.clip(np.floor(c[..., 0] / n), 0, self.disks - 1)
-        a = 2 * (c[..., 0] - disk * n) / n - 1
-        b = 1 - 2 * c[..., 1] / n
-        # outside the disk (a rim texel's centre): the direction of the disk's nearest point
-        r2 = a * a + b * b
-        scale = np.where(r2 <= 1, 1, 1 / np.sqrt(np.maximum(r2, 1e-300)))
-        return self._disk_directions(a * scale, b * scale, disk)
-
     def _overlap(self, n):
         """Texels of one disk's square that overlap the open unit disk (the valid ones)."""
         t = np.maximum(np.abs(2 * (np.arange(n) + 0.5) / n - 1) - 1 / n, 0)
         return t[None, :] ** 2 + t[:, None] ** 2 < 1
 
+    def _valid(self, shape):
+        return np.concatenate([self._overlap(shape[0])] * self.disks, axis=1)
+
     def solid_angles(self, shape):
         n, _ = self.check_shape(shape)
         omega = np.where(self._overlap(n), _disk_texel_integrals(n, self), 0.0)
         return np.concatenate([omega] * self.disks, axis=1)
-
-    def coordinates(self, dirs, shape):
-        n, _ = self.check_shape(shape)
-        d = _unit(_dirs_array(dirs))
-        a, b, disk = self._disk_coordinates(d)
-        return np.stack([(a + 1) / 2 * n + disk * n, (1 - b) / 2 * n], axis=-1)
-
-    def _resolve(self, ix, iy, shape, coords):
-        n = shape[0]
-        disk = np.clip(np.floor(coords[..., 0] / n), 0, self.disks - 1).astype(np.int64)
-        lx = ix - disk * n
-        a = 2 * (lx + 0.5) / n - 1
-        b = 1 - 2 * (iy + 0.5) / n
-        r = np.hypot(a, b)
-        outside = (r > 1) | (lx < 0) | (lx >= n) | (iy < 0) | (iy >= n)
-        index = np.clip(iy, 0, n - 1) * shape[1] + np.clip(lx, 0, n - 1) + disk * n
-        if np.any(outside):
-            # a texel beyond the rim stands for the disk texel that looks where it would look
-            a, b, k = a[outside], b[outside], disk[outside]
-            d = self._beyond_rim(a, b, k, n)
-            c = self.coordinates(d, shape)
-            x = np.clip(np.floor(c[..., 0]), 0, shape[1] - 1).astype(np.int64)
-            y = np.clip(np.floor(c[..., 1]), 0, n - 1).astype(np.int64)
-            index[outside] = y * shape[1] + x
-        return index
-
-    def _beyond_rim(self, a, b, disk, n):
-        """Direction a texel centre beyond the rim stands for: the formula continued past the rim
-        where it continues (angular: theta > pi; paraboloid: the other hemisphere)."""
-        return self._disk_directions(a, b, disk)
 
 
 @functools.lru_cache(maxsize=16)
@@ -393,22 +301,11 @@ class Angular(_Disk):
     """
 
     name = "angular"
+    kind = _maps.ANGULAR
 
     def _H(self, q):
         # G(rho) = 1 - cos(pi rho) = (pi^2 / 2) rho^2 sinc(rho / 2)^2
         return (np.pi**2 / 2) * np.sinc(np.sqrt(q) / 2) ** 2
-
-    def _disk_directions(self, a, b, disk):
-        r = np.hypot(a, b)
-        s = np.pi * np.sinc(r)  # sin(pi r) / r
-        return np.stack([a * s, b * s, np.cos(np.pi * r)], axis=-1)
-
-    def _disk_coordinates(self, d):
-        x, y, z = d[..., 0], d[..., 1], d[..., 2]
-        rho = np.hypot(x, y)
-        r = np.arctan2(rho, z) / np.pi
-        psi = np.arctan2(y, x)
-        return r * np.cos(psi), r * np.sin(psi), 0
 
 
 class MirrorBall(_Disk):
@@ -416,26 +313,10 @@ class MirrorBall(_Disk):
     -Z, ``d = reflect((0, 0, -1), n)``; centre +Z, rim -Z. ``dOmega/dA = 4`` everywhere."""
 
     name = "mirrorball"
+    kind = _maps.MIRRORBALL
 
     def _H(self, q):
         return np.full_like(q, 2.0)
-
-    def _disk_directions(self, a, b, disk):
-        r2 = np.minimum(a * a + b * b, 1.0)
-        nz = np.sqrt(1 - r2)
-        return np.stack([2 * nz * a, 2 * nz * b, 1 - 2 * r2], axis=-1)
-
-    def _beyond_rim(self, a, b, disk, n):
-        # the whole rim looks at -Z: stand for the disk texel radially inside instead
-        r = np.hypot(a, b)
-        pull = max(0.0, 1 - 1.5 / n) / np.maximum(r, 1e-300)
-        return self._disk_directions(a * pull, b * pull, disk)
-
-    def _disk_coordinates(self, d):
-        x, y, z = d[..., 0], d[..., 1], d[..., 2]
-        r = np.sqrt(np.clip((1 - z) / 2, 0, 1))
-        psi = np.arctan2(y, x)
-        return r * np.cos(psi), r * np.sin(psi), 0
 
 
 class DualParaboloid(_Disk):
@@ -448,25 +329,12 @@ class DualParaboloid(_Disk):
     """
 
     name = "dual-paraboloid"
+    kind = _maps.DUAL_PARABOLOID
     disks = 2
     g_max = 1.0
 
     def _H(self, q):
         return 2 / (1 + q)
-
-    def _disk_directions(self, a, b, disk):
-        r2 = a * a + b * b
-        k = 1 / (1 + r2)
-        fwd = (1 - r2) * k
-        side = np.where(disk == 0, -1.0, 1.0)
-        return np.stack([-side * 2 * a * k, 2 * b * k, side * fwd], axis=-1)
-
-    def _disk_coordinates(self, d):
-        x, y, z = d[..., 0], d[..., 1], d[..., 2]
-        back = z > 0
-        right = np.where(back, -x, x)
-        f = np.abs(z)
-        return right / (1 + f), y / (1 + f), back.astype(np.int64)
 
 
 # --- octahedral -------------------------------------------------------------------------------
@@ -485,6 +353,7 @@ class Octahedral(Layout):
     """
 
     name = "octahedral"
+    kind = _maps.OCTAHEDRAL
 
     def shape(self, size):
         if isinstance(size, (tuple, list)):
@@ -502,52 +371,9 @@ class Octahedral(Layout):
     def default_size(self, texels):
         return max(2, 2 * round(np.sqrt(texels) / 2))
 
-    @staticmethod
-    def _points(a, c):
-        aa, ac = np.abs(a), np.abs(c)
-        y = 1 - aa - ac
-        lower = y < 0
-        sa = np.where(a < 0, -1.0, 1.0)
-        sc = np.where(c < 0, -1.0, 1.0)
-        x = np.where(lower, sa * (1 - ac), a)
-        z = np.where(lower, sc * (1 - aa), c)
-        return np.stack([x, y, z], axis=-1)
-
-    def directions(self, shape):
-        n, _ = self.check_shape(shape)
-        return self.directions_at(self._centres(shape), shape), np.ones((n, n), bool)
-
-    def directions_at(self, coords, shape):
-        n, _ = self.check_shape(shape)
-        c = np.asarray(coords, dtype=np.float64)
-        return _unit(self._points(2 * c[..., 0] / n - 1, 2 * c[..., 1] / n - 1))
-
     def solid_angles(self, shape):
         n, _ = self.check_shape(shape)
         return _octahedral_solid_angles(n)
-
-    def coordinates(self, dirs, shape):
-        n, _ = self.check_shape(shape)
-        d = _dirs_array(dirs)
-        norm1 = np.abs(d).sum(axis=-1)
-        p = d / np.where(norm1 > 0, norm1, 1)[..., None]
-        x, y, z = p[..., 0], p[..., 1], p[..., 2]
-        lower = y < 0
-        sx = np.where(x < 0, -1.0, 1.0)
-        sz = np.where(z < 0, -1.0, 1.0)
-        a = np.where(lower, sx * (1 - np.abs(z)), x)
-        c = np.where(lower, sz * (1 - np.abs(x)), z)
-        return np.stack([(a + 1) / 2 * n, (c + 1) / 2 * n], axis=-1)
-
-    def _resolve(self, ix, iy, shape, coords):
-        n = shape[0]
-        out_x = (ix < 0) | (ix >= n)
-        out_y = (iy < 0) | (iy >= n)
-        cx, cy = np.clip(ix, 0, n - 1), np.clip(iy, 0, n - 1)
-        # beyond an edge, the map folds back mirrored; beyond a corner lies the opposite corner
-        nx = np.where(out_y, n - 1 - cx, cx)
-        ny = np.where(out_x, n - 1 - cy, cy)
-        return ny * n + nx
 
 
 def _triangle_solid_angle(p, q, r):
@@ -566,13 +392,15 @@ def _triangle_solid_angle(p, q, r):
 
 @functools.lru_cache(maxsize=8)
 def _octahedral_solid_angles(n: int) -> np.ndarray:
+    # the texel corners' directions (a triangle's solid angle depends only on its vertices'
+    # directions: its edges project onto great circles)
+    corners = np.arange(n + 1.0)
+    x, y = np.meshgrid(corners, corners)
+    d = _LAYOUTS["octahedral"].directions_at(np.stack([x, y], axis=-1), (n, n))
+    pts = {"00": d[:-1, :-1], "10": d[:-1, 1:], "01": d[1:, :-1], "11": d[1:, 1:]}
     e = 2 * np.arange(n + 1) / n - 1
     a0, a1 = e[None, :-1], e[None, 1:]
     c0, c1 = e[:-1, None], e[1:, None]
-    pts = {
-        k: Octahedral._points(*np.broadcast_arrays(a, c))
-        for k, (a, c) in {"00": (a0, c0), "10": (a1, c0), "01": (a0, c1), "11": (a1, c1)}.items()
-    }
     # split each texel along the diagonal parallel to its quadrant's fold |a| + |c| = 1
     ac = (a0 + a1) * (c0 + c1) > 0
     anti = _triangle_solid_angle(pts["01"], pts["10"], pts["00"]) + _triangle_solid_angle(
@@ -604,34 +432,13 @@ def _cube_face_solid_angles(s: int) -> np.ndarray:
     return omega
 
 
-def _face_directions(s: int) -> np.ndarray:
-    t = 2 * (np.arange(s) + 0.5) / s - 1
-    sc, tc = t[None, :, None], t[:, None, None]
-    b = _cube.FACE_BASES
-    d = b[:, None, None, 0] + sc[None] * b[:, None, None, 1] + tc[None] * b[:, None, None, 2]
-    return _unit(d)
-
-
-def cube_face_coordinates(d):
-    """(face, sc, tc) of directions ``d`` (..., 3): OpenGL's major-axis rule, sc, tc in [-1, 1]."""
-    ad = np.abs(d)
-    axis = np.argmax(ad, axis=-1)
-    major = np.take_along_axis(d, axis[..., None], axis=-1)[..., 0]
-    face = 2 * axis + (major < 0)
-    basis = _cube.FACE_BASES[face]
-    ma = np.abs(major)
-    ma = np.where(ma > 0, ma, 1.0)
-    sc = np.einsum("...i,...i", d, basis[..., 1, :]) / ma
-    tc = np.einsum("...i,...i", d, basis[..., 2, :]) / ma
-    return face, sc, tc
-
-
 class Cube(Layout):
     """The internal cube map ``(6, S, S)``: OpenGL order and orientation (see
     :mod:`bakeshop.sphere.cube`). Coordinates are ``(face, x, y)``. Texel solid angles are
     exact: ``atan(xy / sqrt(1 + x^2 + y^2))`` differenced over the texel's corners."""
 
     name = "cube"
+    kind = _maps.CUBE
     cubic = True
 
     def shape(self, size):
@@ -650,46 +457,13 @@ class Cube(Layout):
     def default_size(self, texels):
         return max(1, round(np.sqrt(texels / 6)))
 
-    def directions(self, shape):
-        _, s, _ = self.check_shape(shape)
-        return _face_directions(s), np.ones(shape, bool)
-
-    def directions_at(self, coords, shape):
-        _, s, _ = self.check_shape(shape)
-        c = np.asarray(coords, dtype=np.float64)
-        b = _cube.FACE_BASES[np.clip(c[..., 0].astype(np.int64), 0, 5)]
-        sc = (2 * c[..., 1] / s - 1)[..., None]
-        tc = (2 * c[..., 2] / s - 1)[..., None]
-        return _unit(b[..., 0, :] + sc * b[..., 1, :] + tc * b[..., 2, :])
-
     def solid_angles(self, shape):
         _, s, _ = self.check_shape(shape)
         return np.broadcast_to(_cube_face_solid_angles(s), shape).copy()
 
-    def coordinates(self, dirs, shape):
+    def _hw(self, shape):
         _, s, _ = self.check_shape(shape)
-        face, sc, tc = cube_face_coordinates(_dirs_array(dirs))
-        return np.stack([face, (sc + 1) / 2 * s, (tc + 1) / 2 * s], axis=-1)
-
-    def _resolve(self, ix, iy, shape, coords):
-        _, s, _ = shape
-        face = coords[..., 0].astype(np.int64)
-        out_x = (ix < 0) | (ix >= s)
-        out_y = (iy < 0) | (iy >= s)
-        index = face * s * s + np.clip(iy, 0, s - 1) * s + np.clip(ix, 0, s - 1)
-        edge = out_x ^ out_y
-        if np.any(edge):
-            # the texel beyond an edge is the neighbour face's texel at its extended position
-            f, i, j = face[edge], ix[edge], iy[edge]
-            b = _cube.FACE_BASES[f]
-            sc = (2 * (i + 0.5) / s - 1)[:, None]
-            tc = (2 * (j + 0.5) / s - 1)[:, None]
-            g, nsc, ntc = cube_face_coordinates(b[:, 0] + sc * b[:, 1] + tc * b[:, 2])
-            ni = np.clip(np.floor((nsc + 1) / 2 * s), 0, s - 1).astype(np.int64)
-            nj = np.clip(np.floor((ntc + 1) / 2 * s), 0, s - 1).astype(np.int64)
-            index[edge] = g * s * s + nj * s + ni
-        # beyond a corner there is no texel: the filter uses the mean of the other three
-        return np.where(out_x & out_y, -1, index)
+        return s, s, 6
 
 
 class CubeView(Layout):
@@ -737,7 +511,7 @@ class CubeView(Layout):
 
     def directions(self, shape):
         s = self.face_size(shape)
-        d = _cube.cube_to_view(_face_directions(s), self.name)
+        d = _cube.cube_to_view(CUBE.directions((6, s, s))[0], self.name)
         valid = _cube.cube_to_view(np.ones((6, s, s), bool), self.name, fill=False)
         d[~valid] = (0.0, 0.0, -1.0)
         return d, valid
@@ -764,8 +538,8 @@ class CubeView(Layout):
 
     def coordinates(self, dirs, shape):
         s = self.face_size(shape)
-        face, sc, tc = cube_face_coordinates(_dirs_array(dirs))
-        x, y = (sc + 1) / 2 * s, (tc + 1) / 2 * s
+        c = CUBE.coordinates(dirs, (6, s, s))
+        face, x, y = c[..., 0].astype(np.int64), c[..., 1], c[..., 2]
         slots = np.array(_cube.view_slots(self.name), dtype=np.int64)[face]
         col, row, fx, fy = (slots[..., k] for k in range(4))
         x = np.where(fx == 1, s - x, x) + col * s

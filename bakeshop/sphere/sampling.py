@@ -23,10 +23,15 @@ import functools
 import numba
 import numpy as np
 
+from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.sphere import _maps
 from bakeshop.sphere.layouts import Layout, layout
 
 FILTERS = ("nearest", "bilinear", "area")
+
+#: largest memory for the area filter's per-thread accumulation buffers (else one thread).
+AREA_BUFFER_BYTES = 1 << 29
 
 #: number of cached remap plans (each holds indices and weights for every output texel).
 PLAN_CACHE_SIZE = 4
@@ -74,45 +79,6 @@ def as_rotation(rotation) -> np.ndarray | None:
     return m
 
 
-# --- kernels ----------------------------------------------------------------------------------
-
-
-@numba.njit(parallel=True, cache=True)
-def _gather_nearest(src, index, out):
-    for p in numba.prange(index.shape[0]):
-        i = index[p]
-        for c in range(src.shape[1]):
-            out[p, c] = src[i, c] if i >= 0 else 0
-
-
-@numba.njit(parallel=True, cache=True)
-def _gather_bilinear(src, index, frac, out):
-    for p in numba.prange(index.shape[0]):
-        i0, i1, i2, i3 = index[p, 0], index[p, 1], index[p, 2], index[p, 3]
-        fx, fy = frac[p, 0], frac[p, 1]
-        w0, w1 = (1 - fx) * (1 - fy), fx * (1 - fy)
-        w2, w3 = (1 - fx) * fy, fx * fy
-        if i0 >= 0 and i1 >= 0 and i2 >= 0 and i3 >= 0:
-            for c in range(src.shape[1]):
-                out[p, c] = w0 * src[i0, c] + w1 * src[i1, c] + w2 * src[i2, c] + w3 * src[i3, c]
-        elif i0 < 0 and i1 < 0:
-            for c in range(src.shape[1]):
-                out[p, c] = 0
-        else:
-            # a cube corner: the missing texel is the mean of the other three
-            for c in range(src.shape[1]):
-                v0 = src[i0, c] if i0 >= 0 else 0
-                v1 = src[i1, c] if i1 >= 0 else 0
-                v2 = src[i2, c] if i2 >= 0 else 0
-                v3 = src[i3, c] if i3 >= 0 else 0
-                m = (v0 + v1 + v2 + v3) / 3
-                v0 = v0 if i0 >= 0 else m
-                v1 = v1 if i1 >= 0 else m
-                v2 = v2 if i2 >= 0 else m
-                v3 = v3 if i3 >= 0 else m
-                out[p, c] = w0 * v0 + w1 * v1 + w2 * v2 + w3 * v3
-
-
 # --- images -------------------------------------------------------------------------------------
 
 
@@ -134,21 +100,12 @@ def _as_environment(image, lay: Layout):
     return a, a.shape[:-1], squeeze
 
 
-def _taps(lay: Layout, shape, dirs, filter: str):
-    coords = lay.coordinates(dirs, shape)
-    index, frac = lay.taps(coords, shape, filter)
-    index = index.astype(np.int32)
-    if frac is not None:
-        frac = frac.astype(np.float32)
-    return index, frac
-
-
 def _apply(flat_src, index, frac):
     out = np.empty((index.shape[0], flat_src.shape[1]), flat_src.dtype)
     if frac is None:
-        _gather_nearest(flat_src, index, out)
+        _maps.gather_nearest(flat_src, index, out)
     else:
-        _gather_bilinear(flat_src, index, frac.astype(flat_src.dtype, copy=False), out)
+        _maps.gather_bilinear(flat_src, index, frac.astype(flat_src.dtype, copy=False), out)
     return out
 
 
@@ -180,7 +137,12 @@ def sample(image, layout_name, dirs, *, filter: str = "bilinear") -> np.ndarray:
     d = np.asarray(dirs, dtype=np.float64)
     if d.ndim < 1 or d.shape[-1] != 3:
         raise ArgumentError(f"directions must be an array of shape (..., 3); got {d.shape}")
-    index, frac = _taps(base, base_img.shape[:-1], d.reshape(-1, 3), filter)
+    h, w, _ = base._hw(base_img.shape[:-1])
+    flat = np.ascontiguousarray(d.reshape(-1, 3))
+    nearest = filter == "nearest"
+    index = np.empty((len(flat), 1 if nearest else 4), np.int32)
+    frac = None if nearest else np.empty((len(flat), 2), np.float32)
+    _maps.taps_of(base.kind, h, w, flat, nearest, index, frac if frac is not None else _NO_FRAC)
     out = _apply(np.ascontiguousarray(img.reshape(-1, img.shape[-1])), index, frac)
     out = out.reshape(d.shape[:-1] + (img.shape[-1],))
     return out[..., 0] if squeeze else out
@@ -189,20 +151,51 @@ def sample(image, layout_name, dirs, *, filter: str = "bilinear") -> np.ndarray:
 # --- remap --------------------------------------------------------------------------------------
 
 
+_NO_FRAC = np.empty((0, 2), np.float32)
+
+
 @functools.lru_cache(maxsize=PLAN_CACHE_SIZE)
 def _plan(src: str, src_shape, dst: str, dst_shape, filter: str, rotation: bytes | None):
+    """Source taps of every output texel: int32 (m, 1) or (m, 4) indices, float32 (m, 2)
+    fractions (None for nearest); read-only, cached."""
     s, d = layout(src), layout(dst)
-    dirs, valid = d.base.directions(dst_shape)
-    dirs = dirs.reshape(-1, 3)
-    if rotation is not None:
-        # out(d) = in(R^T d); as row vectors, d^T R
-        dirs = dirs @ np.frombuffer(rotation).reshape(3, 3)
-    index, frac = _taps(s, src_shape, dirs, filter)
-    index[~valid.reshape(-1)] = -1
+    sh, sw, _ = s._hw(src_shape)
+    dh, dw, faces = d._hw(dst_shape)
+    m = faces * dh * dw
+    nearest = filter == "nearest"
+    index = np.empty((m, 1 if nearest else 4), np.int32)
+    frac = None if nearest else np.empty((m, 2), np.float32)
+    _maps.plan(s.kind, sh, sw, d.kind, dh, dw, faces, _matrix(rotation), nearest, index,
+               _NO_FRAC if frac is None else frac)  # fmt: skip
     index.setflags(write=False)
     if frac is not None:
         frac.setflags(write=False)
     return index, frac
+
+
+def _matrix(rotation: bytes | None) -> np.ndarray:
+    return np.eye(3) if rotation is None else np.frombuffer(rotation).reshape(3, 3)
+
+
+def _area(flat, s: Layout, src_shape, d: Layout, dst_shape, key):
+    sh, sw, sfaces = s._hw(src_shape)
+    dh, dw, faces = d._hw(dst_shape)
+    m = faces * dh * dw
+    omega_src = s.solid_angles(src_shape).reshape(-1)
+    omega_dst = d.solid_angles(dst_shape).reshape(-1)
+    threads = numba.get_num_threads()
+    if threads * m * (flat.shape[1] + 1) * 8 > AREA_BUFFER_BYTES:
+        threads = 1
+    acc = np.zeros((threads, m, flat.shape[1]))
+    weight = np.zeros((threads, m))
+    with progress.step(f"area filter {s.name} -> {d.name}"):
+        _maps.splat(flat, s.kind, sh, sw, sfaces, omega_src, d.kind, dh, dw, threads,
+                    _matrix(key), acc, weight)  # fmt: skip
+        index, frac = _plan(s.name, src_shape, d.name, dst_shape, "bilinear", key)
+        gathered = _apply(flat, index, frac)
+        out = np.empty((m, flat.shape[1]), flat.dtype)
+        _maps.finish_area(acc, weight, omega_dst, gathered, out)
+    return out
 
 
 def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None) -> np.ndarray:
@@ -251,9 +244,7 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
     key = None if rot is None else rot.tobytes()
     flat = np.ascontiguousarray(img.reshape(-1, img.shape[-1]))
     if filter == "area":
-        from bakeshop.sphere.area import remap_area
-
-        out = remap_area(flat, s.base, src_shape, d.base, base_shape, rot)
+        out = _area(flat, s.base, src_shape, d.base, base_shape, key)
     else:
         index, frac = _plan(s.base.name, src_shape, d.base.name, base_shape, filter, key)
         out = _apply(flat, index, frac)

@@ -1,0 +1,502 @@
+"""The layouts' maps as scalar numba functions: the one implementation of each formula.
+
+A layout is named here by a kind number and two integers ``(h, w)`` (a cube: ``h = w = S``).
+Texel coordinates are ``(face, x, y)`` with texel ``i``'s centre at ``x = i + 0.5``; flat
+layouts have face 0. The :class:`~bakeshop.sphere.layouts.Layout` classes and the sampling
+kernels call these functions, so a direction is computed the same way everywhere.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from bakeshop.sphere.cube import FACE_BASES
+
+LATLONG, ANGULAR, MIRRORBALL, DUAL_PARABOLOID, OCTAHEDRAL, CUBE = range(6)
+
+_BASES = np.ascontiguousarray(FACE_BASES)
+_jit = numba.njit(cache=True, fastmath=False)
+
+
+# --- directions at coordinates ------------------------------------------------------------------
+
+
+@_jit
+def _disk_direction(kind, a, b, disk):
+    """Direction of disk point (a, b) (b up); valid beyond the rim for angular (theta > pi) and
+    dual-paraboloid (the other hemisphere); the mirror ball is clamped to its rim."""
+    r2 = a * a + b * b
+    if kind == ANGULAR:
+        r = math.sqrt(r2)
+        s = math.pi if r == 0.0 else math.sin(math.pi * r) / r
+        return a * s, b * s, math.cos(math.pi * r)
+    if kind == MIRRORBALL:
+        r2 = min(r2, 1.0)
+        nz = math.sqrt(1.0 - r2)
+        return 2 * nz * a, 2 * nz * b, 1.0 - 2 * r2
+    k = 1.0 / (1.0 + r2)
+    side = -1.0 if disk == 0 else 1.0
+    return -side * 2 * a * k, 2 * b * k, side * (1.0 - r2) * k
+
+
+@_jit
+def _octahedron_point(a, c):
+    aa, ac = abs(a), abs(c)
+    y = 1.0 - aa - ac
+    if y >= 0:
+        return a, y, c
+    sa = -1.0 if a < 0 else 1.0
+    sc = -1.0 if c < 0 else 1.0
+    return sa * (1.0 - ac), y, sc * (1.0 - aa)
+
+
+@_jit
+def direction(kind, h, w, f, x, y):
+    """Unit direction at coordinates (f, x, y). Outside a disk: the disk's nearest point."""
+    if kind == LATLONG:
+        phi = 2 * math.pi * (x / w - 0.5)
+        theta = math.pi * y / h
+        st = math.sin(theta)
+        return st * math.sin(phi), math.cos(theta), -st * math.cos(phi)
+    if kind == CUBE:
+        sc = 2 * x / w - 1
+        tc = 2 * y / h - 1
+        fi = min(max(int(f), 0), 5)
+        dx = _BASES[fi, 0, 0] + sc * _BASES[fi, 1, 0] + tc * _BASES[fi, 2, 0]
+        dy = _BASES[fi, 0, 1] + sc * _BASES[fi, 1, 1] + tc * _BASES[fi, 2, 1]
+        dz = _BASES[fi, 0, 2] + sc * _BASES[fi, 1, 2] + tc * _BASES[fi, 2, 2]
+    elif kind == OCTAHEDRAL:
+        dx, dy, dz = _octahedron_point(2 * x / w - 1, 2 * y / h - 1)
+    else:
+        n = h
+        disk = min(max(math.floor(x / n), 0), w // n - 1)
+        a = 2 * (x - disk * n) / n - 1
+        b = 1 - 2 * y / n
+        r2 = a * a + b * b
+        if r2 > 1:
+            r = math.sqrt(r2)
+            a /= r
+            b /= r
+        dx, dy, dz = _disk_direction(kind, a, b, disk)
+    norm = math.sqrt(dx * dx + dy * dy + dz * dz)
+    return dx / norm, dy / norm, dz / norm
+
+
+# --- coordinates of directions ------------------------------------------------------------------
+
+
+@_jit
+def cube_face(x, y, z):
+    """OpenGL's major-axis rule: (face, sc, tc), sc and tc in [-1, 1] (ties: x, then y)."""
+    ax, ay, az = abs(x), abs(y), abs(z)
+    if ax >= ay and ax >= az:
+        f, ma = (0 if x >= 0 else 1), ax
+    elif ay >= az:
+        f, ma = (2 if y >= 0 else 3), ay
+    else:
+        f, ma = (4 if z >= 0 else 5), az
+    if ma == 0:
+        ma = 1.0
+    sc = (x * _BASES[f, 1, 0] + y * _BASES[f, 1, 1] + z * _BASES[f, 1, 2]) / ma
+    tc = (x * _BASES[f, 2, 0] + y * _BASES[f, 2, 1] + z * _BASES[f, 2, 2]) / ma
+    return f, sc, tc
+
+
+@_jit
+def coordinates(kind, h, w, x, y, z):
+    """Continuous coordinates (f, x, y) of direction (x, y, z) (need not be unit)."""
+    if kind == LATLONG:
+        phi = math.atan2(x, -z)
+        theta = math.atan2(math.hypot(x, z), y)
+        return 0, (phi / (2 * math.pi) + 0.5) * w, theta / math.pi * h
+    if kind == CUBE:
+        f, sc, tc = cube_face(x, y, z)
+        return f, (sc + 1) / 2 * w, (tc + 1) / 2 * h
+    if kind == OCTAHEDRAL:
+        norm1 = abs(x) + abs(y) + abs(z)
+        if norm1 == 0:
+            norm1 = 1.0
+        px, py, pz = x / norm1, y / norm1, z / norm1
+        if py < 0:
+            sx = -1.0 if px < 0 else 1.0
+            sz = -1.0 if pz < 0 else 1.0
+            px, pz = sx * (1 - abs(pz)), sz * (1 - abs(px))
+        return 0, (px + 1) / 2 * w, (pz + 1) / 2 * h
+    n = h
+    disk = 0
+    if kind == ANGULAR:
+        r = math.atan2(math.hypot(x, y), z) / math.pi
+        psi = math.atan2(y, x)
+        a, b = r * math.cos(psi), r * math.sin(psi)
+    elif kind == MIRRORBALL:
+        norm = math.sqrt(x * x + y * y + z * z)
+        zn = z / norm if norm > 0 else 1.0
+        r = math.sqrt(min(max((1 - zn) / 2, 0.0), 1.0))
+        psi = math.atan2(y, x)
+        a, b = r * math.cos(psi), r * math.sin(psi)
+    else:
+        norm = math.sqrt(x * x + y * y + z * z)
+        if norm == 0:
+            norm = 1.0
+        xn, yn, zn = x / norm, y / norm, z / norm
+        if zn > 0:
+            disk = 1
+            xn = -xn
+        fz = abs(zn)
+        a, b = xn / (1 + fz), yn / (1 + fz)
+    return 0, (a + 1) / 2 * n + disk * n, (1 - b) / 2 * n
+
+
+# --- texels -----------------------------------------------------------------------------------
+
+
+@_jit
+def valid(kind, h, w, f, i, j):
+    """Whether texel (f, i, j) holds data: disk texels must overlap the open disk."""
+    if kind == ANGULAR or kind == MIRRORBALL or kind == DUAL_PARABOLOID:
+        n = h
+        li = i % n
+        ta = max(abs(2 * (li + 0.5) / n - 1) - 1 / n, 0.0)
+        tb = max(abs(2 * (j + 0.5) / n - 1) - 1 / n, 0.0)
+        return ta * ta + tb * tb < 1
+    return True
+
+
+@_jit
+def resolve(kind, h, w, f, i, j, x):
+    """Flat index of integer texel (f, i, j), which may lie one texel outside the image (or the
+    disk), as the neighbour of a sample at column coordinate ``x``; -1 for a cube corner."""
+    if kind == LATLONG:
+        if j < 0 or j >= h:
+            # across a pole: the same row, half a turn away
+            i += w // 2
+            j = min(max(j, 0), h - 1)
+        return j * w + i % w
+    if kind == CUBE:
+        s = w
+        out_i = i < 0 or i >= s
+        out_j = j < 0 or j >= s
+        if not out_i and not out_j:
+            return (int(f) * s + j) * s + i
+        if out_i and out_j:
+            return -1
+        # OpenGL's seamless rule: the texel across the edge at the same place along it
+        sc = 2 * (i + 0.5) / s - 1
+        tc = 2 * (j + 0.5) / s - 1
+        eps = 1e-9
+        if out_i:
+            sc = math.copysign(1 + eps, sc)
+        else:
+            tc = math.copysign(1 + eps, tc)
+        fi = int(f)
+        dx = _BASES[fi, 0, 0] + sc * _BASES[fi, 1, 0] + tc * _BASES[fi, 2, 0]
+        dy = _BASES[fi, 0, 1] + sc * _BASES[fi, 1, 1] + tc * _BASES[fi, 2, 1]
+        dz = _BASES[fi, 0, 2] + sc * _BASES[fi, 1, 2] + tc * _BASES[fi, 2, 2]
+        g, gs, gt = cube_face(dx, dy, dz)
+        gi = min(max(int(math.floor((gs + 1) / 2 * s)), 0), s - 1)
+        gj = min(max(int(math.floor((gt + 1) / 2 * s)), 0), s - 1)
+        return (g * s + gj) * s + gi
+    if kind == OCTAHEDRAL:
+        n = w
+        out_i = i < 0 or i >= n
+        out_j = j < 0 or j >= n
+        i = min(max(i, 0), n - 1)
+        j = min(max(j, 0), n - 1)
+        # beyond an edge the map folds back mirrored; beyond a corner is the opposite corner
+        if out_j:
+            i = n - 1 - i
+        if out_i:
+            j = n - 1 - j
+        return j * n + i
+    n = h
+    disk = min(max(math.floor(x / n), 0), w // n - 1)
+    li = i - disk * n
+    a = 2 * (li + 0.5) / n - 1
+    b = 1 - 2 * (j + 0.5) / n
+    r = math.hypot(a, b)
+    if r <= 1 and 0 <= li < n and 0 <= j < n:
+        return j * w + li + disk * n
+    # beyond the rim: the disk texel that looks where this one would (the formula continued);
+    # the mirror ball's whole rim looks at -Z, so there the texel radially inside stands in
+    if kind == MIRRORBALL:
+        pull = max(0.0, 1 - 1.5 / n) / r
+        a *= pull
+        b *= pull
+    dx, dy, dz = _disk_direction(kind, a, b, disk)
+    _, cx, cy = coordinates(kind, h, w, dx, dy, dz)
+    ci = min(max(int(math.floor(cx)), 0), w - 1)
+    cj = min(max(int(math.floor(cy)), 0), h - 1)
+    return cj * w + ci
+
+
+@_jit
+def density(kind, h, w, f, x, y):
+    """Solid angle per unit texel area at coordinates (f, x, y) (0 outside a disk)."""
+    if kind == LATLONG:
+        return math.sin(math.pi * y / h) * (2 * math.pi / w) * (math.pi / h)
+    if kind == CUBE:
+        sc = 2 * x / w - 1
+        tc = 2 * y / h - 1
+        return (2.0 / w) ** 2 / (1 + sc * sc + tc * tc) ** 1.5
+    if kind == OCTAHEDRAL:
+        px, py, pz = _octahedron_point(2 * x / w - 1, 2 * y / h - 1)
+        return (2.0 / w) ** 2 / math.sqrt(px * px + py * py + pz * pz) ** 3
+    n = h
+    disk = min(max(math.floor(x / n), 0), w // n - 1)
+    a = 2 * (x - disk * n) / n - 1
+    b = 1 - 2 * y / n
+    r2 = a * a + b * b
+    if r2 > 1:
+        return 0.0
+    area = (2.0 / n) ** 2
+    if kind == ANGULAR:
+        r = math.sqrt(r2)
+        return area * (math.pi * math.pi if r == 0 else math.pi * math.sin(math.pi * r) / r)
+    if kind == MIRRORBALL:
+        return 4 * area
+    return 4 * area / (1 + r2) ** 2
+
+
+# --- drivers ------------------------------------------------------------------------------------
+
+
+@numba.njit(parallel=True, cache=True)
+def directions_at(kind, h, w, coords, out):
+    for p in numba.prange(coords.shape[0]):
+        out[p, 0], out[p, 1], out[p, 2] = direction(
+            kind, h, w, coords[p, 0], coords[p, 1], coords[p, 2]
+        )
+
+
+@numba.njit(parallel=True, cache=True)
+def coordinates_of(kind, h, w, dirs, out):
+    for p in numba.prange(dirs.shape[0]):
+        f, x, y = coordinates(kind, h, w, dirs[p, 0], dirs[p, 1], dirs[p, 2])
+        out[p, 0], out[p, 1], out[p, 2] = f, x, y
+
+
+@_jit
+def _rotate(rot, x, y, z):
+    # R^T d: what the output shows at d is what the input showed at R^T d
+    return (
+        rot[0, 0] * x + rot[1, 0] * y + rot[2, 0] * z,
+        rot[0, 1] * x + rot[1, 1] * y + rot[2, 1] * z,
+        rot[0, 2] * x + rot[1, 2] * y + rot[2, 2] * z,
+    )
+
+
+@_jit
+def _taps(kind, h, w, f, x, y, nearest, index, frac, p):
+    if nearest:
+        index[p, 0] = resolve(kind, h, w, f, int(math.floor(x)), int(math.floor(y)), x)
+        return
+    xs, ys = x - 0.5, y - 0.5
+    x0, y0 = math.floor(xs), math.floor(ys)
+    frac[p, 0], frac[p, 1] = xs - x0, ys - y0
+    i0, j0 = int(x0), int(y0)
+    index[p, 0] = resolve(kind, h, w, f, i0, j0, x)
+    index[p, 1] = resolve(kind, h, w, f, i0 + 1, j0, x)
+    index[p, 2] = resolve(kind, h, w, f, i0, j0 + 1, x)
+    index[p, 3] = resolve(kind, h, w, f, i0 + 1, j0 + 1, x)
+
+
+@numba.njit(parallel=True, cache=True)
+def taps_of(kind, h, w, dirs, nearest, index, frac):
+    """Source taps for sampling layout (kind, h, w) at directions ``dirs`` (m, 3)."""
+    for p in numba.prange(dirs.shape[0]):
+        f, x, y = coordinates(kind, h, w, dirs[p, 0], dirs[p, 1], dirs[p, 2])
+        _taps(kind, h, w, f, x, y, nearest, index, frac, p)
+
+
+@numba.njit(parallel=True, cache=True)
+def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, index, frac):
+    """Source taps of every destination texel centre (invalid destination texels: all -1)."""
+    per = dh * dw
+    for p in numba.prange(faces * per):
+        f = p // per
+        r = p - f * per
+        j = r // dw
+        i = r - j * dw
+        if not valid(dkind, dh, dw, f, i, j):
+            for k in range(index.shape[1]):
+                index[p, k] = -1
+            continue
+        x, y, z = direction(dkind, dh, dw, f, i + 0.5, j + 0.5)
+        x, y, z = _rotate(rot, x, y, z)
+        sf, sx, sy = coordinates(skind, sh, sw, x, y, z)
+        _taps(skind, sh, sw, sf, sx, sy, nearest, index, frac, p)
+
+
+@_jit
+def _bilinear(src, i0, i1, i2, i3, fx, fy, c):
+    w0, w1 = (1 - fx) * (1 - fy), fx * (1 - fy)
+    w2, w3 = (1 - fx) * fy, fx * fy
+    if i0 >= 0 and i1 >= 0 and i2 >= 0 and i3 >= 0:
+        return w0 * src[i0, c] + w1 * src[i1, c] + w2 * src[i2, c] + w3 * src[i3, c]
+    # a cube corner: the missing texel is the mean of the other three (OpenGL)
+    v0 = src[i0, c] if i0 >= 0 else 0.0
+    v1 = src[i1, c] if i1 >= 0 else 0.0
+    v2 = src[i2, c] if i2 >= 0 else 0.0
+    v3 = src[i3, c] if i3 >= 0 else 0.0
+    m = (v0 + v1 + v2 + v3) / 3
+    v0 = v0 if i0 >= 0 else m
+    v1 = v1 if i1 >= 0 else m
+    v2 = v2 if i2 >= 0 else m
+    v3 = v3 if i3 >= 0 else m
+    return w0 * v0 + w1 * v1 + w2 * v2 + w3 * v3
+
+
+@numba.njit(parallel=True, cache=True)
+def gather_nearest(src, index, out):
+    for p in numba.prange(index.shape[0]):
+        i = index[p, 0]
+        for c in range(src.shape[1]):
+            out[p, c] = src[i, c] if i >= 0 else 0
+
+
+@numba.njit(parallel=True, cache=True)
+def gather_bilinear(src, index, frac, out):
+    for p in numba.prange(index.shape[0]):
+        i0, i1, i2, i3 = index[p, 0], index[p, 1], index[p, 2], index[p, 3]
+        if i0 < 0 and i1 < 0:
+            for c in range(src.shape[1]):
+                out[p, c] = 0
+            continue
+        fx, fy = frac[p, 0], frac[p, 1]
+        for c in range(src.shape[1]):
+            out[p, c] = _bilinear(src, i0, i1, i2, i3, fx, fy, c)
+
+
+@_jit
+def _tent_integral(u):
+    """Integral of the tent max(0, 1 - |x|) from -inf to u."""
+    if u <= -1:
+        return 0.0
+    if u <= 0:
+        return 0.5 * (u + 1) ** 2
+    if u <= 1:
+        return 1.0 - 0.5 * (1 - u) ** 2
+    return 1.0
+
+
+@_jit
+def _box_tent_weights(c, half, lo, out):
+    """Mean of the tents of texels lo..lo+2 (centres q + 0.5) over [c - half, c + half]."""
+    for k in range(3):
+        t = c - (lo + k + 0.5)
+        if half < 1e-9:
+            out[k] = max(0.0, 1 - abs(t))
+        else:
+            out[k] = (_tent_integral(t + half) - _tent_integral(t - half)) / (2 * half)
+
+
+@_jit
+def _local(kind, h, w, x, y, z, cf, cx):
+    """Coordinates of (x, y, z) continued across the centre's face edge or seam (for
+    differences): a cube's face plane extended, a latlong's longitude unwrapped near cx."""
+    if kind == CUBE:
+        fi = int(cf)
+        n = x * _BASES[fi, 0, 0] + y * _BASES[fi, 0, 1] + z * _BASES[fi, 0, 2]
+        sc = (x * _BASES[fi, 1, 0] + y * _BASES[fi, 1, 1] + z * _BASES[fi, 1, 2]) / n
+        tc = (x * _BASES[fi, 2, 0] + y * _BASES[fi, 2, 1] + z * _BASES[fi, 2, 2]) / n
+        return (sc + 1) / 2 * w, (tc + 1) / 2 * h
+    _, u, v = coordinates(kind, h, w, x, y, z)
+    if kind == LATLONG:
+        u -= w * math.floor((u - cx) / w + 0.5)
+    return u, v
+
+
+@_jit
+def _image(skind, sh, sw, f, u, v, rot, dkind, dh, dw, cf, cx):
+    x, y, z = direction(skind, sh, sw, f, u, v)
+    x, y, z = _rotate(rot.T, x, y, z)
+    return _local(dkind, dh, dw, x, y, z, cf, cx)
+
+
+@numba.njit(parallel=True, cache=True)
+def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc, weight):
+    """Deposit every source texel's radiance x solid angle into the destination texels.
+
+    A source texel's footprint in destination coordinates is the box bounding its (locally
+    affine) image, at most one destination texel wide; it deposits into the destination
+    texels with the mean of their bilinear tents over that box (box-filtered tents tile
+    exactly when the boxes do), renormalised to sum to 1 so that its whole energy is
+    deposited: ``acc[t] += w L``, ``weight[t] += w`` with ``w = omega_src x mean tent``.
+    ``t`` is one of ``chunks`` partial buffers (one per thread). The rotation ``rot`` moves
+    what the source shows at ``d`` to ``R d``.
+    """
+    rows = sfaces * sh
+    nc = src.shape[1]
+    for t in numba.prange(chunks):
+        wx = np.empty(3)
+        wy = np.empty(3)
+        taps = np.empty(9, np.int64)
+        wts = np.empty(9)
+        for row in range(t * rows // chunks, (t + 1) * rows // chunks):
+            f = row // sh
+            j = row - f * sh
+            for i in range(sw):
+                p = row * sw + i
+                om = omega[p]
+                if om <= 0:
+                    continue
+                x, y, z = direction(skind, sh, sw, f, i + 0.5, j + 0.5)
+                x, y, z = _rotate(rot.T, x, y, z)
+                df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
+                # the footprint: the images of the texel's edge midpoints
+                a0, a1 = _image(skind, sh, sw, f, i, j + 0.5, rot, dkind, dh, dw, df, cx)
+                b0, b1 = _image(skind, sh, sw, f, i + 1.0, j + 0.5, rot, dkind, dh, dw, df, cx)
+                c0, c1 = _image(skind, sh, sw, f, i + 0.5, j, rot, dkind, dh, dw, df, cx)
+                d0, d1 = _image(skind, sh, sw, f, i + 0.5, j + 1.0, rot, dkind, dh, dw, df, cx)
+                hx = 0.5 * (abs(b0 - a0) + abs(d0 - c0))
+                hy = 0.5 * (abs(b1 - a1) + abs(d1 - c1))
+                hx = min(0.5, hx) if hx >= 0 else 0.0  # NaN at a degenerate point: a tent
+                hy = min(0.5, hy) if hy >= 0 else 0.0
+                lx = int(math.floor(cx - 0.5 - hx))
+                ly = int(math.floor(cy - 0.5 - hy))
+                _box_tent_weights(cx, hx, lx, wx)
+                _box_tent_weights(cy, hy, ly, wy)
+                total = 0.0
+                for b in range(3):
+                    for a in range(3):
+                        k = 3 * b + a
+                        taps[k] = -1
+                        wts[k] = wx[a] * wy[b]
+                        if wts[k] > 0:
+                            taps[k] = resolve(dkind, dh, dw, df, lx + a, ly + b, cx)
+                            if taps[k] >= 0:
+                                total += wts[k]
+                if total <= 0:
+                    continue
+                for k in range(9):
+                    q = taps[k]
+                    if q >= 0 and wts[k] > 0:
+                        wk = om * wts[k] / total
+                        weight[t, q] += wk
+                        for c in range(nc):
+                            acc[t, q, c] += wk * src[p, c]
+
+
+@numba.njit(parallel=True, cache=True)
+def finish_area(acc, weight, omega_dst, gathered, out):
+    """Normalised splat where the destination texel is covered by source texels, the bilinear
+    value where it is not (upsampling), blended by the coverage ``weight / omega_dst``."""
+    for p in numba.prange(out.shape[0]):
+        wsum = 0.0
+        for t in range(weight.shape[0]):
+            wsum += weight[t, p]
+        od = omega_dst[p]
+        if od <= 0:
+            for c in range(out.shape[1]):
+                out[p, c] = 0
+            continue
+        alpha = min(1.0, wsum / od)
+        for c in range(out.shape[1]):
+            e = 0.0
+            for t in range(acc.shape[0]):
+                e += acc[t, p, c]
+            mean = e / wsum if wsum > 0 else 0.0
+            out[p, c] = alpha * mean + (1 - alpha) * gathered[p, c]
