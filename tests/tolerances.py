@@ -96,3 +96,28 @@ TRANSFER_SAME_SAMPLES = 2e-6
 #: transfer on a 256-segment cylinder vs the analytic surface gradient: faceting of the normals
 #: and bilinear sampling of a 256-texel tile (degrees; measured 0.02).
 TRANSFER_ANALYTIC_DEG = 0.05
+
+# --- bakeshop.buoyancy -------------------------------------------------------------------------
+#: sample-point volumes vs the mesh volume (relative; the issue's 1 %).
+BUOYANCY_VOLUME_RTOL = 1e-2
+#: simulated, settled draft vs the analytic draft (relative; the issue's 1 %).
+BUOYANCY_DRAFT_RTOL = 1e-2
+#: exact-clipping Archimedes draft of the tessellated mesh vs the analytic draft of the smooth
+#: solid (relative; the issue's 0.1 %; measured 4e-4 for the 20480-face sphere).
+BUOYANCY_ARCHIMEDES_RTOL = 1e-3
+#: exact clipping vs closed forms on a polyhedron it must reproduce exactly (relative).
+BUOYANCY_CLIPPING_EXACT = 1e-10
+#: undamped heave period vs 2 pi sqrt(m / (rho g A_wp)) (relative; the issue's 5 %).
+BUOYANCY_PERIOD_RTOL = 5e-2
+#: builtin vs MuJoCo: settled draft and heave period (relative).
+BUOYANCY_BACKEND_RTOL = 2e-2
+#: undamped bobbing over a minute: spread of the total energy relative to the energy of the
+#: oscillation (semi-implicit Euler's bounded O(omega dt) wobble, no drift).
+BUOYANCY_ENERGY_SPREAD = 0.1
+
+#: the same with nearest lookups: the bake evaluates R at texel centres, so within a few texels
+#: of the horizon (where R changes fastest) a 1k latlong texel spans up to ~3 steps of R * L.
+FLAT_WATER_NEAREST_MAX_STEPS = 3
+#: bakeshop's seamless bilinear cube lookup vs Mesa llvmpipe's GL_LINEAR with
+#: GL_TEXTURE_CUBE_MAP_SEAMLESS on random texels in [0, 1] (absolute).
+SPHERE_GL_LINEAR_ATOL = 1e-3
