@@ -281,8 +281,8 @@ def read(path, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
     metadata : dict
         ``format`` (``"PNG"`` or ``"JPEG"``), ``stored`` (``"uint8"``, ``"uint16"``, or
         ``"uint1"``/``"uint2"``/``"uint4"`` for low-depth grey PNG), ``bits``, ``colour``
-        (the file's colour type), ``srgb`` (the file declares sRGB), ``gamma`` (gAMA value, if
-        any), ``icc_profile`` (bool), ``interlaced`` and ``dropped_chunks`` (PNG), and for JPEG
+        (the file's colour type), ``icc_profile`` (bool); for PNG ``srgb`` (an sRGB chunk),
+        ``gamma`` (the gAMA value, if any), ``interlaced`` and ``dropped_chunks``; for JPEG
         ``progressive`` and ``exif_orientation`` (the EXIF orientation is reported, not applied).
     """
     data = Path(path).read_bytes()
@@ -348,7 +348,6 @@ def _read_jpeg(data: bytes, max_pixels: int) -> tuple[np.ndarray, dict]:
         "stored": "uint8",
         "bits": 8,
         "colour": {"L": "grey", "RGB": "rgb"}.get(image.mode, image.mode),
-        "srgb": False,
         "icc_profile": "icc_profile" in image.info,
         "progressive": bool(image.info.get("progressive") or image.info.get("progression")),
     }
