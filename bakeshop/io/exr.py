@@ -5,14 +5,14 @@ and mip-mapped files give their top level. Half, float and uint channels all bec
 (half and uint values exactly, uint up to 2^24). The channels that make the image are found by
 name, in the default layer or a named one (``layer="diffuse"`` reads ``diffuse.R`` ...):
 
-====================  ==========================================
+=====================  =========================================
 channels in the layer  image
-====================  ==========================================
+=====================  =========================================
 R, G, B (+ A)          (H, W, 3) RGB or (H, W, 4) RGBA
 Y                      (H, W, 1)
 Y, A                   (H, W, 4): Y copied to R, G and B, then A
 any single channel     (H, W, 1) (a depth ``Z``, a mask ...)
-====================  ==========================================
+=====================  =========================================
 
 Other channels of the part are listed in the metadata as ``ignored_channels``. Luminance-chroma
 (``RY``, ``BY``) and sub-sampled channels are refused rather than read wrongly.

@@ -9,9 +9,9 @@ their ``--help`` when they sRGB-encode.
 
 Channels (DESIGN: C in {1, 3, 4}):
 
-=================================  ============================================
-file                               image
-=================================  ============================================
+==================================  ==============================================
+file                                image
+==================================  ==============================================
 grey (1, 2, 4, 8, 16 bit)           (H, W, 1)
 grey + alpha                        (H, W, 4): grey copied to R, G, B, then A
 RGB                                 (H, W, 3)
@@ -19,7 +19,7 @@ RGBA                                (H, W, 4)
 palette                             (H, W, 3), or (H, W, 4) when it has tRNS alpha
 grey or RGB with a tRNS colour key  plus alpha: 0 where the key matches, else 1
 JPEG grey / YCbCr                   (H, W, 1) / (H, W, 3)
-=================================  ============================================
+==================================  ==============================================
 
 Reading goes through Pillow except for 16-bit colour PNGs (RGB, RGBA, grey+alpha), which Pillow
 reduces to 8 bits: bakeshop inflates and unfilters those itself (numba). Before either, the PNG's

@@ -9,16 +9,16 @@ scanlines (TGA 2.0 forbids it, many writers do it anyway).
 Values are the stored samples scaled to [0, 1] (v / 255, or v / 31 for 5-bit samples), in RGB
 order, no transfer function applied. Channels:
 
-=====================================  =========================================
-file                                   image
-=====================================  =========================================
-grey, 8 bits                           (H, W, 1)
+======================================  =========================================
+file                                    image
+======================================  =========================================
+grey, 8 bits                            (H, W, 1)
 grey + alpha, 16 bits (alpha bits > 0)  (H, W, 4): grey copied to R, G, B, then A
 15 bits, or 16 bits without alpha bits  (H, W, 3)
 16 bits with alpha bits (1-5-5-5)       (H, W, 4), alpha 0 or 1
 24 bits                                 (H, W, 3)
 32 bits                                 (H, W, 4), whatever the alpha bits say
-=====================================  =========================================
+======================================  =========================================
 
 A colour-mapped image has the channels of its map entries by the same rules.
 
