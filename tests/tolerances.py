@@ -119,5 +119,9 @@ BUOYANCY_ENERGY_SPREAD = 0.1
 #: of the horizon (where R changes fastest) a 1k latlong texel spans up to ~3 steps of R * L.
 FLAT_WATER_NEAREST_MAX_STEPS = 3
 #: bakeshop's seamless bilinear cube lookup vs Mesa llvmpipe's GL_LINEAR with
-#: GL_TEXTURE_CUBE_MAP_SEAMLESS on random texels in [0, 1] (absolute).
-SPHERE_GL_LINEAR_ATOL = 1e-3
+#: GL_TEXTURE_CUBE_MAP_SEAMLESS on random texels in [0, 1], corners included: float32 rounding of
+#: the driver's weights (absolute; measured 5.4e-7).
+SPHERE_GL_LINEAR_ATOL = 2e-6
+#: a 128 cube's NEAREST lookup of a smooth panorama vs the panorama itself: half a texel
+#: diagonal (sqrt(2)/128 rad at a face centre) times the largest gradient (e) ~ 0.03 (absolute).
+SPHERE_GL_PANORAMA_ATOL = 0.035
