@@ -1,0 +1,63 @@
+"""Exact clipping against closed forms: displaced volumes and Archimedes drafts."""
+
+import numpy as np
+import pytest
+import trimesh
+from scipy.optimize import brentq
+
+from bakeshop.buoyancy.hydrostatics import archimedes_draft, submerged_volume
+from bakeshop.buoyancy.shapes import make_shape
+from tests.tolerances import BUOYANCY_ARCHIMEDES_RTOL, BUOYANCY_CLIPPING_EXACT
+
+
+def sphere_draft(radius, density):
+    mass_volume = density / 1000 * 4 / 3 * np.pi * radius**3
+    return brentq(lambda d: np.pi * d * d * (3 * radius - d) / 3 - mass_volume, 0, 2 * radius)
+
+
+def cylinder_draft(radius, density):
+    """Horizontal cylinder: the circular segment's area is the density ratio of the circle's."""
+    target = density / 1000 * np.pi * radius**2
+
+    def segment(d):
+        return radius**2 * np.arccos((radius - d) / radius) - (radius - d) * np.sqrt(
+            2 * radius * d - d * d
+        )
+
+    return brentq(lambda d: segment(d) - target, 0, 2 * radius)
+
+
+def test_tilted_box_volume_exact():
+    """A cube on its edge (45 degrees): below y=c the section is a triangle prism, closed form."""
+    box = trimesh.creation.box(extents=(1, 1, 1))
+    box.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 4, (0, 0, 1)))
+    low = box.bounds[0, 1]
+    for depth in (0.1, 0.3, 0.7):
+        assert submerged_volume(box.triangles, low + depth) == pytest.approx(
+            depth**2, rel=BUOYANCY_CLIPPING_EXACT
+        )
+    assert submerged_volume(box.triangles, 5.0) == pytest.approx(1.0, rel=BUOYANCY_CLIPPING_EXACT)
+    assert submerged_volume(box.triangles, -5.0) == 0.0
+
+
+@pytest.mark.parametrize("density", [150, 500, 850])
+def test_archimedes_drafts_match_analytic(density):
+    box = make_shape("box", size=(2, 0.5, 1))
+    assert archimedes_draft(box.triangles, density * 1.0) == pytest.approx(
+        0.5 * density / 1000, rel=BUOYANCY_CLIPPING_EXACT
+    )
+    sphere = make_shape("sphere")
+    mass = density * 4 / 3 * np.pi * 0.125
+    assert archimedes_draft(sphere.triangles, mass) == pytest.approx(
+        sphere_draft(0.5, density), rel=BUOYANCY_ARCHIMEDES_RTOL
+    )
+    cylinder = make_shape("cylinder")
+    mass = density * np.pi * 0.25
+    assert archimedes_draft(cylinder.triangles, mass) == pytest.approx(
+        cylinder_draft(0.5, density), rel=BUOYANCY_ARCHIMEDES_RTOL
+    )
+
+
+def test_too_dense_to_float():
+    box = make_shape("box")
+    assert archimedes_draft(box.triangles, 1200.0) is None
