@@ -276,6 +276,15 @@ def test_data_window_is_reported(tmp_path):
     assert meta["display_window"] == ((0, 0), (99, 49))
 
 
+def test_decreasing_y_line_order_keeps_row_0_on_top(tmp_path):
+    ramp = np.arange(12, dtype=np.float32).reshape(3, 4)
+    header = {"lineOrder": OpenEXR.DECREASING_Y}
+    path = write_raw(tmp_path / "dec.exr", {"R": ramp, "G": ramp, "B": ramp}, header)
+    image = read_image(path)
+    np.testing.assert_array_equal(image[..., 0], ramp)
+    assert same_bits(image, oiio_read(path)[0])
+
+
 def test_multipart_file(tmp_path):
     parts = [
         OpenEXR.Part({}, {"R": np.zeros((2, 2), np.float32), "G": np.zeros((2, 2), np.float32),
