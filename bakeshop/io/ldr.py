@@ -94,6 +94,7 @@ def sniff(head: bytes) -> bool:
 def _png_chunks(data: bytes) -> tuple[dict, list[tuple[bytes, int, int]], list[str]]:
     """Walk the chunks: (IHDR fields, [(type, start, end) of kept chunks], dropped chunk names)."""
     pos = len(PNG_MAGIC)
+    view = memoryview(data)  # checksums without copying each chunk
     kept: list[tuple[bytes, int, int]] = []
     dropped: list[str] = []
     while True:
@@ -106,7 +107,7 @@ def _png_chunks(data: bytes) -> tuple[dict, list[tuple[bytes, int, int]], list[s
         if end > len(data):
             raise FormatError(f"truncated PNG: chunk {kind.decode()} runs past the end of the file")
         (crc,) = struct.unpack_from(">I", data, end - 4)
-        if zlib.crc32(data[pos + 4 : end - 4]) != crc:
+        if zlib.crc32(view[pos + 4 : end - 4]) != crc:
             if kind[0] & 0x20:  # ancillary: drop it, as libpng does
                 dropped.append(kind.decode())
                 pos = end
