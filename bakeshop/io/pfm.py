@@ -16,7 +16,9 @@ Reading maps the file into memory (``numpy.memmap``, copy-on-write): a file in t
 order is returned as a flipped view of the map, so opening a multi-gigabyte PFM costs no copy and
 no time until pixels are touched; the array is writable and writes stay private to the process.
 A file in the other byte order is converted into a native float32 array in memory (one copy:
-code downstream expects native float32, not a byte-swapped dtype).
+code downstream expects native float32, not a byte-swapped dtype). The mapped file must not be
+truncated in place while the array lives (bakeshop's own writes rename a new file over the old
+one, which is safe); ``memmap=False`` reads into memory instead.
 
 ``PF4`` is a four-channel extension written by a few tools (not part of the original format); it
 is read but never written: bakeshop writes only the two standard kinds.
