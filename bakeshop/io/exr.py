@@ -74,20 +74,26 @@ def _library_messages():
 
     The bindings report a corrupt chunk by printing a warning and returning an empty file, and
     the C core prints its own diagnostics on stderr; both become the reason of the
-    :class:`FormatError` instead of stray lines on the terminal.
+    :class:`FormatError` instead of stray lines on the terminal. File descriptor 2 is
+    process-wide: while a read runs, other threads' output to it is collected too (and dropped).
     """
     messages: list[str] = []
     text = io.StringIO()
     with tempfile.TemporaryFile() as err:
         sys.stderr.flush()
-        saved = os.dup(2)
-        os.dup2(err.fileno(), 2)
+        try:
+            saved = os.dup(2)
+        except OSError:  # no stderr to protect
+            saved = None
+        else:
+            os.dup2(err.fileno(), 2)
         try:
             with contextlib.redirect_stdout(text):
                 yield messages
         finally:
-            os.dup2(saved, 2)
-            os.close(saved)
+            if saved is not None:
+                os.dup2(saved, 2)
+                os.close(saved)
             err.seek(0)
             lines = text.getvalue() + err.read().decode("utf-8", "replace")
             messages.extend(line.strip() for line in lines.splitlines() if line.strip())
