@@ -125,3 +125,9 @@ SPHERE_GL_LINEAR_ATOL = 2e-6
 #: a 128 cube's NEAREST lookup of a smooth panorama vs the panorama itself: half a texel
 #: diagonal (sqrt(2)/128 rad at a face centre) times the largest gradient (e) ~ 0.03 (absolute).
 SPHERE_GL_PANORAMA_ATOL = 0.035
+#: py360convert's e2c through cv2.remap with 16-bit fixed-point maps (1/32 texel) vs bakeshop's
+#: float bilinear lookup at the same directions, values ~1-3 with texel noise 0.2 (absolute;
+#: measured 4.9e-3: 1/64 texel of position times gradients up to ~0.3 per texel).
+SPHERE_PEER_CV2_ATOL = 1e-2
+#: the same through its scipy map_coordinates path: float32 rounding (absolute; measured 2.4e-6).
+SPHERE_PEER_SCIPY_ATOL = 1e-5

@@ -24,11 +24,13 @@ Methods
     coarse latlong grid and each bin becomes one source carrying the bin's total energy
     ``sum L omega`` (per channel), placed at the energy-weighted centroid of its texels'
     directions, so the zeroth and first moments of every bin are kept and the error is of
-    second order in the bin's angular size. Bins holding more than :data:`HOT_FRACTION` of the
-    environment's energy (a sun, a lamp, a window) are split into four finer bins, recursively,
-    down to single texels. The result agrees with ``exact`` within 0.1 % RMS and 0.5 % maximum
-    relative error on real probes (tests/light/test_irradiance.py measures it) at a cost that no
-    longer depends on the input's resolution beyond one pass over its texels.
+    second order in the bin's angular size, except at normals whose horizon crosses the bin,
+    where it is of the order of the bin's energy times its size. Bins where that product
+    exceeds :data:`HOT_FRACTION` of the environment's energy (a sun, a lamp, a window) are
+    split into four finer bins, recursively, down to single texels. The result agrees with
+    ``exact`` within 0.1 % RMS and 0.5 % maximum relative error on real probes
+    (tests/light/test_irradiance.py measures it) at a cost that no longer depends on the
+    input's resolution beyond one pass over its texels.
 
 References
 ----------
@@ -56,12 +58,14 @@ if TYPE_CHECKING:
 #: the irradiance methods, the default first.
 METHODS = ("auto", "exact", "sh")
 
-#: edge of the coarsest bin grid of ``auto`` (6 * 40**2 = 9600 bins of at most 2.9 degrees,
-#: where the cosine kernel's second-order error is ~1e-4).
-BASE_BINS = 40
+#: edge of the coarsest bin grid of ``auto``: 6 * 32**2 = 6144 bins of at most 3.6 degrees.
+BASE_BINS = 32
 
-#: a bin with more than this fraction of the environment's energy is split (``auto``).
-HOT_FRACTION = 1e-3
+#: ``auto`` splits a bin whose energy times its size (relative to the coarsest bins) exceeds
+#: this fraction of the environment's energy: the error a bin can make at a normal whose
+#: horizon crosses it scales with both. Chosen from the measured errors on the shared probes
+#: (tests/light/test_irradiance.py) with a margin of ~3 on the 0.5 % bound.
+HOT_FRACTION = 1e-4
 
 #: the finest bin grid's edge (2**20 bins per face edge: far below any texel).
 _MAX_BINS = 1 << 20
@@ -268,8 +272,10 @@ def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float 
     Each bin becomes one source with the bin's energy ``sum L omega`` per channel, at the
     weighted centroid of its texels' directions (weight: the energy summed over channels), so
     every bin keeps its zeroth and first moments and replacing it by a point source errs only
-    to second order in its angular size. Bins holding more than ``hot_fraction`` of the total
-    energy are split in four, recursively, down to single texels.
+    to second order in its angular size (first order, times its energy, at a normal whose
+    horizon crosses it). Bins whose energy times angular size (relative to the coarsest bins)
+    exceeds ``hot_fraction`` of the total energy are split in four, recursively, down to
+    single texels.
 
     Parameters
     ----------
@@ -308,7 +314,7 @@ def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float 
         if threshold is None:
             threshold = hot_fraction * weight.sum()
         # split a bin that holds too much energy, unless it is a single texel
-        hot = (weight > threshold) & (np.bincount(index, minlength=n_bins) > 1)
+        hot = (weight * (base / size) > threshold) & (np.bincount(index, minlength=n_bins) > 1)
         if size >= _MAX_BINS:
             hot[:] = False
         moment = sums[:, channels + 1 :]

@@ -96,12 +96,13 @@ def write_json(path: str | os.PathLike, sun: Sun | None) -> None:
 
 @dataclass(frozen=True)
 class _Candidate:
-    index: int  # texel of the peak
-    peak: float  # its luminance
-    sky: float  # median luminance of the ring around it
+    centre: np.ndarray  # centroid of the core (above half the peak)
+    peak: float  # the brightest texel's luminance
+    sky: float  # median luminance of the ring around the core
     core_radius: float  # radians
     mask_radius: float  # radians
     excess: float  # sum of (luminance - sky)+ * omega within the mask
+    pitch: float  # angular size of the brightest texel (radians)
 
 
 def _tangent_frame(a):
@@ -111,26 +112,27 @@ def _tangent_frame(a):
     return t1, np.cross(a, t1)
 
 
-def _candidate(lum, dirs, omega, k) -> _Candidate:
-    """Measure the compact light whose brightest texel is ``k``."""
-    d0 = dirs[k]
-    cosines = dirs @ d0
-    search = math.radians(max(4 * MAX_RADIUS_DEG, 20.0))
-    near = np.flatnonzero((cosines > math.cos(search)) & (omega > 0))
-    ang = np.arccos(np.clip(cosines[near], -1, 1))
-    lum_n = lum[near]
-    pitch = max(math.sqrt(omega[k]), 1e-6)
-    peak = float(lum[k])
-    # rings one texel wide: the core ends at the first non-empty ring below half the peak
+#: texels within this angle of a light's brightest texel are examined (radians).
+_SEARCH = math.radians(4 * MAX_RADIUS_DEG)
+
+
+def _profile(lum, dirs, omega, centre, peak, pitch):
+    """Sky level, core radius and mask radius of a light centred at ``centre``.
+
+    ``lum``, ``dirs``, ``omega`` are the texels around the light. Rings one texel wide around
+    the centre: the core ends at the first non-empty ring whose brightest texel is below half
+    the peak (above the sky); the sky is the median of a ring outside the core; the two are
+    iterated to agreement.
+    """
+    ang = np.arccos(np.clip(dirs @ centre, -1, 1))
     ring = (ang / pitch).astype(np.int64)
     ring_max = np.full(ring.max() + 1, -np.inf)
-    np.maximum.at(ring_max, ring, lum_n)
-    sky = 0.0
-    core = pitch
-    for _ in range(3):  # the sky ring depends on the core's size and vice versa
+    np.maximum.at(ring_max, ring, lum)
+    core, sky, inner, half = pitch, 0.0, 0.0, peak
+    for _ in range(3):
         inner = max(3 * core, core + 3 * pitch, math.radians(2.0))
         in_ring = (ang > inner) & (ang < 2 * inner)
-        sky = float(np.median(lum_n[in_ring])) if in_ring.any() else 0.0
+        sky = float(np.median(lum[in_ring])) if in_ring.any() else 0.0
         half = sky + 0.5 * (peak - sky)
         below = np.flatnonzero((ring_max < half) & np.isfinite(ring_max))
         core = (below[0] if below.size else ring_max.size) * pitch
@@ -138,14 +140,33 @@ def _candidate(lum, dirs, omega, k) -> _Candidate:
     # core radii, and on until the rings' mean luminance falls to GLARE times the sky's
     mask = MASK_SCALE * core + 2 * pitch
     counts = np.bincount(ring)
-    ring_mean = np.bincount(ring, lum_n) / np.maximum(counts, 1)
+    ring_mean = np.bincount(ring, lum) / np.maximum(counts, 1)
     first = int(math.ceil(mask / pitch))
     faint = np.flatnonzero((ring_mean[first:] <= GLARE * sky) & (counts[first:] > 0))
     glare = (first + (faint[0] if faint.size else ring_mean.size)) * pitch
     mask = max(mask, min(glare, inner))
+    return ang, sky, core, mask, half
+
+
+def _candidate(lum, dirs, omega, k) -> _Candidate:
+    """Measure the compact light whose brightest texel is ``k``."""
+    pitch = max(math.sqrt(omega[k]), 1e-6)
+    peak = float(lum[k])
+    near = np.flatnonzero((dirs @ dirs[k] > math.cos(_SEARCH)) & (omega > 0))
+    lum, dirs, omega = lum[near], dirs[near], omega[near]
+    centre = dirs[np.searchsorted(near, k)]
+    # the brightest texel may lie anywhere in a uniform disk: measure again around the
+    # luminance-weighted centroid of the core found around it
+    for _ in range(2):
+        ang, sky, core, mask, half = _profile(lum, dirs, omega, centre, peak, pitch)
+        in_core = (ang < core) & (lum >= half)
+        c = (((lum - sky) * omega * in_core)[:, None] * dirs).sum(0)
+        if not in_core.any() or not np.linalg.norm(c) > 0:
+            break
+        centre = c / np.linalg.norm(c)
     inside = ang < mask
-    excess = float((np.clip(lum_n[inside] - sky, 0, None) * omega[near][inside]).sum())
-    return _Candidate(k, peak, sky, core, mask, excess)
+    excess = float((np.clip(lum[inside] - sky, 0, None) * omega[inside]).sum())
+    return _Candidate(centre, peak, sky, core, mask, excess, pitch)
 
 
 def _detect(lum, dirs, omega) -> _Candidate | None:
@@ -158,7 +179,7 @@ def _detect(lum, dirs, omega) -> _Candidate | None:
         return None
     # the next brightest compact light, away from this one, must be much weaker
     exclude = max(3 * sun.mask_radius, math.radians(4.0))
-    rest = np.where(dirs @ dirs[k] < math.cos(exclude), lum, 0)
+    rest = np.where(dirs @ sun.centre < math.cos(exclude), lum, 0)
     k2 = int(np.argmax(rest))
     if rest[k2] > 0:
         other = _candidate(lum, dirs, omega, k2)
@@ -242,10 +263,9 @@ def _split(image, layout, values, dirs, omega) -> _Removal | None:
     cand = _detect(luminance(values), dirs, omega)
     if cand is None:
         return None
-    centre = dirs[cand.index]
-    pitch = math.sqrt(omega[cand.index])
+    centre = cand.centre
     index = np.flatnonzero((dirs @ centre > math.cos(cand.mask_radius)) & (omega > 0))
-    fill = _harmonic_fill(image, layout, centre, cand.mask_radius, pitch)
+    fill = _harmonic_fill(image, layout, centre, cand.mask_radius, cand.pitch)
     filled = np.minimum(fill(dirs[index]), values[index])  # removing light never adds any
     excess = values[index].astype(np.float64) - filled
     energy = excess * omega[index, None]

@@ -180,7 +180,7 @@ def test_compress_keeps_energy_and_first_moment():
     env = rng.gamma(0.5, 2.0, size=(64, 128, 3)).astype(np.float32)
     env[10, 20] = 1e4
     values, dirs, omega, _ = ir.texels(env, "latlong")
-    cd, ce = ir.compress(values, dirs, omega, base=8)
+    cd, ce = ir.compress(values, dirs, omega, base=8, hot_fraction=1e-3)
     energy = values * omega[:, None]
     np.testing.assert_allclose(ce.sum(0), energy.sum(0), rtol=1e-12)
     assert len(cd) < len(dirs) / 4
