@@ -142,7 +142,8 @@ def convert(source, target, exposure, linear, srgb_decode, options):
 
     Float to 8/16-bit (for example .hdr to .png): applies --exposure, clamps to [0, 1] and
     sRGB-encodes (IEC 61966-2-1), and says so; --linear skips the encoding. 8/16-bit files are
-    read as their stored values scaled to [0, 1], never linearised unless --srgb-decode.
+    read as their stored values scaled to [0, 1], never linearised unless --srgb-decode. Alpha
+    is dropped, with a note, when the target format stores none (.hdr, .pfm, .jpg).
 
     \b
     Example:
@@ -150,7 +151,7 @@ def convert(source, target, exposure, linear, srgb_decode, options):
       bakeshop convert probe.exr preview.png --exposure -2
       bakeshop convert albedo.png albedo.exr --srgb-decode
     """
-    from bakeshop.io import HDR_CODECS, codec_for, read_image, write_image
+    from bakeshop.io import ALPHA_EXTENSIONS, HDR_CODECS, codec_for, read_image, write_image
     from bakeshop.light.tonemap import exposure as apply_exposure
     from bakeshop.light.tonemap import srgb_decode as decode
     from bakeshop.light.tonemap import srgb_encode
@@ -161,6 +162,9 @@ def convert(source, target, exposure, linear, srgb_decode, options):
     dst_hdr = codec_for(target) in HDR_CODECS
     image = read_image(source)
     steps = []
+    if image.shape[2] == 4 and target.suffix.lower() not in ALPHA_EXTENSIONS:
+        image = image[:, :, :3]
+        steps.append(f"alpha dropped: {target.suffix} stores none")
     if srgb_decode:
         if src_hdr:
             raise ArgumentError("--srgb-decode applies to 8/16-bit inputs only", source)

@@ -36,10 +36,13 @@ CODECS: dict[str, tuple[str, ...]] = {
 #: readers scale to [0, 1] (display-encoded pictures, never linearised silently).
 HDR_CODECS = frozenset({"pfm", "rgbe", "exr"})
 
+#: extensions whose formats store an alpha channel (PFM, Radiance and JPEG store none).
+ALPHA_EXTENSIONS = frozenset({".tga", ".exr", ".png"})
+
 #: bytes read from the head of a file to recognise its format.
 SNIFF_BYTES = 64
 
-__all__ = ["CODECS", "HDR_CODECS", "read_image", "write_image", "codec_for", "sniff_format"]
+__all__ = ["CODECS", "HDR_CODECS", "ALPHA_EXTENSIONS", "read_image", "write_image", "codec_for", "sniff_format"]
 
 
 def _module(name: str):

@@ -142,3 +142,14 @@ def test_resize_bad_size(hdr_image, tmp_path, capsys):
     path, _ = hdr_image
     assert main(["resize", str(path), str(tmp_path / "o.exr"), "--size", "0x5"]) == 2
     assert "invalid size" in capsys.readouterr().err
+
+
+def test_convert_drops_alpha_where_the_target_stores_none(tmp_path, capsys):
+    rgba = np.random.default_rng(3).random((8, 16, 4), dtype=np.float32)
+    src = tmp_path / "rgba.exr"
+    write_image(src, rgba, pixel_type="float")
+    assert main(["convert", str(src), str(tmp_path / "rgb.pfm")]) == 0
+    assert "alpha dropped" in capsys.readouterr().out
+    np.testing.assert_array_equal(read_image(tmp_path / "rgb.pfm"), rgba[:, :, :3])
+    assert main(["convert", str(src), str(tmp_path / "rgba.tga")]) == 0
+    assert read_image(tmp_path / "rgba.tga").shape == (8, 16, 4)
