@@ -34,3 +34,22 @@ def parse_size(text: str) -> tuple[int, int] | int:
 INPUT = click.Path(exists=True, dir_okay=False, readable=True, path_type=Path)
 #: click type for output files.
 OUTPUT = click.Path(dir_okay=False, writable=True, path_type=Path)
+
+
+def input_layout(image, given: str | None, path) -> str:
+    """The layout of an input panorama: ``given`` (from ``--from``), else the one layout its
+    shape allows (:func:`bakeshop.sphere.guess_layout`); :class:`ArgumentError` when the shape
+    fits several (a square image may be angular, mirrorball or octahedral) or none."""
+    from bakeshop import sphere
+
+    if given is not None:
+        return given
+    h, w = image.shape[:2]
+    candidates = sphere.guess_layout(h, w)
+    if len(candidates) != 1:
+        which = ", ".join(candidates) if candidates else "none"
+        raise ArgumentError(
+            f"cannot tell the layout of a {w}x{h} image (candidates: {which}); name it with --from",
+            path,
+        )
+    return candidates[0]

@@ -1,0 +1,140 @@
+"""The irradiance, sun and dims commands, end to end through bakeshop.cli.main.main."""
+
+import json
+
+import numpy as np
+import pytest
+
+from bakeshop.cli.main import main
+from bakeshop.io import read_image, write_image
+from bakeshop.light import irradiance as ir
+from bakeshop.light import sh
+from bakeshop.sphere import layout
+
+
+def _sky_with_sun(height=128, sun=(0.5, 0.6, -0.62), radiance=5e4):
+    lay = layout("latlong")
+    d, _ = lay.directions((height, 2 * height))
+    s = np.asarray(sun) / np.linalg.norm(sun)
+    img = 0.3 + np.array([0.5, 0.7, 1.0]) * np.clip(d[..., 1:2], 0, None)
+    img = img + radiance * (d @ s > np.cos(np.radians(1.5)))[..., None]
+    return img.astype(np.float32), s
+
+
+@pytest.fixture
+def probe(tmp_path):
+    img, s = _sky_with_sun()
+    path = tmp_path / "probe.hdr"
+    write_image(path, img)
+    return path, read_image(path), s
+
+
+def test_help_teaches_with_examples(capsys):
+    for command in ("irradiance", "sun", "dims"):
+        assert main([command, "--help"]) == 0
+        assert "Example:" in capsys.readouterr().out
+
+
+def test_irradiance_writes_the_dim(probe, tmp_path, capsys):
+    path, img, _ = probe
+    out = tmp_path / "dim.pfm"
+    assert main(["-q", "irradiance", str(path), str(out), "--size", "64x32"]) == 0
+    assert "method auto" in capsys.readouterr().out
+    dim = read_image(out)
+    np.testing.assert_allclose(dim, ir.irradiance(img, "latlong", size=(64, 32)), rtol=1e-6)
+
+
+def test_irradiance_sh_json_and_shader(probe, tmp_path):
+    path, img, _ = probe
+    out, js, glsl = tmp_path / "dim.pfm", tmp_path / "sh.json", tmp_path / "irr.hlsl"
+    args = ["-q", "irradiance", str(path), str(out), "--method", "sh", "--order", "3"]
+    assert (
+        main(
+            args
+            + ["--to", "cross-vertical", "--size", "8", "--sh-json", str(js), "--shader", str(glsl)]
+        )
+        == 0
+    )
+    assert read_image(out).shape == (32, 24, 3)
+    coeffs = sh.from_json(js.read_text())
+    assert coeffs.shape == (16, 3)
+    np.testing.assert_allclose(coeffs, ir.sh_coefficients(img, "latlong", order=3), rtol=1e-12)
+    assert "float4x4" in glsl.read_text()
+
+
+def test_irradiance_errors(probe, tmp_path, capsys):
+    path, _, _ = probe
+    assert main(["-q", "irradiance", str(path), str(path)]) == 2
+    assert "refusing to write over" in capsys.readouterr().err
+    assert main(["-q", "irradiance", str(path), str(tmp_path / "d.hdr"), "--size", "0x3"]) == 2
+    assert "invalid size" in capsys.readouterr().err
+    assert (
+        main(
+            [
+                "-q",
+                "irradiance",
+                str(path),
+                str(tmp_path / "d.hdr"),
+                "--shader",
+                str(tmp_path / "x.txt"),
+            ]
+        )
+        == 2
+    )
+    square = tmp_path / "square.hdr"
+    write_image(square, np.ones((16, 16, 3), np.float32))
+    assert main(["-q", "irradiance", str(square), str(tmp_path / "d.hdr")]) == 2
+    assert "--from" in capsys.readouterr().err
+    assert (
+        main(
+            [
+                "-q",
+                "irradiance",
+                str(square),
+                str(tmp_path / "d.hdr"),
+                "--from",
+                "angular",
+                "--size",
+                "16x8",
+            ]
+        )
+        == 0
+    )
+
+
+def test_sun_reports_the_sun(probe, capsys):
+    path, _, s = probe
+    assert main(["-q", "sun", str(path), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert np.degrees(np.arccos(np.dot(doc["direction"], s))) < 0.5
+    assert main(["-q", "sun", str(path)]) == 0
+    assert "angular radius" in capsys.readouterr().out
+
+
+def test_sun_says_when_there_is_none(tmp_path, capsys):
+    path = tmp_path / "overcast.hdr"
+    write_image(path, np.ones((32, 64, 3), np.float32))
+    assert main(["-q", "sun", str(path)]) == 0
+    assert "no sun" in capsys.readouterr().out
+    assert main(["-q", "sun", str(path), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out) == {"sun": None}
+
+
+def test_dims_writes_the_pair(probe, tmp_path, capsys):
+    path, img, s = probe
+    out = tmp_path / "dims"
+    assert (
+        main(["-q", "dims", str(path), "--out-dir", str(out), "--size", "64x32", "--format", "exr"])
+        == 0
+    )
+    names = sorted(p.name for p in out.iterdir())
+    assert names == ["shadow_dim.exr", "shadow_probe.exr", "sun.json", "sun_dim.exr"]
+    doc = json.loads((out / "sun.json").read_text())
+    assert np.degrees(np.arccos(np.dot(doc["direction"], s))) < 0.5
+    lit, shade = read_image(out / "sun_dim.exr"), read_image(out / "shadow_dim.exr")
+    assert lit.shape == shade.shape == (32, 64, 3)
+    normals, _ = layout("latlong").directions((32, 64))
+    law = np.clip(normals @ doc["direction"], 0, None)[..., None] * doc["irradiance"] / np.pi
+    assert np.abs(lit - shade - law).max() < 0.02 * law.max()
+    probe_out = read_image(out / "shadow_probe.exr")
+    assert probe_out.shape == img.shape and probe_out.max() < 10
