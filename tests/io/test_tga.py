@@ -299,6 +299,45 @@ def test_rle_grey_and_colour_mapped(tmp_path, origin):
     )
 
 
+@pytest.mark.parametrize(
+    ("image_type", "depth", "descriptor", "cmap_bits"),
+    [(2, 15, 0, 0), (2, 16, 1, 0), (2, 24, 0, 0), (2, 32, 8, 0), (3, 8, 0, 0), (3, 16, 8, 0),
+     (1, 8, 0, 24), (1, 16, 0, 32)],
+)  # fmt: skip
+def test_every_rle_form_equals_its_uncompressed_form(tmp_path, image_type, depth, descriptor,
+                                                      cmap_bits):  # fmt: skip
+    """The same pixel stream, plain and as RLE packets (runs and literals crossing rows)."""
+    size = (depth + 7) // 8
+    rng = np.random.default_rng(depth)
+    if image_type == 1:  # indices 3..10 into an 8-entry map starting at 3
+        cmap = rng.integers(0, 256, 8 * cmap_bits // 8, dtype=np.uint8).tobytes()
+        unique = [int(i).to_bytes(size, "little") for i in rng.integers(3, 11, 40)]
+        extra = {"cmap": cmap, "cmap_first": 3, "cmap_len": 8, "cmap_bits": cmap_bits}
+    else:
+        unique = [rng.integers(0, 256, size, dtype=np.uint8).tobytes() for _ in range(40)]
+        extra = {}
+    stream, packets = [], b""
+    for k in range(0, 40, 4):  # 2 literal pixels, then a run of 3, or of 129 sent as 128 + 1
+        literal, repeated = unique[k : k + 2], unique[k + 2]
+        stream += literal + [repeated] * (129 if k % 8 == 0 else 3)
+        packets += raw(*literal)
+        packets += run(128, repeated) + run(1, repeated) if k % 8 == 0 else run(3, repeated)
+    width, height = 17, 40  # 680 pixels: packets cross rows everywhere
+    assert len(stream) == width * height
+    plain = tga_bytes(image_type, width, height, depth, b"".join(stream), descriptor=descriptor,
+                      **extra)  # fmt: skip
+    rle = tga_bytes(image_type + 8, width, height, depth, packets, descriptor=descriptor, **extra)
+    expected, meta = read_image(write_bytes(tmp_path, plain, "p.tga"), with_metadata=True)
+    image, rle_meta = read_image(write_bytes(tmp_path, rle, "r.tga"), with_metadata=True)
+    np.testing.assert_array_equal(image, expected)
+    assert rle_meta["rle"] and not meta["rle"] and rle_meta["bits"] == depth
+    # one pixel fewer in the header: the last packet now runs past the end
+    short = tga_bytes(image_type + 8, width, height - 1, depth, packets, descriptor=descriptor,
+                      **extra)  # fmt: skip
+    with pytest.raises(FormatError, match="past the last pixel"):
+        read_image(write_bytes(tmp_path, short, "s.tga"))
+
+
 # --- bad files ----------------------------------------------------------------------------------
 
 
