@@ -269,6 +269,23 @@ def test_shared_normal_map_with_a_bad_iccp_checksum(shared_data):
     np.testing.assert_array_equal(levels(image, 8), cv2_rgb(path))  # libpng warns and reads
 
 
+def test_peer_behaviours_the_docs_describe(tmp_path, shared_data):
+    """Pin what docs/formats.md says of the peers, so an upgrade that changes it shows up."""
+    write_image(tmp_path / "a.png", np.array([[[200, 100, 50, 128]]], np.uint8))
+    f = oiio.ImageInput.open(str(tmp_path / "a.png"))
+    assert f.read_image("uint8").ravel().tolist() == [100, 50, 25, 128]  # premultiplied
+    f.close()
+    write_image(tmp_path / "w.png", random_samples((4, 5, 3), 16))
+    with Image.open(tmp_path / "w.png") as im:
+        assert im.mode == "RGB" and np.asarray(im).dtype == np.uint8  # 16 -> 8 bits
+    with pytest.raises(TypeError):
+        Image.fromarray(random_samples((4, 5, 3), 16)).save(tmp_path / "p.png")
+    normal = shared_data / "normals" / "Scratched_gold_01_1K_Normal.png"
+    f = oiio.ImageInput.open(str(normal))
+    assert f.read_image("uint8").shape == (1024, 1024, 3)  # read silently
+    f.close()
+
+
 def test_bad_checksums(tmp_path):
     samples = random_samples((2, 3, 3), 8)
     good = png_bytes(3, 2, 8, 2, unfiltered(samples, "u1"), before_idat=[chunk(b"tEXt", b"a\0b")])
