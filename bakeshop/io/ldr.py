@@ -52,7 +52,7 @@ import numba
 import numpy as np
 from PIL import Image
 
-from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
+from bakeshop.errors import ArgumentError, BakeshopError, FormatError, UnsupportedError
 from bakeshop.io._files import MAX_PIXELS, check_dimensions
 from bakeshop.io._quantize import float_to_unsigned, unsigned_to_float
 
@@ -234,6 +234,8 @@ def _open_with_pillow(data: bytes, max_pixels: int) -> Image.Image:
             check_dimensions(*image.size, max_pixels=max_pixels)
             image.load()
         return image
+    except BakeshopError:
+        raise
     except Image.DecompressionBombError:
         raise FormatError(
             f"the image is larger than Pillow's decompression-bomb limit of "

@@ -391,8 +391,11 @@ def test_bad_jpegs(tmp_path):
     sof = data.index(b"\xff\xc0")
     huge = bytearray(data)
     huge[sof + 5 : sof + 9] = struct.pack(">HH", 14000, 14000)  # 196 M pixels, no data for them
-    with pytest.raises(FormatError, match="decompression-bomb|truncated|corrupt"):
+    with pytest.raises(FormatError, match="decompression-bomb limit"):
         read_image(write_bytes(tmp_path, bytes(huge), "h.jpg"))
+    huge[sof + 5 : sof + 9] = struct.pack(">HH", 9000, 9000)  # 81 M: within Pillow's limit
+    with pytest.raises(FormatError, match="^image size 9000x9000 exceeds the limit of 100 "):
+        ldr.read(write_bytes(tmp_path, bytes(huge), "m.jpg"), max_pixels=100)
 
 
 def test_bad_write_arguments(tmp_path):
