@@ -36,7 +36,9 @@ from bakeshop.normals.encoding import normalize
 from bakeshop.resample import resize_area
 
 __all__ = [
+    "MipChain",
     "mip_chain",
+    "trilinear_add",
     "sample_wrapped",
     "place_detail",
     "mask_weights",
@@ -45,8 +47,35 @@ __all__ = [
 ]
 
 
-def mip_chain(image) -> list[np.ndarray]:
-    """Mip levels of a tileable image, level 0 first, each half the size of the one before.
+@dataclass(frozen=True)
+class MipChain:
+    """The mip levels of an image packed in one array, level 0 first (what the samplers read).
+
+    Attributes
+    ----------
+    texels : (T, C) float32
+        The texels of every level, each level's rows one after the other.
+    offsets : (L,) int64
+        Index in ``texels`` of each level's first texel.
+    shapes : (L, 2) int64
+        (height, width) of each level.
+    """
+
+    texels: np.ndarray
+    offsets: np.ndarray
+    shapes: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.offsets)
+
+    def level(self, i: int) -> np.ndarray:
+        """Level ``i`` as an (h, w, C) view."""
+        h, w = self.shapes[i]
+        return self.texels[self.offsets[i] : self.offsets[i] + h * w].reshape(h, w, -1)
+
+
+def mip_chain(image) -> MipChain:
+    """Mip levels of a tileable image, each half the size of the one before, down to 1 x 1.
 
     Parameters
     ----------
@@ -54,24 +83,30 @@ def mip_chain(image) -> list[np.ndarray]:
 
     Returns
     -------
-    list of (H_l, W_l, C) float32 arrays, down to 1 x 1. Each level is the box (area) average of
-    the previous one; vectors are *not* renormalised (a short average records that the normals
-    under it disagree, and the sampler renormalises after filtering).
+    MipChain
+        Each level is the box (area) average of the previous one; vectors are *not*
+        renormalised (a short average records that the normals under it disagree, and the
+        samplers renormalise after filtering).
     """
     a = np.asarray(image, dtype=np.float32)
     if a.ndim != 3 or a.shape[0] < 1 or a.shape[1] < 1:
         raise ArgumentError(f"an image must be (H, W, C); got shape {a.shape}")
-    levels = [np.ascontiguousarray(a)]
+    levels = [a]
     while levels[-1].shape[0] > 1 or levels[-1].shape[1] > 1:
         h, w = levels[-1].shape[:2]
         levels.append(resize_area(levels[-1], (max(1, w // 2), max(1, h // 2))))
-    return levels
+    sizes = [lv.shape[0] * lv.shape[1] for lv in levels]
+    return MipChain(
+        np.concatenate([lv.reshape(-1, a.shape[2]) for lv in levels]),
+        np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64),
+        np.array([lv.shape[:2] for lv in levels], np.int64),
+    )
 
 
 @numba.njit(cache=True, inline="always")
-def _bilinear_add(src, x, y, wrap, weight, out):
-    """out += weight * bilinear sample of src at continuous texel coordinates (x, y)."""
-    h, w, c = src.shape
+def _bilinear_add(texels, base, h, w, x, y, wrap, weight, out):
+    """out += weight * bilinear sample at texel coordinates (x, y) of the (h, w) level whose
+    first texel is texels[base]."""
     x -= 0.5
     y -= 0.5
     x0 = math.floor(x)
@@ -92,28 +127,43 @@ def _bilinear_add(src, x, y, wrap, weight, out):
     w10 = fx * (1 - fy) * weight
     w01 = (1 - fx) * fy * weight
     w11 = fx * fy * weight
-    for k in range(c):
-        out[k] += w00 * src[j0, i0, k] + w10 * src[j0, i1, k] + w01 * src[j1, i0, k]
-        out[k] += w11 * src[j1, i1, k]
+    r0 = base + j0 * w
+    r1 = base + j1 * w
+    for k in range(out.shape[0]):
+        out[k] += w00 * texels[r0 + i0, k] + w10 * texels[r0 + i1, k]
+        out[k] += w01 * texels[r1 + i0, k] + w11 * texels[r1 + i1, k]
+
+
+@numba.njit(cache=True, inline="always")
+def trilinear_add(texels, offsets, shapes, x, y, lod, wrap, out):
+    """out += trilinear sample of a packed :class:`MipChain` (numba device function).
+
+    (x, y) are level-0 texel coordinates (texel (i, j)'s centre is (i + 0.5, j + 0.5)) and lod
+    is log2 of the footprint in level-0 texels; the two nearest levels are blended.
+    """
+    n = offsets.shape[0]
+    lod = min(max(lod, 0.0), n - 1.0)
+    lo = int(math.floor(lod))
+    t = lod - lo
+    h0 = shapes[0, 0]
+    w0 = shapes[0, 1]
+    for k in range(2):
+        lv = lo + k
+        weight = 1.0 - t if k == 0 else t
+        if weight <= 0.0 or lv >= n:
+            continue
+        h = shapes[lv, 0]
+        w = shapes[lv, 1]
+        _bilinear_add(texels, offsets[lv], h, w, x * w / w0, y * h / h0, wrap, weight, out)
 
 
 @numba.njit(cache=True, parallel=True)
-def _sample_points(lo, hi, scale_lo, scale_hi, t, xs, ys, wrap, out):
-    n = xs.shape[0]
-    for p in numba.prange(n):
+def _sample_points(texels, offsets, shapes, xs, ys, lods, wrap, out):
+    for p in numba.prange(xs.shape[0]):
         o = out[p]
         for k in range(o.shape[0]):
             o[k] = 0.0
-        _bilinear_add(lo, xs[p] * scale_lo[0], ys[p] * scale_lo[1], wrap, 1.0 - t[p], o)
-        if t[p] > 0:
-            _bilinear_add(hi, xs[p] * scale_hi[0], ys[p] * scale_hi[1], wrap, t[p], o)
-
-
-def _level_pair(chain, lod: float):
-    lod = min(max(float(lod), 0.0), len(chain) - 1.0)
-    lo = int(math.floor(lod))
-    hi = min(lo + 1, len(chain) - 1)
-    return lo, hi, lod - lo
+        trilinear_add(texels, offsets, shapes, xs[p], ys[p], lods[p], wrap, o)
 
 
 def sample_wrapped(chain, x, y, *, lod=0.0, wrap: bool = True) -> np.ndarray:
@@ -121,8 +171,8 @@ def sample_wrapped(chain, x, y, *, lod=0.0, wrap: bool = True) -> np.ndarray:
 
     Parameters
     ----------
-    chain : list of (H_l, W_l, C) arrays
-        From :func:`mip_chain` (a one-level list samples bilinearly).
+    chain : MipChain or (H, W, C) array
+        From :func:`mip_chain`; a plain image is one level (bilinear).
     x, y : (N,) float arrays
         Column and row in level-0 texels; texel (i, j)'s centre is (i + 0.5, j + 0.5).
     lod : float or (N,) array
@@ -134,32 +184,23 @@ def sample_wrapped(chain, x, y, *, lod=0.0, wrap: bool = True) -> np.ndarray:
     -------
     (N, C) float32 samples (not renormalised).
     """
+    if not isinstance(chain, MipChain):
+        a = np.asarray(chain, np.float32)
+        chain = MipChain(
+            a.reshape(-1, a.shape[2]), np.zeros(1, np.int64), np.array([a.shape[:2]], np.int64)
+        )
     xs = np.ascontiguousarray(x, dtype=np.float64).reshape(-1)
     ys = np.ascontiguousarray(y, dtype=np.float64).reshape(-1)
-    lods = np.clip(np.broadcast_to(np.asarray(lod, np.float64), xs.shape), 0, len(chain) - 1)
-    out = np.empty((xs.size, chain[0].shape[2]), np.float32)
-    base = np.floor(lods).astype(np.intp)
-    h0, w0 = chain[0].shape[:2]
-    for level in np.unique(base):
-        sel = np.nonzero(base == level)[0]
-        hi = min(level + 1, len(chain) - 1)
-        t = lods[sel] - level
-        scales = [
-            np.array([chain[lv].shape[1] / w0, chain[lv].shape[0] / h0]) for lv in (level, hi)
-        ]
-        part = np.empty((sel.size, out.shape[1]), np.float32)
-        _sample_points(chain[level], chain[hi], *scales, t, xs[sel], ys[sel], wrap, part)
-        out[sel] = part
+    lods = np.ascontiguousarray(np.broadcast_to(np.asarray(lod, np.float64), xs.shape))
+    out = np.empty((xs.size, chain.texels.shape[1]), np.float32)
+    _sample_points(chain.texels, chain.offsets, chain.shapes, xs, ys, lods, wrap, out)
     return out
 
 
 @numba.njit(cache=True, parallel=True)
-def _place(lo, hi, t, w0, h0, affine, cos_r, sin_r, sign_x, sign_y, out):
-    """Sample two mip levels along an affine map of output texels (to level-0 texels of size
-    w0 x h0), rotate XY, renormalise."""
+def _place(texels, offsets, shapes, lod, affine, cos_r, sin_r, sign_x, sign_y, out):
+    """Sample along an affine map of output texels to level-0 texels, rotate XY, renormalise."""
     height, width = out.shape[:2]
-    s_lo = (lo.shape[1] / w0, lo.shape[0] / h0)
-    s_hi = (hi.shape[1] / w0, hi.shape[0] / h0)
     acc = np.empty((height, 3))
     for j in numba.prange(height):
         a = acc[j]
@@ -169,9 +210,7 @@ def _place(lo, hi, t, w0, h0, affine, cos_r, sin_r, sign_x, sign_y, out):
             a[2] = 0.0
             x = affine[0, 0] * (i + 0.5) + affine[0, 1] * (j + 0.5) + affine[0, 2]
             y = affine[1, 0] * (i + 0.5) + affine[1, 1] * (j + 0.5) + affine[1, 2]
-            _bilinear_add(lo, x * s_lo[0], y * s_lo[1], True, 1.0 - t, a)
-            if t > 0:
-                _bilinear_add(hi, x * s_hi[0], y * s_hi[1], True, t, a)
+            trilinear_add(texels, offsets, shapes, x, y, lod, True, a)
             nx = (cos_r * a[0] - sin_r * a[1]) * sign_x
             ny = (sin_r * a[0] + cos_r * a[1]) * sign_y
             nz = a[2]
@@ -215,7 +254,7 @@ def place_detail(
         Shift of the pattern, in tiles (1 = a whole tile).
     rotation : float
         Counter-clockwise rotation of the pattern in degrees; the normals turn with it.
-    chain : list of arrays, optional
+    chain : MipChain, optional
         A precomputed :func:`mip_chain` of ``detail`` (when placing it several times).
 
     Returns
@@ -235,7 +274,7 @@ def place_detail(
     if not math.isfinite(rotation):
         raise ArgumentError(f"rotation must be finite; got {rotation!r}")
     chain = mip_chain(d) if chain is None else chain
-    h0, w0 = chain[0].shape[:2]
+    h0, w0 = (int(v) for v in chain.shapes[0])
     theta = math.radians(rotation)
     c, s = math.cos(theta), math.sin(theta)
     # output texel (x, y) -> (u, v) = (x / W, 1 - y / H) -> p = (tu u, tv v)
@@ -246,12 +285,12 @@ def place_detail(
     to_texel = np.array([[w0, 0, 0], [0, -h0, h0], [0, 0, 1]])
     affine = to_texel @ rot @ scale @ to_uv
     footprint = max(abs(tu) * w0 / width, abs(tv) * h0 / height)
-    lo, hi, t = _level_pair(chain, math.log2(footprint) if footprint > 1 else 0.0)
+    lod = math.log2(footprint) if footprint > 1 else 0.0
     out = np.empty((height, width, 3), np.float32)
     # the gradient of h(R(-theta) diag(tu, tv) p) is diag(tu, tv) R(theta) grad h: rotated,
     # then mirrored where a tile count is negative (the slopes' scale is left as authored).
     signs = math.copysign(1, tu), math.copysign(1, tv)
-    _place(chain[lo], chain[hi], t, float(w0), float(h0), affine, c, s, *signs, out)
+    _place(chain.texels, chain.offsets, chain.shapes, lod, affine, c, s, *signs, out)
     return out
 
 
@@ -289,7 +328,7 @@ def mask_weights(mask, shape, *, ids=None) -> np.ndarray:
         if ids is not None:
             m = m[ys.astype(np.intp), xs.astype(np.intp)]
         else:
-            m = sample_wrapped([np.ascontiguousarray(m)], xs, ys, wrap=False)
+            m = sample_wrapped(np.ascontiguousarray(m), xs, ys, wrap=False)
             m = m.reshape(height, width, -1)
     if ids is None:
         return np.clip(np.nan_to_num(m[:, :, 0]), 0, 1).astype(np.float32)

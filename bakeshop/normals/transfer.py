@@ -40,12 +40,11 @@ from pathlib import Path
 
 import numba
 import numpy as np
-from scipy import ndimage
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, FormatError, validate_choice
 from bakeshop.normals.encoding import normalize
-from bakeshop.normals.tiling import as_pair, mip_chain, sample_wrapped
+from bakeshop.normals.tiling import as_pair, mip_chain, trilinear_add
 
 PROJECTIONS = ("uv2", "planar", "box", "triplanar")
 AXES = ("x", "y", "z")
@@ -57,9 +56,6 @@ PROJECTION_AXES = {
     "y": (np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, -1.0])),
     "z": (np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])),
 }
-
-#: texels per chunk of the per-texel work: bounds the temporaries to ~100 MB.
-_CHUNK = 1 << 18
 
 __all__ = [
     "PROJECTIONS",
@@ -328,6 +324,7 @@ def _rasterize(tex, faces, face_map, bary):
                     face_map[j, i] = f
                     bary[j, i, 0] = w0
                     bary[j, i, 1] = w1
+                    bary[j, i, 2] = w2
 
 
 def rasterize_uv(uv, faces, shape) -> tuple[np.ndarray, np.ndarray]:
@@ -353,21 +350,49 @@ def rasterize_uv(uv, faces, shape) -> tuple[np.ndarray, np.ndarray]:
     tex[:, 0] = uv[:, 0] * width
     tex[:, 1] = (1 - uv[:, 1]) * height
     face = np.full((height, width), -1, np.int32)
-    b = np.zeros((height, width, 2))
-    _rasterize(tex, np.ascontiguousarray(faces, np.int64), face, b)
-    bary = np.empty((height, width, 3))
-    bary[..., :2] = b
-    bary[..., 2] = np.where(face >= 0, 1 - b[..., 0] - b[..., 1], 0.0)
+    bary = np.zeros((height, width, 3))
+    _rasterize(tex, np.ascontiguousarray(faces, np.int64), face, bary)
     return face, bary
+
+
+@numba.njit(cache=True)
+def _dilate(out, filled, rings):
+    """Grow the filled region ring by ring (8-neighbours), copying values outwards."""
+    height, width = filled.shape
+    frontier = np.empty(height * width, np.int64)
+    n = 0
+    for j in range(height):
+        for i in range(width):
+            if filled[j, i]:
+                frontier[n] = j * width + i
+                n += 1
+    following = np.empty(height * width, np.int64)
+    ring = 0
+    while n > 0 and (rings < 0 or ring < rings):
+        m = 0
+        for k in range(n):
+            j, i = frontier[k] // width, frontier[k] % width
+            for dj in range(-1, 2):
+                for di in range(-1, 2):
+                    jj, ii = j + dj, i + di
+                    if 0 <= jj < height and 0 <= ii < width and not filled[jj, ii]:
+                        filled[jj, ii] = True
+                        out[jj, ii] = out[j, i]
+                        following[m] = jj * width + ii
+                        m += 1
+        frontier, following = following, frontier
+        n = m
+        ring += 1
 
 
 def dilate(image, covered, *, pixels: int | None = 16, background=(0.0, 0.0, 1.0)) -> np.ndarray:
     """Extend UV islands over the empty texels around them (edge padding).
 
-    Each uncovered texel within ``pixels`` texels (Euclidean) of an island takes the value of
-    the nearest covered texel; farther ones take ``background``. Mip levels then average
-    island texels with copies of their own borders instead of the background, so seams do not
-    bleed. ``pixels=None`` fills every texel.
+    The islands grow ring by ring, ``pixels`` rings at most: each texel of a new ring copies
+    a neighbour (of 8) from the ring before, as bakers' edge padding does; texels farther than
+    ``pixels`` steps (chessboard distance) take ``background``. Mip levels then average
+    island texels with copies of their own borders instead of the background, so seams do
+    not bleed. ``pixels=None`` fills every texel.
 
     Parameters
     ----------
@@ -380,19 +405,52 @@ def dilate(image, covered, *, pixels: int | None = 16, background=(0.0, 0.0, 1.0
     -------
     (H, W, C) array, a new array of image's dtype.
     """
-    covered = np.asarray(covered, bool)
     out = np.array(image)
-    if not covered.any():
-        out[...] = background
-        return out
-    distance, (rows, cols) = ndimage.distance_transform_edt(~covered, return_indices=True)
-    out = out[rows, cols]
-    if pixels is not None:
-        out[distance > pixels] = background
+    _pad(out, covered, pixels, background)
     return out
 
 
-# --- frames --------------------------------------------------------------------------------
+def _pad(out, covered, pixels, background):
+    """:func:`dilate` in place."""
+    if pixels is not None and pixels < 0:
+        raise ArgumentError(f"padding must be >= 0 texels; got {pixels}")
+    filled = np.array(covered, dtype=bool)
+    if out.ndim != 3 or out.shape[:2] != filled.shape:
+        raise ArgumentError(f"image {out.shape} and coverage {filled.shape} do not match")
+    _dilate(out, filled, -1 if pixels is None else int(pixels))
+    out[~filled] = background
+
+
+# --- frames and the per-texel kernel ------------------------------------------------------
+
+
+@numba.njit(cache=True, inline="always")
+def _to_tangent(wx, wy, wz, tx, ty, tz, sign, nx, ny, nz):
+    """[T B N]^-1 w normalised, B = sign * cross(N, T); (0, 0, 1) for a degenerate frame."""
+    bx = sign * (ny * tz - nz * ty)
+    by = sign * (nz * tx - nx * tz)
+    bz = sign * (nx * ty - ny * tx)
+    r0x, r0y, r0z = by * nz - bz * ny, bz * nx - bx * nz, bx * ny - by * nx  # B x N
+    r1x, r1y, r1z = ny * tz - nz * ty, nz * tx - nx * tz, nx * ty - ny * tx  # N x T
+    r2x, r2y, r2z = ty * bz - tz * by, tz * bx - tx * bz, tx * by - ty * bx  # T x B
+    det = tx * r0x + ty * r0y + tz * r0z
+    mx = wx * r0x + wy * r0y + wz * r0z
+    my = wx * r1x + wy * r1y + wz * r1z
+    mz = wx * r2x + wy * r2y + wz * r2z
+    length = math.sqrt(mx * mx + my * my + mz * mz)
+    if not (abs(det) > 1e-12 and length > 0 and math.isfinite(length)):
+        return 0.0, 0.0, 1.0
+    scale = math.copysign(1.0, det) / length
+    return mx * scale, my * scale, mz * scale
+
+
+@numba.njit(cache=True, parallel=True)
+def _world_to_tangent(world, tangent, sign, normal, out):
+    for i in numba.prange(world.shape[0]):
+        w, t, n = world[i], tangent[i], normal[i]
+        out[i, 0], out[i, 1], out[i, 2] = _to_tangent(
+            w[0], w[1], w[2], t[0], t[1], t[2], sign[i], n[0], n[1], n[2]
+        )
 
 
 def world_to_tangent(world, tangent, sign, normal) -> np.ndarray:
@@ -409,82 +467,156 @@ def world_to_tangent(world, tangent, sign, normal) -> np.ndarray:
 
     Returns
     -------
-    (N, 3) unit normals in the tangent frame; (0, 0, 1) where the frame is degenerate.
+    (N, 3) float64 unit normals in the tangent frame; (0, 0, 1) where the frame is degenerate.
     """
-    bitangent = sign[:, None] * np.cross(normal, tangent)
-    rows = (np.cross(bitangent, normal), np.cross(normal, tangent), np.cross(tangent, bitangent))
-    det = np.einsum("ij,ij->i", tangent, rows[0])
-    m = np.stack([np.einsum("ij,ij->i", world, r) for r in rows], axis=1)
-    m *= np.sign(det)[:, None]
-    length = np.linalg.norm(m, axis=1, keepdims=True)
-    good = (np.abs(det) > 1e-12)[:, None] & (length > 0)
-    return np.where(good, m / np.where(good, length, 1), (0.0, 0.0, 1.0))
+    arrays = [np.ascontiguousarray(a, np.float64) for a in (world, tangent, sign, normal)]
+    out = np.empty((len(arrays[0]), 3))
+    _world_to_tangent(*arrays, out)
+    return out
 
 
-def _rotation(rotation: float):
-    th = math.radians(rotation)
-    return math.cos(th), math.sin(th)
+@numba.njit(cache=True, inline="always")
+def _detail(texels, offsets, shapes, s, t, lod, place, acc):
+    """The detail normal at pattern coordinates (s, t): placed (tile, rotation, offset),
+    sampled trilinearly with wrap, renormalised, its XY turned with the pattern."""
+    a = s * place[0]
+    b = t * place[1]
+    c, sn = place[4], place[5]
+    qu = c * a + sn * b + place[2]
+    qv = -sn * a + c * b + place[3]
+    acc[0] = 0.0
+    acc[1] = 0.0
+    acc[2] = 0.0
+    trilinear_add(
+        texels, offsets, shapes, qu * shapes[0, 1], (1.0 - qv) * shapes[0, 0], lod, True, acc
+    )
+    length = math.sqrt(acc[0] * acc[0] + acc[1] * acc[1] + acc[2] * acc[2])
+    if not length > 0:
+        return 0.0, 0.0, 1.0
+    dx, dy, dz = acc[0] / length, acc[1] / length, acc[2] / length
+    return (c * dx - sn * dy) * place[6], (sn * dx + c * dy) * place[7], dz
 
 
-def _detail_texels(q, shape0):
-    """Detail texel coordinates of detail-tile coordinates q (N, 2) (v up)."""
-    h0, w0 = shape0
-    return q[:, 0] * w0, (1 - q[:, 1]) * h0
+_UV2, _PLANAR, _BOX, _TRIPLANAR = 0, 1, 2, 3
+#: texels per task of the parallel kernel
+_TASK = 4096
 
 
-def _place_coordinates(st, tile, offset, rotation):
-    """q = R(-theta) diag(tile) st + offset: the tiling of :mod:`bakeshop.normals.tiling`."""
-    c, s = _rotation(rotation)
-    a = st[:, 0] * tile[0]
-    b = st[:, 1] * tile[1]
-    return np.stack([c * a + s * b + offset[0], -s * a + c * b + offset[1]], axis=1)
+@numba.njit(cache=True, parallel=True)
+def _shade(
+    texels_idx,
+    face_of,
+    bary,
+    faces,
+    normals,
+    positions,
+    uv2,
+    frame,
+    frame2,
+    texels,
+    offsets,
+    shapes,
+    lod,
+    box_axis,
+    mode,
+    axis,
+    sharpness,
+    place,
+    axes,
+    out,
+):
+    n = texels_idx.shape[0]
+    for task in numba.prange((n + _TASK - 1) // _TASK):
+        acc = np.empty(3)
+        wt = np.empty(3)
+        for p in range(task * _TASK, min(n, (task + 1) * _TASK)):
+            q = texels_idx[p]
+            f = face_of[q]
+            b0, b1, b2 = bary[q, 0], bary[q, 1], bary[q, 2]
+            i0, i1, i2 = faces[f, 0], faces[f, 1], faces[f, 2]
+            nx = b0 * normals[i0, 0] + b1 * normals[i1, 0] + b2 * normals[i2, 0]
+            ny = b0 * normals[i0, 1] + b1 * normals[i1, 1] + b2 * normals[i2, 1]
+            nz = b0 * normals[i0, 2] + b1 * normals[i1, 2] + b2 * normals[i2, 2]
+            tx = b0 * frame[f, 0, 0] + b1 * frame[f, 1, 0] + b2 * frame[f, 2, 0]
+            ty = b0 * frame[f, 0, 1] + b1 * frame[f, 1, 1] + b2 * frame[f, 2, 1]
+            tz = b0 * frame[f, 0, 2] + b1 * frame[f, 1, 2] + b2 * frame[f, 2, 2]
+            if mode == _UV2:
+                s = b0 * uv2[i0, 0] + b1 * uv2[i1, 0] + b2 * uv2[i2, 0]
+                t = b0 * uv2[i0, 1] + b1 * uv2[i1, 1] + b2 * uv2[i2, 1]
+                dx, dy, dz = _detail(texels, offsets, shapes, s, t, lod[f, 0], place, acc)
+                ux = b0 * frame2[f, 0, 0] + b1 * frame2[f, 1, 0] + b2 * frame2[f, 2, 0]
+                uy = b0 * frame2[f, 0, 1] + b1 * frame2[f, 1, 1] + b2 * frame2[f, 2, 1]
+                uz = b0 * frame2[f, 0, 2] + b1 * frame2[f, 1, 2] + b2 * frame2[f, 2, 2]
+                s2 = frame2[f, 0, 3]
+                vx = s2 * (ny * uz - nz * uy)
+                vy = s2 * (nz * ux - nx * uz)
+                vz = s2 * (nx * uy - ny * ux)
+                wx = dx * ux + dy * vx + dz * nx
+                wy = dx * uy + dy * vy + dz * ny
+                wz = dx * uz + dy * vz + dz * nz
+            else:
+                nl = math.sqrt(nx * nx + ny * ny + nz * nz)
+                if not nl > 0:
+                    continue  # no normal: the texel stays flat
+                hx, hy, hz = nx / nl, ny / nl, nz / nl
+                px = b0 * positions[i0, 0] + b1 * positions[i1, 0] + b2 * positions[i2, 0]
+                py = b0 * positions[i0, 1] + b1 * positions[i1, 1] + b2 * positions[i2, 1]
+                pz = b0 * positions[i0, 2] + b1 * positions[i1, 2] + b2 * positions[i2, 2]
+                if mode == _TRIPLANAR:
+                    wt[0] = abs(hx) ** sharpness
+                    wt[1] = abs(hy) ** sharpness
+                    wt[2] = abs(hz) ** sharpness
+                    total = wt[0] + wt[1] + wt[2]
+                    for a in range(3):
+                        wt[a] /= total
+                else:
+                    chosen = box_axis[f] if mode == _BOX else axis
+                    for a in range(3):
+                        wt[a] = 1.0 if a == chosen else 0.0
+                gx = 0.0
+                gy = 0.0
+                gz = 0.0
+                for a in range(3):
+                    if wt[a] == 0.0:
+                        continue
+                    e = axes[a]
+                    s = px * e[0, 0] + py * e[0, 1] + pz * e[0, 2]
+                    t = px * e[1, 0] + py * e[1, 1] + pz * e[1, 2]
+                    dx, dy, dz = _detail(texels, offsets, shapes, s, t, lod[f, a], place, acc)
+                    k = -wt[a] / max(dz, 1e-6)
+                    gx += k * (dx * e[0, 0] + dy * e[1, 0])
+                    gy += k * (dx * e[0, 1] + dy * e[1, 1])
+                    gz += k * (dx * e[0, 2] + dy * e[1, 2])
+                gn = gx * hx + gy * hy + gz * hz
+                wx = hx - (gx - gn * hx)
+                wy = hy - (gy - gn * hy)
+                wz = hz - (gz - gn * hz)
+            m = _to_tangent(wx, wy, wz, tx, ty, tz, frame[f, 0, 3], nx, ny, nz)
+            out[q, 0], out[q, 1], out[q, 2] = m
 
 
-def _rotate_xy(d, rotation, tile):
-    c, s = _rotation(rotation)
-    x = (c * d[:, 0] - s * d[:, 1]) * math.copysign(1, tile[0])
-    y = (s * d[:, 0] + c * d[:, 1]) * math.copysign(1, tile[1])
-    return x, y
+def _face_lod(detail_texels, macro_texels, faces):
+    """log2 of each face's footprint: detail texels per macro texel (GPU-style max axis).
 
-
-def _face_lod(coords_at_corners, macro_texels, faces):
-    """log2 of each face's footprint: detail texels per macro texel (GPU-style max axis)."""
-    d = coords_at_corners  # (F, 3, 2) detail texels
-    m = macro_texels[faces]  # (F, 3, 2) macro texels
+    ``detail_texels`` (F, 3, 2) are the detail texel coordinates at the face's corners.
+    """
+    d = detail_texels
+    m = macro_texels[faces]
     dm = np.stack([m[:, 1] - m[:, 0], m[:, 2] - m[:, 0]], axis=2)  # (F, 2, 2) columns
     dd = np.stack([d[:, 1] - d[:, 0], d[:, 2] - d[:, 0]], axis=2)
     det = dm[:, 0, 0] * dm[:, 1, 1] - dm[:, 0, 1] * dm[:, 1, 0]
-    safe = np.where(np.abs(det) > 1e-300, det, 1.0)
+    ok = np.abs(det) > 1e-300
     inv = (
         np.stack(
             [np.stack([dm[:, 1, 1], -dm[:, 0, 1]], 1), np.stack([-dm[:, 1, 0], dm[:, 0, 0]], 1)], 1
         )
-        / safe[:, None, None]
+        / np.where(ok, det, 1.0)[:, None, None]
     )
     jac = dd @ inv  # detail texels per macro texel
     footprint = np.maximum(
         np.linalg.norm(jac[:, :, 0], axis=1), np.linalg.norm(jac[:, :, 1], axis=1)
     )
-    return np.where(np.abs(det) > 1e-300, np.log2(np.maximum(footprint, 1.0)), 0.0)
-
-
-@dataclass
-class _Placement:
-    chain: list
-    tile: tuple[float, float]
-    offset: tuple[float, float]
-    rotation: float
-
-
-def _projected_gradient(place, st, lod, e_s, e_t):
-    """Volume gradient of the detail height projected along (e_s, e_t): -(x e_s + y e_t) / z."""
-    q = _place_coordinates(st, place.tile, place.offset, place.rotation)
-    d = sample_wrapped(place.chain, *_detail_texels(q, place.chain[0].shape[:2]), lod=lod)
-    d = d.astype(np.float64)
-    d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
-    x, y = _rotate_xy(d, place.rotation, place.tile)
-    z = np.maximum(d[:, 2], 1e-6)
-    return -(x[:, None] * e_s + y[:, None] * e_t) / z[:, None]
+    return np.where(ok, np.log2(np.maximum(footprint, 1.0)), 0.0)
 
 
 def transfer_detail(
@@ -564,88 +696,73 @@ def transfer_detail(
         raise ArgumentError(f"strength must be finite; got {strength}")
     if strength != 1:
         d = normalize(d * np.array([strength, strength, 1.0], np.float32))
-    place = _Placement(mip_chain(d), as_pair(tile, "tile"), as_pair(offset, "offset"), rotation)
-    if place.tile[0] == 0 or place.tile[1] == 0 or not math.isfinite(rotation):
+    if not 0 <= sharpness <= 64:
+        raise ArgumentError(f"triplanar sharpness must be in [0, 64]; got {sharpness}")
+    tu, tv = as_pair(tile, "tile")
+    ou, ov = as_pair(offset, "offset")
+    if tu == 0 or tv == 0 or not math.isfinite(rotation):
         raise ArgumentError("tile must be non-zero and rotation finite")
+    chain = mip_chain(d)
+    th = math.radians(rotation)
+    place = np.array(
+        [tu, tv, ou, ov, math.cos(th), math.sin(th), math.copysign(1, tu), math.copysign(1, tv)]
+    )
     faces = mesh.faces
     with progress.step("tangents"):
         frame = corner_tangents(mesh.positions, mesh.normals, mesh.uv, faces)
-        frame2 = None
+        frame2 = frame
         if projection == "uv2":
             frame2 = corner_tangents(mesh.positions, mesh.normals, mesh.uv2, faces)
     with progress.step("rasterising"):
         face_map, bary = rasterize_uv(mesh.uv, faces, (height, width))
     covered = face_map >= 0
     texels = np.flatnonzero(covered)
+
+    # per-face level of detail from the Jacobian of detail texels w.r.t. macro texels
     macro_texels = np.stack([mesh.uv[:, 0] * width, (1 - mesh.uv[:, 1]) * height], axis=1)
-    h0, w0 = place.chain[0].shape[:2]
+    h0, w0 = (int(v) for v in chain.shapes[0])
 
-    def face_lods(st_corners):  # (F, 3, 2) pattern coordinates at the corners
-        q = _place_coordinates(st_corners.reshape(-1, 2), place.tile, place.offset, rotation)
-        x, y = _detail_texels(q, (h0, w0))
-        return _face_lod(np.stack([x, y], axis=1).reshape(-1, 3, 2), macro_texels, faces)
+    def face_lods(st):  # (F, 3, 2) pattern coordinates at the corners
+        a, b = st[..., 0] * tu, st[..., 1] * tv
+        qu = place[4] * a + place[5] * b
+        qv = -place[5] * a + place[4] * b
+        return _face_lod(np.stack([qu * w0, -qv * h0], axis=-1), macro_texels, faces)
 
-    p_corner = mesh.positions[faces]
-    face_normal = np.cross(p_corner[:, 1] - p_corner[:, 0], p_corner[:, 2] - p_corner[:, 0])
+    axes = np.array([PROJECTION_AXES[a] for a in AXES])  # (3, 2, 3): e_s, e_t per axis
     if projection == "uv2":
-        lods = {"uv2": face_lods(mesh.uv2[faces])}
+        lod = face_lods(mesh.uv2[faces])[:, None]
     else:
-        lods = {a: face_lods(p_corner @ np.stack(PROJECTION_AXES[a], axis=1)) for a in AXES}
+        corners = mesh.positions[faces]
+        lod = np.stack([face_lods(corners @ axes[k].T) for k in range(3)], axis=1)
+    corners = mesh.positions[faces]
+    face_normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     box_axis = np.argmax(np.abs(face_normal), axis=1)
-
     out = np.zeros((height * width, 3), np.float32)
     out[:, 2] = 1
-    flat_bary = bary.reshape(-1, 3)
-    flat_face = face_map.reshape(-1)
-    for start in progress.track(range(0, len(texels), _CHUNK), "transferring"):
-        idx = texels[start : start + _CHUNK]
-        f = flat_face[idx].astype(np.int64)
-        b = flat_bary[idx]
-        corners = faces[f]
-
-        def interp(values, b=b, corners=corners):
-            return np.einsum("nk,nkc->nc", b, values[corners])
-
-        def interp_corner(values, b=b, f=f):
-            return np.einsum("nk,nkc->nc", b, values[f])
-
-        normal = interp(mesh.normals)
-        tangent = interp_corner(frame[..., :3])
-        sign = frame[f, 0, 3]
-        if projection == "uv2":
-            st = interp(mesh.uv2)
-            q = _place_coordinates(st, place.tile, place.offset, rotation)
-            dn = sample_wrapped(place.chain, *_detail_texels(q, (h0, w0)), lod=lods["uv2"][f])
-            dn = dn.astype(np.float64)
-            x, y = _rotate_xy(dn, rotation, place.tile)
-            t2 = interp_corner(frame2[..., :3])
-            b2 = frame2[f, 0, 3][:, None] * np.cross(normal, t2)
-            world = x[:, None] * t2 + y[:, None] * b2 + dn[:, 2:] * normal
-        else:
-            n_hat = normal / np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
-            pos = interp(mesh.positions)
-            if projection == "triplanar":
-                weights = np.abs(n_hat) ** sharpness
-                weights /= np.maximum(weights.sum(axis=1, keepdims=True), 1e-300)
-                grad = np.zeros_like(pos)
-                for k, a in enumerate(AXES):
-                    e_s, e_t = PROJECTION_AXES[a]
-                    st = np.stack([pos @ e_s, pos @ e_t], axis=1)
-                    grad += weights[:, k : k + 1] * _projected_gradient(
-                        place, st, lods[a][f], e_s, e_t
-                    )
-            else:
-                chosen = box_axis[f] if projection == "box" else np.full(len(f), AXES.index(axis))
-                grad = np.zeros_like(pos)
-                for k, a in enumerate(AXES):
-                    sel = chosen == k
-                    if not sel.any():
-                        continue
-                    e_s, e_t = PROJECTION_AXES[a]
-                    st = np.stack([pos[sel] @ e_s, pos[sel] @ e_t], axis=1)
-                    grad[sel] = _projected_gradient(place, st, lods[a][f[sel]], e_s, e_t)
-            surface_grad = grad - np.einsum("ij,ij->i", grad, n_hat)[:, None] * n_hat
-            world = n_hat - surface_grad
-        out[idx] = world_to_tangent(world, tangent, sign, normal)
-    normals = dilate(out.reshape(height, width, 3), covered, pixels=padding)
+    uv2 = mesh.uv2 if mesh.uv2 is not None else mesh.uv
+    with progress.step("transferring"):
+        _shade(
+            texels,
+            face_map.reshape(-1),
+            bary.reshape(-1, 3),
+            faces,
+            mesh.normals,
+            mesh.positions,
+            uv2,
+            frame,
+            frame2,
+            chain.texels,
+            chain.offsets,
+            chain.shapes,
+            np.ascontiguousarray(lod),
+            box_axis,
+            PROJECTIONS.index(projection),
+            AXES.index(axis),
+            float(sharpness),
+            place,
+            axes,
+            out,
+        )
+    normals = out.reshape(height, width, 3)
+    _pad(normals, covered, padding, (0.0, 0.0, 1.0))
     return normals, covered

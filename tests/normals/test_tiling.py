@@ -98,13 +98,14 @@ def test_rotating_a_tiled_map_is_the_normal_map_of_the_rotated_height_field(rota
 
 def test_sample_wrapped_wraps_and_clamps():
     img = np.arange(12, dtype=np.float32).reshape(3, 4, 1)
-    chain = [img]
+    chain = img
     # halfway between the last and the first column, on a row centre
     got = sample_wrapped(chain, np.array([4.0, 4.0]), np.array([0.5, 0.5]))
     np.testing.assert_allclose(got[:, 0], [(3 + 0) / 2] * 2)
     got = sample_wrapped(chain, np.array([4.0]), np.array([0.5]), wrap=False)
     np.testing.assert_allclose(got[:, 0], [3.0])
     assert len(mip_chain(np.zeros((8, 2, 3)))) == 4
+    assert mip_chain(np.zeros((8, 2, 3))).level(2).shape == (2, 1, 3)
 
 
 def test_mask_weights_grey_and_ids():
