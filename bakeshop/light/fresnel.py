@@ -16,6 +16,8 @@ C. Schlick, "An Inexpensive BRDF Model for Physically-based Rendering", Computer
 
 from __future__ import annotations
 
+import functools
+
 import numba
 import numpy as np
 
@@ -205,58 +207,88 @@ def bake_fresnel(
     up = _unit_axis(up)
     lay = sphere.layout(layout)
     a, grey = _as_environment(image, lay)
-    out = _bake_upper(a, lay, up, n)
+    shape = a.shape[:-1]
+    cos = texel_cosines(layout, shape, up)
+    out = np.empty_like(a)
+    _apply_reflectance(
+        cos.reshape(-1),
+        n,
+        np.ascontiguousarray(a).reshape(-1, a.shape[-1]),
+        out.reshape(-1, a.shape[-1]),
+        min(a.shape[-1], 3),
+    )
     if below == "mirror":
-        dirs, valid = lay.directions(a.shape[:-1])
-        cos = dirs @ up
-        lower = valid & (cos < 0)
-        mirrored = dirs[lower] - 2.0 * cos[lower, None] * up
-        fetched = sphere.sample(a, layout, mirrored, filter="bilinear")
+        lower = np.nonzero(cos < 0)
+        centres = [i + 0.5 for i in lower[-2:][::-1]]  # (x, y) = (column, row) + 1/2
+        if lay.cubic:
+            centres.insert(0, lower[0].astype(np.float64))
+        dirs = lay.directions_at(np.stack(centres, axis=-1), shape)
+        c = cos[lower]
+        fetched = sphere.sample(a, layout, dirs - 2.0 * c[:, None] * up, filter="bilinear")
         colour = min(a.shape[-1], 3)
-        out[lower, :colour] = fetched[:, :colour] * fresnel_dielectric(-cos[lower], n)[:, None]
+        out[(*lower, slice(0, colour))] = fetched[:, :colour] * fresnel_dielectric(-c, n)[:, None]
     return out[..., 0] if grey else out
 
 
-def _bake_upper(a: np.ndarray, lay, up: np.ndarray, n: float) -> np.ndarray:
-    """``a`` times R(d . up) above the plane, 0 below and outside the layout's valid texels.
+def texel_cosines(layout: str, shape, up=(0.0, 1.0, 0.0)) -> np.ndarray:
+    """Cosine between each texel centre's direction and ``up``: the fresnel bake's cos(theta_i).
 
-    Texel directions come from the layout's own scalar maps (:mod:`bakeshop.sphere._maps`)
-    inside the kernel, so no direction array is built; a cross or strip is baked as its cube.
+    Computed from the layout's own scalar maps (:mod:`bakeshop.sphere._maps`) in one kernel,
+    without building a direction array (a cross or strip is computed as its cube), and cached
+    for the last two (layout, shape, up): a bake and its exposure or report share it.
+
+    Parameters
+    ----------
+    layout : str
+    shape : tuple of int
+        Spatial shape of the layout's image (``(H, W)``, or ``(6, S, S)`` for "cube").
+    up : 3-vector
+
+    Returns
+    -------
+    float64 array of ``shape``, read-only
+        d . up in [-1, 1]; NaN where the texel is invalid (outside a disk, unused cross squares).
     """
+    lay = sphere.layout(layout)
+    return _cached_cosines(lay.name, lay.check_shape(shape), tuple(_unit_axis(up)))
+
+
+@functools.lru_cache(maxsize=2)
+def _cached_cosines(name: str, shape: tuple, up: tuple) -> np.ndarray:
+    lay = sphere.layout(name)
     if lay.base is not lay:
-        cube = _bake_upper(lay.prepare(a), lay.base, up, n)
-        return sphere.cube_to_view(cube, lay.name).astype(a.dtype, copy=False)
-    faces, h, w = a.shape[:-1] if lay.cubic else (1, *a.shape[:-1])
-    out = np.empty_like(a)
-    channels = a.shape[-1]
-    _bake_texels(
-        lay.kind,
-        faces,
-        h,
-        w,
-        up,
-        n,
-        np.ascontiguousarray(a).reshape(-1, channels),
-        out.reshape(-1, channels),
-        min(channels, 3),
-    )
+        s = lay.face_size(shape)
+        out = sphere.cube_to_view(_cached_cosines(lay.base.name, (6, s, s), up), name, fill=np.nan)
+    else:
+        faces, h, w = shape if lay.cubic else (1, *shape)
+        out = np.empty(shape)
+        _texel_cosines(lay.kind, faces, h, w, np.array(up), out.reshape(-1))
+    out.setflags(write=False)
     return out
 
 
 @numba.njit(cache=True, parallel=True)
-def _bake_texels(kind, faces, h, w, up, n, image, out, colour):
+def _texel_cosines(kind, faces, h, w, up, out):
     for row in numba.prange(faces * h):
         f, j = divmod(row, h)
         for i in range(w):
-            p = row * w + i
-            dx, dy, dz = _maps.direction(kind, h, w, f, i + 0.5, j + 0.5)
-            c = dx * up[0] + dy * up[1] + dz * up[2]
-            valid = _maps.valid(kind, h, w, f, i, j)
-            r = _reflectance(c, n) if (valid and c >= 0.0) else 0.0
-            for k in range(colour):
-                out[p, k] = image[p, k] * r
-            for k in range(colour, image.shape[1]):
-                out[p, k] = image[p, k] if valid else 0.0
+            if _maps.valid(kind, h, w, f, i, j):
+                dx, dy, dz = _maps.direction(kind, h, w, f, i + 0.5, j + 0.5)
+                out[row * w + i] = dx * up[0] + dy * up[1] + dz * up[2]
+            else:
+                out[row * w + i] = np.nan
+
+
+@numba.njit(cache=True, parallel=True)
+def _apply_reflectance(cos, n, image, out, colour):
+    """out = image * R(cos) where cos >= 0, 0 below the plane; alpha kept; NaN cos: all 0."""
+    for p in numba.prange(cos.size):
+        c = cos[p]
+        r = _reflectance(c, n) if c >= 0.0 else 0.0
+        for k in range(colour):
+            out[p, k] = image[p, k] * r
+        for k in range(colour, image.shape[1]):
+            out[p, k] = image[p, k] if c == c else 0.0
 
 
 #: Fraction of the reflected hemisphere's solid angle that the automatic LDR exposure lets clip.
@@ -289,9 +321,8 @@ def ldr_exposure(
         raise ArgumentError(f"clip fraction must be in (0, 1), got {clip_fraction}")
     lay = sphere.layout(layout)
     a, _ = _as_environment(baked, lay)
-    dirs, valid = lay.directions(a.shape[:-1])
     weight = lay.solid_angles(a.shape[:-1])
-    keep = valid & (dirs @ _unit_axis(up) > 0)
+    keep = texel_cosines(layout, a.shape[:-1], up) > 0
     peak = np.max(a[..., : min(a.shape[-1], 3)], axis=-1)[keep].astype(np.float64)
     w = weight[keep]
     ok = np.isfinite(peak)
@@ -399,8 +430,7 @@ def flat_water_error(
     err = np.abs(baked - runtime)
 
     footprint = lookup((exposed_bake >= 1).astype(np.float32)) > 0
-    dirs, valid = lay.directions(a.shape[:-1])
-    horizon = lookup((valid & (dirs @ up < 0)).astype(np.float32)) > 0
+    horizon = lookup((texel_cosines(layout, a.shape[:-1], up) < 0).astype(np.float32)) > 0
     unclipped = (runtime_linear >= 0) & (runtime_linear < 1)
     clean = unclipped & ~footprint & ~horizon[:, None]
     worst = np.unravel_index(np.argmax(np.where(clean, err, -1)), err.shape)[0]

@@ -130,6 +130,17 @@ def test_bake_mirror_reflects_the_upper_half():
     np.testing.assert_array_equal(out[:8], bake_fresnel(env, "latlong", ior=1.5)[:8])
 
 
+def test_bake_mirror_on_a_cube_copies_the_upper_face():
+    env = np.random.default_rng(2).uniform(0.5, 2, size=(6, 8, 8, 3))
+    out = bake_fresnel(env, "cube", below="mirror")
+    # face -Y's texel centres mirror exactly onto face +Y's texel centres
+    dirs, _ = sphere.layout("cube").directions((6, 8, 8))
+    mirrored = dirs[3] * np.array([1, -1, 1])
+    np.testing.assert_allclose(out[3], sphere.sample(out, "cube", mirrored, filter="nearest"))
+    np.testing.assert_array_equal(out[2], bake_fresnel(env, "cube")[2])
+    assert np.all(out[3] > 0)
+
+
 def test_bake_cube_with_up_axis_z_against_the_face_table():
     s = 8
     env = np.ones((6, s, s, 1), np.float64)
