@@ -140,7 +140,11 @@ def _report_lines(flat: dict, rough: list[dict]) -> list[str]:
     help="Layout of the output (default: that of SOURCE); 'cube' writes six faces "
     "to a TARGET containing {face}.",
 )
-@click.option("--size", help="Output size: N (latlong height, face edge, disk edge) or WxH.")
+@click.option(
+    "--size",
+    help="Output size: N (latlong height, face edge, disk edge) or WxH. Remapping uses the "
+    "area filter when the output has fewer texels, bilinear otherwise.",
+)
 @click.option(
     "--ior", type=float, default=1.333, show_default=True, help="Index of refraction of the water."
 )
@@ -253,7 +257,11 @@ def fresnel(
     src = _input_layout(image, src_layout, source)
     dst = dst_layout or src
     if dst != src or size is not None:
-        image = sphere.remap(image, src, dst, None if size is None else parse_size(size))
+        texels = image[..., 0].size
+        out = sphere.layout(dst)
+        wanted = parse_size(size) if size else out.default_size(texels)
+        shrink = np.prod(out.shape(wanted)) < texels  # the area filter when downsampling
+        image = sphere.remap(image, src, dst, wanted, filter="area" if shrink else "bilinear")
     baked = bake_fresnel(image, dst, ior=ior, up=up_axis, below=below)
     if ev == "auto" or (ev is None and ldr):
         ev = ldr_exposure(baked, dst, up=up_axis)
