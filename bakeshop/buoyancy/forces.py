@@ -1,9 +1,10 @@
 """Buoyancy, fluid friction and the predictive stabiliser, evaluated per sample point.
 
-Every sample point i of a body carries a volume V_i and stands for a vertical column of height h
-(its cell). With the water surface eta at the point, the submerged fraction of the column is
+Every sample point i of a body carries a volume V_i and stands for a vertical column of height
+h_i (its cell's side, or less where the solid ends inside the cell). With the water surface eta
+at the point, the submerged fraction of the column is
 
-    f_i = clamp((eta - y_i) / h + 1/2, 0, 1)
+    f_i = clamp((eta - y_i) / h_i + 1/2, 0, 1)
 
 (linear in depth, so the force changes continuously and exactly as the surface crosses the cell),
 and the point receives Archimedes' force ``rho_water * g * V_i * f_i`` upwards at its own
@@ -25,7 +26,10 @@ Fluid friction comes in two kinds:
     ``rho_body V_i |u| / T``, the limit an implicit step would reach.
 
 The predictive stabiliser (the team's hack) scales a point's buoyancy by M when the point,
-moved on by its velocity for C times the time the force will be held, would be above the water.
+moved on by its velocity for C times the time the force will be held, would be above the water:
+here, when its whole column would be out. (Testing the point's centre instead would also scale
+resting points whose centre is just above the surface, and sink every body deeper than
+Archimedes says: 1 to 4 % for the test shapes.)
 """
 
 from __future__ import annotations
@@ -69,8 +73,8 @@ class ForceModel:
     """
 
     damping: str = "team"
-    linear_damping: float = 4.0
-    angular_damping: float = 4.0
+    linear_damping: float = 5.0
+    angular_damping: float = 5.0
     drag_coefficient: float = 1.0
     stabilize: str = "predict"
     predict_c: float = 2.5
@@ -121,7 +125,7 @@ def evaluate(fleet, state, water, model: ForceModel, time: float, horizon: float
     numba.set_num_threads(threads if len(fleet.points) >= PARALLEL_MIN_POINTS else 1)
     try:
         _point_forces(
-            fleet.offsets, fleet.points, fleet.volumes, fleet.cells, fleet.volume,
+            fleet.offsets, fleet.points, fleet.volumes, fleet.heights, fleet.volume,
             fleet.mass, fleet.inertia,
             state.position, state.quaternion, state.velocity, state.angular_velocity,
             water.table, water.level, float(time), model.rho_water, model.gravity,
@@ -146,7 +150,7 @@ def _surface(waves, level, x, z, t):
 
 @numba.njit(cache=True, parallel=True, fastmath=True)
 def _point_forces(
-    offsets, points, volumes, cells, body_volume, mass, inertia,
+    offsets, points, volumes, heights, body_volume, mass, inertia,
     position, quaternion, velocity, omega,
     waves, level, t, rho, g,
     damping, c_lin, c_ang, c_drag, predict, c_predict, m_predict, horizon,
@@ -157,7 +161,6 @@ def _point_forces(
         px, py, pz = position[b, 0], position[b, 1], position[b, 2]
         vx, vy, vz = velocity[b, 0], velocity[b, 1], velocity[b, 2]
         wx, wy, wz = omega[b, 0], omega[b, 1], omega[b, 2]
-        inv_h = 1.0 / cells[b]
         drag_k = 0.5 * rho * c_drag / body_volume[b] ** (1.0 / 3.0)
         density = mass[b] / body_volume[b]
         fx = fy = fz = tx = ty = tz = 0.0
@@ -170,7 +173,7 @@ def _point_forces(
             rz = r[2, 0] * bx + r[2, 1] * by + r[2, 2] * bz
             x, y, z = px + rx, py + ry, pz + rz
             eta = _surface(waves, level, x, z, t)
-            frac = (eta - y) * inv_h + 0.5
+            frac = (eta - y) / heights[i] + 0.5
             if frac <= 0.0:
                 continue
             if frac > 1.0:
@@ -187,7 +190,7 @@ def _point_forces(
                 ax = x + ux * horizon * c_predict
                 ay = y + uy * horizon * c_predict
                 az = z + uz * horizon * c_predict
-                if ay > _surface(waves, level, ax, az, t):
+                if ay - 0.5 * heights[i] > _surface(waves, level, ax, az, t):
                     lift *= m_predict
             gx, gy, gz = 0.0, lift, 0.0
             if damping == 1:  # drag relative to the water's orbital velocity

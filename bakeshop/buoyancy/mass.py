@@ -89,8 +89,8 @@ class Fleet:
         Body-frame positions, metres.
     volumes : (P,) float64
         m^3.
-    cells : (B,) float64
-        Column height of each body's points, metres.
+    heights : (P,) float64
+        Column height of each point, metres.
     mass : (B,) float64
         kg.
     volume : (B,) float64
@@ -103,7 +103,7 @@ class Fleet:
     offsets: np.ndarray
     points: np.ndarray
     volumes: np.ndarray
-    cells: np.ndarray
+    heights: np.ndarray
     mass: np.ndarray
     volume: np.ndarray
     inertia: np.ndarray
@@ -125,7 +125,7 @@ def pack(bodies) -> Fleet:
         offsets=np.concatenate([[0], np.cumsum(counts)]).astype(np.int64),
         points=np.ascontiguousarray(np.concatenate([b.points.positions for b in bodies])),
         volumes=np.concatenate([b.points.volumes for b in bodies]),
-        cells=np.array([b.points.cell for b in bodies]),
+        heights=np.concatenate([b.points.heights for b in bodies]),
         mass=np.array([b.mass for b in bodies]),
         volume=np.array([b.volume for b in bodies]),
         inertia=inertia,

@@ -44,7 +44,7 @@ def energy(fleet, trace, water, model) -> np.ndarray:
     for b, body in enumerate(fleet.bodies):
         pts = fleet.points[fleet.offsets[b] : fleet.offsets[b + 1]]
         vol = fleet.volumes[fleet.offsets[b] : fleet.offsets[b + 1]]
-        h = fleet.cells[b]
+        h = fleet.heights[fleet.offsets[b] : fleet.offsets[b + 1]]
         y = np.einsum("sj,vj->sv", rot[:, b, 1, :], pts) + trace.position[:, b, 1, None]
         depth = water.level - y
         g_col = np.where(

@@ -32,12 +32,17 @@ class SamplePoints:
         Centroid of the inside part of each cell, metres.
     volumes : (N,) float64
         Inside volume of each cell, m^3; sums to the mesh volume (within the sampling error).
+    heights : (N,) float64
+        Height of the vertical column each point stands for, metres: its volume divided by the
+        horizontal area of its cell that holds some solid (the cell side for a full cell, less
+        where the solid ends inside the cell, e.g. at the bottom of a sphere).
     cell : float
-        Cell side, metres: each point is treated as a vertical column this tall.
+        Cell side, metres.
     """
 
     positions: np.ndarray
     volumes: np.ndarray
+    heights: np.ndarray
     cell: float
 
     def __len__(self) -> int:
@@ -73,11 +78,12 @@ def sample_points(mesh, *, resolution: int = 10, subsamples: int = 4) -> SampleP
     triangles = np.ascontiguousarray(mesh.triangles, dtype=np.float64)
     # A tiny irrational offset keeps rays off vertices and edges that sit on grid lines.
     jitter = cell * np.array([1.2345678e-7, 0.0, 2.7182818e-7])
-    volume, moment = _voxelise(triangles, lo + jitter, cell, shape, subsamples)
+    volume, moment, area = _voxelise(triangles, lo + jitter, cell, shape, subsamples)
     keep = volume > 1e-12 * cell**3
     volumes = volume[keep]
     positions = moment[keep] / volumes[:, None]
-    return SamplePoints(positions=positions - jitter, volumes=volumes, cell=cell)
+    heights = np.minimum(volumes / area[keep], cell)
+    return SamplePoints(positions=positions - jitter, volumes=volumes, heights=heights, cell=cell)
 
 
 @numba.njit(cache=True)
@@ -117,11 +123,13 @@ def _crossings(triangles, x0, z0, step, nx, nz, counts, hits_y, hits_w, offsets,
 
 
 @numba.njit(cache=True, parallel=True)
-def _accumulate(hits_y, hits_w, offsets, x0, y0, z0, cell, shape, sub, volume, moment):
-    """Integrate the inside intervals of every ray into the cells (one thread per cell column)."""
+def _accumulate(hits_y, hits_w, offsets, x0, y0, z0, cell, shape, sub, volume, moment, area):
+    """Integrate the inside intervals of every ray into the cells (one thread per cell column):
+    volume, first moments and the horizontal area of rays that meet solid in the cell."""
     nx, ny, nz = shape[0], shape[1], shape[2]
+    last_ray = np.full(nx * ny * nz, -1, dtype=np.int64)
     step = cell / sub
-    area = step * step
+    ray_area = step * step
     for c in numba.prange(nx * nz):
         ci = c // nz
         ck = c % nz
@@ -150,8 +158,11 @@ def _accumulate(hits_y, hits_w, offsets, x0, y0, z0, cell, shape, sub, volume, m
                         hi = min(yb, y0 + (j + 1) * cell)
                         if hi <= lo:
                             continue
-                        v = (hi - lo) * area
+                        v = (hi - lo) * ray_area
                         cell_index = (ci * ny + j) * nz + ck
+                        if last_ray[cell_index] != ray:
+                            last_ray[cell_index] = ray
+                            area[cell_index] += ray_area
                         volume[cell_index] += v
                         moment[cell_index, 0] += v * px
                         moment[cell_index, 1] += v * 0.5 * (lo + hi)
@@ -175,6 +186,7 @@ def _voxelise(triangles, origin, cell, shape, sub):
     n_cells = int(np.prod(shape))
     volume = np.zeros(n_cells)
     moment = np.zeros((n_cells, 3))
+    area = np.zeros(n_cells)
     _accumulate(
         hits_y,
         hits_w,
@@ -187,5 +199,6 @@ def _voxelise(triangles, origin, cell, shape, sub):
         sub,
         volume,
         moment,
+        area,
     )
-    return volume, moment
+    return volume, moment, area
