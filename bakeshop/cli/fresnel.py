@@ -258,9 +258,9 @@ def fresnel(
     dst = dst_layout or src
     if dst != src or size is not None:
         texels = image[..., 0].size
-        out = sphere.layout(dst)
-        wanted = parse_size(size) if size else out.default_size(texels)
-        shrink = np.prod(out.shape(wanted)) < texels  # the area filter when downsampling
+        target_layout = sphere.layout(dst)
+        wanted = parse_size(size) if size else target_layout.default_size(texels)
+        shrink = np.prod(target_layout.shape(wanted)) < texels  # the area filter when downsampling
         image = sphere.remap(image, src, dst, wanted, filter="area" if shrink else "bilinear")
     baked = bake_fresnel(image, dst, ior=ior, up=up_axis, below=below)
     if ev == "auto" or (ev is None and ldr):
