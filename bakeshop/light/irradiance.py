@@ -299,15 +299,19 @@ def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float 
     channels = values.shape[1]
     size = base
     subset = np.empty(0, np.int64)  # empty: every texel
+    index = parent = None
+    n_parents = 0
     out_dirs, out_energy = [], []
     threshold = None
     while True:
         bins = _bins(dirs, subset, size)
-        if subset.size:
-            uniq, index = np.unique(bins, return_inverse=True)
-            n_bins = uniq.size
-        else:
+        if parent is None:
             index, n_bins = bins, 6 * size * size
+        else:
+            # the four children of each split bin, numbered after their parent's rank: bin
+            # (face, j, i) at this size has the parity (j % 2, i % 2) in its parent (size even)
+            index = 4 * parent + 2 * (bins // size % 2) + bins % 2
+            n_bins = 4 * n_parents
         sums = np.zeros((n_bins, channels + 4))
         _accumulate(values, dirs, omega, subset, index, sums)
         weight = sums[:, channels]
@@ -325,6 +329,8 @@ def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float 
         if not hot.any():
             break
         in_hot = hot[index]
+        parent = (np.cumsum(hot) - 1)[index[in_hot]]
+        n_parents = int(np.count_nonzero(hot))
         subset = np.flatnonzero(in_hot) if not subset.size else subset[in_hot]
         size *= 2
     return np.concatenate(out_dirs), np.concatenate(out_energy)

@@ -28,6 +28,7 @@ import math
 import os
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from bakeshop.io._files import atomic_path
@@ -103,6 +104,15 @@ class _Candidate:
     mask_radius: float  # radians
     excess: float  # sum of (luminance - sky)+ * omega within the mask
     pitch: float  # angular size of the brightest texel (radians)
+    near: np.ndarray  # the texels examined around it (a cap well beyond the mask)
+
+
+@numba.njit(parallel=True, cache=True)
+def _cosines(dirs, centre):  # pragma: no cover - compiled
+    out = np.empty(dirs.shape[0])
+    for i in numba.prange(dirs.shape[0]):
+        out[i] = dirs[i, 0] * centre[0] + dirs[i, 1] * centre[1] + dirs[i, 2] * centre[2]
+    return out
 
 
 def _tangent_frame(a):
@@ -112,61 +122,69 @@ def _tangent_frame(a):
     return t1, np.cross(a, t1)
 
 
-#: texels within this angle of a light's brightest texel are examined (radians).
-_SEARCH = math.radians(4 * MAX_RADIUS_DEG)
+def _profile(lum, ang, pitch, peak):
+    """Sky level, core radius, mask radius and half-peak level of a light.
 
-
-def _profile(lum, dirs, omega, centre, peak, pitch):
-    """Sky level, core radius and mask radius of a light centred at ``centre``.
-
-    ``lum``, ``dirs``, ``omega`` are the texels around the light. Rings one texel wide around
-    the centre: the core ends at the first non-empty ring whose brightest texel is below half
-    the peak (above the sky); the sky is the median of a ring outside the core; the two are
-    iterated to agreement.
+    ``lum`` and ``ang`` (angle from the light's centre) are the texels around it. In rings one
+    texel wide, the core ends at the first non-empty ring with no texel above half the peak
+    (over the sky); the sky is the median of a ring outside the core; the two are iterated to
+    agreement. Returns ``(sky, core, mask, half, reach)`` with ``reach`` the angle the
+    measurement needed.
     """
-    ang = np.arccos(np.clip(dirs @ centre, -1, 1))
     ring = (ang / pitch).astype(np.int64)
-    ring_max = np.full(ring.max() + 1, -np.inf)
-    np.maximum.at(ring_max, ring, lum)
+    counts = np.bincount(ring)
     core, sky, inner, half = pitch, 0.0, 0.0, peak
     for _ in range(3):
         inner = max(3 * core, core + 3 * pitch, math.radians(2.0))
         in_ring = (ang > inner) & (ang < 2 * inner)
         sky = float(np.median(lum[in_ring])) if in_ring.any() else 0.0
         half = sky + 0.5 * (peak - sky)
-        below = np.flatnonzero((ring_max < half) & np.isfinite(ring_max))
-        core = (below[0] if below.size else ring_max.size) * pitch
+        bright = np.bincount(ring[lum >= half], minlength=counts.size)
+        below = np.flatnonzero((bright == 0) & (counts > 0))
+        core = (below[0] if below.size else counts.size) * pitch
     # the mask covers the core's rim and the glare around it: it reaches at least MASK_SCALE
     # core radii, and on until the rings' mean luminance falls to GLARE times the sky's
     mask = MASK_SCALE * core + 2 * pitch
-    counts = np.bincount(ring)
     ring_mean = np.bincount(ring, lum) / np.maximum(counts, 1)
     first = int(math.ceil(mask / pitch))
     faint = np.flatnonzero((ring_mean[first:] <= GLARE * sky) & (counts[first:] > 0))
     glare = (first + (faint[0] if faint.size else ring_mean.size)) * pitch
     mask = max(mask, min(glare, inner))
-    return ang, sky, core, mask, half
+    return sky, core, mask, half, 2 * inner
 
 
-def _candidate(lum, dirs, omega, k) -> _Candidate:
-    """Measure the compact light whose brightest texel is ``k``."""
+def _candidate(lum, dirs, omega, k, max_core) -> _Candidate | None:
+    """Measure the compact light whose brightest texel is ``k``; None if it is not compact:
+    its core is wider than ``max_core`` (radians) or not CONTRAST times brighter than the sky
+    around it."""
     pitch = max(math.sqrt(omega[k]), 1e-6)
     peak = float(lum[k])
-    near = np.flatnonzero((dirs @ dirs[k] > math.cos(_SEARCH)) & (omega > 0))
-    lum, dirs, omega = lum[near], dirs[near], omega[near]
-    centre = dirs[np.searchsorted(near, k)]
-    # the brightest texel may lie anywhere in a uniform disk: measure again around the
-    # luminance-weighted centroid of the core found around it
-    for _ in range(2):
-        ang, sky, core, mask, half = _profile(lum, dirs, omega, centre, peak, pitch)
-        in_core = (ang < core) & (lum >= half)
-        c = (((lum - sky) * omega * in_core)[:, None] * dirs).sum(0)
-        if not in_core.any() or not np.linalg.norm(c) > 0:
+    cosines = _cosines(dirs, dirs[k])
+    reach = math.radians(8.0)
+    while True:  # examine the texels within reach of the peak, further if the light needs it
+        near = np.flatnonzero((cosines > math.cos(reach)) & (omega > 0))
+        lum_n, dirs_n, omega_n = lum[near], dirs[near], omega[near]
+        centre = dirs[k]
+        # the brightest texel may lie anywhere in a uniform disk: measure again around the
+        # luminance-weighted centroid of the core found around it
+        for _ in range(2):
+            ang = np.arccos(np.clip(dirs_n @ centre, -1, 1))
+            sky, core, mask, half, needed = _profile(lum_n, ang, pitch, peak)
+            in_core = (ang < core) & (lum_n >= half)
+            c = (((lum_n - sky) * omega_n * in_core)[:, None] * dirs_n).sum(0)
+            if not in_core.any() or not np.linalg.norm(c) > 0:
+                break
+            centre = c / np.linalg.norm(c)
+        if core > max_core:
+            return None
+        if needed <= reach or reach >= math.pi:
             break
-        centre = c / np.linalg.norm(c)
+        reach = min(1.2 * needed + 2 * pitch, math.pi)
+    if peak < CONTRAST * sky:
+        return None
     inside = ang < mask
-    excess = float((np.clip(lum[inside] - sky, 0, None) * omega[inside]).sum())
-    return _Candidate(centre, peak, sky, core, mask, excess, pitch)
+    excess = float((np.clip(lum_n[inside] - sky, 0, None) * omega_n[inside]).sum())
+    return _Candidate(centre, peak, sky, core, mask, excess, pitch, near)
 
 
 def _detect(lum, dirs, omega) -> _Candidate | None:
@@ -174,19 +192,18 @@ def _detect(lum, dirs, omega) -> _Candidate | None:
     k = int(np.argmax(lum))
     if not lum[k] > 0:
         return None
-    sun = _candidate(lum, dirs, omega, k)
-    if sun.peak < CONTRAST * sun.sky or sun.core_radius > math.radians(MAX_RADIUS_DEG):
+    sun = _candidate(lum, dirs, omega, k, math.radians(MAX_RADIUS_DEG))
+    if sun is None:
         return None
-    # the next brightest compact light, away from this one, must be much weaker
+    # the next brightest light away from this one, if it is about as compact (not a broad
+    # patch of bright sky), must be much weaker
     exclude = max(3 * sun.mask_radius, math.radians(4.0))
-    rest = np.where(dirs @ sun.centre < math.cos(exclude), lum, 0)
+    rest = np.where(_cosines(dirs, sun.centre) < math.cos(exclude), lum, 0)
     k2 = int(np.argmax(rest))
     if rest[k2] > 0:
-        other = _candidate(lum, dirs, omega, k2)
-        # a rival is a light about as compact as the sun, not a broad patch of bright sky
         limit = min(math.radians(MAX_RADIUS_DEG), max(4 * sun.core_radius, math.radians(2.0)))
-        compact = other.peak >= CONTRAST * other.sky and other.core_radius <= limit
-        if compact and sun.excess < DOMINANCE * other.excess:
+        rival = _candidate(lum, dirs, omega, k2, limit)
+        if rival is not None and sun.excess < DOMINANCE * rival.excess:
             return None
     return sun
 
@@ -264,7 +281,7 @@ def _split(image, layout, values, dirs, omega) -> _Removal | None:
     if cand is None:
         return None
     centre = cand.centre
-    index = np.flatnonzero((dirs @ centre > math.cos(cand.mask_radius)) & (omega > 0))
+    index = cand.near[dirs[cand.near] @ centre > math.cos(cand.mask_radius)]
     fill = _harmonic_fill(image, layout, centre, cand.mask_radius, cand.pitch)
     filled = np.minimum(fill(dirs[index]), values[index])  # removing light never adds any
     excess = values[index].astype(np.float64) - filled
