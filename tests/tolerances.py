@@ -131,3 +131,15 @@ SPHERE_GL_PANORAMA_ATOL = 0.035
 SPHERE_PEER_CV2_ATOL = 1e-2
 #: the same through its scipy map_coordinates path: float32 rounding (absolute; measured 2.4e-6).
 SPHERE_PEER_SCIPY_ATOL = 1e-5
+#: the area filter's energy (sum of radiance x solid angle) when downsampling (relative; the
+#: issue asks 0.1%; measured <= 4.5e-4 on the default probe, whose sun is one texel).
+SPHERE_AREA_ENERGY_RTOL = 1e-3
+#: the same into a small mirror ball (64): the probe's sun lands near the ball's rim, where a
+#: source texel's footprint is a long thin curved sliver that a box bounds loosely (measured 5e-3).
+SPHERE_AREA_MIRRORBALL_RTOL = 1e-2
+
+#: an 8-bit sRGB cube texture filtered bilinearly by the OpenGL driver (llvmpipe) vs bakeshop's
+#: decode-then-bilinear model, linear values: the driver's filter weights are fixed point.
+GL_SRGB_FILTER_ATOL = 2e-3
+#: HDR cube lookup x fresnel (GLSL, float32) x exposure vs the same in bakeshop (relative).
+GL_RUNTIME_RTOL = 1e-3
