@@ -177,6 +177,15 @@ def test_bake_every_layout_agrees_with_its_texel_directions(name):
     expect = env[..., :3] * factor[..., None]
     np.testing.assert_allclose(out[~grazing, :3], expect[~grazing], rtol=1e-12)
     np.testing.assert_array_equal(out[..., 3], np.where(valid, env[..., 3], 0))
+    # mirror: below the plane, the environment at the mirrored direction times its reflectance
+    mirror = bake_fresnel(env, name, up=up, ior=1.4, below="mirror")
+    lower = valid & (cos < -1e-12)
+    u = up / np.linalg.norm(up)
+    flipped = dirs[lower] - 2 * cos[lower, None] * u
+    fetched = sphere.sample(env, name, flipped)[:, :3]
+    want = fetched * fresnel_from_amplitudes(-cos[lower], 1.4)[:, None]
+    np.testing.assert_allclose(mirror[lower][:, :3], want, rtol=1e-12)
+    np.testing.assert_array_equal(mirror[~lower & ~grazing], out[~lower & ~grazing])
 
 
 def test_bake_channels_dtypes_and_errors():
