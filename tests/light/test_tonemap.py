@@ -7,6 +7,8 @@ import pytest
 from bakeshop.errors import ArgumentError
 from bakeshop.light.tonemap import (
     ACES_FITS,
+    HILL_INPUT,
+    HILL_OUTPUT,
     aces_filmic,
     adapt_exposure,
     auto_exposure,
@@ -152,6 +154,39 @@ def _hill_scalar(rgb):
     ]
     v = [sum(m_out[i][j] * v[j] for j in range(3)) for i in range(3)]
     return [min(max(x, 0.0), 1.0) for x in v]
+
+
+def _rgb_to_xyz(primaries, white):
+    xy = np.array(primaries)
+    p = np.stack([xy[:, 0] / xy[:, 1], np.ones(3), (1 - xy[:, 0] - xy[:, 1]) / xy[:, 1]])
+    w = np.array([white[0] / white[1], 1, (1 - white[0] - white[1]) / white[1]])
+    return p * np.linalg.solve(p, w)
+
+
+def test_hill_matrices_from_first_principles():
+    # Hill's matrices are sRGB -> XYZ -> Bradford D65 to D60 -> ACES AP1, then the RRT's
+    # saturation (0.96 towards AP1 luminance), and back with the ODT's (0.93): derived here from
+    # the primaries and white points (IEC 61966-2-1, SMPTE ST 2065-1 / Academy S-2014-004).
+    d65, d60 = (0.3127, 0.3290), (0.32168, 0.33767)
+    srgb = _rgb_to_xyz([(0.64, 0.33), (0.30, 0.60), (0.15, 0.06)], d65)
+    ap1 = _rgb_to_xyz([(0.713, 0.293), (0.165, 0.830), (0.128, 0.044)], d60)
+    bradford = np.array(
+        [[0.8951, 0.2664, -0.1614], [-0.7502, 1.7135, 0.0367], [0.0389, -0.0685, 1.0296]]
+    )
+
+    def adapt(src, dst):
+        s = bradford @ np.array([src[0] / src[1], 1, (1 - src[0] - src[1]) / src[1]])
+        d = bradford @ np.array([dst[0] / dst[1], 1, (1 - dst[0] - dst[1]) / dst[1]])
+        return np.linalg.inv(bradford) @ np.diag(d / s) @ bradford
+
+    def saturation(s):
+        return (1 - s) * np.outer(np.ones(3), ap1[1]) + s * np.eye(3)
+
+    to_ap1 = np.linalg.inv(ap1) @ adapt(d65, d60) @ srgb
+    from_ap1 = np.linalg.inv(srgb) @ adapt(d60, d65) @ ap1
+    # Hill printed five decimals
+    np.testing.assert_allclose(saturation(0.96) @ to_ap1, HILL_INPUT, atol=1e-5)
+    np.testing.assert_allclose(from_ap1 @ saturation(0.93), HILL_OUTPUT, atol=1e-5)
 
 
 def test_aces_hill_matches_transcription_and_is_monotonic():
