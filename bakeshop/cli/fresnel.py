@@ -52,6 +52,15 @@ def _is_ldr(path) -> bool:
     return codec_for(path) not in HDR_CODECS
 
 
+def _require_hdr(path) -> None:
+    if _is_ldr(path):
+        raise ArgumentError(
+            "this command takes linear HDR input (.hdr, .exr, .pfm); 8-bit pictures hold "
+            "display-encoded values (decode with 'bakeshop convert --srgb-decode' first)",
+            path,
+        )
+
+
 def _input_layout(image, given: str | None, path) -> str:
     from bakeshop import sphere
 
@@ -240,6 +249,7 @@ def fresnel(
     from bakeshop.light.tonemap import to_srgb8
 
     refuse_overwriting_inputs(target, source)
+    _require_hdr(source)
     up_axis = parse_axis(up)
     ev = parse_exposure(exposure_text)
     if _is_ldr(target) != ldr:
@@ -427,6 +437,8 @@ def tonemap(
     from bakeshop.light.tonemap import tonemap as apply_tonemap
 
     frames = expand_inputs(inputs)
+    for frame in frames:
+        _require_hdr(frame)
     outputs = frame_paths(target, len(frames))
     for out in outputs:
         if not _is_ldr(out):

@@ -347,7 +347,10 @@ def hemisphere_directions(count: int, up=(0.0, 1.0, 0.0)) -> np.ndarray:
     -------
     (count, 3) float64 unit vectors with d . up > 0.
     """
-    k = np.arange(int(count), dtype=np.float64)
+    count = int(count)
+    if count < 1:
+        raise ArgumentError(f"need at least one direction, got {count}")
+    k = np.arange(count, dtype=np.float64)
     c = (k + 0.5) / count
     s = np.sqrt(1.0 - c * c)
     phi = 2.0 * np.pi * k * (2.0 / (1.0 + np.sqrt(5.0)))

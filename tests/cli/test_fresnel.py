@@ -93,6 +93,12 @@ def test_fresnel_bad_arguments(sky, tmp_path, capsys):
         assert main(["fresnel", str(path), *extra]) == 2
         err = capsys.readouterr().err
         assert err.startswith("bakeshop: error: ") and err.count("\n") == 1
+    picture = tmp_path / "picture.png"
+    write_image(picture, np.zeros((8, 16, 3), np.uint8))
+    assert main(["fresnel", str(picture), str(tmp_path / "c.exr")]) == 2
+    assert "linear HDR" in capsys.readouterr().err
+    assert main(["tonemap", str(picture), str(tmp_path / "c.png")]) == 2
+    assert "linear HDR" in capsys.readouterr().err
     square = tmp_path / "square.exr"
     write_image(square, np.ones((8, 8, 3), np.float32))
     assert main(["fresnel", str(square), str(tmp_path / "b.exr")]) == 2
