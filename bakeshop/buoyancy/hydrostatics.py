@@ -75,3 +75,11 @@ def _cut(a, b):
 def _tetra(tri):
     """Signed volumes of the tetrahedra (origin, t0, t1, t2); the origin lies on the plane."""
     return np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0
+
+
+def waterplane_area(triangles: np.ndarray, level: float, *, step: float = 1e-4) -> float:
+    """Area (m^2) of the mesh's cut by the plane ``y = level``: dV/dlevel (central difference of
+    the exact :func:`submerged_volume`, ``step`` in metres)."""
+    return (
+        submerged_volume(triangles, level + step) - submerged_volume(triangles, level - step)
+    ) / (2 * step)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -43,11 +44,11 @@ class Body:
         """Mesh volume, m^3."""
         return float(self.mesh.volume)
 
-    @property
+    @cached_property
     def hull_vertices(self) -> np.ndarray:
         """(V, 3) vertices of the convex hull, body frame: the lowest point of the body is the
         lowest of these."""
-        return self.mesh.convex_hull.vertices
+        return np.array(self.mesh.convex_hull.vertices, dtype=np.float64)
 
 
 def make_body(mesh, density: float, *, resolution: int = 10, subsamples: int = 4) -> Body:

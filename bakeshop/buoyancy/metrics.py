@@ -7,26 +7,44 @@ above the water surface there; the body is in the water while the clearance is n
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from bakeshop.buoyancy.hydrostatics import archimedes_draft
-from bakeshop.buoyancy.state import quaternion_to_matrix
+from bakeshop.buoyancy.state import quaternion_to_matrix, rotation
 
 #: Fraction of a run, at its end, over which the settled draft is averaged.
 SETTLED_WINDOW = 0.25
 
 
-def clearance(fleet, trace, water, *, chunk: int = 512) -> np.ndarray:
+def clearance(fleet, trace, water) -> np.ndarray:
     """(S, B) height (m) of each body's lowest point above the water surface below it."""
     out = np.empty(trace.position.shape[:2])
     for b, body in enumerate(fleet.bodies):
-        hull = body.hull_vertices
-        for start in range(0, len(trace.time), chunk):
-            sl = slice(start, start + chunk)
-            rot = quaternion_to_matrix(trace.quaternion[sl, b])  # (s, 3, 3)
-            lowest = np.argmin(rot[:, 1, :] @ hull.T, axis=1)  # (s,)
-            p = np.einsum("sij,sj->si", rot, hull[lowest]) + trace.position[sl, b]
-            out[sl, b] = p[:, 1] - water.height(p[:, 0], p[:, 2], trace.time[sl])
+        p = _lowest_points(
+            np.ascontiguousarray(body.hull_vertices, dtype=np.float64),
+            np.ascontiguousarray(trace.quaternion[:, b]),
+            np.ascontiguousarray(trace.position[:, b]),
+        )
+        out[:, b] = p[:, 1] - water.height(p[:, 0], p[:, 2], trace.time)
+    return out
+
+
+@numba.njit(cache=True)
+def _lowest_points(hull, quaternion, position):
+    """(S, 3) world position of the lowest hull vertex at each recorded step."""
+    out = np.empty((quaternion.shape[0], 3))
+    for s in range(quaternion.shape[0]):
+        r = rotation(quaternion[s, 0], quaternion[s, 1], quaternion[s, 2], quaternion[s, 3])
+        best, low = 0, np.inf
+        for v in range(hull.shape[0]):
+            y = r[1, 0] * hull[v, 0] + r[1, 1] * hull[v, 1] + r[1, 2] * hull[v, 2]
+            if y < low:
+                best, low = v, y
+        for a in range(3):
+            out[s, a] = position[s, a] + (
+                r[a, 0] * hull[best, 0] + r[a, 1] * hull[best, 1] + r[a, 2] * hull[best, 2]
+            )
     return out
 
 

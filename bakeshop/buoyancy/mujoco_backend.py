@@ -125,8 +125,8 @@ def model_xml(fleet, *, timestep, gravity, floor, shore, shore_slope, friction) 
                 f'<mesh name="{name}" vertex="{_numbers(hull.vertices)}" '
                 f'face="{_numbers(hull.faces)}"/>'
             )
-        i = body.inertia
-        full = _numbers([i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]])
+        t = body.inertia
+        full = _numbers([t[0, 0], t[1, 1], t[2, 2], t[0, 1], t[0, 2], t[1, 2]])
         bodies.append(
             f'<body name="b{i}"><freejoint/>'
             f'<inertial pos="0 0 0" mass="{float(body.mass)!r}" fullinertia="{full}"/>'

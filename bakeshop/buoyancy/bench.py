@@ -1,0 +1,87 @@
+"""The test bench: float one body and measure it (what ``bakeshop float`` runs)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from bakeshop.buoyancy.forces import ForceModel
+from bakeshop.buoyancy.hydrostatics import waterplane_area
+from bakeshop.buoyancy.mass import make_body, pack
+from bakeshop.buoyancy.metrics import clearance, summarize
+from bakeshop.buoyancy.shapes import load_mesh, make_shape, resize
+from bakeshop.buoyancy.state import axis_angle_quaternion, quaternion_to_matrix
+from bakeshop.buoyancy.stepping import release, simulate
+from bakeshop.buoyancy.water import Water
+from bakeshop.errors import ArgumentError
+
+
+@dataclass
+class BenchResult:
+    """``summary`` (the numbers, see :func:`bakeshop.buoyancy.metrics.summarize`, plus
+    ``heave_omega_rad_s`` and ``omega_dt``), the :class:`~bakeshop.buoyancy.stepping.Trace`,
+    the ``clearance`` (S,) of the body over it, and the fleet."""
+
+    summary: dict
+    trace: object
+    clearance: np.ndarray
+    fleet: object
+
+
+def float_body(
+    mesh_path=None,
+    *,
+    shape: str | None = None,
+    size=None,
+    density: float,
+    resolution: int = 10,
+    repair: bool = False,
+    model: ForceModel | None = None,
+    water: Water | None = None,
+    fps: float = 60.0,
+    solver_hz: float = 60.0,
+    forces: str = "per-substep",
+    seconds: float = 10.0,
+    release_height: float = 0.0,
+    tilt: float = 0.0,
+    backend: str = "builtin",
+    **backend_options,
+) -> BenchResult:
+    """Float a mesh file or built-in shape once and measure it.
+
+    ``tilt`` (degrees) turns the body about the X axis before release; ``release_height`` is
+    the height (m) of its lowest point above the water then. ``omega_dt`` in the summary is the
+    small-oscillation heave frequency ``sqrt(rho g A_wp / m)`` times the time a force is held
+    (the solver step, or the frame in per-frame mode): semi-implicit Euler diverges above 2.
+    """
+    if (mesh_path is None) == (shape is None):
+        raise ArgumentError("give either a mesh file or a built-in shape, not both or neither")
+    mesh = (
+        make_shape(shape, size=size) if shape is not None else load_mesh(mesh_path, repair=repair)
+    )
+    if shape is None:
+        resize(mesh, size)
+    model = ForceModel() if model is None else model
+    water = Water() if water is None else water
+    body = make_body(mesh, density, resolution=resolution)
+    fleet = pack([body])
+    start = release(
+        fleet, water, height=release_height, quaternions=[axis_angle_quaternion((1, 0, 0), tilt)]
+    )
+    trace = simulate(
+        fleet, start, water, model, seconds=seconds, fps=fps, solver_hz=solver_hz,
+        forces=forces, backend=backend, **backend_options,
+    )  # fmt: skip
+    summary = summarize(fleet, trace, water, model)[0]
+    omega = None
+    if summary["archimedes_draft_m"] is not None:
+        tri = body.mesh.triangles @ quaternion_to_matrix(start.quaternion[0]).T
+        level = tri[:, :, 1].min() + summary["archimedes_draft_m"]
+        omega = float(
+            np.sqrt(model.rho_water * model.gravity * waterplane_area(tri, level) / body.mass)
+        )
+    hold = 1.0 / (fps if forces == "per-frame" else solver_hz)
+    summary["heave_omega_rad_s"] = omega
+    summary["omega_dt"] = None if omega is None else omega * max(hold, 1.0 / solver_hz)
+    return BenchResult(summary, trace, clearance(fleet, trace, water)[:, 0], fleet)

@@ -1,0 +1,244 @@
+"""``bakeshop float``: the buoyancy test bench (one body, or the whole matrix)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+
+from bakeshop.cli._common import INPUT, OUTPUT
+from bakeshop.errors import ArgumentError
+
+
+def _size(text: str | None):
+    if text is None:
+        return None
+    try:
+        parts = [float(p) for p in text.lower().split("x")]
+    except ValueError:
+        parts = []
+    if len(parts) not in (1, 3):
+        raise ArgumentError(f"invalid size {text!r}: expected S or XxYxZ in metres")
+    return parts[0] if len(parts) == 1 else tuple(parts)
+
+
+@click.command("float", context_settings={"max_content_width": 100})
+@click.argument("mesh", required=False, type=INPUT)
+@click.option("--shape", help="Built-in shape: box, sphere, capsule, cylinder, torus, peep, hull.")
+@click.option("--size", help="Longest side S, or extents XxYxZ, in metres (default: about 1 m).")
+@click.option("--density", type=float, default=500.0, show_default=True, help="Body, kg/m^3.")
+@click.option(
+    "--resolution",
+    type=int,
+    default=10,
+    show_default=True,
+    help="Voxel cells along the longest side.",
+)
+@click.option("--repair", is_flag=True, help="Try to close a mesh that is not watertight.")
+@click.option("--fps", type=float, default=60.0, show_default=True, help="Frame rate.")
+@click.option("--solver-hz", type=float, default=60.0, show_default=True, help="Solver rate.")
+@click.option(
+    "--forces",
+    type=click.Choice(["per-substep", "per-frame"]),
+    default="per-substep",
+    show_default=True,
+    help="Recompute forces every solver step, or once per frame.",
+)
+@click.option(
+    "--stabilize",
+    type=click.Choice(["none", "predict", "clamp", "predict+clamp"]),
+    default="predict",
+    show_default=True,
+)
+@click.option(
+    "--damping", type=click.Choice(["team", "drag", "none"]), default="team", show_default=True
+)
+@click.option(
+    "--linear-damping",
+    type=float,
+    default=5.0,
+    show_default=True,
+    help="Team damping of velocity, 1/s.",
+)
+@click.option(
+    "--angular-damping",
+    type=float,
+    default=5.0,
+    show_default=True,
+    help="Team damping of spin, 1/s.",
+)
+@click.option("--drag-coefficient", type=float, default=1.0, show_default=True)
+@click.option("--predict-c", type=float, default=2.5, show_default=True)
+@click.option("--predict-m", type=float, default=0.1, show_default=True)
+@click.option("--clamp-speed", type=float, default=1.0, show_default=True, help="m/s.")
+@click.option(
+    "--waves",
+    "waves",
+    multiple=True,
+    metavar="A:L[:DIR[:SPEED]]",
+    help="A wave train: amplitude m, wavelength m, direction degrees, speed m/s "
+    "(default deep water). Repeat for more.",
+)
+@click.option("--seconds", type=float, default=10.0, show_default=True)
+@click.option(
+    "--release-height",
+    type=float,
+    default=None,
+    help="Lowest point above the water at release, m (default 0; -2 with --matrix).",
+)
+@click.option(
+    "--tilt", type=float, default=0.0, show_default=True, help="Release tilt about X, degrees."
+)
+@click.option(
+    "--backend", type=click.Choice(["builtin", "mujoco"]), default="builtin", show_default=True
+)
+@click.option(
+    "--floor", type=float, default=-10.0, show_default=True, help="MuJoCo floor height, m."
+)
+@click.option("--plot", type=OUTPUT, help="Write the trace (lowest point vs time) as PNG.")
+@click.option("--json", "as_json", is_flag=True, help="Print the numbers as one JSON object.")
+@click.option(
+    "--matrix",
+    is_flag=True,
+    help="Run every shape x 10/20/30/60 fps x treatment x force mode instead.",
+)
+@click.option(
+    "--out",
+    default="float-matrix",
+    show_default=True,
+    help="With --matrix: writes OUT.md, OUT.csv and OUT.png.",
+)
+def float_command(
+    mesh,
+    shape,
+    size,
+    density,
+    resolution,
+    repair,
+    fps,
+    solver_hz,
+    forces,
+    stabilize,
+    damping,
+    linear_damping,
+    angular_damping,
+    drag_coefficient,
+    predict_c,
+    predict_m,
+    clamp_speed,
+    waves,
+    seconds,
+    release_height,
+    tilt,
+    backend,
+    floor,
+    plot,
+    as_json,
+    matrix,
+    out,
+):
+    """Float a mesh or a built-in shape in water and measure it: volume, mass, sample points,
+    the exact Archimedes draft, the measured draft, how often it left the water after entering
+    it, its highest jump and when it settled.
+
+    \b
+    Example:
+      bakeshop float --shape peep --density 300 --fps 10 --forces per-frame \\
+          --stabilize none --damping none --release-height -2 --plot peep.png
+      bakeshop float spot.obj --density 600 --waves 0.2:8:30 --backend mujoco --json
+      bakeshop float --matrix --out docs/buoyancy_matrix
+    """
+    from bakeshop.buoyancy.forces import ForceModel
+    from bakeshop.buoyancy.water import Water, Wave
+
+    water = Water(waves=tuple(Wave.parse(w) for w in waves))
+    if matrix:
+        if mesh is not None or shape is not None:
+            raise ArgumentError("--matrix runs the built-in shapes; give no MESH or --shape")
+        return _matrix(
+            out,
+            density,
+            seconds,
+            resolution,
+            solver_hz,
+            water,
+            -2.0 if release_height is None else release_height,
+        )
+    from bakeshop.buoyancy.bench import float_body
+    from bakeshop.buoyancy.plots import plot_trace
+
+    model = ForceModel(
+        damping=damping,
+        linear_damping=linear_damping,
+        angular_damping=angular_damping,
+        drag_coefficient=drag_coefficient,
+        stabilize=stabilize,
+        predict_c=predict_c,
+        predict_m=predict_m,
+        clamp_speed=clamp_speed,
+    )
+    options = {"floor": floor} if backend == "mujoco" else {}
+    result = float_body(
+        mesh,
+        shape=shape,
+        size=_size(size),
+        density=density,
+        resolution=resolution,
+        repair=repair,
+        model=model,
+        water=water,
+        fps=fps,
+        solver_hz=solver_hz,
+        forces=forces,
+        seconds=seconds,
+        release_height=0.0 if release_height is None else release_height,
+        tilt=tilt,
+        backend=backend,
+        **options,
+    )
+    summary = result.summary
+    if plot is not None:
+        label = shape or Path(mesh).name
+        plot_trace(
+            plot,
+            result.trace.time,
+            result.clearance[:, None],
+            labels=[label],
+            draft=[summary["archimedes_draft_m"]],
+            title=f"{label}, {density:g} kg/m3, {fps:g} fps, forces {forces}, "
+            f"damping {damping}, stabilise {stabilize}",
+        )
+    if as_json:
+        click.echo(json.dumps(summary))
+        return 0
+    for key, value in summary.items():
+        text = "-" if value is None else f"{value:.6g}" if isinstance(value, float) else value
+        click.echo(f"{key:20s} {text}")
+    return 0
+
+
+def _matrix(out, density, seconds, resolution, solver_hz, water, release_height):
+    from bakeshop.buoyancy.matrix import run_matrix, to_csv, to_markdown
+    from bakeshop.buoyancy.plots import plot_grid
+    from bakeshop.io._files import atomic_path
+
+    result = run_matrix(
+        density=density,
+        seconds=seconds,
+        resolution=min(resolution, 10),
+        solver_hz=solver_hz,
+        water=water,
+        release_height=release_height,
+    )
+    for suffix, text in ((".md", to_markdown(result)), (".csv", to_csv(result))):
+        with atomic_path(f"{out}{suffix}") as tmp:
+            tmp.write_text(text)
+    plot_grid(f"{out}.png", result)
+    click.echo(to_markdown(result), nl=False)
+    click.echo(f"wrote {out}.md, {out}.csv, {out}.png")
+    return 0
+
+
+def register(group: click.Group) -> None:
+    group.add_command(float_command)

@@ -1,0 +1,78 @@
+"""``bakeshop float``: numbers, JSON, plots, the matrix files, and one-line errors."""
+
+import json
+
+import pytest
+
+from bakeshop.cli.main import main
+
+
+def test_float_json_box(capsys):
+    code = main(["float", "--shape", "box", "--size", "1x0.5x1", "--density", "500",
+                 "--release-height", "-0.1", "--seconds", "6", "--json"])  # fmt: skip
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["volume_m3"] == pytest.approx(0.5)
+    assert out["mass_kg"] == pytest.approx(250.0)
+    assert out["archimedes_draft_m"] == pytest.approx(0.25)
+    assert out["draft_m"] == pytest.approx(0.25, rel=1e-2)
+    assert out["times_left_water"] == 0 and out["max_jump_m"] == 0.0
+    assert out["points"] > 0 and out["settle_time_s"] is not None
+
+
+def test_float_mesh_with_plot_mujoco_and_waves(shared_data, tmp_path, capsys):
+    plot = tmp_path / "trace.png"
+    code = main(["float", str(shared_data / "meshes" / "spot.obj"), "--size", "1",
+                 "--density", "600", "--resolution", "6", "--seconds", "2", "--waves", "0.1:6:30",
+                 "--backend", "mujoco", "--plot", str(plot)])  # fmt: skip
+    assert code == 0
+    text = capsys.readouterr().out
+    assert "archimedes_draft_m" in text and "times_left_water" in text
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_float_matrix_writes_table_csv_and_grid(tmp_path, monkeypatch, capsys):
+    from bakeshop.buoyancy import matrix
+
+    # a small matrix: two shapes, two frame rates (the full one runs in the docs script)
+    real = matrix.run_matrix
+
+    def small(**kw):
+        return real(shapes=("box", "peep"), frame_rates=(10, 60), **kw)
+
+    monkeypatch.setattr(matrix, "run_matrix", small)
+    out = tmp_path / "m"
+    assert main(["float", "--matrix", "--seconds", "3", "--out", str(out)]) == 0
+    md = (tmp_path / "m.md").read_text()
+    assert "| per-frame | none |" in md and "10 fps" in md
+    rows = (tmp_path / "m.csv").read_text().splitlines()
+    assert rows[0].startswith("shape,forces,treatment,fps,volume_m3")
+    assert len(rows) == 1 + 2 * 2 * 6 * 2
+    assert (tmp_path / "m.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--density", "500"], "either a mesh file or a built-in shape"),
+        (["--shape", "boat"], "unknown shape 'boat'"),
+        (["--shape", "box", "--density", "-1"], "density"),
+        (["--shape", "box", "--size", "1x2"], "invalid size"),
+        (["--shape", "box", "--waves", "1:2:3:4:5"], "invalid wave"),
+        (["--shape", "box", "--fps", "0"], "fps"),
+        (["--shape", "box", "--matrix"], "--matrix"),
+    ],
+)
+def test_float_errors_are_one_line(args, message, capsys):
+    assert main(["float", *args]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("bakeshop: error:") and message in err and err.count("\n") == 1
+
+
+def test_float_open_mesh(tmp_path, capsys):
+    import trimesh
+
+    box = trimesh.creation.box()
+    trimesh.Trimesh(box.vertices, box.faces[:-2]).export(tmp_path / "open.stl")
+    assert main(["float", str(tmp_path / "open.stl")]) == 2
+    assert "not watertight" in capsys.readouterr().err
