@@ -126,3 +126,12 @@ def test_check_on_the_shared_maps(shared_data):
     )
     assert report.into_surface == 0 and report.invalid == 0
     assert 0.01 < report.off_unit / report.texels < 0.05 and report.min_length < 0.5
+
+
+def test_16bit_png_decodes_with_65535(tmp_path):
+    unit = random_normals(16 * 24, 8).reshape(16, 24, 3)
+    c = np.rint((unit + 1) / 2 * 65535).astype(np.uint16)
+    cv2.imwrite(str(tmp_path / "n16.png"), c[..., ::-1])
+    n = 2.0 * c / 65535 - 1
+    n /= np.linalg.norm(n, axis=2, keepdims=True)
+    np.testing.assert_allclose(read_normal_map(tmp_path / "n16.png"), n, atol=tol.FLOAT32_UNIT)

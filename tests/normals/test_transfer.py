@@ -323,3 +323,25 @@ def test_load_gltf_with_two_uv_sets_and_obj(tmp_path):
     )
     with pytest.raises(ArgumentError, match="mesh format"):
         load_mesh(tmp_path / "c.stl")
+
+
+def test_load_glb_written_by_trimesh_keeps_uvs_up(tmp_path):
+    """trimesh writes glTF's v-down TEXCOORD_0; load_mesh turns it back to v up."""
+    import trimesh
+
+    m = cylinder(segments=12)
+    material = trimesh.visual.material.PBRMaterial()
+    tm = trimesh.Trimesh(
+        m.positions,
+        m.faces,
+        vertex_normals=m.normals,
+        process=False,
+        visual=trimesh.visual.TextureVisuals(uv=m.uv, material=material),
+    )
+    tm.export(tmp_path / "c.glb")
+    got = load_mesh(tmp_path / "c.glb")
+    assert got.uv2 is None
+    key = {tuple(np.round(np.r_[p, t], 5)) for p, t in zip(m.positions, m.uv, strict=True)}
+    assert all(
+        tuple(np.round(np.r_[p, t], 5)) in key for p, t in zip(got.positions, got.uv, strict=True)
+    )
