@@ -394,14 +394,20 @@ def transfer(
 
     refuse_overwriting_inputs(out, mesh, detail, *([macro] if macro else []))
     base = None
-    if macro is not None:
-        base = read_normal_map(macro, convention=convention, encoding=encoding)
-        shape = base.shape[:2]
-    elif size is None:
-        raise ArgumentError("give --size (or --macro, whose size is used)")
-    else:
+    shape = None
+    if size is not None:
         wanted = parse_size(size)
         shape = (wanted, wanted) if isinstance(wanted, int) else (wanted[1], wanted[0])
+    if macro is not None:
+        base = read_normal_map(macro, convention=convention, encoding=encoding)
+        if shape is not None and shape != base.shape[:2]:
+            raise ArgumentError(
+                f"--size {size} differs from the macro map's {base.shape[1]}x{base.shape[0]}",
+                macro,
+            )
+        shape = base.shape[:2]
+    elif shape is None:
+        raise ArgumentError("give --size (or --macro, whose size is used)")
     d = read_normal_map(detail, convention=detail_convention or convention, encoding=encoding)
     m = load_mesh(mesh)
     result, covered = transfer_detail(

@@ -247,3 +247,15 @@ def test_refuses_to_overwrite_its_input(tmp_path, capsys):
     m = write_png(tmp_path / "m.png", maps())
     assert main(["normals", "combine", str(m), str(m), str(m)]) == 2
     assert "refusing" in capsys.readouterr().err
+
+
+def test_transfer_size_arguments(tmp_path, capsys):
+    d = write_png(tmp_path / "d.png", maps(8, 8, 1))
+    m = write_png(tmp_path / "m.png", maps(32, 32, 2))
+    write_gltf(tmp_path / "p.gltf", plane(uv2=plane().uv))
+    base = ["normals", "transfer", str(tmp_path / "p.gltf"), str(d), str(tmp_path / "o.png")]
+    assert main(base) == 2
+    assert "--size" in capsys.readouterr().err
+    assert main([*base, "--macro", str(m), "--size", "64"]) == 2
+    assert "differs from the macro map's 32x32" in capsys.readouterr().err
+    assert main([*base, "--macro", str(m), "--size", "32"]) == 0
