@@ -4,6 +4,8 @@ Peers (no tool does this bake, so the peers are the two ways one would write it 
 
 - numpy per texel: the layout's texel directions, the exact reflectance formula as numpy
   array expressions, a multiply (what bakeshop did before its numba kernel);
+- bakeshop, geometry cached: a second bake of the same layout, shape and up axis reuses the
+  texel cosines (cached for the last two), as a batch of probes does;
 - numpy per row: latlong-only shortcut with up = +Y, where a row shares one angle: 2048
   reflectances and a broadcast multiply (the floor for this one case: one pass over the image).
 
@@ -26,10 +28,17 @@ import numpy as np
 import OpenImageIO as oiio
 
 from bakeshop import sphere
+from bakeshop.light import fresnel
 from bakeshop.light.fresnel import WATER_IOR, bake_fresnel
 from bakeshop.light.tonemap import exposure, to_srgb8
 
 H, W = 2048, 4096
+
+
+def first_bake(image):
+    """The bake of a shape not seen before: texel cosines computed, not taken from the cache."""
+    fresnel._cached_cosines.cache_clear()
+    return bake_fresnel(image, "latlong")
 
 
 def numpy_per_texel(image):
@@ -73,15 +82,17 @@ COLD = """
 import time, numpy as np
 start = time.perf_counter()
 from bakeshop.light.fresnel import bake_fresnel
-image = np.ones(({h}, {w}, 3), np.float32)
 imported = time.perf_counter()
-bake_fresnel(image, "latlong")
-print(imported - start, time.perf_counter() - imported)
+bake_fresnel(np.ones((2, 4, 3), np.float32), "latlong")
+loaded = time.perf_counter()
+bake_fresnel(np.ones(({h}, {w}, 3), np.float32), "latlong")
+print(imported - start, loaded - imported, time.perf_counter() - loaded)
 """
 
 
 def cold_run():
-    best = (float("inf"), float("inf"))
+    """Best of 3 new processes: (import, loading the compiled kernels, the bake) in seconds."""
+    best = None
     for _ in range(3):
         out = subprocess.run(
             [sys.executable, "-c", COLD.format(h=H, w=W)],
@@ -89,8 +100,8 @@ def cold_run():
             text=True,
             check=True,
         )
-        imported, baked = map(float, out.stdout.split())
-        best = min(best, (baked, imported))
+        times = tuple(map(float, out.stdout.split()))
+        best = times if best is None or sum(times) < sum(best) else best
     return best
 
 
@@ -120,7 +131,8 @@ def main():
     table(
         "fresnel bake (ior 1.333, up +Y, below zero)",
         {
-            "bakeshop bake_fresnel": lambda im: bake_fresnel(im, "latlong"),
+            "bakeshop bake_fresnel": first_bake,
+            "bakeshop, geometry cached": lambda im: bake_fresnel(im, "latlong"),
             "numpy per texel": numpy_per_texel,
             "numpy per row (latlong)": numpy_per_row,
         },
@@ -138,10 +150,10 @@ def main():
         baked,
         steps,
     )
-    baked_s, imported_s = cold_run()
+    imported, loaded, baked = cold_run()
     print(
-        f"cold: new process, import {imported_s:.2f} s, then bake {baked_s:.3f} s "
-        "(numba cache on disk; best of 3)"
+        f"cold (new process, numba cache on disk, best of 3): import {imported:.2f} s, "
+        f"loading the kernels {loaded:.2f} s, bake {baked:.3f} s"
     )
 
 
