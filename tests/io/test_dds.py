@@ -5,9 +5,12 @@ import struct
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io.dds import read_dds, write_dds
+from tests.io import fuzzing
 from tests.tolerances import EXACT
 
 
@@ -43,8 +46,8 @@ def test_cube_header_matches_the_specification(tmp_path):
     assert u32(data, 132) == 3  # D3D10_RESOURCE_DIMENSION_TEXTURE2D
     assert u32(data, 136) == 0x4  # DDS_RESOURCE_MISC_TEXTURECUBE
     assert u32(data, 140) == 1  # arraySize: one cube
-    texels = sum(6 * max(1, 16 >> m) ** 2 for m in range(5))
-    assert len(data) == 148 + texels * 4 * 2
+    levels = sum(6 * max(1, 16 >> m) ** 2 for m in range(5))
+    assert len(data) == 148 + levels * 4 * 2
     # Face-major layout: face 1's level 0 follows face 0's whole chain.
     face_bytes = sum(max(1, 16 >> m) ** 2 for m in range(5)) * 8
     got = np.frombuffer(data, "<f2", 16 * 16 * 4, 148 + face_bytes).reshape(16, 16, 4)
@@ -133,3 +136,46 @@ def test_broken_files(tmp_path):
         (tmp_path / name).write_bytes(content)
         with pytest.raises(error):
             read_dds(tmp_path / name)
+
+
+# --- fuzzing: only BakeshopError may escape -------------------------------------------------------
+
+
+def mip_seeds(write, path):
+    """Fuzz seeds made with ``write`` (write_dds or write_ktx) at ``path``: a half-float RGB cube
+    map and a float 2-D texture, three mips each."""
+    seeds = []
+    for cube, dtype in ((True, "float16"), (False, "float32")):
+        write(path, chain(4, 3, 3, cube=cube), dtype=dtype)
+        seeds.append(path.read_bytes())
+    return seeds
+
+
+def levels(path):
+    return read_dds(path)[0]
+
+
+@pytest.fixture(scope="module")
+def seed_files(tmp_path_factory):
+    return mip_seeds(write_dds, tmp_path_factory.mktemp("dds_seeds") / "s.dds")
+
+
+scratch = fuzzing.scratch_file("f.dds")
+
+
+def test_truncation_at_every_offset_is_refused(scratch, seed_files):
+    for data in seed_files:
+        fuzzing.assert_truncations_refused(scratch, data, read=levels)
+
+
+@fuzzing.FUZZ
+@given(st.binary(max_size=300))
+def test_random_bytes(scratch, data):
+    fuzzing.decode(scratch, data, levels)
+    fuzzing.decode(scratch, b"DDS " + data, levels)
+
+
+@fuzzing.FUZZ
+@given(st.integers(0, 1), fuzzing.edits(160), st.integers(1, 1200))
+def test_mutations_of_valid_files(scratch, seed_files, which, changes, end):
+    fuzzing.decode(scratch, fuzzing.mutate(seed_files[which], changes, end), levels)

@@ -5,14 +5,16 @@ import struct
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io.ktx import read_ktx, write_ktx
-from tests.io.test_dds import chain
+from tests.io import fuzzing
+from tests.io.test_dds import chain, mip_seeds, u32
 
-
-def u32(data, offset):
-    return struct.unpack_from("<I", data, offset)[0]
+#: The file identifier, byte for byte from the KTX 1.1 specification (section 3.1).
+KTX_MAGIC = bytes([0xAB, 0x4B, 0x54, 0x58, 0x20, 0x31, 0x31, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A])
 
 
 def test_cube_header_matches_the_specification(tmp_path):
@@ -20,9 +22,7 @@ def test_cube_header_matches_the_specification(tmp_path):
     path = tmp_path / "env.ktx"
     write_ktx(path, mips, dtype="float16")
     data = path.read_bytes()
-    assert data[:12] == bytes(
-        [0xAB, 0x4B, 0x54, 0x58, 0x20, 0x31, 0x31, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A]
-    )
+    assert data[:12] == KTX_MAGIC
     assert u32(data, 12) == 0x04030201
     assert u32(data, 16) == 0x140B and u32(data, 20) == 2  # GL_HALF_FLOAT, 2 bytes
     assert u32(data, 24) == 0x1908 and u32(data, 28) == 0x881A  # GL_RGBA, GL_RGBA16F
@@ -110,3 +110,36 @@ def test_broken_files(tmp_path):
         (tmp_path / name).write_bytes(content)
         with pytest.raises(error):
             read_ktx(tmp_path / name)
+
+
+# --- fuzzing: only BakeshopError may escape -------------------------------------------------------
+
+
+def levels(path):
+    return read_ktx(path)[0]
+
+
+@pytest.fixture(scope="module")
+def seed_files(tmp_path_factory):
+    return mip_seeds(write_ktx, tmp_path_factory.mktemp("ktx_seeds") / "s.ktx")
+
+
+scratch = fuzzing.scratch_file("f.ktx")
+
+
+def test_truncation_at_every_offset_is_refused(scratch, seed_files):
+    for data in seed_files:
+        fuzzing.assert_truncations_refused(scratch, data, read=levels)
+
+
+@fuzzing.FUZZ
+@given(st.binary(max_size=300))
+def test_random_bytes(scratch, data):
+    fuzzing.decode(scratch, data, levels)
+    fuzzing.decode(scratch, KTX_MAGIC + data, levels)
+
+
+@fuzzing.FUZZ
+@given(st.integers(0, 1), fuzzing.edits(100), st.integers(1, 1200))
+def test_mutations_of_valid_files(scratch, seed_files, which, changes, end):
+    fuzzing.decode(scratch, fuzzing.mutate(seed_files[which], changes, end), levels)

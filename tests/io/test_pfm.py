@@ -14,11 +14,12 @@ import cv2
 import numpy as np
 import OpenImageIO as oiio
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
-from bakeshop.errors import ArgumentError, BakeshopError, FormatError, UnsupportedError
+from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io import pfm, read_image, write_image
+from tests.io import fuzzing
 
 
 def gradient(height=6, width=5, channels=3):
@@ -211,11 +212,7 @@ def test_bakeshop_reads_what_openimageio_writes(tmp_path, channels):
     ],
 )
 def test_bad_files_give_a_clear_error(tmp_path, data, words):
-    path = tmp_path / "bad.pfm"
-    path.write_bytes(data)
-    with pytest.raises(FormatError, match=words) as info:
-        read_image(path)
-    assert info.value.path == str(path)
+    fuzzing.assert_refused(tmp_path / "bad.pfm", data, words)
 
 
 def test_not_a_pfm_and_unknown_extension(tmp_path):
@@ -258,52 +255,22 @@ def test_bad_write_arguments(tmp_path, image, options, words):
 
 SMALL = hand_built(gradient(3, 2, 3), "<")
 SMALL_GREY_BE = hand_built(gradient(2, 3, 1), ">")
-
-
-def decode(path, data: bytes):
-    """Read ``data`` as a PFM file; return the image or None if bakeshop refused it."""
-    path.write_bytes(data)
-    try:
-        image = read_image(path)
-    except BakeshopError:
-        return None
-    float(np.sum(image, dtype=np.float64))  # touch every pixel of the map
-    return image
-
-
-@pytest.fixture(scope="module")
-def scratch(tmp_path_factory):
-    return tmp_path_factory.mktemp("pfm_fuzz") / "f.pfm"
+scratch = fuzzing.scratch_file("f.pfm", seeds=[SMALL, SMALL_GREY_BE])
 
 
 @pytest.mark.parametrize("data", [SMALL, SMALL_GREY_BE])
 def test_truncation_at_every_offset_is_refused(scratch, data):
-    for end in range(len(data)):
-        assert decode(scratch, data[:end]) is None, end
-    assert decode(scratch, data) is not None
+    fuzzing.assert_truncations_refused(scratch, data)
 
 
-FUZZ = settings(
-    max_examples=150, deadline=1000, suppress_health_check=[HealthCheck.function_scoped_fixture]
-)
-
-
-@FUZZ
+@fuzzing.FUZZ
 @given(st.binary(max_size=200))
 def test_random_bytes(scratch, data):
-    decode(scratch, data)
-    decode(scratch, b"PF\n" + data)
+    fuzzing.decode(scratch, data)
+    fuzzing.decode(scratch, b"PF\n" + data)
 
 
-@FUZZ
-@given(
-    st.sampled_from([SMALL, SMALL_GREY_BE]),
-    st.lists(st.tuples(st.integers(0, 120), st.integers(0, 255)), max_size=6),
-    st.integers(0, 200),
-)
-def test_mutations_of_a_valid_file(scratch, data, edits, end):
-    data = bytearray(data)
-    for position, value in edits:
-        if position < len(data):
-            data[position] = value
-    decode(scratch, bytes(data[: max(end, 1)]))
+@fuzzing.FUZZ
+@given(st.sampled_from([SMALL, SMALL_GREY_BE]), fuzzing.edits(120), st.integers(1, 200))
+def test_mutations_of_a_valid_file(scratch, data, changes, end):
+    fuzzing.decode(scratch, fuzzing.mutate(data, changes, end))

@@ -17,11 +17,12 @@ import cv2
 import numpy as np
 import OpenImageIO as oiio
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
-from bakeshop.errors import ArgumentError, BakeshopError, FormatError, UnsupportedError
+from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io import read_image, rgbe, write_image
+from tests.io import fuzzing
 from tests.tolerances import FLOAT32_VALUE, XYZ_MATRIX_ATOL
 
 HEADER = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n"
@@ -429,11 +430,7 @@ GOOD = random_rgbe((2, 8), seed=13)
     ],
 )
 def test_corrupt_files_name_the_problem(tmp_path, data, words):
-    path = tmp_path / "bad.hdr"
-    path.write_bytes(data)
-    with pytest.raises(FormatError, match=words) as info:
-        read_image(path)
-    assert info.value.path == str(path)
+    fuzzing.assert_refused(tmp_path / "bad.hdr", data, words)
 
 
 def test_unsupported_pixel_format(tmp_path):
@@ -492,49 +489,22 @@ SMALL_TRANSPOSED = hand_built(random_rgbe((8, 3), seed=15), "+X -Y", form="rle")
 SEEDS = [SMALL_RLE, SMALL_OLD, SMALL_TRANSPOSED]
 
 
-def decode(path, data: bytes):
-    path.write_bytes(data)
-    try:
-        return read_image(path)
-    except BakeshopError:
-        return None
-
-
-@pytest.fixture(scope="module")
-def scratch(tmp_path_factory):
-    path = tmp_path_factory.mktemp("rgbe_fuzz") / "f.hdr"
-    assert all(decode(path, seed) is not None for seed in SEEDS)  # also compiles the decoder
-    return path
+scratch = fuzzing.scratch_file("f.hdr", seeds=SEEDS)
 
 
 @pytest.mark.parametrize("seed", range(len(SEEDS)))
 def test_truncation_at_every_offset_is_refused(scratch, seed):
-    data = SEEDS[seed]
-    for end in range(len(data)):
-        assert decode(scratch, data[:end]) is None, end
+    fuzzing.assert_truncations_refused(scratch, SEEDS[seed])
 
 
-FUZZ = settings(
-    max_examples=200, deadline=1000, suppress_health_check=[HealthCheck.function_scoped_fixture]
-)
-
-
-@FUZZ
+@fuzzing.FUZZ
 @given(st.binary(max_size=300), st.sampled_from([b"-Y 3 +X 9\n", b"+X 5 +Y 20\n", b"-Y 2 +X 3\n"]))
 def test_random_bytes(scratch, data, res):
-    decode(scratch, data)
-    decode(scratch, HEADER + res + data)
+    fuzzing.decode(scratch, data)
+    fuzzing.decode(scratch, HEADER + res + data)
 
 
-@FUZZ
-@given(
-    st.sampled_from(SEEDS),
-    st.lists(st.tuples(st.integers(0, 200), st.integers(0, 255)), max_size=6),
-    st.integers(1, 400),
-)
-def test_mutations_of_valid_files(scratch, data, edits, end):
-    data = bytearray(data)
-    for position, value in edits:
-        if position < len(data):
-            data[position] = value
-    decode(scratch, bytes(data[:end]))
+@fuzzing.FUZZ
+@given(st.sampled_from(SEEDS), fuzzing.edits(200), st.integers(1, 400))
+def test_mutations_of_valid_files(scratch, data, changes, end):
+    fuzzing.decode(scratch, fuzzing.mutate(data, changes, end))

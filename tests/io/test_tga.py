@@ -18,12 +18,13 @@ import imageio.v3 as iio
 import numpy as np
 import OpenImageIO as oiio
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 from PIL import Image
 
-from bakeshop.errors import ArgumentError, BakeshopError, FormatError, UnsupportedError
+from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io import read_image, tga, write_image
+from tests.io import fuzzing
 
 FOOTER = struct.pack("<II", 0, 0) + b"TRUEVISION-XFILE.\0"
 
@@ -377,10 +378,7 @@ def small_rle():
     ],
 )  # fmt: skip
 def test_bad_files_are_format_errors(tmp_path, data, reason):
-    path = write_bytes(tmp_path, data)
-    with pytest.raises(FormatError, match=reason) as e:
-        read_image(path)
-    assert e.value.path == str(path)
+    fuzzing.assert_refused(tmp_path / "x.tga", data, reason)
 
 
 @pytest.mark.parametrize(("image_type", "descriptor"), [(32, 0x20), (2, 0x60)])
@@ -486,10 +484,6 @@ def test_sniff_accepts_plausible_headers_only():
 
 # --- fuzzing -----------------------------------------------------------------------------
 
-FUZZ = settings(
-    max_examples=150, deadline=2000, suppress_health_check=[HealthCheck.function_scoped_fixture]
-)
-
 VALID = [
     small_rle(),
     tga_bytes(2, 3, 2, 32, bgr(stored_rows(PICTURE, "top-right")), descriptor=0x38),
@@ -503,50 +497,28 @@ VALID = [
 ]  # fmt: skip
 
 
-def decode(path, data):
-    """Read ``data`` as a TGA file: the image, or None for a BakeshopError; anything else fails."""
-    path.write_bytes(data)
-    try:
-        return read_image(path)
-    except BakeshopError:
-        return None
-
-
-@pytest.fixture
-def scratch(tmp_path):
-    return tmp_path / "fuzz.tga"
+scratch = fuzzing.scratch_file("fuzz.tga", seeds=VALID)
 
 
 def test_valid_fuzz_seeds_decode(scratch):
     for data in VALID:
-        assert decode(scratch, data) is not None
+        assert fuzzing.decode(scratch, data) is not None
 
 
 def test_truncation_at_every_offset(scratch):
     for data in VALID:
-        for end in range(len(data)):
-            image = decode(scratch, data[:end])
-            # the footer and image ID aside, a shortened file never decodes
-            if end < len(data) - len(FOOTER):
-                assert image is None, end
+        # the footer and image ID aside, a shortened file never decodes
+        fuzzing.assert_truncations_refused(scratch, data, tail=len(FOOTER))
 
 
-@FUZZ
+@fuzzing.FUZZ
 @given(st.binary(max_size=300))
 def test_random_bytes(scratch, data):
-    decode(scratch, data)
-    decode(scratch, b"\x00\x00\x0a" + data)
+    fuzzing.decode(scratch, data)
+    fuzzing.decode(scratch, b"\x00\x00\x0a" + data)
 
 
-@FUZZ
-@given(
-    st.sampled_from(VALID),
-    st.lists(st.tuples(st.integers(0, 80), st.integers(0, 255)), max_size=6),
-    st.integers(1, 120),
-)
-def test_mutations_of_valid_files(scratch, data, edits, end):
-    data = bytearray(data)
-    for position, value in edits:
-        if position < len(data):
-            data[position] = value
-    decode(scratch, bytes(data[:end]))
+@fuzzing.FUZZ
+@given(st.sampled_from(VALID), fuzzing.edits(80), st.integers(1, 120))
+def test_mutations_of_valid_files(scratch, data, changes, end):
+    fuzzing.decode(scratch, fuzzing.mutate(data, changes, end))
