@@ -196,7 +196,7 @@ def _point_forces(
             if damping == 1:  # drag relative to the water's orbital velocity
                 for w in range(waves.shape[0]):
                     theta = waves[w, 1] * x + waves[w, 2] * z - waves[w, 3] * t + waves[w, 4]
-                    k = np.sqrt(waves[w, 1] ** 2 + waves[w, 2] ** 2)
+                    k = waves[w, 5]
                     speed = waves[w, 0] * waves[w, 3] * np.exp(min(k * (y - eta), 0.0))
                     ux -= speed * np.sin(theta) * waves[w, 1] / k
                     uz -= speed * np.sin(theta) * waves[w, 2] / k

@@ -23,7 +23,7 @@ def plot_trace(path: str | os.PathLike, time, clear, *, labels, title: str, draf
     time (s) into a PNG at ``path``; ``draft`` (optional, m per body) is drawn as the expected
     settled clearance ``-draft``."""
     plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(7, 3.2), dpi=100)
+    fig, ax = plt.subplots(figsize=(8, 3.6), dpi=90)
     for b, label in enumerate(labels):
         (line,) = ax.plot(time, clear[:, b], lw=1.2, label=label)
         if draft is not None and draft[b] is not None:
@@ -34,7 +34,7 @@ def plot_trace(path: str | os.PathLike, time, clear, *, labels, title: str, draf
     ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3)
     if len(labels) > 1:
-        ax.legend(fontsize=7, ncol=min(len(labels), 4))
+        ax.legend(fontsize=7, loc="lower left", ncol=2 if len(labels) > 2 else 1)
     fig.tight_layout()
     _save(fig, path)
 

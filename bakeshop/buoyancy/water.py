@@ -82,20 +82,21 @@ class Water:
 
     @cached_property
     def table(self) -> np.ndarray:
-        """(W, 5) float64 rows ``(amplitude, kx, kz, omega, phase)`` for the force kernels."""
+        """(W, 6) float64 rows ``(amplitude, kx, kz, omega, phase, |k|)`` for the force
+        kernels."""
         rows = []
         for w in self.waves:
             k = 2 * np.pi / w.wavelength
             speed = np.sqrt(self.gravity / k) if w.speed is None else w.speed
             angle = np.radians(w.direction)
-            rows.append((w.amplitude, k * np.cos(angle), k * np.sin(angle), k * speed, w.phase))
-        return np.array(rows, dtype=np.float64).reshape(-1, 5)
+            rows.append((w.amplitude, k * np.cos(angle), k * np.sin(angle), k * speed, w.phase, k))
+        return np.array(rows, dtype=np.float64).reshape(-1, 6)
 
     def height(self, x, z, t: float = 0.0):
         """Surface height (m) at horizontal positions ``x``, ``z`` (any matching shapes) and
         time ``t`` (s)."""
         x, z = np.asarray(x, dtype=np.float64), np.asarray(z, dtype=np.float64)
         eta = np.full(np.broadcast(x, z).shape, self.level)
-        for a, kx, kz, w, phi in self.table:
+        for a, kx, kz, w, phi, _ in self.table:
             eta = eta + a * np.sin(kx * x + kz * z - w * t + phi)
         return eta
