@@ -77,21 +77,53 @@ def _input_layout(image, given: str | None, path) -> str:
     return candidates[0]
 
 
+#: single-file cube map containers (float samples, mip level 0 only here).
+CUBE_CONTAINERS = (".dds", ".ktx")
+
+
+def _check_output(target: Path, layout: str, ldr: bool) -> None:
+    """Refuse an output whose format does not fit the layout or the sample type."""
+    if target.suffix.lower() in CUBE_CONTAINERS:
+        if layout != "cube" or ldr:
+            raise ArgumentError(
+                "a .dds or .ktx output is a float cube map: use --layout cube, without --ldr",
+                target,
+            )
+        return
+    if _is_ldr(target) != ldr:
+        raise ArgumentError(
+            "--ldr writes 8-bit sRGB: give a .png or .tga output"
+            if ldr
+            else "this output format is 8-bit: add --ldr (exposure, sRGB encoding) or write "
+            ".exr/.hdr/.pfm",
+            target,
+        )
+    if layout == "cube" and "{face}" not in str(target):
+        raise ArgumentError(
+            "a cube is written as six faces: put {face} in the output name (for example "
+            "sky_{face}.png), write one .dds or .ktx file, or choose --layout cross-vertical",
+            target,
+        )
+
+
 def _write_environment(target: Path, image, layout: str, convention: str) -> list[Path]:
-    """Write a flat layout to ``target``, or a cube's six faces to ``target`` with {face}."""
+    """Write a flat layout to ``target``; a cube to one .dds/.ktx file or six {face} files."""
     from bakeshop import sphere
     from bakeshop.io import write_image
 
     if layout != "cube":
         write_image(target, image)
         return [target]
-    if "{face}" not in str(target):
-        raise ArgumentError(
-            "a cube is written as six faces: put {face} in the output name "
-            "(for example sky_{face}.png), or choose --layout cross-vertical",
-            target,
-        )
     faces = sphere.cube_to_faces(image, convention=convention)
+    if target.suffix.lower() in CUBE_CONTAINERS:
+        from bakeshop.io.dds import write_dds
+        from bakeshop.io.ktx import write_ktx
+
+        write = write_dds if target.suffix.lower() == ".dds" else write_ktx
+        # half floats unless a value (the sun) would overflow them
+        dtype = "float16" if np.nanmax(np.abs(faces)) <= 65504 else "float32"
+        write(target, [faces], dtype=dtype)
+        return [target]
     written = []
     for name, face in zip(sphere.FACE_NAMES, faces, strict=True):
         path = Path(str(target).replace("{face}", name))
@@ -147,7 +179,7 @@ def _report_lines(flat: dict, rough: list[dict]) -> list[str]:
     "dst_layout",
     metavar="LAYOUT",
     help="Layout of the output (default: that of SOURCE); 'cube' writes six faces "
-    "to a TARGET containing {face}.",
+    "to a TARGET containing {face}, or one float cube map to a .dds or .ktx TARGET.",
 )
 @click.option(
     "--size",
@@ -228,13 +260,15 @@ def fresnel(
 
     --ldr writes 8-bit sRGB (IEC 61966-2-1) after --exposure (auto by default), optionally
     dithered; otherwise the bake is written as float (.exr, .hdr, .pfm). --layout cube writes
-    the six faces an engine loads (OpenGL order and orientation, or --convention directx).
+    the six faces an engine loads (OpenGL order and orientation, or --convention directx), as
+    six pictures or one float .dds/.ktx cube map.
 
     \b
     Example:
       bakeshop fresnel sky.hdr water_env.exr
       bakeshop fresnel sky.hdr water_env.png --ldr --dither --report
       bakeshop fresnel sky.exr water_{face}.png --layout cube --size 512 --ldr
+      bakeshop fresnel sky.exr water.dds --layout cube --size 512 --below mirror
     """
     from bakeshop import sphere
     from bakeshop.io import read_image
@@ -252,20 +286,13 @@ def fresnel(
     _require_hdr(source)
     up_axis = parse_axis(up)
     ev = parse_exposure(exposure_text)
-    if _is_ldr(target) != ldr:
-        raise ArgumentError(
-            "--ldr writes 8-bit sRGB: give a .png or .tga output"
-            if ldr
-            else "this output format is 8-bit: add --ldr (exposure, sRGB encoding) or write "
-            ".exr/.hdr/.pfm",
-            target,
-        )
     if dither and not ldr:
         raise ArgumentError("--dither applies to --ldr output only")
 
     image = read_image(source)
     src = _input_layout(image, src_layout, source)
     dst = dst_layout or src
+    _check_output(target, dst, ldr)
     if dst != src or size is not None:
         texels = image[..., 0].size
         target_layout = sphere.layout(dst)

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from bakeshop import sphere
 from bakeshop.cli.main import main
 from bakeshop.io import read_image, write_image
 from bakeshop.light.fresnel import bake_fresnel, ldr_exposure
@@ -77,6 +78,23 @@ def test_fresnel_cube_faces_and_report(sky, tmp_path, capsys):
         assert face.shape == (16, 16, 3)
     assert np.all(read_image(tmp_path / "water_negy.png") == 0)  # below the plane
     assert "flat water" in text and "RMS slope" in text and "0.30" in text
+
+
+def test_fresnel_cube_containers(sky, tmp_path):
+    from bakeshop.io.dds import read_dds
+    from bakeshop.io.ktx import read_ktx
+
+    path, image = sky
+    cube = sphere.remap(image, "latlong", "cube", 8, filter="area")  # what the command does
+    expect = bake_fresnel(cube, "cube")
+    for ext, reader in ((".dds", read_dds), (".ktx", read_ktx)):
+        out = tmp_path / f"water{ext}"
+        assert main(["fresnel", str(path), str(out), "--layout", "cube", "--size", "8"]) == 0
+        mips, meta = reader(out)
+        assert len(mips) == 1 and meta["cube"] and meta["stored"] == "float16"
+        np.testing.assert_allclose(mips[0][..., :3], expect, rtol=HALF_FLOAT_RTOL, atol=1e-7)
+    for bad in (["--layout", "cube", "--ldr"], []):
+        assert main(["fresnel", str(path), str(tmp_path / "x.dds"), *bad]) == 2
 
 
 def test_fresnel_bad_arguments(sky, tmp_path, capsys):
