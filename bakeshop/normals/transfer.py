@@ -232,9 +232,10 @@ def corner_tangents(positions, normals, uv, faces) -> np.ndarray:
     Follows ``mikktspace.c`` in the common case: each triangle's tangent is the direction of
     increasing u, dP/du = (t31_v d1 - t21_v d2) / (2 * signed UV area) with d1, d2 its edges;
     at each corner it is projected onto the plane of the vertex normal (Gram-Schmidt),
-    normalised, weighted by the corner's angle and summed over the triangles that share the
-    vertex, where "vertex" means the same position, normal and UV, and triangles of opposite
-    UV orientation (mirrored islands) are kept apart; the sum is normalised. The sign is +1
+    normalised, weighted by the corner's angle (between its two edges, themselves projected
+    onto that plane) and summed over the triangles that share the vertex, where "vertex"
+    means the same position, normal and UV, and triangles of opposite UV orientation
+    (mirrored islands) are kept apart; the sum is normalised. The sign is +1
     for triangles whose UVs keep their orientation, -1 for mirrored ones; an engine then
     builds the bitangent B = sign * cross(N, T).
 
@@ -271,16 +272,19 @@ def corner_tangents(positions, normals, uv, faces) -> np.ndarray:
     slots = vertex[faces] * 2 + (sign > 0)[:, None]
     acc = np.zeros((2 * (vertex.max() + 1), 3))
     n = normals[faces]
+
+    def onto_plane(v, normal):  # unit projection onto the plane of ``normal``, 0 if none
+        v = v - np.einsum("ij,ij->i", v, normal)[:, None] * normal
+        length = np.linalg.norm(v, axis=1, keepdims=True)
+        return np.where(length > 0, v / np.where(length > 0, length, 1), 0.0)
+
     for k in range(3):
-        a = p[:, (k + 1) % 3] - p[:, k]
-        b = p[:, (k + 2) % 3] - p[:, k]
-        la, lb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
-        cos = np.einsum("ij,ij->i", a, b) / np.maximum(la * lb, 1e-300)
-        angle = np.where((la > 0) & (lb > 0), np.arccos(np.clip(cos, -1, 1)), 0.0)
-        proj = vos - np.einsum("ij,ij->i", vos, n[:, k])[:, None] * n[:, k]
-        pl = np.linalg.norm(proj, axis=1, keepdims=True)
-        proj = np.where(pl > 0, proj / np.where(pl > 0, pl, 1), 0.0)
-        np.add.at(acc, slots[:, k], proj * angle[:, None])
+        # the corner's angle between its edges, both projected onto the normal's plane
+        a = onto_plane(p[:, (k + 1) % 3] - p[:, k], n[:, k])
+        b = onto_plane(p[:, (k + 2) % 3] - p[:, k], n[:, k])
+        angle = np.arccos(np.clip(np.einsum("ij,ij->i", a, b), -1, 1))
+        angle = np.where((a != 0).any(axis=1) & (b != 0).any(axis=1), angle, 0.0)
+        np.add.at(acc, slots[:, k], onto_plane(vos, n[:, k]) * angle[:, None])
     tangent = acc[slots]  # (F, 3, 3)
     tl = np.linalg.norm(tangent, axis=2, keepdims=True)
     missing = tl[..., 0] <= 1e-12
