@@ -17,6 +17,13 @@ from bakeshop.sphere.cube import FACE_BASES
 
 LATLONG, ANGULAR, MIRRORBALL, DUAL_PARABOLOID, OCTAHEDRAL, CUBE = range(6)
 
+#: a disk texel is valid when it reaches this far (in r^2) into the disk: texels that only
+#: touch the rim (solid angle below ~1e-13 of the texel's) are left out.
+DISK_OVERLAP_EPS = 1e-9
+#: the area filter averages (splats) where a destination texel is at least this many source
+#: texels across, interpolates bilinearly where it is at most one, and blends between.
+AREA_SPLAT_RATIO = 1.5
+
 _BASES = np.ascontiguousarray(FACE_BASES)
 _jit = numba.njit(cache=True, fastmath=False)
 
@@ -161,7 +168,7 @@ def valid(kind, h, w, f, i, j):
         li = i % n
         ta = max(abs(2 * (li + 0.5) / n - 1) - 1 / n, 0.0)
         tb = max(abs(2 * (j + 0.5) / n - 1) - 1 / n, 0.0)
-        return ta * ta + tb * tb < 1
+        return ta * ta + tb * tb < 1 - DISK_OVERLAP_EPS
     return True
 
 
@@ -216,9 +223,9 @@ def resolve(kind, h, w, f, i, j, x):
     li = i - disk * n
     a = 2 * (li + 0.5) / n - 1
     b = 1 - 2 * (j + 0.5) / n
-    r = math.hypot(a, b)
-    if r <= 1 and 0 <= li < n and 0 <= j < n:
+    if 0 <= li < n and 0 <= j < n and valid(kind, h, w, 0, li, j):
         return j * w + li + disk * n
+    r = math.hypot(a, b)
     # beyond the rim: the disk texel that looks where this one would (the formula continued);
     # the mirror ball's whole rim looks at -Z, so there the texel radially inside stands in
     if kind == MIRRORBALL:
@@ -394,30 +401,64 @@ def _box_tent_weights(c, half, lo, out):
 
 
 @_jit
-def _local(kind, h, w, x, y, z, cf, cx):
-    """Coordinates of (x, y, z) continued across the centre's face edge or seam (for
-    differences): a cube's face plane extended, a latlong's longitude unwrapped near cx."""
+def _local(kind, h, w, x, y, z, cf, cx, cy):
+    """Coordinates of (x, y, z) continued across the seams around the centre (cf, cx, cy), for
+    differences: a cube's face plane extended, a latlong's longitude unwrapped, an octahedral
+    map unfolded over its edges, a paraboloid continued into the other hemisphere and an
+    angular map through its rim."""
     if kind == CUBE:
         fi = int(cf)
         n = x * _BASES[fi, 0, 0] + y * _BASES[fi, 0, 1] + z * _BASES[fi, 0, 2]
         sc = (x * _BASES[fi, 1, 0] + y * _BASES[fi, 1, 1] + z * _BASES[fi, 1, 2]) / n
         tc = (x * _BASES[fi, 2, 0] + y * _BASES[fi, 2, 1] + z * _BASES[fi, 2, 2]) / n
         return (sc + 1) / 2 * w, (tc + 1) / 2 * h
+    if kind == DUAL_PARABOLOID:
+        n = h
+        disk = min(max(math.floor(cx / n), 0), 1)
+        norm = math.sqrt(x * x + y * y + z * z)
+        right = x / norm if disk == 0 else -x / norm
+        fwd = -z / norm if disk == 0 else z / norm
+        a, b = right / (1 + fwd), y / norm / (1 + fwd)
+        return (a + 1) / 2 * n + disk * n, (1 - b) / 2 * n
     _, u, v = coordinates(kind, h, w, x, y, z)
     if kind == LATLONG:
-        u -= w * math.floor((u - cx) / w + 0.5)
-    return u, v
+        return u - w * math.floor((u - cx) / w + 0.5), v
+    best_u, best_v = u, v
+    if kind == OCTAHEDRAL:
+        n = w
+        for du in (-1, 0, 1):
+            for dv in (-1, 0, 1):
+                # beyond an edge the map continues mirrored: (u, v) -> (2n - u, n - v), ...
+                cu = u if du == 0 else (1 + du) * n - u
+                cv = v if dv == 0 else (1 + dv) * n - v
+                if du != 0 and dv == 0:
+                    cv = n - v
+                if dv != 0 and du == 0:
+                    cu = n - u
+                if (cu - cx) ** 2 + (cv - cy) ** 2 < (best_u - cx) ** 2 + (best_v - cy) ** 2:
+                    best_u, best_v = cu, cv
+    elif kind == ANGULAR:
+        n = h
+        a, b = 2 * u / n - 1, 1 - 2 * v / n
+        r = math.hypot(a, b)
+        if r > 0:
+            # through the rim (-Z) the map continues at radius 2 - r on the opposite side
+            k = (r - 2) / r
+            cu, cv = (a * k + 1) / 2 * n, (1 - b * k) / 2 * n
+            if (cu - cx) ** 2 + (cv - cy) ** 2 < (u - cx) ** 2 + (v - cy) ** 2:
+                best_u, best_v = cu, cv
+    return best_u, best_v
 
 
 @_jit
-def _image(skind, sh, sw, f, u, v, rot, dkind, dh, dw, cf, cx):
+def _image(skind, sh, sw, f, u, v, rot, dkind, dh, dw, cf, cx, cy):
     x, y, z = direction(skind, sh, sw, f, u, v)
     x, y, z = _rotate(rot.T, x, y, z)
-    return _local(dkind, dh, dw, x, y, z, cf, cx)
+    return _local(dkind, dh, dw, x, y, z, cf, cx, cy)
 
 
 @numba.njit(parallel=True, cache=True)
-def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc, weight):
+def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc, weight, span):
     """Deposit every source texel's radiance x solid angle into the destination texels.
 
     A source texel's footprint in destination coordinates is the box bounding its (locally
@@ -425,6 +466,8 @@ def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc, we
     texels with the mean of their bilinear tents over that box (box-filtered tents tile
     exactly when the boxes do), renormalised to sum to 1 so that its whole energy is
     deposited: ``acc[t] += w L``, ``weight[t] += w`` with ``w = omega_src x mean tent``.
+    ``span[t] += w x`` the footprint's narrower width in destination texels: the filter tells
+    averaging from interpolating by it.
     ``t`` is one of ``chunks`` partial buffers (one per thread). The rotation ``rot`` moves
     what the source shows at ``d`` to ``R d``.
     """
@@ -447,14 +490,21 @@ def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc, we
                 x, y, z = _rotate(rot.T, x, y, z)
                 df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
                 # the footprint: the images of the texel's edge midpoints
-                a0, a1 = _image(skind, sh, sw, f, i, j + 0.5, rot, dkind, dh, dw, df, cx)
-                b0, b1 = _image(skind, sh, sw, f, i + 1.0, j + 0.5, rot, dkind, dh, dw, df, cx)
-                c0, c1 = _image(skind, sh, sw, f, i + 0.5, j, rot, dkind, dh, dw, df, cx)
-                d0, d1 = _image(skind, sh, sw, f, i + 0.5, j + 1.0, rot, dkind, dh, dw, df, cx)
+                a0, a1 = _image(skind, sh, sw, f, i, j + 0.5, rot, dkind, dh, dw, df, cx, cy)
+                b0, b1 = _image(skind, sh, sw, f, i + 1.0, j + 0.5, rot, dkind, dh, dw, df, cx, cy)
+                c0, c1 = _image(skind, sh, sw, f, i + 0.5, j, rot, dkind, dh, dw, df, cx, cy)
+                d0, d1 = _image(skind, sh, sw, f, i + 0.5, j + 1.0, rot, dkind, dh, dw, df, cx, cy)
                 hx = 0.5 * (abs(b0 - a0) + abs(d0 - c0))
                 hy = 0.5 * (abs(b1 - a1) + abs(d1 - c1))
-                hx = min(0.5, hx) if hx >= 0 else 0.0  # NaN at a degenerate point: a tent
-                hy = min(0.5, hy) if hy >= 0 else 0.0
+                hx = hx if hx >= 0 else 0.0  # NaN at a degenerate point: a tent
+                hy = hy if hy >= 0 else 0.0
+                # the footprint's narrower width (area over length): an upsampled texel is
+                # wider than a destination texel across every direction
+                ex0, ex1, ey0, ey1 = b0 - a0, b1 - a1, d0 - c0, d1 - c1
+                length = max(math.hypot(ex0, ex1), math.hypot(ey0, ey1))
+                width = abs(ex0 * ey1 - ex1 * ey0) / length if length > 0 else 0.0
+                hx = min(0.5, hx)
+                hy = min(0.5, hy)
                 lx = int(math.floor(cx - 0.5 - hx))
                 ly = int(math.floor(cy - 0.5 - hy))
                 _box_tent_weights(cx, hx, lx, wx)
@@ -476,24 +526,30 @@ def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc, we
                     if q >= 0 and wts[k] > 0:
                         wk = om * wts[k] / total
                         weight[t, q] += wk
+                        span[t, q] += wk * width
                         for c in range(nc):
                             acc[t, q, c] += wk * src[p, c]
 
 
 @numba.njit(parallel=True, cache=True)
-def finish_area(acc, weight, omega_dst, gathered, out):
-    """Normalised splat where the destination texel is covered by source texels, the bilinear
-    value where it is not (upsampling), blended by the coverage ``weight / omega_dst``."""
+def finish_area(acc, weight, span, omega, gathered, out):
+    """The area filter's value: the normalised splat where the source texels landing in the
+    destination texel are at most 1/AREA_SPLAT_RATIO of it across (in their narrower
+    direction) and cover it, the bilinear value where they are as large as it or larger
+    (upsampling) or leave it uncovered, a linear blend between."""
     for p in numba.prange(out.shape[0]):
         wsum = 0.0
+        width = 0.0
         for t in range(weight.shape[0]):
             wsum += weight[t, p]
-        od = omega_dst[p]
-        if od <= 0:
-            for c in range(out.shape[1]):
-                out[p, c] = 0
-            continue
-        alpha = min(1.0, wsum / od)
+            width += span[t, p]
+        alpha = 0.0
+        if wsum > 0:
+            width /= wsum
+            ratio = 1 / width if width > 0 else AREA_SPLAT_RATIO
+            alpha = min(1.0, max(0.0, (ratio - 1) / (AREA_SPLAT_RATIO - 1)))
+            if omega[p] > 0:
+                alpha *= min(1.0, wsum / omega[p])
         for c in range(out.shape[1]):
             e = 0.0
             for t in range(acc.shape[0]):

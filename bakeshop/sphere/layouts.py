@@ -252,7 +252,7 @@ class _Disk(Layout):
     def _overlap(self, n):
         """Texels of one disk's square that overlap the open unit disk (the valid ones)."""
         t = np.maximum(np.abs(2 * (np.arange(n) + 0.5) / n - 1) - 1 / n, 0)
-        return t[None, :] ** 2 + t[:, None] ** 2 < 1
+        return t[None, :] ** 2 + t[:, None] ** 2 < 1 - _maps.DISK_OVERLAP_EPS
 
     def _valid(self, shape):
         return np.concatenate([self._overlap(shape[0])] * self.disks, axis=1)

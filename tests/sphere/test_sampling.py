@@ -2,12 +2,16 @@
 checker whose cells have known directions, into every layout; seams, corners, poles, rotation,
 disk masks and bad input."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from bakeshop.errors import ArgumentError
 from bakeshop.sphere import LAYOUT_NAMES, cube_to_view, layout, remap, rotation_matrix, sample
 from tests.tolerances import (
+    SPHERE_AREA_ENERGY_RTOL,
+    SPHERE_AREA_MIRRORBALL_RTOL,
     SPHERE_BILINEAR_SMOOTH_ATOL,
     SPHERE_LATLONG_CUBE_ROUND_TRIP_ATOL,
     SPHERE_NEAREST_SMOOTH_ATOL,
@@ -252,3 +256,83 @@ def test_bad_arguments(args, kwargs, match):
 def test_bad_directions():
     with pytest.raises(ArgumentError, match="directions"):
         sample(np.zeros((8, 16)), "latlong", np.zeros((4, 2)))
+
+
+# --- the area filter ---------------------------------------------------------------------------
+
+
+def energy(image, name):
+    lay = layout(name)
+    omega = lay.solid_angles(image.shape[: 3 if lay.cubic else 2])
+    return (image.astype(np.float64) * omega[..., None]).reshape(-1, image.shape[-1]).sum(axis=0)
+
+
+@pytest.fixture(scope="module")
+def probe():
+    from bakeshop.io import read_image
+
+    return read_image(Path(__file__).parents[2] / "bakeshop" / "data" / "default_probe.hdr")
+
+
+@pytest.mark.parametrize(
+    ("dst", "size", "rtol"),
+    [
+        ("cube", 64, SPHERE_AREA_ENERGY_RTOL),
+        ("cube", 16, SPHERE_AREA_ENERGY_RTOL),
+        ("latlong", 64, SPHERE_AREA_ENERGY_RTOL),
+        ("angular", 128, SPHERE_AREA_ENERGY_RTOL),
+        ("octahedral", 64, SPHERE_AREA_ENERGY_RTOL),
+        ("dual-paraboloid", 64, SPHERE_AREA_ENERGY_RTOL),
+        ("cross-vertical", 32, SPHERE_AREA_ENERGY_RTOL),
+        ("strip-horizontal", 32, SPHERE_AREA_ENERGY_RTOL),
+        ("mirrorball", 128, SPHERE_AREA_ENERGY_RTOL),
+        ("mirrorball", 64, SPHERE_AREA_MIRRORBALL_RTOL),
+    ],
+)
+def test_area_filter_preserves_the_energy_of_a_real_probe(probe, dst, size, rtol):
+    """The default probe (a sun 10^5 times the sky in one texel) downsampled into every layout:
+    sum of radiance x solid angle is preserved."""
+    out = remap(probe, "latlong", dst, size, filter="area")
+    np.testing.assert_allclose(energy(out, dst), energy(probe, "latlong"), rtol=rtol)
+
+
+@pytest.mark.parametrize("src", ["latlong", "cube", "octahedral", "angular"])
+def test_area_filter_preserves_energy_of_noise_with_rotation(src):
+    rng = np.random.default_rng(4)
+    lay = layout(src)
+    shape = lay.shape(96 if src != "latlong" else 128)
+    img = (rng.random(shape + (2,)) ** 4).astype(np.float32)
+    img[~lay.directions(shape)[1]] = 0
+    for dst, size, rtol in [
+        ("cube", 16, SPHERE_AREA_ENERGY_RTOL),
+        ("latlong", 24, SPHERE_AREA_ENERGY_RTOL),
+        ("octahedral", 24, SPHERE_AREA_ENERGY_RTOL),
+        ("mirrorball", 32, SPHERE_AREA_MIRRORBALL_RTOL),
+    ]:
+        out = remap(img, src, dst, size, filter="area", rotation=(30, 20, 10))
+        np.testing.assert_allclose(energy(out, dst), energy(img, src), rtol=rtol)
+
+
+@pytest.mark.parametrize("dst", ["cube", "latlong", "angular", "mirrorball", "dual-paraboloid"])
+def test_area_filter_keeps_a_uniform_environment_uniform(dst):
+    """Down and up: the filter is a weighted mean, so a constant stays exactly constant."""
+    for size in (8, 200):
+        out = remap(np.full((64, 128, 3), 2.5, np.float32), "latlong", dst, size, filter="area")
+        _, valid = layout(dst).directions(out.shape[:-1])
+        np.testing.assert_allclose(out[valid], 2.5, rtol=1e-6)
+
+
+def test_area_filter_antialiases_and_becomes_bilinear_when_upsampling():
+    # a 2-texel checker: bilinear point samples alias to anything in [0, 1]; the area mean is 1/2
+    h = 512
+    j, i = np.mgrid[0:h, 0 : 2 * h]
+    fine = (((i // 2) + (j // 2)) % 2).astype(np.float32)
+    area = remap(fine, "latlong", "cube", 16, filter="area")
+    bil = remap(fine, "latlong", "cube", 16, filter="bilinear")
+    assert np.abs(area - 0.5).max() < 0.05 < np.abs(bil - 0.5).max()
+    # upsampling (every source texel wider than a destination texel in every direction):
+    # plain bilinear
+    coarse = environment("cube", 16)
+    up_area = remap(coarse, "cube", "cube", 48, filter="area", rotation=(10, 5, 0))
+    up_bil = remap(coarse, "cube", "cube", 48, filter="bilinear", rotation=(10, 5, 0))
+    np.testing.assert_array_equal(up_area, up_bil)
