@@ -130,7 +130,10 @@ def _groups(dirs, energy):
         np.einsum("ij,ij->i", d, np.repeat(axes, counts, axis=0)), starts[:-1]
     )
     sin_half = np.where(cos_min > 0, np.sqrt(np.clip(1 - cos_min**2, 0, 1)), 2.0)
-    linear = np.add.reduceat(e[:, :, None] * d[:, None, :], starts[:-1], axis=0)
+    linear = np.empty((len(starts) - 1, 3, 3))
+    for c in range(3):
+        for k in range(3):
+            linear[:, c, k] = np.add.reduceat(e[:, c] * d[:, k], starts[:-1])
     return np.ascontiguousarray(d.T), np.ascontiguousarray(e.T), starts, axes, sin_half, linear
 
 

@@ -1,0 +1,241 @@
+"""Time diffuse irradiance on the team's 12.6-megapixel probe: the DIM pair, SH and exact.
+
+The probe is Poly Haven's Quarry 01 (1024x512, a clear sky with a small, very bright sun)
+upsampled bilinearly to 5020x2510 (OpenCV), the size of the team's probes. Jobs:
+
+- ``pair``: ``dim_pair``: find and paint out the sun, then the sun DIM and the shadow DIM
+  (360x180 latlong each) by ``auto``, from the full-resolution probe;
+- ``auto``: one 360x180 DIM by ``auto`` (no sun split);
+- ``sh2``: one 360x180 DIM by ``sh`` with L = 2 (projection of all 12.6 M texels);
+- ``exact-90x45``: ``exact`` from the full probe to a 90x45 DIM, and the errors of ``pair``'s
+  sun DIM and of ``sh2`` against it (the pair is computed at 90x45 for the comparison);
+- ``exact-full``: ``exact`` from the full probe to the full 360x180 DIM (every texel for every
+  output texel, summed by cones: O(M N^(2/3)));
+- ``brute``: the O(M N) brute force HDRShop runs, at its best (a fused, vectorised,
+  multi-threaded numba loop) at 64800 x 131072 pairs, extrapolated to 64800 x 12.6 M;
+- ``command``: the whole ``bakeshop -q dims`` command on the probe as a .hdr file: start-up,
+  reading, the pair, and writing sun_dim.hdr, shadow_dim.hdr, shadow_probe.hdr and sun.json.
+
+Each job runs in a fresh subprocess after one small warm-up (numba's compiled code is cached
+on disk); "cpu" is the process's CPU time over the run (all threads), steadier than wall time
+on a shared machine; peak is the resident high-water mark (``VmHWM``, reset before the job)
+minus the resident size before: the extra memory the job needed. Reference figures (not
+measurable here): HDRShop, 30 min for a 360x180 DIM from a downsampled probe and 229 million s
+quoted for the 12.6 MP probe; cmft's 25-coefficient SH irradiance, 1.5 s for a 4096x2048 probe
+on this 2-core machine.
+
+Run: ``.venv/bin/python benchmarks/bench_irradiance.py`` (about two minutes).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+SOURCE = ROOT.parent / "shared" / "data" / "hdr" / "quarry_01_1k.hdr"
+WIDTH, HEIGHT = 5020, 2510
+DIM = (360, 180)
+JOBS = ["pair", "auto", "sh2", "exact-90x45", "exact-full", "brute", "command"]
+
+HDRSHOP_DOWNSAMPLED_S = 30 * 60
+HDRSHOP_FULL_S = 229e6
+CMFT_SH25_S, CMFT_MP = 1.5, 4096 * 2048 / 1e6
+
+
+def memory(field: str) -> int:
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith(field + ":"):
+                return int(line.split()[1]) * 1024
+    raise RuntimeError(field)
+
+
+def reset_peak() -> None:
+    with open("/proc/self/clear_refs", "w") as f:
+        f.write("5")
+
+
+def errors(got, ref) -> dict:
+    got, ref = np.asarray(got, np.float64), np.asarray(ref, np.float64)
+    return {
+        "rms": float(np.sqrt(np.mean((got - ref) ** 2) / np.mean(ref**2))),
+        "max": float(np.max(np.abs(got - ref) / ref)),
+    }
+
+
+def child(job: str, workdir: Path) -> dict:
+    from bakeshop.light import irradiance as ir
+
+    probe = np.load(workdir / "probe.npy")
+    small = probe[::40, ::40].copy()
+    ir.dim_pair(small, "latlong", size=(36, 18))  # warm-up: load the compiled kernels
+    ir.irradiance(small, "latlong", size=(36, 18), method="sh")
+    extra: dict = {}
+    reset_peak()
+    before = memory("VmRSS")
+    start, start_cpu = time.perf_counter(), time.process_time()
+    if job == "pair":
+        pair = ir.dim_pair(probe, "latlong", size=DIM)
+        extra["sun"] = None if pair.sun is None else pair.sun.to_dict()
+    elif job == "auto":
+        ir.irradiance(probe, "latlong", size=DIM)
+    elif job == "sh2":
+        ir.irradiance(probe, "latlong", size=DIM, method="sh", order=2)
+    elif job == "exact-90x45":
+        exact = ir.irradiance(probe, "latlong", size=(90, 45), method="exact")
+    elif job == "exact-full":
+        ir.irradiance(probe, "latlong", size=DIM, method="exact")
+    elif job == "brute":
+        extra.update(brute(probe))
+    seconds, cpu = time.perf_counter() - start, time.process_time() - start_cpu
+    peak = memory("VmHWM") - before
+    if job == "exact-90x45":
+        pair = ir.dim_pair(probe, "latlong", size=(90, 45))
+        sh2 = ir.irradiance(probe, "latlong", size=(90, 45), method="sh", order=2)
+        extra["pair_vs_exact"] = errors(pair.sun_dim, exact)
+        extra["sh2_vs_exact"] = errors(sh2, exact)
+    return {"seconds": seconds, "cpu": cpu, "peak": max(peak, 0), **extra}
+
+
+@numba.njit(parallel=True, fastmath=True, cache=True)
+def _brute(normals, dirs, energy, out):
+    for i in numba.prange(normals.shape[0]):
+        a0 = a1 = a2 = 0.0
+        for j in range(dirs.shape[1]):
+            c = normals[i, 0] * dirs[0, j] + normals[i, 1] * dirs[1, j] + normals[i, 2] * dirs[2, j]
+            c = max(c, 0.0)
+            a0 += c * energy[0, j]
+            a1 += c * energy[1, j]
+            a2 += c * energy[2, j]
+        out[i, 0], out[i, 1], out[i, 2] = a0, a1, a2
+
+
+def brute(probe) -> dict:
+    """HDRShop's algorithm, every source texel for every output texel, at its best: a fused,
+    vectorised, multi-threaded float64 loop (numba), on 64800 x 131072 pairs."""
+    from bakeshop.sphere import layout
+
+    lay = layout("latlong")
+    src = probe[::7, ::7]  # 359 x 718 texels ~ 258 k
+    h, w = src.shape[:2]
+    d, _ = lay.directions((h, w))
+    e = src.reshape(-1, 3) * lay.solid_angles((h, w)).reshape(-1, 1)
+    n_src = min(h * w, 131072)
+    d = np.ascontiguousarray(d.reshape(-1, 3)[:n_src].T)
+    e = np.ascontiguousarray(e[:n_src].T)
+    n = lay.directions((DIM[1], DIM[0]))[0].reshape(-1, 3)
+    out = np.empty((len(n), 3))
+    _brute(n[:8], d, e, out[:8])  # compile or load
+    start = time.perf_counter()
+    _brute(n, d, e, out)
+    seconds = time.perf_counter() - start
+    pairs = len(n) * n_src
+    return {"pairs": pairs, "pairs_per_s": pairs / seconds}
+
+
+def run(job: str, workdir: Path) -> dict:
+    if job == "command":
+        out = workdir / "dims"
+        start, cpu = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
+        subprocess.run(
+            [
+                str(ROOT / ".venv" / "bin" / "bakeshop"),
+                "-q",
+                "dims",
+                str(workdir / "probe.hdr"),
+                "-o",
+                str(out),
+            ],
+            check=True,
+            capture_output=True,
+        )
+        used = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = used.ru_utime + used.ru_stime - cpu.ru_utime - cpu.ru_stime
+        return {"seconds": time.perf_counter() - start, "cpu": cpu}
+    out = subprocess.run(
+        [sys.executable, __file__, "--child", job, str(workdir)],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def prepare(workdir: Path) -> None:
+    import cv2
+
+    from bakeshop.io import read_image, write_image
+
+    small = read_image(SOURCE)
+    probe = cv2.resize(small, (WIDTH, HEIGHT), interpolation=cv2.INTER_LINEAR)
+    np.save(workdir / "probe.npy", probe)
+    write_image(workdir / "probe.hdr", probe)
+
+
+def main() -> None:
+    if len(sys.argv) == 4 and sys.argv[1] == "--child":
+        print(json.dumps(child(sys.argv[2], Path(sys.argv[3]))))
+        return
+    jobs = sys.argv[1:] or JOBS
+    cpu_model = next(
+        (line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if "model name" in line),
+        "?",
+    )
+    print(
+        f"machine: {cpu_model}, {os.cpu_count()} cores; probe {WIDTH}x{HEIGHT} "
+        f"({WIDTH * HEIGHT / 1e6:.1f} MP) from {SOURCE.name}; DIM {DIM[0]}x{DIM[1]}"
+    )
+    with tempfile.TemporaryDirectory() as tmp:
+        workdir = Path(tmp)
+        prepare(workdir)
+        results = {job: run(job, workdir) for job in jobs}
+    mp = WIDTH * HEIGHT / 1e6
+    pixels = DIM[0] * DIM[1]
+    print(f"\n{'job':<34}{'wall s':>9}{'cpu s':>9}{'peak MB':>9}   notes")
+    for job, r in results.items():
+        note = ""
+        if job == "pair":
+            per_mp = r["seconds"] / mp
+            note = (
+                f"{per_mp * 1e3:.0f} ms/MP; cmft SH-25 {CMFT_SH25_S / CMFT_MP * 1e3:.0f} ms/MP "
+                f"(x{CMFT_SH25_S / CMFT_MP / per_mp:.1f}); HDRShop 12.6 MP x"
+                f"{HDRSHOP_FULL_S / r['seconds']:.1e}, downsampled x"
+                f"{HDRSHOP_DOWNSAMPLED_S / r['seconds']:.0f}"
+            )
+        elif job == "exact-90x45":
+            note = (
+                f"pair vs exact rms {r['pair_vs_exact']['rms']:.1e} max "
+                f"{r['pair_vs_exact']['max']:.1e}; sh2 vs exact rms "
+                f"{r['sh2_vs_exact']['rms']:.1e} max {r['sh2_vs_exact']['max']:.1e}"
+            )
+        elif job == "exact-full":
+            note = f"HDRShop x{HDRSHOP_FULL_S / r['seconds']:.1e}"
+        elif job == "brute":
+            full = pixels * WIDTH * HEIGHT / r["pairs_per_s"]
+            note = (
+                f"{r['pairs_per_s'] / 1e9:.2f} G pairs/s -> {full:.0f} s for 360x180 from "
+                f"12.6 MP ({full / 3600:.1f} h)"
+            )
+            if "exact-full" in results:
+                note += f"; exact-full is x{full / results['exact-full']['seconds']:.0f} faster"
+        elif job == "command":
+            note = "start-up, read .hdr, pair, write 3 .hdr + sun.json"
+        peak = f"{r['peak'] / 2**20:9.0f}" if "peak" in r else f"{'':>9}"
+        cpu = f"{r['cpu']:9.2f}" if "cpu" in r else f"{'':>9}"
+        print(f"{job:<34}{r['seconds']:9.2f}{cpu}{peak}   {note}")
+    if "pair" in results and results["pair"].get("sun"):
+        print("\nsun:", json.dumps(results["pair"]["sun"]))
+
+
+if __name__ == "__main__":
+    main()
