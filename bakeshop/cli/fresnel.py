@@ -330,12 +330,18 @@ def fresnel(
             click.echo(line)
 
 
+def _natural_key(path: str):
+    """Sort key that orders frame_2 before frame_10."""
+    return [(0, int(t), "") if t.isdigit() else (1, 0, t) for t in re.split(r"(\d+)", path)]
+
+
 def expand_inputs(patterns) -> list[Path]:
-    """Input frames in order: each argument is a file or a glob pattern (sorted matches)."""
+    """Input frames in order: each argument is a file or a glob pattern, whose matches are
+    sorted by name with numbers in numeric order (frame_2 before frame_10)."""
     frames: list[Path] = []
     for p in patterns:
         if glob.has_magic(p):
-            matches = sorted(glob.glob(p))
+            matches = sorted(glob.glob(p), key=_natural_key)
             if not matches:
                 raise ArgumentError("no file matches this pattern", p)
             frames.extend(Path(m) for m in matches)
@@ -446,7 +452,8 @@ def tonemap(
     the centre of the frame) and maps it to --key; over a sequence the exposure adapts
     exponentially, with time constant --tau-brighter when the scene gets brighter and
     --tau-darker when it gets darker (63% of a step after one time constant). IN may be
-    several files or a quoted glob; a sequence needs {frame} in OUT (frame 0, 1, ...).
+    several files or a quoted glob (matches in name order, numbers numerically); a sequence
+    needs {frame} in OUT (frame 0, 1, ...).
 
     \b
     Example:

@@ -182,3 +182,12 @@ def test_tonemap_bad_arguments(sky, tmp_path, capsys):
     assert main(["tonemap", str(path), str(path), str(tmp_path / "x.png")]) == 2
     assert "{frame}" in capsys.readouterr().err
     assert main(["tonemap", str(tmp_path / "none_*.hdr"), str(tmp_path / "x.png")]) == 2
+
+
+def test_sequence_inputs_in_numeric_order(tmp_path):
+    from bakeshop.cli.fresnel import expand_inputs
+
+    for i in (10, 2, 1):
+        (tmp_path / f"f_{i}.exr").touch()
+    names = [p.name for p in expand_inputs([str(tmp_path / "f_*.exr")])]
+    assert names == ["f_1.exr", "f_2.exr", "f_10.exr"]
