@@ -270,7 +270,7 @@ def fresnel(
       bakeshop fresnel sky.exr water_{face}.png --layout cube --size 512 --ldr
       bakeshop fresnel sky.exr water.dds --layout cube --size 512 --below mirror
     """
-    from bakeshop import sphere
+    from bakeshop import progress, sphere
     from bakeshop.io import read_image
     from bakeshop.light.fresnel import (
         RMS_SLOPES,
@@ -325,7 +325,8 @@ def fresnel(
             dither="triangular" if dither else "none",
             seed=seed,
         )
-        rough = [normal_mapped_error(s, ior=ior, samples=1 << 18) for s in RMS_SLOPES]
+        slopes = progress.track(RMS_SLOPES, "normal-mapped water")
+        rough = [normal_mapped_error(s, ior=ior, samples=1 << 18) for s in slopes]
         for line in _report_lines(flat, rough):
             click.echo(line)
 

@@ -21,7 +21,7 @@ import functools
 import numba
 import numpy as np
 
-from bakeshop import sphere
+from bakeshop import progress, sphere
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.light.tonemap import exposure, srgb_decode, to_srgb8
 from bakeshop.sphere import _maps
@@ -414,6 +414,11 @@ def flat_water_error(
         ``dither``.
     """
     validate_choice(filter, ("nearest", "bilinear"), "filter")
+    with progress.step("flat water: baked 8-bit lookups vs the runtime path"):
+        return _flat_water_error(image, layout, ev, ior, up, below, filter, dither, seed, samples)
+
+
+def _flat_water_error(image, layout, ev, ior, up, below, filter, dither, seed, samples) -> dict:
     lay = sphere.layout(layout)
     a, _ = _as_environment(image, lay)
     a = a[..., : min(a.shape[-1], 3)]
