@@ -1,0 +1,107 @@
+"""``bakeshop remap`` end to end through bakeshop.cli.main.main."""
+
+import numpy as np
+import pytest
+
+from bakeshop.cli.main import main
+from bakeshop.io import read_image, write_image
+from bakeshop.sphere import cube_to_faces, layout, remap
+
+
+def smooth(d):
+    x, y, z = d[..., 0], d[..., 1], d[..., 2]
+    return np.stack([1 + 0.5 * x + 0.3 * y - 0.2 * z, np.exp(z), 1 + y * y], -1).astype(np.float32)
+
+
+@pytest.fixture
+def latlong(tmp_path):
+    dirs, _ = layout("latlong").directions((64, 128))
+    image = smooth(dirs)
+    path = tmp_path / "sky.exr"
+    write_image(path, image, pixel_type="float")
+    return path, image
+
+
+def test_help_teaches_with_examples(capsys):
+    assert main(["remap", "--help"]) == 0
+    out = capsys.readouterr().out
+    assert "Example:" in out and "cross-vertical" in out
+
+
+def test_latlong_to_cross_guesses_and_says_so(latlong, tmp_path, capsys):
+    path, image = latlong
+    out = tmp_path / "cross.pfm"
+    assert main(["-q", "remap", str(path), str(out), "--to", "cross-vertical", "--size", "16"]) == 0
+    said = capsys.readouterr().out
+    assert "guessed" in said and "latlong" in said
+    got = read_image(out)
+    np.testing.assert_allclose(got, remap(image, "latlong", "cross-vertical", 16, filter="area"))
+
+
+def test_faces_round_trip_in_every_convention(latlong, tmp_path):
+    path, image = latlong
+    cube = remap(image, "latlong", "cube", 16)
+    for convention in ("opengl", "vulkan", "directx"):
+        pattern = tmp_path / f"{convention}_{{face}}.pfm"
+        argv = ["-q", "remap", str(path), str(pattern), "--to", "faces", "--size", "16",
+                "--filter", "bilinear", "--convention", convention]  # fmt: skip
+        assert main(argv) == 0
+        faces = np.stack([read_image(tmp_path / f"{convention}_{n}.pfm") for n in
+                          ("posx", "negx", "posy", "negy", "posz", "negz")])  # fmt: skip
+        np.testing.assert_array_equal(faces, cube_to_faces(cube, convention=convention))
+        back = tmp_path / f"{convention}.exr"
+        argv = ["-q", "remap", str(pattern), str(back), "--from", "faces", "--to", "latlong",
+                "--size", "128x64", "--convention", convention]  # fmt: skip
+        assert main(argv) == 0
+        np.testing.assert_allclose(read_image(back), image, atol=0.02)
+
+
+def test_short_face_names_and_rotation(latlong, tmp_path):
+    path, image = latlong
+    pattern = tmp_path / "s_{face}.hdr"
+    argv = ["-q", "remap", str(path), str(pattern), "--to", "faces", "--size", "8",
+            "--short-face-names", "--rotate", "90,0,0"]  # fmt: skip
+    assert main(argv) == 0
+    assert sorted(p.name for p in tmp_path.glob("s_*.hdr")) == sorted(
+        f"s_{n}.hdr" for n in ("px", "nx", "py", "ny", "pz", "nz")
+    )
+
+
+def test_ambiguous_square_is_refused_with_choices(tmp_path, capsys):
+    path = tmp_path / "ball.exr"
+    write_image(path, np.ones((32, 32, 3), np.float32))
+    assert main(["remap", str(path), str(tmp_path / "o.exr"), "--to", "latlong"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "angular, mirrorball, octahedral" in err and "--from" in err
+    argv = ["-q", "remap", str(path), str(tmp_path / "o.exr"), "--from", "mirrorball", "--to",
+            "latlong", "--size", "32"]  # fmt: skip
+    assert main(argv) == 0
+    assert read_image(tmp_path / "o.exr").shape == (32, 64, 3)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--to", "faces"], "{face}"),
+        (["--to", "latlong", "--rotate", "90,0"], "YAW,PITCH,ROLL"),
+        (["--to", "octahedral", "--size", "15"], "even"),
+        (["--to", "latlong", "--size", "0x3"], "size"),
+    ],
+)
+def test_bad_arguments_are_one_line(latlong, tmp_path, capsys, args, message):
+    path, _ = latlong
+    assert main(["remap", str(path), str(tmp_path / "out.exr"), *args]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("bakeshop: error: ") and err.count("\n") == 1 and message in err
+
+
+def test_refuses_to_overwrite_its_input(latlong, capsys):
+    path, _ = latlong
+    assert main(["remap", str(path), str(path), "--to", "latlong"]) == 2
+    assert "input" in capsys.readouterr().err
+
+
+def test_missing_face_file(tmp_path, capsys):
+    argv = ["remap", str(tmp_path / "x_{face}.exr"), str(tmp_path / "o.exr"), "--to", "latlong"]
+    assert main(argv) == 2
+    assert "x_posx.exr" in capsys.readouterr().err
