@@ -414,6 +414,13 @@ def metering_weights(shape: tuple[int, int], *, center_weight: float = 0.75) -> 
     -------
     (H, W) float64, sums to 1
     """
+    w_c, spot_y, spot_x = _metering(shape, center_weight)
+    h, w = spot_y.size, spot_x.size
+    return (1.0 - w_c) / (h * w) + w_c * np.outer(spot_y, spot_x)
+
+
+def _metering(shape, center_weight) -> tuple[float, np.ndarray, np.ndarray]:
+    """(W, g_y, g_x): the centre spot is the outer product of two normalised 1-D Gaussians."""
     w_c = float(center_weight)
     if not 0.0 <= w_c <= 1.0:
         raise ArgumentError(f"centre weight must be in [0, 1], got {center_weight}")
@@ -421,10 +428,11 @@ def metering_weights(shape: tuple[int, int], *, center_weight: float = 0.75) -> 
     if h < 1 or w < 1:
         raise ArgumentError(f"cannot meter an empty frame of shape {shape}")
     sigma = CENTER_SIGMA * min(h, w)
-    y = np.arange(h) + 0.5 - h / 2
-    x = np.arange(w) + 0.5 - w / 2
-    g = np.exp(-(y[:, None] ** 2 + x[None, :] ** 2) / (2 * sigma * sigma))
-    return (1.0 - w_c) / (h * w) + w_c * g / g.sum()
+    profiles = []
+    for n in (h, w):
+        g = np.exp(-((np.arange(n) + 0.5 - n / 2) ** 2) / (2 * sigma * sigma))
+        profiles.append(g / g.sum())
+    return w_c, profiles[0], profiles[1]
 
 
 def log_average_luminance(image, *, center_weight: float = 0.75, delta: float = 1e-4) -> float:
@@ -450,13 +458,19 @@ def log_average_luminance(image, *, center_weight: float = 0.75, delta: float = 
         raise ArgumentError(f"metering needs one (H, W) or (H, W, C) frame; got {a.shape}")
     if not delta > 0:
         raise ArgumentError(f"delta must be positive, got {delta}")
-    lum = _luminance(a, colour).astype(np.float64)
-    w = metering_weights(lum.shape, center_weight=center_weight)
+    lum = _luminance(a, colour)
+    w_c, spot_y, spot_x = _metering(lum.shape, center_weight)
     ok = np.isfinite(lum)
-    if not (ok & (w > 0)).any():
+    logs = np.where(ok, np.log(delta + np.maximum(np.where(ok, lum, 0), 0), dtype=np.float64), 0)
+    mask = ok.astype(np.float64)
+
+    def weighted_sum(values):  # sum of w * values without building w: the spot is separable
+        return (1.0 - w_c) / values.size * values.sum() + w_c * (spot_y @ values @ spot_x)
+
+    total = weighted_sum(mask)
+    if not total > 0:
         raise ArgumentError("cannot meter a frame without finite pixels")
-    logs = np.log(delta + np.maximum(lum[ok], 0.0))
-    return float(np.exp(np.sum(w[ok] * logs) / np.sum(w[ok])))
+    return float(np.exp(weighted_sum(logs) / total))
 
 
 #: Reinhard's "middle grey" key: the exposed log-average luminance of a normal-key scene.

@@ -265,6 +265,13 @@ def test_log_average_and_auto_exposure():
     img = rng.lognormal(0.0, 1.5, size=(40, 60)).astype(np.float32)
     plain = np.exp(np.mean(np.log(1e-4 + img.astype(np.float64))))
     assert log_average_luminance(img, center_weight=0) == pytest.approx(plain, rel=1e-9)
+    # any centre weight: the definition written out with the full weight array, NaN left out
+    img[3, 7] = np.nan
+    w = metering_weights(img.shape, center_weight=0.6)
+    ok = np.isfinite(img)
+    want = np.exp(np.sum(w[ok] * np.log(1e-4 + img[ok].astype(np.float64))) / np.sum(w[ok]))
+    assert log_average_luminance(img, center_weight=0.6) == pytest.approx(want, rel=1e-9)
+    img[3, 7] = 1.0
     ev = auto_exposure(img, center_weight=0, delta=1e-12)
     assert log_average_luminance(exposure(img, ev), center_weight=0, delta=1e-12) == pytest.approx(
         0.18, rel=1e-6
