@@ -733,12 +733,11 @@ def transfer_detail(
         return _face_lod(np.stack([qu * w0, -qv * h0], axis=-1), macro_texels, faces)
 
     axes = np.array([PROJECTION_AXES[a] for a in AXES])  # (3, 2, 3): e_s, e_t per axis
+    corners = mesh.positions[faces]
     if projection == "uv2":
         lod = face_lods(mesh.uv2[faces])[:, None]
     else:
-        corners = mesh.positions[faces]
         lod = np.stack([face_lods(corners @ axes[k].T) for k in range(3)], axis=1)
-    corners = mesh.positions[faces]
     face_normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     box_axis = np.argmax(np.abs(face_normal), axis=1)
     out = np.zeros((height * width, 3), np.float32)
