@@ -247,6 +247,7 @@ def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
       bakeshop dims probe.hdr --out-dir dims/
       bakeshop dims probe.exr -o dims/ --format exr --size 512x256
     """
+    from bakeshop import progress
     from bakeshop.io import write_image
     from bakeshop.light import irradiance as ir
     from bakeshop.light import sun as sunlib
@@ -266,10 +267,11 @@ def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
         order=order,
     )
     elapsed = time.perf_counter() - started
-    write_image(names["sun_dim"], pair.sun_dim)
-    write_image(names["shadow_dim"], pair.shadow_dim)
-    write_image(names["shadow_probe"], pair.shadow_probe)
-    sunlib.write_json(out_dir / "sun.json", pair.sun)
+    with progress.step(f"writing {out_dir}"):
+        write_image(names["sun_dim"], pair.sun_dim)
+        write_image(names["shadow_dim"], pair.shadow_dim)
+        write_image(names["shadow_probe"], pair.shadow_probe)
+        sunlib.write_json(out_dir / "sun.json", pair.sun)
     click.echo(
         f"wrote {out_dir}: sun_dim.{fmt} and shadow_dim.{fmt} "
         f"({_describe(pair.sun_dim, dst_layout)}, method {method}), shadow_probe.{fmt} "

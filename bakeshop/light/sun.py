@@ -149,7 +149,7 @@ def _profile(lum, ang, pitch, peak):
     first = int(math.ceil(mask / pitch))
     faint = np.flatnonzero((ring_mean[first:] <= GLARE * sky) & (counts[first:] > 0))
     glare = (first + (faint[0] if faint.size else ring_mean.size)) * pitch
-    mask = max(mask, min(glare, inner))
+    mask = max(mask, min(glare, 1.5 * inner))
     return sky, core, mask, half, 2 * inner
 
 

@@ -1,0 +1,131 @@
+"""Make the pictures and the error table of docs/irradiance.md.
+
+Pictures (docs/images/): irradiance_pair.png (a probe, its sun-removed probe, its sun DIM and
+its shadow DIM, and the sun before and after removal), irradiance_methods.png (the relative
+error of ``sh`` L = 2 and of ``auto`` against ``exact``). Table (printed as Markdown): ``auto``
+and ``sh`` L = 2 against ``exact`` on every probe of ../shared/data/hdr at 360x180.
+
+Run: ``.venv/bin/python docs/images/irradiance_figures.py`` (a few minutes: ``exact`` runs at
+360x180 from each 1024x512 probe).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from bakeshop.io import read_image
+from bakeshop.light import irradiance as ir
+from bakeshop.light.tonemap import exposure, to_srgb8
+from bakeshop.sphere import layout
+
+HERE = Path(__file__).resolve().parent
+PROBES = Path(__file__).resolve().parents[3] / "shared" / "data" / "hdr"
+NAMES = [
+    "quarry_01",
+    "rooitou_park",
+    "venice_sunset",
+    "st_fagans_interior",
+    "kiara_1_dawn",
+    "forest_slope",
+    "studio_small_03",
+]
+DPI = 100
+
+
+def say(line: str) -> None:
+    sys.stdout.write(line + "\n")
+
+
+def picture(image, ev):
+    return to_srgb8(exposure(image, ev))
+
+
+def errors(got, ref):
+    got, ref = np.asarray(got, np.float64), np.asarray(ref, np.float64)
+    rel = np.abs(got - ref) / ref
+    return np.sqrt(np.mean((got - ref) ** 2) / np.mean(ref**2)), rel.max(), rel
+
+
+def pair_figure(probe):
+    pair = ir.dim_pair(probe, "latlong")
+    s = pair.sun
+    ev = -2.5
+    fig, axes = plt.subplots(3, 2, figsize=(9.6, 8.2), dpi=DPI)
+    panels = [
+        (probe, "probe (Quarry 01, 1024x512)"),
+        (pair.shadow_probe, "shadow_probe: the sun painted out"),
+        (pair.sun_dim, "sun_dim (360x180, E/pi)"),
+        (pair.shadow_dim, "shadow_dim"),
+    ]
+    for ax, (img, title) in zip(axes.flat[:4], panels, strict=True):
+        ax.imshow(picture(img, ev))
+        ax.set_title(title, fontsize=9)
+        ax.axis("off")
+    # the sun before and after, 8 degrees around it, at a darker exposure
+    xy = layout("latlong").coordinates(s.direction, probe.shape[:2])
+    x, y = int(xy[0]), int(xy[1])
+    r = 24
+    for ax, img, title in (
+        (axes[2, 0], probe, "the sun (8 deg crop)"),
+        (axes[2, 1], pair.shadow_probe, "after removal (harmonic fill)"),
+    ):
+        ax.imshow(picture(img[y - r : y + r, x - 2 * r : x + 2 * r], -6.0))
+        ax.set_title(title, fontsize=9)
+        ax.axis("off")
+    fig.tight_layout()
+    fig.savefig(HERE / "irradiance_pair.png")
+    plt.close(fig)
+    return pair
+
+
+def methods_figure(probe):
+    exact = ir.irradiance(probe, "latlong", method="exact")
+    auto = ir.irradiance(probe, "latlong")
+    sh2 = ir.irradiance(probe, "latlong", method="sh", order=2)
+    fig, axes = plt.subplots(1, 2, figsize=(9.6, 2.8), dpi=DPI)
+    for ax, got, title, vmax in (
+        (axes[0], sh2, "sh, L = 2: relative error", 0.3),
+        (axes[1], auto, "auto: relative error", 0.005),
+    ):
+        rms, worst, rel = errors(got, exact)
+        im = ax.imshow(rel.max(-1), cmap="magma", vmin=0, vmax=vmax)
+        ax.set_title(f"{title} (rms {rms:.1e}, max {worst:.1e})", fontsize=9)
+        ax.axis("off")
+        fig.colorbar(im, ax=ax, fraction=0.025)
+    fig.tight_layout()
+    fig.savefig(HERE / "irradiance_methods.png")
+    plt.close(fig)
+
+
+def table():
+    say("| probe | sun | auto RMS | auto max | sh L=2 RMS | sh L=2 max |")
+    say("|---|---|---|---|---|---|")
+    for name in NAMES:
+        probe = read_image(PROBES / f"{name}_1k.hdr")
+        exact = ir.irradiance(probe, "latlong", method="exact")
+        auto = ir.irradiance(probe, "latlong")
+        sh2 = ir.irradiance(probe, "latlong", method="sh", order=2)
+        a_rms, a_max, _ = errors(auto, exact)
+        s_rms, s_max, _ = errors(sh2, exact)
+        sun = ir.dim_pair(probe, "latlong", size=(36, 18)).sun
+        found = "yes" if sun is not None else "none"
+        say(f"| {name} | {found} | {a_rms:.1e} | {a_max:.1e} | {s_rms:.1e} | {s_max:.1e} |")
+
+
+def main():
+    probe = read_image(PROBES / "quarry_01_1k.hdr")
+    pair = pair_figure(probe)
+    say(f"sun: {pair.sun.to_dict()}")
+    methods_figure(probe)
+    table()
+
+
+if __name__ == "__main__":
+    main()
