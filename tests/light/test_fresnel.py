@@ -4,6 +4,8 @@ import cv2
 import moderngl
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from bakeshop import sphere
 from bakeshop.errors import ArgumentError
@@ -410,3 +412,16 @@ def test_flat_water_claim_through_opengl(shared_data, name):
     assert clean.mean() > 0.99
     assert err[clean].max() <= FLAT_WATER_MAX_STEPS
     assert np.mean(err[clean] > 1) <= FLAT_WATER_OVER_ONE
+
+
+@settings(deadline=None)  # the first call loads numba's compiled kernels
+@given(
+    st.floats(0, 1),
+    st.floats(0, 1),
+    st.floats(1.0001, 3.0),
+)
+def test_reflectance_is_bounded_and_falls_with_cos_property(c1, c2, n):
+    lo, hi = sorted((c1, c2))
+    r_lo, r_hi = fresnel_dielectric(lo, n), fresnel_dielectric(hi, n)
+    assert 0 <= r_hi <= r_lo <= 1
+    assert r_hi >= ((n - 1) / (n + 1)) ** 2 - 1e-15

@@ -3,6 +3,8 @@
 import numpy as np
 import OpenImageIO as oiio
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from bakeshop.errors import ArgumentError
 from bakeshop.light.tonemap import (
@@ -306,3 +308,10 @@ def test_adaptation_step_reaches_63_percent_after_one_time_constant():
     assert np.all(np.diff(ev) >= 0) and ev.max() < 4.0
     with pytest.raises(ArgumentError):
         adapt_exposure([0.0], frame_time=0)
+
+
+@settings(deadline=None)  # the first call loads numba's compiled kernels
+@given(st.floats(-1e6, 1e6, allow_nan=False))
+def test_srgb_round_trip_property(x):
+    assert srgb_decode(srgb_encode(np.float64(x))) == pytest.approx(x, rel=1e-12, abs=1e-15)
+    assert np.sign(srgb_encode(np.float64(x))) == np.sign(x)
