@@ -67,6 +67,9 @@ BASE_BINS = 32
 #: (tests/light/test_irradiance.py) with a margin of ~3 on the 0.5 % bound.
 HOT_FRACTION = 1e-4
 
+#: the largest DIM accepted, in texels (4096 x 4096: far more than a DIM ever needs).
+MAX_OUTPUT_TEXELS = 1 << 24
+
 #: the finest bin grid's edge (2**20 bins per face edge: far below any texel).
 _MAX_BINS = 1 << 20
 
@@ -344,6 +347,11 @@ def _normals(to: str, size):
 
     lay = layout(to)
     shape = lay.shape(size)
+    if math.prod(shape) > MAX_OUTPUT_TEXELS:
+        raise ArgumentError(
+            f"a {to} DIM of shape {shape} has more than {MAX_OUTPUT_TEXELS} texels; a DIM is "
+            "smooth: 360x180 is plenty"
+        )
     dirs, valid = lay.directions(shape)
     return shape, dirs, valid
 

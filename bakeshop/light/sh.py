@@ -37,8 +37,13 @@ from bakeshop.io._files import atomic_path
 #: the highest order the module accepts (a guard against absurd allocations).
 MAX_ORDER = 256
 
-#: texels per chunk in projection and evaluation (bounds the temporary basis array).
-_CHUNK = 1 << 16
+#: basis values per chunk in projection and evaluation (bounds the temporary basis array to
+#: 128 MB whatever the order).
+_CHUNK_VALUES = 1 << 24
+
+
+def _chunk(order: int) -> int:
+    return max(1, _CHUNK_VALUES // (order + 1) ** 2)
 
 
 def n_coefficients(order: int) -> int:
@@ -165,8 +170,9 @@ def project(values, directions, weights, *, order: int = 2) -> np.ndarray:
     if not np.isfinite(f).all():
         raise ArgumentError("the environment has NaN or infinite values; fix or clamp them first")
     coeffs = np.zeros(((order + 1) ** 2, f.shape[1]))
-    for start in range(0, w.size, _CHUNK):
-        sl = slice(start, start + _CHUNK)
+    chunk = _chunk(order)
+    for start in range(0, w.size, chunk):
+        sl = slice(start, start + chunk)
         coeffs += basis(d[sl], order).T @ (f[sl] * w[sl, None])
     return coeffs[:, 0] if scalar else coeffs
 
@@ -191,8 +197,9 @@ def evaluate(coeffs, directions) -> np.ndarray:
         raise ArgumentError(f"directions must have shape (..., 3), got {d.shape}")
     flat = d.reshape(-1, 3)
     out = np.empty((flat.shape[0],) + c.shape[1:])
-    for start in range(0, flat.shape[0], _CHUNK):
-        sl = slice(start, start + _CHUNK)
+    chunk = _chunk(order)
+    for start in range(0, flat.shape[0], chunk):
+        sl = slice(start, start + chunk)
         out[sl] = basis(flat[sl], order) @ c
     return out.reshape(d.shape[:-1] + c.shape[1:])
 

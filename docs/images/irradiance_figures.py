@@ -57,7 +57,7 @@ def pair_figure(probe):
     pair = ir.dim_pair(probe, "latlong")
     s = pair.sun
     ev = -2.5
-    fig, axes = plt.subplots(3, 2, figsize=(9.6, 8.2), dpi=DPI)
+    fig, axes = plt.subplots(3, 2, figsize=(8.4, 7.2), dpi=DPI)
     panels = [
         (probe, "probe (Quarry 01, 1024x512)"),
         (pair.shadow_probe, "shadow_probe: the sun painted out"),
@@ -92,7 +92,7 @@ def methods_figure(probe):
     fig, axes = plt.subplots(1, 2, figsize=(9.6, 2.8), dpi=DPI)
     for ax, got, title, vmax in (
         (axes[0], sh2, "sh, L = 2: relative error", 0.3),
-        (axes[1], auto, "auto: relative error", 0.005),
+        (axes[1], auto, "auto: relative error", 5e-4),
     ):
         rms, worst, rel = errors(got, exact)
         im = ax.imshow(rel.max(-1), cmap="magma", vmin=0, vmax=vmax)

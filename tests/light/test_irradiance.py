@@ -222,6 +222,8 @@ def test_channels_and_bad_input():
         ir.irradiance(env, "cube")
     with pytest.raises(ArgumentError):
         ir.irradiance(env[..., 0], "latlong")
+    with pytest.raises(ArgumentError):  # refused before anything is allocated
+        ir.irradiance(env, "latlong", size=(40000, 20000))
 
 
 def test_dim_pair_splits_the_sun(shared_data):
