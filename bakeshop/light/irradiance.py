@@ -473,7 +473,7 @@ def dim_pair(
     shape, normals, valid = _normals(to, size)
     values, dirs, omega, _ = texels(image, layout)
     with progress.step("finding the sun"):
-        removal = sun_module._split(image, layout, values, dirs, omega)
+        removal = sun_module.split_texels(image, layout, values, dirs, omega)
     probe = np.array(image, copy=True)
     if removal is not None:
         flat = probe.reshape(-1, probe.shape[-1])

@@ -269,14 +269,25 @@ def _harmonic_fill(image, layout, centre, radius, pitch):
 
 
 @dataclass(frozen=True)
-class _Removal:
+class Removal:
+    """What :func:`split_texels` returns: the sun and how to paint it out."""
+
+    #: the sun's measurements.
     sun: Sun
-    index: np.ndarray  # texels that were filled
-    filled: np.ndarray  # their new values (n, C)
+    #: (n,) int: flat indices of the texels to fill.
+    index: np.ndarray
+    #: (n, C): their new values (never above the old ones).
+    filled: np.ndarray
 
 
-def _split(image, layout, values, dirs, omega) -> _Removal | None:
-    """Detect the sun among the texels and compute its fill; None when there is no sun."""
+def split_texels(image, layout, values, dirs, omega) -> Removal | None:
+    """Find the sun among an environment's texels and compute its fill.
+
+    The texel-level form of :func:`remove_sun`, for callers that already hold the texels
+    (``bakeshop.light.irradiance.texels``): ``values`` (N, C), ``dirs`` (N, 3), ``omega`` (N,).
+    ``image`` and ``layout`` are sampled around the sun for the fill. None when there is no sun.
+    """
+    image = np.asarray(image)[..., : values.shape[1]]  # the fill ignores alpha
     cand = _detect(luminance(values), dirs, omega)
     if cand is None:
         return None
@@ -304,7 +315,7 @@ def _split(image, layout, values, dirs, omega) -> _Removal | None:
         irradiance=(energy * cosine[:, None]).sum(0),
         mask_radius_deg=math.degrees(cand.mask_radius),
     )
-    return _Removal(sun, index, filled.astype(values.dtype))
+    return Removal(sun, index, filled.astype(values.dtype))
 
 
 def find_sun(image, layout: str) -> Sun | None:
@@ -326,7 +337,7 @@ def find_sun(image, layout: str) -> Sun | None:
     from bakeshop.light.irradiance import texels
 
     values, dirs, omega, _ = texels(image, layout)
-    found = _split(image, layout, values, dirs, omega)
+    found = split_texels(image, layout, values, dirs, omega)
     return None if found is None else found.sun
 
 
@@ -349,7 +360,7 @@ def remove_sun(image, layout: str):
     from bakeshop.light.irradiance import texels
 
     values, dirs, omega, _ = texels(image, layout)
-    found = _split(image, layout, values, dirs, omega)
+    found = split_texels(image, layout, values, dirs, omega)
     out = np.array(image, copy=True)
     if found is not None:
         flat = out.reshape(-1, out.shape[-1])

@@ -98,6 +98,16 @@ def test_removal_restores_the_sky_and_leaves_the_rest_alone():
     assert probe.max() < 2 * true_sky.max()
 
 
+def test_rgba_keeps_its_alpha():
+    img, _ = _render("latlong", 256, _unit([0.3, 0.8, -0.5]), 3.0, [2e3, 2e3, 2e3])
+    rgba = np.concatenate([img, np.full(img.shape[:2] + (1,), 0.5, np.float32)], -1)
+    probe, sun = sunlib.remove_sun(rgba, "latlong")
+    assert sun is not None and probe.shape == rgba.shape
+    np.testing.assert_array_equal(probe[..., 3], 0.5)
+    rgb, _ = sunlib.remove_sun(img, "latlong")
+    np.testing.assert_array_equal(probe[..., :3], rgb)
+
+
 def test_no_sun_in_a_uniform_or_black_environment():
     assert sunlib.find_sun(np.ones((64, 128, 3), np.float32), "latlong") is None
     assert sunlib.find_sun(np.zeros((64, 128, 3), np.float32), "latlong") is None
