@@ -1,14 +1,99 @@
 """Specular prefiltering: GGX and Phong cube map mip chains for glossy reflections.
 
-(prefilter functions follow)
+A real-time renderer shades glossy surfaces from one cube map whose mip levels hold the
+environment convolved with ever wider specular lobes; a shader picks the level from the
+surface's roughness. Both filters here assume n = v = r (the reflection direction is the lobe's
+axis), which is what makes one cube map serve every view:
+
+- **GGX** (Karis 2013, the split-sum approximation). Level ``m`` holds
+
+      P_m(n) = integral L(l) D(h) (n.l) dl / integral D(h) (n.l) dl,   h = normalize(n + l),
+
+  over n.l > 0, with GGX's normal distribution D at alpha = roughness^2 (perceptual roughness,
+  as UE4). By default roughness is linear in the level: ``roughness = m / (mips - 1)``, so
+  level 0 is the environment itself (a mirror) and the last level has roughness 1; a shader
+  reads ``textureLod(env, r, roughness * (mips - 1))``. Pass ``roughness=`` to use another map.
+  Multiply by the DFG table (:mod:`bakeshop.light.dfg`) to complete the split sum.
+- **Phong** (HDRShop's specular convolution; cmft's radiance filter). Level ``m`` holds
+
+      P_m(r) = integral L(l) (e + 1) / (2 pi) max(0, r.l)^e dl
+
+  with exponent e per level; the lobe integrates to 1, so a uniform environment stays uniform.
+  The default exponents follow cmft: ``e = 2^(10 g + 1)`` with glossiness
+  ``g = 1 - m / (mips - 1)`` (2048 at level 0 down to 2 at the last).
+
+How a level is computed (accurate to about 0.5% RMS against brute-force convolution over every
+source texel on a sunny probe, in a couple of seconds for a 6x256, 9-level chain):
+
+1. The source cube is split into ``bright + rest``: the few brightest texels (above
+   :data:`BRIGHT_RATIO` times the mean, at most :data:`MAX_BRIGHT` of them: the sun, lamps) and
+   everything else clamped to that threshold. The bright texels are convolved exactly with the
+   analytically normalised lobe, so a sun is never undersampled.
+2. The rest has a bounded contrast. Where it is cheap (the wide lobes of the coarse levels,
+   at most :data:`EXACT_BUDGET` texel pairs), it is convolved exactly over a level of its mip
+   pyramid whose texels are at most a third of the lobe's half-width. Elsewhere (the narrow
+   lobes of the fine levels) it is estimated by filtered importance sampling (Colbert and
+   Krivanek 2007): each output texel averages ``samples`` directions drawn from the lobe (a
+   Hammersley set, the same for every texel up to rotation, so the result is deterministic),
+   each read from the rest's box-filtered mip pyramid at the level whose texels are as large
+   as the solid angle the sample stands for, ``lod = 0.5 log2(Omega_s / Omega_p) + 1``, with
+   ``Omega_s = 1 / (samples pdf)`` and ``Omega_p`` the cube texel's solid angle where the
+   sample lands. The pyramid's faces are padded with their neighbours' texels, so bilinear
+   lookups are seamless.
+
+Kernels are numba, parallel over output texels.
+
+References
+----------
+B. Karis, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course Physically Based Shading in
+Theory and Practice. https://blog.selfshadow.com/publications/s2013-shading-course/
+M. Colbert and J. Krivanek, "GPU-Based Importance Sampling", GPU Gems 3, chapter 20, 2007.
+https://developer.nvidia.com/gpugems/gpugems3/part-iii-rendering/chapter-20-gpu-based-importance-sampling
+B. Walter, S. Marschner, H. Li, K. Torrance, "Microfacet Models for Refraction through Rough
+Surfaces", EGSR 2007. https://doi.org/10.2312/EGWR/EGSR07/195-206
+T. Duff et al., "Building an Orthonormal Basis, Revisited", JCGT 6(1), 2017.
+https://jcgt.org/published/0006/01/01/
+P. Debevec et al., HDRShop 3 specular convolution; M. Lazarov's cmft (radiance filter).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numba
 import numpy as np
+
+from bakeshop import progress
+from bakeshop.errors import ArgumentError
+from bakeshop.sphere import layout as get_layout
+from bakeshop.sphere import remap, sample
+from bakeshop.sphere.cube import FACE_BASES
+
+#: Largest number of samples per texel accepted.
+MAX_SAMPLES = 1 << 16
+#: Largest exact convolution (output texels times source texels) done instead of sampling.
+EXACT_BUDGET = 1.5e8
+#: Texels brighter than this many times the environment's mean (and at most
+#: :data:`MAX_BRIGHT` of them) are convolved exactly rather than sampled.
+BRIGHT_RATIO = 8.0
+MAX_BRIGHT = 1024
+#: Mip level bias of filtered importance sampling (Colbert and Krivanek's +1: each sample reads
+#: a level twice as wide as its solid angle, which hides the sampling pattern).
+LOD_BIAS = 1.0
+
+__all__ = [
+    "hammersley",
+    "ggx_half_vector",
+    "mip_roughness",
+    "phong_exponents",
+    "prefilter_ggx",
+    "prefilter_phong",
+    "source_cube",
+]
+
+
+# --- sample sets ---------------------------------------------------------------------------------
 
 
 def hammersley(count: int) -> np.ndarray:
@@ -48,3 +133,481 @@ def ggx_half_vector(u, v, alpha):
     sin_t = math.sqrt(max(0.0, 1.0 - cos2))
     phi = 2.0 * math.pi * u
     return sin_t * math.cos(phi), sin_t * math.sin(phi), cos_t
+
+
+def _ggx_samples(roughness: float, count: int) -> np.ndarray:
+    """Light directions for GGX with n = v: ``(K, 5)`` rows (lx, ly, lz, weight, log2 Omega_s).
+
+    l = reflect(-n, h) with h drawn from D(h) (n.h); its pdf is D(h) (n.h) / (4 v.h) = D(h) / 4
+    because n = v. Samples below the horizon are dropped; the weight is n.l (Karis 2013).
+    """
+    xi = hammersley(count)
+    alpha = max(roughness * roughness, 1e-8)
+    a2 = alpha * alpha
+    cos2 = (1 - xi[:, 1]) / (1 + (a2 - 1) * xi[:, 1])
+    cos_t, sin_t = np.sqrt(cos2), np.sqrt(np.maximum(0.0, 1 - cos2))
+    phi = 2 * np.pi * xi[:, 0]
+    h = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), cos_t], axis=-1)
+    l = 2 * cos_t[:, None] * h
+    l[:, 2] -= 1
+    d = a2 / (np.pi * (cos2 * (a2 - 1) + 1) ** 2)
+    pdf = d / 4
+    keep = l[:, 2] > 0
+    log_omega = -np.log2(count * pdf)
+    return np.column_stack([l, l[:, 2], log_omega])[keep]
+
+
+def _phong_samples(exponent: float, count: int) -> np.ndarray:
+    """Directions distributed as (e + 1) / (2 pi) cos^e about +z: ``(K, 5)`` as above, weight 1."""
+    xi = hammersley(count)
+    cos_t = xi[:, 1] ** (1 / (exponent + 1))
+    sin_t = np.sqrt(np.maximum(0.0, 1 - cos_t**2))
+    phi = 2 * np.pi * xi[:, 0]
+    l = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), cos_t], axis=-1)
+    with np.errstate(divide="ignore"):
+        pdf = (exponent + 1) / (2 * np.pi) * cos_t**exponent
+        log_omega = -np.log2(count * pdf)
+    return np.column_stack([l, np.ones(count), np.minimum(log_omega, 64.0)])
+
+
+# --- the source pyramid --------------------------------------------------------------------------
+
+
+@functools.lru_cache(maxsize=16)
+def _border_directions(size: int) -> np.ndarray:
+    """Directions of the texel centres of faces padded by one texel: ``(6, S+2, S+2, 3)``.
+
+    The padding texels lie on each face's plane extended past its edges, so they look into the
+    neighbouring faces; :func:`_pyramid` fills them from there.
+    """
+    t = np.arange(-1, size + 1) + 0.5
+    face, y, x = np.meshgrid(np.arange(6.0), t, t, indexing="ij")
+    coords = np.stack([face, x, y], axis=-1)
+    return get_layout("cube").directions_at(coords, (6, size, size))
+
+
+def _pyramid(cube: np.ndarray):
+    """Box-filtered mip pyramid of a cube map, each face padded with its neighbours' texels.
+
+    Returns the levels concatenated in one flat float32 array, each level's offset into it and
+    its face size (the padded level ``k`` is ``(6, s_k + 2, s_k + 2, 4)``: channels are padded
+    to four with zeros, so that the kernel reads fixed-size texels).
+    """
+    levels, sizes = [], []
+    level = np.zeros(cube.shape[:3] + (4,), np.float32)
+    level[..., : cube.shape[-1]] = cube
+    while True:
+        s = level.shape[1]
+        padded = sample(level, "cube", _border_directions(s), filter="nearest")
+        padded[:, 1:-1, 1:-1] = level
+        levels.append(padded.reshape(-1).astype(np.float32, copy=False))
+        sizes.append(s)
+        if s == 1:
+            break
+        if s % 2:
+            level = remap(level, "cube", "cube", s // 2, filter="area")
+        else:
+            level = level.reshape(6, s // 2, 2, s // 2, 2, 4).mean(axis=(2, 4), dtype=np.float32)
+    offsets = np.cumsum([0] + [lv.size for lv in levels])[:-1]
+    return np.concatenate(levels), offsets.astype(np.int64), np.array(sizes, np.int64)
+
+
+# --- the kernel ----------------------------------------------------------------------------------
+
+
+@numba.njit(cache=True, inline="always")
+def _fetch(pyramid, offsets, sizes, bases, level, x, y, z):
+    """The bilinear RGBA value of pyramid ``level`` in direction (x, y, z)."""
+    ax, ay, az = abs(x), abs(y), abs(z)
+    if ax >= ay and ax >= az:
+        face = 0 if x >= 0 else 1
+        ma = ax
+    elif ay >= az:
+        face = 2 if y >= 0 else 3
+        ma = ay
+    else:
+        face = 4 if z >= 0 else 5
+        ma = az
+    sc = (x * bases[face, 1, 0] + y * bases[face, 1, 1] + z * bases[face, 1, 2]) / ma
+    tc = (x * bases[face, 2, 0] + y * bases[face, 2, 1] + z * bases[face, 2, 2]) / ma
+    s = sizes[level]
+    p = s + 2
+    # continuous coordinate (sc + 1) / 2 * s, shifted by the one-texel padding, minus 0.5
+    px = (sc + 1.0) * 0.5 * s + 0.5
+    py = (tc + 1.0) * 0.5 * s + 0.5
+    i0 = min(max(int(px), 0), s)
+    j0 = min(max(int(py), 0), s)
+    fx = min(max(px - i0, 0.0), 1.0)
+    fy = min(max(py - j0, 0.0), 1.0)
+    t = offsets[level] + ((face * p + j0) * p + i0) * 4
+    r = p * 4
+    w00 = (1.0 - fx) * (1.0 - fy)
+    w10 = fx * (1.0 - fy)
+    w01 = (1.0 - fx) * fy
+    w11 = fx * fy
+    v0 = w00 * pyramid[t] + w10 * pyramid[t + 4] + w01 * pyramid[t + r] + w11 * pyramid[t + r + 4]
+    v1 = (
+        w00 * pyramid[t + 1]
+        + w10 * pyramid[t + 5]
+        + w01 * pyramid[t + r + 1]
+        + w11 * pyramid[t + r + 5]
+    )
+    v2 = (
+        w00 * pyramid[t + 2]
+        + w10 * pyramid[t + 6]
+        + w01 * pyramid[t + r + 2]
+        + w11 * pyramid[t + r + 6]
+    )
+    v3 = (
+        w00 * pyramid[t + 3]
+        + w10 * pyramid[t + 7]
+        + w01 * pyramid[t + r + 3]
+        + w11 * pyramid[t + r + 7]
+    )
+    return v0, v1, v2, v3
+
+
+@numba.njit(cache=True, parallel=True)
+def _filter_kernel(dirs, samples, pyramid, offsets, sizes, bases, lod_bias, out):
+    """out[p] = sum_k w_k L(l_k(p)) / sum_k w_k, each L read at its filtered-importance level."""
+    top = sizes.size - 1
+    s0 = float(sizes[0])
+    # log2 of a level-0 texel's solid angle at a face centre: (2 / s0)^2
+    log_texel = 2.0 * math.log2(2.0 / s0)
+    total = 0.0
+    for k in range(samples.shape[0]):
+        total += samples[k, 3]
+    for p in numba.prange(dirs.shape[0]):
+        nx, ny, nz = dirs[p, 0], dirs[p, 1], dirs[p, 2]
+        # Duff et al. 2017: a continuous orthonormal frame (t, b, n) except across n.z = 0
+        sign = 1.0 if nz >= 0.0 else -1.0
+        a = -1.0 / (sign + nz)
+        b = nx * ny * a
+        tx, ty, tz = 1.0 + sign * nx * nx * a, sign * b, -sign * nx
+        bx, by, bz = b, sign + ny * ny * a, -ny
+        a0 = a1 = a2 = a3 = 0.0
+        for k in range(samples.shape[0]):
+            lx, ly, lz = samples[k, 0], samples[k, 1], samples[k, 2]
+            x = lx * tx + ly * bx + lz * nx
+            y = lx * ty + ly * by + lz * ny
+            z = lx * tz + ly * bz + lz * nz
+            # texel solid angle where l lands: (2 / s0)^2 / (1 + sc^2 + tc^2)^1.5
+            ma = max(abs(x), max(abs(y), abs(z)))
+            r2 = 1.0 / (ma * ma)  # 1 + sc^2 + tc^2 for a unit l
+            lod = 0.5 * (samples[k, 4] - log_texel) + 0.75 * math.log2(r2) + lod_bias
+            lod = min(max(lod, 0.0), float(top))
+            lo = int(lod)
+            f = lod - lo
+            w = samples[k, 3]
+            v0, v1, v2, v3 = _fetch(pyramid, offsets, sizes, bases, lo, x, y, z)
+            if f > 0.0 and lo < top:
+                u0, u1, u2, u3 = _fetch(pyramid, offsets, sizes, bases, lo + 1, x, y, z)
+                v0 += f * (u0 - v0)
+                v1 += f * (u1 - v1)
+                v2 += f * (u2 - v2)
+                v3 += f * (u3 - v3)
+            a0 += w * v0
+            a1 += w * v1
+            a2 += w * v2
+            a3 += w * v3
+        out[p, 0] = a0 / total
+        out[p, 1] = a1 / total
+        out[p, 2] = a2 / total
+        out[p, 3] = a3 / total
+
+
+@numba.njit(cache=True, parallel=True)
+def _lobe_kernel(dirs, src_dirs, src_omega, src_values, ggx, param, acc, total):
+    """acc[p] = sum_j w(n_p . l_j) Omega_j L_j and total[p] = sum_j w(n_p . l_j) Omega_j.
+
+    The lobe w is GGX's D(h) (n.l) up to the constant alpha^2 / pi (param = alpha^2), or Phong's
+    (n.l)^e (param = e), over n.l > 0.
+    """
+    channels = src_values.shape[1]
+    for p in numba.prange(dirs.shape[0]):
+        nx, ny, nz = dirs[p, 0], dirs[p, 1], dirs[p, 2]
+        t = 0.0
+        for j in range(src_dirs.shape[0]):
+            nl = nx * src_dirs[j, 0] + ny * src_dirs[j, 1] + nz * src_dirs[j, 2]
+            if nl <= 0.0:
+                continue
+            if ggx:
+                # (n.h)^2 = (1 + n.l) / 2 for h = normalize(n + l)
+                q = 0.5 * (1.0 + nl) * (param - 1.0) + 1.0
+                w = nl / (q * q) * src_omega[j]
+            else:
+                w = nl**param * src_omega[j]
+            t += w
+            for c in range(channels):
+                acc[p, c] += w * src_values[j, c]
+        total[p] = t
+
+
+class _Lobe:
+    """A filter lobe: GGX at alpha^2 = ``param`` or Phong with exponent ``param``."""
+
+    def __init__(self, ggx: bool, param: float, samples: int):
+        self.ggx, self.param = ggx, param
+        if ggx:
+            self.samples = _ggx_samples(param**0.25, samples)
+            # integral of D(h) (n.l) dl = 4 E[max(0, n.l)] over l drawn with pdf D(h) / 4, in
+            # the kernel's units (without alpha^2 / pi)
+            xi = (np.arange(1 << 16) + 0.5) / (1 << 16)
+            cos2 = (1 - xi) / (1 + (param - 1) * xi)
+            self.norm = 4 * np.mean(np.maximum(0.0, 2 * cos2 - 1)) * np.pi / param
+            t = np.linspace(0.0, np.pi / 2, 4097)
+            w = np.cos(t) / (0.5 * (1 + np.cos(t)) * (param - 1) + 1) ** 2
+            half = w < 0.5 * w[0]
+            self.half_width = float(t[np.argmax(half)]) if half.any() else np.pi / 2
+        else:
+            self.samples = _phong_samples(param, samples)
+            self.norm = 2 * np.pi / (param + 1)
+            self.half_width = math.acos(0.5 ** (1.0 / param))
+
+
+class _Source:
+    """Level 0 of the chain, split for filtering: ``cube = rest + bright``.
+
+    ``bright`` is the part of the few brightest texels above a threshold (a sun, lamps): at most
+    :data:`MAX_BRIGHT` texels, kept as directions and radiance times solid angle and convolved
+    exactly. ``rest`` (everything clamped to the threshold) has a bounded contrast, which is
+    what filtered importance sampling handles well; it is kept as the padded mip pyramid.
+    """
+
+    def __init__(self, cube: np.ndarray):
+        cube_layout = get_layout("cube")
+        s = cube.shape[1]
+        self.cube, self.channels = cube, cube.shape[-1]
+        omega = cube_layout.solid_angles((6, s, s))
+        peak = cube.max(axis=-1)
+        mean = float(np.sum(peak * omega) / (4 * np.pi))
+        flat = peak.reshape(-1)
+        threshold = BRIGHT_RATIO * mean
+        if flat.size > MAX_BRIGHT:
+            threshold = max(threshold, float(np.partition(flat, -MAX_BRIGHT - 1)[-MAX_BRIGHT - 1]))
+        rest = np.minimum(cube, np.float32(threshold)) if threshold > 0 else cube
+        index = np.flatnonzero(flat > threshold)[:MAX_BRIGHT] if threshold > 0 else []
+        dirs, _ = cube_layout.directions((6, s, s))
+        self.bright_dirs = np.ascontiguousarray(dirs.reshape(-1, 3)[index])
+        self.bright_omega = omega.reshape(-1)[index]
+        excess = cube.reshape(-1, self.channels)[index] - rest.reshape(-1, self.channels)[index]
+        self.bright_values = np.ascontiguousarray(excess, dtype=np.float64)
+        self.pyramid = _pyramid(rest)
+
+    def rest_level(self, k: int):
+        """Pyramid level ``k`` of the rest, unpadded: (face size, (6 s^2, C) float64 values)."""
+        flat, offsets, sizes = self.pyramid
+        sk = int(sizes[k])
+        padded = flat[offsets[k] : offsets[k] + 6 * (sk + 2) ** 2 * 4].reshape(6, sk + 2, sk + 2, 4)
+        values = padded[:, 1:-1, 1:-1, : self.channels].reshape(-1, self.channels)
+        return sk, np.ascontiguousarray(values, dtype=np.float64)
+
+
+def _convolve(source: _Source, size: int, lobe: _Lobe) -> np.ndarray:
+    """One output level: the bright texels exactly, plus the rest by exact convolution where it
+    is cheap and by filtered importance sampling elsewhere.
+
+    The exact sum over the rest runs over a pyramid level whose texels are at most a third of
+    the lobe's half-width (and at least the output's size); it is used when it costs at most
+    :data:`EXACT_BUDGET` texel pairs: the wide lobes of the coarse levels, where importance
+    sampling is least accurate.
+    """
+    cube_layout = get_layout("cube")
+    dirs, _ = cube_layout.directions((6, size, size))
+    dirs = np.ascontiguousarray(dirs.reshape(-1, 3))
+    n, channels = dirs.shape[0], source.channels
+    sizes = source.pyramid[2]
+    need = max(1.5 * math.pi / max(lobe.half_width, 1e-6), size)
+    k = next((i for i in range(len(sizes) - 1, -1, -1) if sizes[i] >= need), 0)
+    if 36 * size**2 * int(sizes[k]) ** 2 <= EXACT_BUDGET:
+        sk, values = source.rest_level(k)
+        src_dirs, _ = cube_layout.directions((6, sk, sk))
+        acc, total = np.zeros((n, channels)), np.zeros(n)
+        _lobe_kernel(
+            dirs,
+            np.ascontiguousarray(src_dirs.reshape(-1, 3)),
+            cube_layout.solid_angles((6, sk, sk)).reshape(-1),
+            values,
+            lobe.ggx,
+            lobe.param,
+            acc,
+            total,
+        )
+        # a texel whose lobe sees only zero-solid-angle texels gets 0 (never 0 / 0)
+        out = np.divide(acc, total[:, None], out=np.zeros_like(acc), where=total[:, None] > 0)
+    else:
+        rgba = np.empty((n, 4))
+        _filter_kernel(dirs, lobe.samples, *source.pyramid, FACE_BASES, LOD_BIAS, rgba)
+        out = rgba[:, :channels]
+    if len(source.bright_dirs):
+        acc, total = np.zeros((n, channels)), np.zeros(n)
+        _lobe_kernel(
+            dirs,
+            source.bright_dirs,
+            source.bright_omega,
+            source.bright_values,
+            lobe.ggx,
+            lobe.param,
+            acc,
+            total,
+        )
+        out += acc / lobe.norm
+    return out.reshape(6, size, size, channels).astype(np.float32)
+
+
+# --- public API ----------------------------------------------------------------------------------
+
+
+def source_cube(image, *, layout: str = "cube", size: int = 256) -> np.ndarray:
+    """The environment as a ``(6, size, size, C)`` float32 cube: level 0 of every chain.
+
+    A cube of the requested size is returned unchanged (as float32); anything else is remapped
+    with the area filter (an average over each output texel's footprint, so a large probe's sun
+    keeps its energy), or bilinear when upsampling.
+    """
+    lay = get_layout(layout)
+    img = np.asarray(image)
+    if img.dtype.kind not in "fiu":
+        raise ArgumentError(f"cannot filter {img.dtype} pixels")
+    spatial = 3 if lay.cubic else 2
+    if img.ndim == spatial:
+        img = img[..., None]
+    if img.ndim != spatial + 1 or not 1 <= img.shape[-1] <= 4:
+        raise ArgumentError(
+            f"a {layout} environment has {spatial} spatial axes and 1 to 4 channels; "
+            f"got shape {img.shape}"
+        )
+    if not np.all(np.isfinite(img)):
+        raise ArgumentError("the environment holds NaN or infinite values")
+    if not 1 <= size <= 1 << 14:
+        raise ArgumentError(f"cube face size must be in 1..{1 << 14}, got {size}")
+    img = img.astype(np.float32, copy=False)
+    if lay.name == "cube" and img.shape[1] == size:
+        return img
+    valid_texels = int(np.count_nonzero(lay.base.solid_angles(img.shape[:-1])))
+    down = valid_texels >= 6 * size * size
+    return remap(img, layout, "cube", size, filter="area" if down else "bilinear")
+
+
+def _source(image, layout, size, samples) -> _Source:
+    if not 1 <= samples <= MAX_SAMPLES:
+        raise ArgumentError(f"samples must be in 1..{MAX_SAMPLES}, got {samples}")
+    with progress.step("preparing the source cube map"):
+        return _Source(source_cube(image, layout=layout, size=size))
+
+
+def _check_mips(mips: int, size: int) -> int:
+    top = size.bit_length()
+    if not 1 <= mips <= top:
+        raise ArgumentError(f"a {size}-texel cube has 1..{top} mip levels; got {mips}")
+    return mips
+
+
+def mip_roughness(mips: int) -> np.ndarray:
+    """The default roughness of each GGX level: ``m / (mips - 1)`` (0 for a single level)."""
+    return np.linspace(0.0, 1.0, mips) if mips > 1 else np.zeros(1)
+
+
+def phong_exponents(mips: int, *, gloss_scale: float = 10.0, gloss_bias: float = 1.0):
+    """cmft's Phong exponent of each level: ``2^(gloss_scale g + gloss_bias)``,
+    ``g = 1 - m / (mips - 1)`` (2048 down to 2 with the defaults)."""
+    g = 1 - mip_roughness(mips)
+    return 2.0 ** (gloss_scale * g + gloss_bias)
+
+
+def prefilter_ggx(
+    image,
+    *,
+    layout: str = "cube",
+    size: int = 256,
+    mips: int = 9,
+    roughness=None,
+    samples: int = 256,
+) -> list[np.ndarray]:
+    """The GGX prefiltered cube map mip chain (split-sum approximation, n = v = r).
+
+    Parameters
+    ----------
+    image : array
+        The environment (linear radiance) in ``layout``: ``(H, W, C)``, or ``(6, S, S, C)`` for
+        ``"cube"``; a 2-D (3-D for a cube) array is one channel. NaN and Inf are refused.
+    layout : str
+        The input's layout (any of :data:`bakeshop.sphere.LAYOUT_NAMES`).
+    size : int
+        Face size of level 0; level ``m`` is ``max(1, size >> m)``.
+    mips : int
+        Number of levels (at most ``log2(size) + 1``).
+    roughness : sequence of float, optional
+        Perceptual roughness of each level (alpha = roughness^2), in [0, 1]. Default
+        :func:`mip_roughness`: ``m / (mips - 1)``. A level of roughness 0 is the source itself.
+    samples : int
+        Importance samples per output texel (before dropping those below the horizon).
+
+    Returns
+    -------
+    list of (6, S_m, S_m, C) float32
+        Level 0 first, cube faces in OpenGL order (:mod:`bakeshop.sphere.cube`).
+
+    Notes
+    -----
+    Level m holds ``integral L(l) D(h) (n.l) dl / integral D(h) (n.l) dl`` (n.l > 0), estimated
+    by filtered importance sampling; see the module notes. Cost: ``samples`` bilinear lookups
+    (two for trilinear) per output texel of levels 1 and up, so about 1/3 of ``6 size^2
+    samples`` lookups, plus one area remap of the input.
+    """
+    mips = _check_mips(mips, size)
+    rough = mip_roughness(mips) if roughness is None else np.asarray(roughness, float)
+    if rough.shape != (mips,) or not np.all((rough >= 0) & (rough <= 1)):
+        raise ArgumentError(f"roughness must be {mips} values in [0, 1]; got {roughness!r}")
+    source = _source(image, layout, size, samples)
+    out = []
+    for m in progress.track(range(mips), "GGX prefilter", total=mips):
+        s = max(1, size >> m)
+        if rough[m] == 0 and s == size:
+            out.append(source.cube)
+        else:
+            # alpha >= 1e-4: a smoother lobe is narrower than any texel
+            lobe = _Lobe(True, max(rough[m], 0.01) ** 4, samples)
+            out.append(_convolve(source, s, lobe))
+    return out
+
+
+def prefilter_phong(
+    image,
+    *,
+    layout: str = "cube",
+    size: int = 256,
+    mips: int = 9,
+    exponents=None,
+    samples: int = 256,
+) -> list[np.ndarray]:
+    """The Phong prefiltered cube map mip chain (HDRShop's specular convolution, cmft's filter).
+
+    Parameters
+    ----------
+    image, layout, size, mips, samples
+        As :func:`prefilter_ggx`.
+    exponents : sequence of float, optional
+        Phong exponent of each level, positive; ``inf`` is a mirror (the source itself at level
+        0's size). Default :func:`phong_exponents` (cmft's gloss mapping).
+
+    Returns
+    -------
+    list of (6, S_m, S_m, C) float32
+        Level m holds ``integral L(l) (e_m + 1) / (2 pi) max(0, r.l)^e_m dl``: the lobe
+        integrates to 1, so a uniform environment stays uniform.
+    """
+    mips = _check_mips(mips, size)
+    exps = phong_exponents(mips) if exponents is None else np.asarray(exponents, float)
+    if exps.shape != (mips,) or not np.all(exps > 0) or np.any(np.isnan(exps)):
+        raise ArgumentError(f"exponents must be {mips} positive values; got {exponents!r}")
+    source = _source(image, layout, size, samples)
+    out = []
+    for m in progress.track(range(mips), "Phong prefilter", total=mips):
+        s = max(1, size >> m)
+        if np.isinf(exps[m]) and s == size:
+            out.append(source.cube)
+        else:
+            # e <= 1e8: a narrower lobe is smaller than any texel
+            out.append(_convolve(source, s, _Lobe(False, min(exps[m], 1e8), samples)))
+    return out
