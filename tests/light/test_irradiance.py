@@ -4,6 +4,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from bakeshop.errors import ArgumentError
 from bakeshop.io import read_image
@@ -251,3 +253,23 @@ def test_dim_pair_without_a_sun(shared_data):
     assert pair.sun is None
     np.testing.assert_array_equal(pair.sun_dim, pair.shadow_dim)
     np.testing.assert_array_equal(pair.shadow_probe, env)
+
+
+@settings(max_examples=15, deadline=None)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    n_lights=st.integers(0, 12),
+    peak=st.floats(1.0, 1e6),
+)
+def test_auto_bound_holds_on_random_skies_with_lights(seed, n_lights, peak):
+    rng = np.random.default_rng(seed)
+    tint = rng.uniform(0.2, 2.0, 3)
+    env = (_env("latlong", 128, _sky) * tint).astype(np.float32)
+    for _ in range(n_lights):  # point lights and small lamps of random power
+        r, c = rng.integers(0, 128), rng.integers(0, 256)
+        size = rng.integers(1, 4)
+        env[r : r + size, c : c + size] += peak * rng.uniform(0, 1, 3).astype(np.float32)
+    exact = ir.irradiance(env, "latlong", size=(32, 16), method="exact")
+    auto = ir.irradiance(env, "latlong", size=(32, 16))
+    rms, worst = _errors(auto, exact)
+    assert rms < IRRADIANCE_AUTO_RMS and worst < IRRADIANCE_AUTO_MAX, (rms, worst)
