@@ -138,8 +138,11 @@ def _size_text(shape) -> str:
     return f"{shape[1]}x{shape[0]}"
 
 
-def _report_lines(flat: dict, rough: list[dict]) -> list[str]:
+def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
     lines = [
+        f"Schlick's approximation vs the exact reflectance: {schlick['max']:+.4f} at "
+        f"{schlick['max_angle_deg']:.1f} deg, {schlick['min']:+.4f} at "
+        f"{schlick['min_angle_deg']:.1f} deg, mean {schlick['mean']:+.4f} over cos(theta)",
         f"flat water, baked 8-bit lookup vs runtime (HDR x fresnel x exposure -> 8-bit sRGB), "
         f"{flat['samples']} reflected directions over the upper hemisphere, {flat['filter']} "
         f"lookups, below horizon: {flat['below']}, dither: {flat['dither']}:",
@@ -278,6 +281,7 @@ def fresnel(
         flat_water_error,
         ldr_exposure,
         normal_mapped_error,
+        schlick_error,
     )
     from bakeshop.light.tonemap import exposure as apply_exposure
     from bakeshop.light.tonemap import to_srgb8
@@ -327,7 +331,7 @@ def fresnel(
         )
         slopes = progress.track(RMS_SLOPES, "normal-mapped water")
         rough = [normal_mapped_error(s, ior=ior, samples=1 << 18) for s in slopes]
-        for line in _report_lines(flat, rough):
+        for line in _report_lines(schlick_error(ior), flat, rough):
             click.echo(line)
 
 

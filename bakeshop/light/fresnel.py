@@ -135,6 +135,28 @@ def fresnel_schlick(cos_i, ior: float = WATER_IOR) -> np.ndarray:
     return (r0 + (1.0 - r0) * (1.0 - c.astype(np.float64)) ** 5).astype(c.dtype, copy=False)
 
 
+def schlick_error(ior: float = WATER_IOR, *, samples: int = 100001) -> dict:
+    """How far Schlick's approximation is from the exact reflectance, over cos_i in [0, 1].
+
+    Returns
+    -------
+    dict
+        ``max`` (largest signed error, Schlick - exact) and ``max_angle_deg`` (its angle of
+        incidence), ``min`` and ``min_angle_deg`` likewise, ``mean`` (mean error over cos_i,
+        evenly spaced, ``samples`` points).
+    """
+    c = np.linspace(0.0, 1.0, int(samples))
+    err = fresnel_schlick(c, ior) - fresnel_dielectric(c, ior)
+    hi, lo = int(np.argmax(err)), int(np.argmin(err))
+    return {
+        "max": float(err[hi]),
+        "max_angle_deg": float(np.degrees(np.arccos(c[hi]))),
+        "min": float(err[lo]),
+        "min_angle_deg": float(np.degrees(np.arccos(c[lo]))),
+        "mean": float(err.mean()),
+    }
+
+
 def _unit_axis(up) -> np.ndarray:
     u = np.asarray(up, dtype=np.float64).reshape(-1)
     norm = np.linalg.norm(u) if u.size == 3 else 0.0

@@ -77,7 +77,7 @@ def test_fresnel_cube_faces_and_report(sky, tmp_path, capsys):
         face = read_image(tmp_path / f"water_{name}.png")
         assert face.shape == (16, 16, 3)
     assert np.all(read_image(tmp_path / "water_negy.png") == 0)  # below the plane
-    assert "flat water" in text and "RMS slope" in text and "0.30" in text
+    assert "flat water" in text and "RMS slope" in text and "0.30" in text and "Schlick" in text
 
 
 def test_fresnel_cube_containers(sky, tmp_path):
