@@ -158,3 +158,5 @@ FIS_RMS = 0.01
 FIS_MAX = 0.15
 #: a uniform environment through the filters (float32 accumulation order).
 UNIFORM_RTOL = 1e-5
+#: bilinear weights computed in float32 sum to 1 within a few ulps (relative).
+FLOAT32_WEIGHTS = 5e-7

@@ -25,7 +25,7 @@ DISK_OVERLAP_EPS = 1e-9
 AREA_SPLAT_RATIO = 1.5
 
 _BASES = np.ascontiguousarray(FACE_BASES)
-_jit = numba.njit(cache=True, fastmath=False)
+_jit = numba.njit(cache=True, error_model="numpy")
 
 
 # --- directions at coordinates ------------------------------------------------------------------
@@ -270,7 +270,7 @@ def density(kind, h, w, f, x, y):
 # --- drivers ------------------------------------------------------------------------------------
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=True, cache=True, error_model="numpy")
 def directions_at(kind, h, w, coords, out):
     for p in numba.prange(coords.shape[0]):
         out[p, 0], out[p, 1], out[p, 2] = direction(
@@ -278,7 +278,7 @@ def directions_at(kind, h, w, coords, out):
         )
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=True, cache=True, error_model="numpy")
 def coordinates_of(kind, h, w, dirs, out):
     for p in numba.prange(dirs.shape[0]):
         f, x, y = coordinates(kind, h, w, dirs[p, 0], dirs[p, 1], dirs[p, 2])
@@ -310,7 +310,7 @@ def _taps(kind, h, w, f, x, y, nearest, index, frac, p):
     index[p, 3] = resolve(kind, h, w, f, i0 + 1, j0 + 1, x)
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=True, cache=True, error_model="numpy")
 def taps_of(kind, h, w, dirs, nearest, index, frac):
     """Source taps for sampling layout (kind, h, w) at directions ``dirs`` (m, 3)."""
     for p in numba.prange(dirs.shape[0]):
@@ -318,7 +318,7 @@ def taps_of(kind, h, w, dirs, nearest, index, frac):
         _taps(kind, h, w, f, x, y, nearest, index, frac, p)
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=True, cache=True, error_model="numpy")
 def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, index, frac):
     """Source taps of every destination texel centre (invalid destination texels: all -1)."""
     per = dh * dw
@@ -356,7 +356,7 @@ def _bilinear(src, i0, i1, i2, i3, fx, fy, c):
     return w0 * v0 + w1 * v1 + w2 * v2 + w3 * v3
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=True, cache=True, error_model="numpy")
 def gather_nearest(src, index, out):
     for p in numba.prange(index.shape[0]):
         i = index[p, 0]
@@ -364,17 +364,27 @@ def gather_nearest(src, index, out):
             out[p, c] = src[i, c] if i >= 0 else 0
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=True, cache=True, error_model="numpy")
 def gather_bilinear(src, index, frac, out):
+    """out[p] = bilinear blend of the four taps of ``index[p]`` with fractions ``frac[p]``;
+    all taps -1: 0 (an invalid texel); one tap -1: a cube corner (the mean of the other three).
+    Weights are computed in the image's type (float32 stays float32)."""
+    nc = src.shape[1]
+    one = src.dtype.type(1)
     for p in numba.prange(index.shape[0]):
         i0, i1, i2, i3 = index[p, 0], index[p, 1], index[p, 2], index[p, 3]
-        if i0 < 0 and i1 < 0:
-            for c in range(src.shape[1]):
+        fx, fy = src.dtype.type(frac[p, 0]), src.dtype.type(frac[p, 1])
+        gx, gy = one - fx, one - fy
+        w0, w1, w2, w3 = gx * gy, fx * gy, gx * fy, fx * fy
+        if i0 >= 0 and i1 >= 0 and i2 >= 0 and i3 >= 0:
+            for c in range(nc):
+                out[p, c] = w0 * src[i0, c] + w1 * src[i1, c] + w2 * src[i2, c] + w3 * src[i3, c]
+        elif i0 < 0 and i1 < 0:
+            for c in range(nc):
                 out[p, c] = 0
-            continue
-        fx, fy = frac[p, 0], frac[p, 1]
-        for c in range(src.shape[1]):
-            out[p, c] = _bilinear(src, i0, i1, i2, i3, fx, fy, c)
+        else:
+            for c in range(nc):
+                out[p, c] = _bilinear(src, i0, i1, i2, i3, fx, fy, c)
 
 
 @_jit
@@ -457,7 +467,7 @@ def _image(skind, sh, sw, f, u, v, rot, dkind, dh, dw, cf, cx, cy):
     return _local(dkind, dh, dw, x, y, z, cf, cx, cy)
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=True, cache=True, error_model="numpy")
 def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc, weight, span):
     """Deposit every source texel's radiance x solid angle into the destination texels.
 
@@ -489,18 +499,16 @@ def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc, we
                 x, y, z = direction(skind, sh, sw, f, i + 0.5, j + 0.5)
                 x, y, z = _rotate(rot.T, x, y, z)
                 df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
-                # the footprint: the images of the texel's edge midpoints
-                a0, a1 = _image(skind, sh, sw, f, i, j + 0.5, rot, dkind, dh, dw, df, cx, cy)
+                # the footprint: twice the images of the centre-to-edge-midpoint steps
                 b0, b1 = _image(skind, sh, sw, f, i + 1.0, j + 0.5, rot, dkind, dh, dw, df, cx, cy)
-                c0, c1 = _image(skind, sh, sw, f, i + 0.5, j, rot, dkind, dh, dw, df, cx, cy)
                 d0, d1 = _image(skind, sh, sw, f, i + 0.5, j + 1.0, rot, dkind, dh, dw, df, cx, cy)
-                hx = 0.5 * (abs(b0 - a0) + abs(d0 - c0))
-                hy = 0.5 * (abs(b1 - a1) + abs(d1 - c1))
+                ex0, ex1, ey0, ey1 = 2 * (b0 - cx), 2 * (b1 - cy), 2 * (d0 - cx), 2 * (d1 - cy)
+                hx = 0.5 * (abs(ex0) + abs(ey0))
+                hy = 0.5 * (abs(ex1) + abs(ey1))
                 hx = hx if hx >= 0 else 0.0  # NaN at a degenerate point: a tent
                 hy = hy if hy >= 0 else 0.0
                 # the footprint's narrower width (area over length): an upsampled texel is
                 # wider than a destination texel across every direction
-                ex0, ex1, ey0, ey1 = b0 - a0, b1 - a1, d0 - c0, d1 - c1
                 length = max(math.hypot(ex0, ex1), math.hypot(ey0, ey1))
                 width = abs(ex0 * ey1 - ex1 * ey0) / length if length > 0 else 0.0
                 hx = min(0.5, hx)
@@ -531,7 +539,7 @@ def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc, we
                             acc[t, q, c] += wk * src[p, c]
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=True, cache=True, error_model="numpy")
 def finish_area(acc, weight, span, omega, gathered, out):
     """The area filter's value: the normalised splat where the source texels landing in the
     destination texel are at most 1/AREA_SPLAT_RATIO of it across (in their narrower
