@@ -1,0 +1,205 @@
+"""The probe bake: everything a real-time renderer needs from one HDR light probe.
+
+:func:`bake_probe` computes, from one environment in any layout:
+
+- the environment as an OpenGL cube map (area-filtered),
+- the DIM pair of :func:`bakeshop.light.irradiance.dim_pair`: the sun DIM, the shadow DIM, the
+  probe with its sun painted out, and the sun (direction, size, colour, irradiance),
+- the environment's spherical-harmonic radiance coefficients (order 2 by default),
+- the GGX prefiltered specular mip chain (:func:`bakeshop.light.specular.prefilter_ggx`),
+- the split-sum DFG table (:func:`bakeshop.light.dfg.dfg_table`),
+
+and :func:`contact_sheet` draws them side by side, tone-mapped, with labels. Arrays in, arrays
+out: ``bakeshop bake-probe`` writes the files.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import NamedTuple
+
+import numpy as np
+
+from bakeshop import progress
+from bakeshop.light import dfg as dfg_module
+from bakeshop.light import irradiance, specular
+from bakeshop.light.sun import Sun
+
+__all__ = ["ProbeBake", "bake_probe", "contact_sheet"]
+
+
+class ProbeBake(NamedTuple):
+    """What :func:`bake_probe` returns."""
+
+    #: (6, S, S, C) float32: the environment as an OpenGL cube map.
+    cube: np.ndarray
+    #: DIM of the probe as photographed (E / pi), in the DIM layout (latlong 360x180).
+    sun_dim: np.ndarray
+    #: DIM of the probe without its sun.
+    shadow_dim: np.ndarray
+    #: the probe with the sun painted out, in the input's layout and shape.
+    shadow_probe: np.ndarray
+    #: the sun, or None when the probe has none.
+    sun: Sun | None
+    #: ((order + 1)^2, C) float64: SH radiance coefficients.
+    sh: np.ndarray
+    #: list of (6, S_m, S_m, C) float32: the GGX mip chain, roughness m / (mips - 1).
+    specular: list
+    #: (N, N, 2) float32: the DFG table (scale, bias on F0).
+    dfg: np.ndarray
+    #: the input's layout name.
+    layout: str
+    #: seconds spent in each step, by name.
+    timings: dict
+
+
+def bake_probe(
+    image,
+    layout: str,
+    *,
+    cube_size: int | None = None,
+    dim_size=(360, 180),
+    specular_size: int = 256,
+    mips: int = 9,
+    sh_order: int = 2,
+    dfg_size: int = 128,
+) -> ProbeBake:
+    """Bake everything the renderer needs from one probe.
+
+    Parameters
+    ----------
+    image : array
+        The probe (linear radiance) in ``layout``: ``(H, W, C)``, or ``(6, S, S, C)`` for a cube.
+    layout : str
+        Its layout name (:data:`bakeshop.sphere.LAYOUT_NAMES`).
+    cube_size : int, optional
+        Face size of the environment cube. Default: the power of two nearest to a quarter of a
+        latlong's width (as many texels as the probe has), at most 2048.
+    dim_size : (int, int)
+        Size of the two latlong DIMs.
+    specular_size, mips : int
+        Level 0 face size and number of levels of the GGX chain.
+    sh_order : int
+        Order of the SH coefficients.
+    dfg_size : int
+        Side of the DFG table.
+
+    Returns
+    -------
+    ProbeBake
+    """
+    from bakeshop.sphere import layout as get_layout
+
+    timings = {}
+
+    def timed(name, fn, *args, **kwargs):
+        started = time.perf_counter()
+        result = fn(*args, **kwargs)
+        timings[name] = time.perf_counter() - started
+        return result
+
+    lay = get_layout(layout)
+    if cube_size is None:
+        texels = int(
+            np.count_nonzero(lay.base.solid_angles(np.shape(image)[: 3 if lay.cubic else 2]))
+        )
+        cube_size = int(min(2048, 2 ** round(np.log2(max(1.0, np.sqrt(texels / 6))))))
+    with progress.step("environment cube map"):
+        cube = timed("cube", specular.source_cube, image, layout=layout, size=cube_size)
+    pair = timed("dims", irradiance.dim_pair, image, layout, to="latlong", size=dim_size)
+    coeffs = timed("sh", irradiance.sh_coefficients, image, layout, order=sh_order)
+    chain = timed(
+        "specular", specular.prefilter_ggx, image, layout=layout, size=specular_size, mips=mips
+    )
+    with progress.step("DFG table"):
+        table = timed("dfg", dfg_module.dfg_table, dfg_size)
+    return ProbeBake(
+        cube=cube,
+        sun_dim=pair.sun_dim,
+        shadow_dim=pair.shadow_dim,
+        shadow_probe=pair.shadow_probe,
+        sun=pair.sun,
+        sh=coeffs,
+        specular=chain,
+        dfg=table,
+        layout=layout,
+        timings=timings,
+    )
+
+
+def _to_latlong(image, layout: str, height: int) -> np.ndarray:
+    from bakeshop.sphere import remap
+
+    return remap(image, layout, "latlong", height, filter="area")[..., :3]
+
+
+def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndarray:
+    """A labelled overview of a bake: ``(H, W, 3)`` uint8 sRGB (draw it, or save it as PNG).
+
+    Every HDR panel is shown as a latlong, at one exposure (the probe's centre-weighted
+    log-average mapped to middle grey) through the ACES filmic curve, so that panels compare:
+    the probe, its cube faces (vertical cross, as HDRShop and cmft draw them), the probe without
+    its sun, the sun and shadow DIMs, the irradiance of the SH coefficients, each GGX level,
+    and the DFG table (scale in red, bias in green, linear).
+
+    Parameters
+    ----------
+    bake : ProbeBake
+    probe : array
+        The probe that was baked, in ``bake.layout``.
+    thumb_height : int
+        Height of each latlong thumbnail in pixels.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from bakeshop.light import sh
+    from bakeshop.light.tonemap import auto_exposure, to_srgb8, tonemap
+    from bakeshop.sphere import cube_to_view, layout
+
+    env = _to_latlong(probe, bake.layout, thumb_height)
+    ev = auto_exposure(env)
+
+    def show(img):
+        return to_srgb8(tonemap(np.ascontiguousarray(img[..., :3]), ev=ev, operator="aces"))
+
+    dirs, _ = layout("latlong").directions(layout("latlong").shape(thumb_height))
+    sh_dim = sh.evaluate(sh.irradiance_coefficients(bake.sh), dirs)
+    sun = bake.sun
+    sun_text = (
+        "no sun" if sun is None else "sun at [" + ", ".join(f"{v:.2f}" for v in sun.direction) + "]"
+    )
+    panels = [
+        (f"probe ({bake.layout})", show(env)),
+        ("cube faces (vertical cross)", show(cube_to_view(bake.cube, "cross-vertical"))),
+        (
+            f"shadow probe ({sun_text})",
+            show(_to_latlong(bake.shadow_probe, bake.layout, thumb_height)),
+        ),
+        ("sun DIM (E/pi)", show(bake.sun_dim)),
+        ("shadow DIM (E/pi)", show(bake.shadow_dim)),
+        (f"SH irradiance (order {sh.order_of(bake.sh.shape[0])})", show(sh_dim)),
+    ]
+    levels = len(bake.specular)
+    for m, level in enumerate(bake.specular):
+        r = m / (levels - 1) if levels > 1 else 0.0
+        thumb = _to_latlong(level, "cube", thumb_height)
+        panels.append((f"GGX mip {m} ({level.shape[1]}px), roughness {r:.3g}", show(thumb)))
+    rg = np.concatenate([bake.dfg, np.zeros_like(bake.dfg[..., :1])], axis=-1)
+    panels.append(("DFG: scale (R), bias (G)", to_srgb8(np.clip(rg, 0, 1))))
+    cols = 4
+    rows = -(-len(panels) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(cols * 3.2, rows * 1.9), dpi=100)
+    for ax in axes.flat:
+        ax.axis("off")
+    for ax, (title, img) in zip(axes.flat, panels, strict=False):
+        ax.imshow(img, interpolation="nearest")
+        ax.set_title(title, fontsize=8)
+    fig.suptitle(f"bakeshop bake-probe (exposure {ev:+.2f} EV, ACES)", fontsize=10)
+    fig.tight_layout()
+    fig.canvas.draw()
+    sheet = np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
+    plt.close(fig)
+    return sheet

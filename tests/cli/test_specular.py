@@ -1,0 +1,138 @@
+"""The prefilter, dfg and bake-probe commands, end to end through bakeshop.cli.main.main."""
+
+import json
+
+import numpy as np
+import pytest
+
+from bakeshop.cli.main import main
+from bakeshop.io import read_image, write_image
+from bakeshop.io.dds import read_dds
+from bakeshop.io.ktx import read_ktx
+from bakeshop.light.dfg import dfg_table
+from bakeshop.light.specular import prefilter_ggx
+from bakeshop.sphere import FACE_NAMES, cube_to_faces, layout
+from tests.tolerances import EXACT
+
+
+def _sky(height=32, sun=(0.5, 0.6, -0.62)):
+    d, _ = layout("latlong").directions((height, 2 * height))
+    s = np.asarray(sun) / np.linalg.norm(sun)
+    img = 0.3 + np.array([0.5, 0.7, 1.0]) * np.clip(d[..., 1:2], 0, None)
+    img = img + 3e3 * (d @ s > np.cos(np.radians(4)))[..., None]
+    return img.astype(np.float32)
+
+
+@pytest.fixture
+def probe(tmp_path):
+    path = tmp_path / "probe.pfm"
+    write_image(path, _sky())
+    return path
+
+
+def test_help_teaches_with_examples(capsys):
+    for command in ("prefilter", "dfg", "bake-probe"):
+        assert main([command, "--help"]) == 0
+        assert "Example:" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("convention", ["opengl", "directx"])
+def test_prefilter_writes_the_chain_in_one_dds(probe, tmp_path, convention):
+    out = tmp_path / "spec.dds"
+    args = ["prefilter", str(probe), str(out), "--size", "16", "--mips", "4"]
+    assert main([*args, "--convention", convention, "--float32"]) == 0
+    mips, meta = read_dds(out)
+    assert meta["cube"] and meta["stored"] == "float32"
+    want = prefilter_ggx(read_image(probe), layout="latlong", size=16, mips=4)
+    assert [m.shape for m in mips] == [(6, s, s, 4) for s in (16, 8, 4, 2)]
+    for got, level in zip(mips, want, strict=True):
+        faces = cube_to_faces(level, convention=convention)
+        assert np.abs(got[..., :3] - faces).max() == EXACT
+
+
+def test_prefilter_half_floats_unless_they_overflow(probe, tmp_path):
+    out = tmp_path / "spec.ktx"
+    assert main(["prefilter", str(probe), str(out), "--size", "8", "--mips", "2"]) == 0
+    assert read_ktx(out)[1]["stored"] == "float16"
+    bright = tmp_path / "bright.pfm"
+    write_image(bright, _sky() * 100)
+    assert main(["prefilter", str(bright), str(out), "--size", "8", "--mips", "2"]) == 0
+    assert read_ktx(out)[1]["stored"] == "float32"
+
+
+def test_prefilter_separate_files(probe, tmp_path):
+    pattern = tmp_path / "spec_{mip}_{face}.pfm"
+    assert main(["prefilter", str(probe), str(pattern), "--size", "8", "--mips", "3"]) == 0
+    for m, s in enumerate((8, 4, 2)):
+        for face in FACE_NAMES:
+            assert read_image(tmp_path / f"spec_{m}_{face}.pfm").shape == (s, s, 3)
+    crosses = tmp_path / "cross_{mip}.pfm"
+    assert main(["prefilter", str(probe), str(crosses), "--size", "8", "--mips", "2"]) == 0
+    assert read_image(tmp_path / "cross_1.pfm").shape == (16, 12, 3)
+
+
+def test_prefilter_phong_single_lobe(probe, tmp_path, capsys):
+    out = tmp_path / "glossy.dds"
+    args = ["prefilter", str(probe), str(out), "--brdf", "phong", "--exponent", "20", "--size", "8"]
+    assert main(args) == 0
+    mips, _ = read_dds(out)
+    assert len(mips) == 1 and "Phong exponent 20" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["--exponent", "20"], "--brdf phong"),
+        (["--brdf", "phong", "--exponent", "20", "--mips", "3"], "one level"),
+        (["--mips", "9", "--size", "16"], "mip levels"),
+    ],
+)
+def test_prefilter_bad_arguments(probe, tmp_path, capsys, extra, message):
+    assert main(["prefilter", str(probe), str(tmp_path / "o.dds"), *extra]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_prefilter_refuses_a_single_image_output(probe, tmp_path, capsys):
+    assert main(["prefilter", str(probe), str(tmp_path / "spec.exr")]) == 2
+    assert "{mip}" in capsys.readouterr().err
+
+
+def test_dfg_container_and_image(tmp_path):
+    assert main(["dfg", str(tmp_path / "dfg.dds"), "--size", "16", "--samples", "256"]) == 0
+    mips, meta = read_dds(tmp_path / "dfg.dds")
+    assert not meta["cube"] and meta["dxgi_format"] == 34  # R16G16_FLOAT
+    want = dfg_table(16, samples=256)
+    np.testing.assert_array_equal(mips[0], want.astype(np.float16).astype(np.float32))
+    assert main(["dfg", str(tmp_path / "dfg.pfm"), "--size", "16", "--samples", "256"]) == 0
+    rgb = read_image(tmp_path / "dfg.pfm")
+    np.testing.assert_array_equal(rgb[..., :2], want)
+    assert np.abs(rgb[..., 2]).max() == EXACT
+
+
+def test_bake_probe_writes_everything(probe, tmp_path, capsys):
+    out = tmp_path / "baked"
+    args = ["bake-probe", str(probe), "-o", str(out), "--specular-size", "16", "--mips", "5"]
+    assert main([*args, "--format", "pfm"]) == 0
+    for face in FACE_NAMES:
+        assert read_image(out / f"env_{face}.pfm").shape[2] == 3
+    assert read_image(out / "sun_dim.pfm").shape == (180, 360, 3)
+    assert read_image(out / "shadow_probe.pfm").shape == (32, 64, 3)
+    sun = json.loads((out / "sun.json").read_text())["direction"]
+    np.testing.assert_allclose(
+        sun, np.array([0.5, 0.6, -0.62]) / np.linalg.norm([0.5, 0.6, -0.62]), atol=0.02
+    )
+    assert len(json.loads((out / "sh.json").read_text())["coefficients"]) == 9
+    assert len(read_dds(out / "specular.dds")[0]) == 5
+    assert read_dds(out / "dfg.dds")[0][0].shape == (128, 128, 2)
+    sheet = read_image(out / "contact_sheet.png")
+    assert sheet.ndim == 3 and sheet.shape[1] > 800
+    text = capsys.readouterr().out
+    assert "specular.dds" in text and "sun: direction" in text
+
+
+def test_bake_probe_default_probe(tmp_path, capsys):
+    # make demo runs this (at full size): the embedded probe when IN is left out
+    args = ["bake-probe", "-o", str(tmp_path), "--specular-size", "8", "--mips", "2"]
+    assert main([*args, "--cube-size", "16", "--container", "ktx"]) == 0
+    assert "default_probe.hdr" in capsys.readouterr().out
+    assert (tmp_path / "specular.ktx").is_file() and (tmp_path / "contact_sheet.png").is_file()
