@@ -179,3 +179,24 @@ def test_random_bytes(scratch, data):
 @given(st.integers(0, 1), fuzzing.edits(160), st.integers(1, 1200))
 def test_mutations_of_valid_files(scratch, seed_files, which, changes, end):
     fuzzing.decode(scratch, fuzzing.mutate(seed_files[which], changes, end), levels)
+
+
+def test_opengl_finds_every_texel_where_its_direction_points(tmp_path):
+    # The DDS bytes cut by Microsoft's layout (face-major: each face's whole chain), uploaded to
+    # OpenGL as RGBA16F: the driver's cube lookup of each texel's direction returns that texel.
+    from tests.io.test_ktx import direction_chain, opengl_lookup
+
+    size, levels = 8, 4
+    chain = direction_chain(size, levels)
+    path = tmp_path / "env.dds"
+    write_dds(path, chain, dtype="float16")
+    data = path.read_bytes()
+    level_bytes = [max(1, size >> m) ** 2 * 4 * 2 for m in range(levels)]
+    face_bytes = [[None] * 6 for _ in range(levels)]
+    offset = 148
+    for f in range(6):
+        for m in range(levels):
+            face_bytes[m][f] = data[offset : offset + level_bytes[m]]
+            offset += level_bytes[m]
+    for m, got in enumerate(opengl_lookup(face_bytes, size, "f2")):
+        np.testing.assert_array_equal(got, chain[m].astype(np.float16).astype(np.float32))

@@ -143,3 +143,93 @@ def test_random_bytes(scratch, data):
 @given(st.integers(0, 1), fuzzing.edits(100), st.integers(1, 1200))
 def test_mutations_of_valid_files(scratch, seed_files, which, changes, end):
     fuzzing.decode(scratch, fuzzing.mutate(seed_files[which], changes, end), levels)
+
+
+# --- a real OpenGL driver reads what was written -----------------------------------------------
+
+GL_LOOKUP = """
+#version 330
+uniform samplerCube env;
+uniform sampler2D dirs;
+out vec4 colour;
+void main() {
+    vec3 d = texelFetch(dirs, ivec2(gl_FragCoord.xy), 0).xyz;
+    colour = texture(env, d);
+}
+"""
+FULL_SCREEN = """
+#version 330
+in vec2 p;
+void main() { gl_Position = vec4(p, 0.0, 1.0); }
+"""
+
+
+def direction_chain(size, levels):
+    """Cube levels whose texels hold their own direction (RGB) and level index (A)."""
+    from bakeshop.sphere import layout
+
+    chain = []
+    for m in range(levels):
+        s = max(1, size >> m)
+        d, _ = layout("cube").directions((6, s, s))
+        chain.append(np.concatenate([d, np.full(d.shape[:-1] + (1,), m)], -1).astype(np.float32))
+    return chain
+
+
+def opengl_lookup(face_bytes, size, dtype):
+    """Upload each level's six faces (raw bytes as stored in a file, face +X first) to its own
+    GL cube map and look every texel-centre direction up through the driver's cube sampling.
+
+    Returns, per level, the (6, s, s, 4) values OpenGL returns at the texel-centre directions.
+    """
+    import moderngl
+
+    from bakeshop.sphere import layout
+
+    ctx = moderngl.create_context(standalone=True, backend="egl")
+    try:
+        prog = ctx.program(vertex_shader=FULL_SCREEN, fragment_shader=GL_LOOKUP)
+        quad = ctx.buffer(np.array([-1, -1, 3, -1, -1, 3], np.float32).tobytes())
+        vao = ctx.vertex_array(prog, [(quad, "2f", "p")])
+        out = []
+        for m, faces in enumerate(face_bytes):
+            s = max(1, size >> m)
+            env = ctx.texture_cube((s, s), 4, dtype=dtype)
+            for face, data in enumerate(faces):
+                env.write(face, data)
+            env.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            d, _ = layout("cube").directions((6, s, s))
+            rows = d.reshape(6 * s, s, 3).astype(np.float32)
+            dirs = ctx.texture((s, 6 * s), 3, rows.tobytes(), dtype="f4")
+            dirs.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            target = ctx.texture((s, 6 * s), 4, dtype="f4")
+            fbo = ctx.framebuffer([target])
+            fbo.use()
+            env.use(0)
+            dirs.use(1)
+            prog["env"], prog["dirs"] = 0, 1
+            vao.render(moderngl.TRIANGLES, 3)
+            got = np.frombuffer(fbo.read(components=4, dtype="f4"), np.float32)
+            out.append(got.reshape(6, s, s, 4))
+            for obj in (env, dirs, target, fbo):
+                obj.release()
+        return out
+    finally:
+        ctx.release()
+
+
+def test_opengl_finds_every_texel_where_its_direction_points(tmp_path):
+    # The file's bytes, cut by the KTX specification's layout (not by read_ktx), are uploaded
+    # face by face; OpenGL's own cube lookup of each texel's direction must return that texel.
+    size, levels = 8, 4
+    path = tmp_path / "env.ktx"
+    write_ktx(path, direction_chain(size, levels), dtype="float32")
+    data = path.read_bytes()
+    offset = 64 + u32(data, 60)
+    face_bytes = []
+    for _ in range(levels):
+        n = u32(data, offset)
+        face_bytes.append([data[offset + 4 + f * n : offset + 4 + (f + 1) * n] for f in range(6)])
+        offset += 4 + 6 * n
+    for m, got in enumerate(opengl_lookup(face_bytes, size, "f4")):
+        np.testing.assert_array_equal(got, direction_chain(size, levels)[m])
