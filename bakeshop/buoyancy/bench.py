@@ -62,6 +62,8 @@ def float_body(
     )
     if shape is None:
         resize(mesh, size)
+    if not np.isfinite(tilt):
+        raise ArgumentError(f"tilt must be a finite number of degrees, got {tilt}")
     model = ForceModel() if model is None else model
     water = Water() if water is None else water
     body = make_body(mesh, density, resolution=resolution)

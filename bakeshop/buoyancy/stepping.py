@@ -19,7 +19,7 @@ import numpy as np
 
 from bakeshop.buoyancy.forces import ForceModel, evaluate
 from bakeshop.buoyancy.state import State, quaternion_to_matrix
-from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.errors import ArgumentError, BakeshopError, validate_choice
 
 FORCE_MODES = ("per-substep", "per-frame")
 BACKENDS = ("builtin", "mujoco")
@@ -70,7 +70,11 @@ def release(fleet, water, *, height: float = 0.0, quaternions=None, spacing: flo
         Orientations at release; identity by default.
     """
     n = len(fleet)
+    if not (np.isfinite(height) and np.isfinite(spacing)):
+        raise ArgumentError(f"release height and spacing must be finite, got {height}, {spacing}")
     q = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1)) if quaternions is None else np.array(quaternions)
+    if q.shape != (n, 4) or not np.all(np.isfinite(q)) or np.any(np.linalg.norm(q, axis=1) == 0):
+        raise ArgumentError(f"quaternions must be {n} finite, non-zero (w, x, y, z) rows")
     q = q / np.linalg.norm(q, axis=1, keepdims=True)
     position = np.zeros((n, 3))
     position[:, 0] = (np.arange(n) - (n - 1) / 2) * spacing
@@ -162,8 +166,11 @@ def simulate(
         if forces == "per-frame":
             held = evaluate(fleet, engine.state(), water, model, step * h, frame)
         while accumulator >= h * (1 - 1e-9) and step < n_steps:
-            current = engine.state()
-            f = held if held is not None else evaluate(fleet, current, water, model, step * h, h)
+            f = (
+                held
+                if held is not None
+                else evaluate(fleet, engine.state(), water, model, step * h, h)
+            )
             engine.step(f.force, f.torque)
             step += 1
             accumulator -= h
@@ -174,6 +181,12 @@ def simulate(
                 engine.set_velocities(after.velocity, after.angular_velocity)
             _record(trace, step, after)
             trace.submerged_points[step] = f.submerged_points
+        last = (trace.position[step], trace.velocity[step], trace.angular_velocity[step])
+        if not all(np.all(np.isfinite(a)) for a in last):
+            raise BakeshopError(
+                f"the simulation diverged at t = {step * h:.3g} s: a force held too long for "
+                "the body's stiffness (omega * dt > 2); raise the solver rate or the resolution"
+            )
     return trace
 
 

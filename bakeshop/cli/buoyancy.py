@@ -96,6 +96,9 @@ def _size(text: str | None):
 @click.option(
     "--floor", type=float, default=-10.0, show_default=True, help="MuJoCo floor height, m."
 )
+@click.option(
+    "--shore", type=float, default=None, help="MuJoCo: X (m) where a 15 degree beach rises."
+)
 @click.option("--plot", type=OUTPUT, help="Write the trace (lowest point vs time) as PNG.")
 @click.option("--json", "as_json", is_flag=True, help="Print the numbers as one JSON object.")
 @click.option(
@@ -133,6 +136,7 @@ def float_command(
     tilt,
     backend,
     floor,
+    shore,
     plot,
     as_json,
     matrix,
@@ -178,7 +182,7 @@ def float_command(
         predict_m=predict_m,
         clamp_speed=clamp_speed,
     )
-    options = {"floor": floor} if backend == "mujoco" else {}
+    options = {"floor": floor, "shore": shore} if backend == "mujoco" else {}
     result = float_body(
         mesh,
         shape=shape,

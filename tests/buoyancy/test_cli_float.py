@@ -61,6 +61,8 @@ def test_float_matrix_writes_table_csv_and_grid(tmp_path, monkeypatch, capsys):
         (["--shape", "box", "--waves", "1:2:3:4:5"], "invalid wave"),
         (["--shape", "box", "--fps", "0"], "fps"),
         (["--shape", "box", "--matrix"], "--matrix"),
+        (["--shape", "box", "--release-height", "nan"], "finite"),
+        (["--shape", "box", "--tilt", "inf"], "tilt"),
     ],
 )
 def test_float_errors_are_one_line(args, message, capsys):

@@ -12,7 +12,7 @@ from bakeshop.buoyancy.shapes import SHAPES, make_shape
 from bakeshop.buoyancy.state import axis_angle_quaternion, quaternion_to_matrix
 from bakeshop.buoyancy.stepping import release, simulate
 from bakeshop.buoyancy.water import Water
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, BakeshopError
 from tests.buoyancy.test_hydrostatics import cylinder_draft, sphere_draft
 from tests.tolerances import BUOYANCY_DRAFT_RTOL, BUOYANCY_PERIOD_RTOL
 
@@ -180,6 +180,21 @@ def test_bad_stepping_arguments():
         simulate(fleet, start, WATER, seconds=1e9)
     with pytest.raises(ArgumentError, match="backend"):
         simulate(fleet, start, WATER, backend="bullet")
+
+
+def test_divergence_is_reported_not_returned():
+    """Angular team damping with c h = 1e5 on a spinning, neutrally buoyant, deep body: the
+    spin flips and grows 1e5-fold per step until it overflows."""
+    fleet = pack([make_body(make_shape("box"), 1000, resolution=2)])
+    absurd = ForceModel(damping="team", stabilize="none", angular_damping=1e6)
+    start = release(fleet, WATER, height=-10.0)
+    start.angular_velocity[:] = (0.0, 1.0, 0.0)
+    with pytest.raises(BakeshopError, match="diverged"):
+        simulate(fleet, start, WATER, absurd, seconds=30, fps=10, solver_hz=10)
+    with pytest.raises(ArgumentError, match="finite"):
+        release(fleet, WATER, height=float("nan"))
+    with pytest.raises(ArgumentError, match="quaternions"):
+        release(fleet, WATER, quaternions=[[0, 0, 0, 0]])
 
 
 def test_long_waves_carry_a_small_body():
