@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 
+from bakeshop import progress
 from bakeshop.cli._common import INPUT, OUTPUT
 from bakeshop.errors import ArgumentError
 
@@ -183,24 +184,25 @@ def float_command(
         clamp_speed=clamp_speed,
     )
     options = {"floor": floor, "shore": shore} if backend == "mujoco" else {}
-    result = float_body(
-        mesh,
-        shape=shape,
-        size=_size(size),
-        density=density,
-        resolution=resolution,
-        repair=repair,
-        model=model,
-        water=water,
-        fps=fps,
-        solver_hz=solver_hz,
-        forces=forces,
-        seconds=seconds,
-        release_height=0.0 if release_height is None else release_height,
-        tilt=tilt,
-        backend=backend,
-        **options,
-    )
+    with progress.step(f"floating for {seconds:g} s of simulated time"):
+        result = float_body(
+            mesh,
+            shape=shape,
+            size=_size(size),
+            density=density,
+            resolution=resolution,
+            repair=repair,
+            model=model,
+            water=water,
+            fps=fps,
+            solver_hz=solver_hz,
+            forces=forces,
+            seconds=seconds,
+            release_height=0.0 if release_height is None else release_height,
+            tilt=tilt,
+            backend=backend,
+            **options,
+        )
     summary = result.summary
     if plot is not None:
         label = shape or Path(mesh).name

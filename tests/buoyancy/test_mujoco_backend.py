@@ -96,3 +96,31 @@ def test_bodies_rest_on_the_floor_the_shore_and_each_other():
     assert low[1] > floor + 0.2  # held up by the beach, above the floor (friction > tan 15)
     top_of_raft = trace.position[-1, 2, 1] + 0.25
     assert low[3] == pytest.approx(top_of_raft, abs=0.02)  # sits on the floating body
+
+
+def test_forces_from_poses_left_by_mj_step_pump_energy(flat_box):
+    """Why the backend uses mj_step1 / forces / mj_step2: forces computed from ``xpos``/``xquat``
+    after ``mj_step`` come from the state before that step, and the one-step lag drives the
+    undamped heave from 5 cm to more than a metre in 20 s; the backend's way stays at 5 cm."""
+    import mujoco
+
+    from bakeshop.buoyancy.forces import evaluate
+
+    start = release(flat_box, WATER, height=-0.2)
+    right = MujocoBackend(flat_box, start, timestep=1 / 60, gravity=9.81)
+    naive = MujocoBackend(flat_box, start, timestep=1 / 60, gravity=9.81)
+    heights = {"right": [], "naive": []}
+    for _ in range(1200):
+        f = evaluate(flat_box, right.state(), WATER, UNDAMPED, 0.0, 1 / 60)
+        right.step(f.force, f.torque)
+        now = naive.state()
+        stale = State(naive.data.xpos[1:].copy(), naive.data.xquat[1:].copy(), now.velocity,
+                      now.angular_velocity)  # fmt: skip
+        f = evaluate(flat_box, stale, WATER, UNDAMPED, 0.0, 1 / 60)
+        naive.data.xfrc_applied[1:, :3] = f.force
+        naive.data.xfrc_applied[1:, 3:] = f.torque
+        mujoco.mj_step(naive.model, naive.data)
+        heights["right"].append(right.state().position[0, 1])
+        heights["naive"].append(naive.state().position[0, 1])
+    assert np.abs(heights["right"]).max() < 0.051
+    assert np.abs(heights["naive"][-120:]).max() > 1.0
