@@ -78,7 +78,7 @@ def float_body(
     summary = summarize(fleet, trace, water, model)[0]
     omega = None
     if summary["archimedes_draft_m"] is not None:
-        tri = body.mesh.triangles @ quaternion_to_matrix(start.quaternion[0]).T
+        tri = body.mesh.triangles @ quaternion_to_matrix(trace.quaternion[-1, 0]).T
         level = tri[:, :, 1].min() + summary["archimedes_draft_m"]
         omega = float(
             np.sqrt(model.rho_water * model.gravity * waterplane_area(tri, level) / body.mass)

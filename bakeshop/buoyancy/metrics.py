@@ -82,18 +82,19 @@ def summarize(fleet, trace, water, model, *, settle_tolerance: float = 0.01) -> 
     -------
     list of dict
         Per body: ``volume_m3``, ``mass_kg``, ``points``, ``archimedes_draft_m`` (exact, in the
-        release orientation, calm water; None if the body sinks), ``draft_m`` (mean over the last
-        quarter of the run), ``times_left_water`` (times the body came fully out of the water
-        after first entering it), ``max_jump_m`` (highest clearance after first entering),
-        ``settle_time_s`` (when the centre of mass last strayed more than ``settle_tolerance``
-        times the body's size from its final mean, or None if it never settled).
+        orientation the body ended in, calm water; None if the body sinks), ``draft_m`` (mean
+        over the last quarter of the run), ``times_left_water`` (times the body came fully out
+        of the water after first entering it), ``max_jump_m`` (highest clearance after first
+        entering), ``settle_time_s`` (when the centre of mass last strayed more than
+        ``settle_tolerance`` times the body's size from its final mean, or None if it never
+        settled).
     """
     clear = clearance(fleet, trace, water)
     t = trace.time
     window = t >= t[-1] * (1 - SETTLED_WINDOW)
     out = []
     for b, body in enumerate(fleet.bodies):
-        rot = quaternion_to_matrix(trace.quaternion[0, b])
+        rot = quaternion_to_matrix(trace.quaternion[-1, b])
         tri = body.mesh.triangles @ rot.T
         arch = archimedes_draft(tri, body.mass, rho_water=model.rho_water)
         c = clear[:, b]
