@@ -69,3 +69,14 @@ def test_unreadable_files(tmp_path):
     empty.write_text("# nothing\n")
     with pytest.raises(FormatError):
         load_mesh(empty)
+
+
+@pytest.mark.parametrize("suffix", [".obj", ".stl", ".ply", ".glb", ".off"])
+def test_mesh_formats_round_trip(tmp_path, suffix):
+    """Every advertised format through trimesh's own writers: same closed solid back."""
+    peep = make_shape("peep")
+    path = tmp_path / f"peep{suffix}"
+    peep.export(path)
+    mesh = load_mesh(path)
+    assert mesh.volume == pytest.approx(peep.volume, rel=1e-6)
+    np.testing.assert_allclose(mesh.center_mass, peep.center_mass, atol=1e-6)
