@@ -117,7 +117,7 @@ def coordinates(kind, h, w, x, y, z):
     """Continuous coordinates (f, x, y) of direction (x, y, z) (need not be unit)."""
     if kind == LATLONG:
         phi = math.atan2(x, -z)
-        theta = math.atan2(math.hypot(x, z), y)
+        theta = math.atan2(math.sqrt(x * x + z * z), y)
         return 0, (phi / (2 * math.pi) + 0.5) * w, theta / math.pi * h
     if kind == CUBE:
         f, sc, tc = cube_face(x, y, z)
@@ -135,7 +135,7 @@ def coordinates(kind, h, w, x, y, z):
     n = h
     disk = 0
     if kind == ANGULAR:
-        r = math.atan2(math.hypot(x, y), z) / math.pi
+        r = math.atan2(math.sqrt(x * x + y * y), z) / math.pi
         psi = math.atan2(y, x)
         a, b = r * math.cos(psi), r * math.sin(psi)
     elif kind == MIRRORBALL:
@@ -177,6 +177,8 @@ def resolve(kind, h, w, f, i, j, x):
     """Flat index of integer texel (f, i, j), which may lie one texel outside the image (or the
     disk), as the neighbour of a sample at column coordinate ``x``; -1 for a cube corner."""
     if kind == LATLONG:
+        if 0 <= i < w and 0 <= j < h:
+            return j * w + i
         if j < 0 or j >= h:
             # across a pole: the same row, half a turn away
             i += w // 2
@@ -297,6 +299,11 @@ def _rotate(rot, x, y, z):
 
 @_jit
 def _taps(kind, h, w, f, x, y, nearest, index, frac, p):
+    if not (abs(x) < 1e18 and abs(y) < 1e18):
+        # a NaN or infinite direction: no texel
+        for k in range(index.shape[1]):
+            index[p, k] = -1
+        return
     if nearest:
         index[p, 0] = resolve(kind, h, w, f, int(math.floor(x)), int(math.floor(y)), x)
         return
@@ -322,6 +329,15 @@ def taps_of(kind, h, w, dirs, nearest, index, frac):
 def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, index, frac):
     """Source taps of every destination texel centre (invalid destination texels: all -1)."""
     per = dh * dw
+    # a latlong's directions are products of per-column and per-row sines and cosines
+    trig = np.empty((4, max(dh, dw)))
+    if dkind == LATLONG:
+        for i in range(dw):
+            phi = 2 * math.pi * ((i + 0.5) / dw - 0.5)
+            trig[0, i], trig[1, i] = math.sin(phi), math.cos(phi)
+        for j in range(dh):
+            theta = math.pi * (j + 0.5) / dh
+            trig[2, j], trig[3, j] = math.sin(theta), math.cos(theta)
     for p in numba.prange(faces * per):
         f = p // per
         r = p - f * per
@@ -331,7 +347,10 @@ def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, index, frac):
             for k in range(index.shape[1]):
                 index[p, k] = -1
             continue
-        x, y, z = direction(dkind, dh, dw, f, i + 0.5, j + 0.5)
+        if dkind == LATLONG:
+            x, y, z = trig[2, j] * trig[0, i], trig[3, j], -trig[2, j] * trig[1, i]
+        else:
+            x, y, z = direction(dkind, dh, dw, f, i + 0.5, j + 0.5)
         x, y, z = _rotate(rot, x, y, z)
         sf, sx, sy = coordinates(skind, sh, sw, x, y, z)
         _taps(skind, sh, sw, sf, sx, sy, nearest, index, frac, p)

@@ -5,10 +5,11 @@ Filters:
 - ``nearest``: the texel containing the direction.
 - ``bilinear``: the four texels around the direction, weighted by the fractional position,
   across seams: latlong wraps in longitude and continues across a pole on the opposite
-  meridian, a cube face borrows its neighbour's texels and a cube corner's missing fourth
-  texel is the mean of the other three (OpenGL's seamless cube map filtering), an octahedral
-  map folds back over its edges, and a disk layout's texels outside the disk stand for the
-  disk texel radially inside them (so the rim never fades to black).
+  meridian; a cube face takes the texel across an edge at the same place along it and a cube
+  corner's missing fourth texel is the mean of the other three (OpenGL's seamless cube map
+  filtering); an octahedral map folds back over its edges; angular and paraboloid maps
+  continue through their rims, and a mirror ball's rim texel stands in for what lies beyond
+  (so the rim never fades to black).
 - ``area``: an antialiasing filter for downsampling, see :func:`remap`.
 
 Geometry is computed once per (source layout and shape, destination layout and shape,
@@ -26,6 +27,7 @@ import numpy as np
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.sphere import _maps
+from bakeshop.sphere.cube import cube_to_view
 from bakeshop.sphere.layouts import Layout, layout
 
 FILTERS = ("nearest", "bilinear", "area")
@@ -35,6 +37,8 @@ AREA_BUFFER_BYTES = 1 << 29
 
 #: number of cached remap plans (each holds indices and weights for every output texel).
 PLAN_CACHE_SIZE = 4
+
+_NO_FRAC = np.empty((0, 2), np.float32)
 
 
 # --- rotation -----------------------------------------------------------------------------------
@@ -127,7 +131,7 @@ def sample(image, layout_name, dirs, *, filter: str = "bilinear") -> np.ndarray:
     -------
     (..., C) array (``(...)`` for a single-channel image given without channel axis)
         float32 (float64 for float64 images). NaN or Inf in a texel spreads to the samples that
-        use it.
+        use it; a direction with a NaN or infinite component gives NaN.
     """
     validate_choice(filter, ("nearest", "bilinear"), "sampling filter")
     lay = layout(layout_name)
@@ -144,14 +148,12 @@ def sample(image, layout_name, dirs, *, filter: str = "bilinear") -> np.ndarray:
     frac = None if nearest else np.empty((len(flat), 2), np.float32)
     _maps.taps_of(base.kind, h, w, flat, nearest, index, frac if frac is not None else _NO_FRAC)
     out = _apply(np.ascontiguousarray(img.reshape(-1, img.shape[-1])), index, frac)
+    out[~np.isfinite(flat).all(axis=1)] = np.nan
     out = out.reshape(d.shape[:-1] + (img.shape[-1],))
     return out[..., 0] if squeeze else out
 
 
 # --- remap --------------------------------------------------------------------------------------
-
-
-_NO_FRAC = np.empty((0, 2), np.float32)
 
 
 @functools.lru_cache(maxsize=PLAN_CACHE_SIZE)
@@ -227,10 +229,18 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
 
     Notes
     -----
-    Every output texel centre's direction is looked up in the source with the chosen filter;
+    ``nearest`` and ``bilinear`` look every output texel centre's direction up in the source;
     the geometry (which source texels, which weights) is cached per
     (src, source shape, dst, output shape, filter, rotation), so converting many images of
     one size costs one gather each.
+
+    ``area`` averages: every source texel deposits radiance x solid angle into the output
+    texels around its direction, with the output's bilinear tents averaged over the source
+    texel's footprint (the box bounding its locally affine image) and renormalised so that all
+    its energy is deposited; an output texel is the deposits' weighted mean (a constant stays
+    exactly constant). Where source texels are as wide as an output texel or wider, the value
+    is bilinear, blended linearly up to 1.5 source texels per output texel. The sum of
+    radiance x solid angle is preserved to 0.1% when downsampling (docs/panoramas.md).
     """
     validate_choice(filter, FILTERS, "filter")
     s, d = layout(src), layout(dst)
@@ -251,7 +261,5 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
         out = _apply(flat, index, frac)
     out = out.reshape(base_shape + (img.shape[-1],))
     if d.base is not d:
-        from bakeshop.sphere.cube import cube_to_view
-
         out = cube_to_view(out, d.name)
     return out[..., 0] if squeeze else out

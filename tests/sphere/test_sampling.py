@@ -338,3 +338,11 @@ def test_area_filter_antialiases_and_becomes_bilinear_when_upsampling():
     up_area = remap(coarse, "cube", "cube", 48, filter="area", rotation=(10, 5, 0))
     up_bil = remap(coarse, "cube", "cube", 48, filter="bilinear", rotation=(10, 5, 0))
     np.testing.assert_array_equal(up_area, up_bil)
+
+
+def test_nan_and_infinite_directions_give_nan():
+    img = environment("cube", 8)
+    d = np.array([[np.nan, 0, 1], [0, np.inf, 0], [1, 0, 0]])
+    for filter in ("nearest", "bilinear"):
+        out = sample(img, "cube", d, filter=filter)
+        assert np.isnan(out[:2]).all() and np.isfinite(out[2]).all()
