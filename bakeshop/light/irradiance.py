@@ -13,15 +13,16 @@ Methods
 -------
 ``exact``
     The quadrature over every source texel for every output texel (HDRShop's diffuse
-    convolution): ``E(n_i) = sum_j L_j omega_j max(0, n_i . w_j)``. O(N_in N_out); the
-    reference.
+    convolution): ``E(n_i) = sum_j L_j omega_j max(0, n_i . w_j)``; the reference. Summed by
+    cones (:func:`cosine_sum`): the same sum at O(N_out N_in**(2/3)) instead of O(N_out N_in).
 ``sh``
     Projection on real spherical harmonics to an order L and convolution with the clamped
     cosine's ``A_l`` (Ramamoorthi and Hanrahan 2001; L = 2 is their 9-coefficient form).
-    Smooth and cheap, but not exact: L = 2 misses up to ~10 % near a sun's terminator.
+    Smooth and cheap, but not exact: at L = 2, 1-8 % RMS on real probes, and several times
+    off at normals facing away from a sun.
 ``auto`` (default)
-    The exact quadrature over a compressed source: texels are grouped into the bins of a
-    coarse latlong grid and each bin becomes one source carrying the bin's total energy
+    The exact quadrature over a compressed source (:func:`compress`): texels are grouped into
+    cube-face bins and each bin becomes one source carrying the bin's total energy
     ``sum L omega`` (per channel), placed at the energy-weighted centroid of its texels'
     directions, so the zeroth and first moments of every bin are kept and the error is of
     second order in the bin's angular size, except at normals whose horizon crosses the bin,
@@ -29,8 +30,8 @@ Methods
     exceeds :data:`HOT_FRACTION` of the environment's energy (a sun, a lamp, a window) are
     split into four finer bins, recursively, down to single texels. The result agrees with
     ``exact`` within 0.1 % RMS and 0.5 % maximum relative error on real probes
-    (tests/light/test_irradiance.py measures it) at a cost that no longer depends on the
-    input's resolution beyond one pass over its texels.
+    (tests/light/test_irradiance.py measures it: at most 3e-5 RMS and 2e-3 max) at a cost that
+    no longer depends on the input's resolution beyond one pass over its texels.
 
 References
 ----------
