@@ -175,9 +175,13 @@ def cosine_sum(normals, directions, energy, *, description: str = "irradiance") 
     out = np.zeros((n.shape[0], 3))
     if w.shape[0] == 0:
         return out[:, :channels]
-    grouped = _groups(w, e)
+    if w.shape[0] > 2_000_000:  # sorting millions of texels takes a second or more
+        with progress.step("sorting the texels into cones"):
+            grouped = _groups(w, e)
+    else:
+        grouped = _groups(w, e)
     blocks = range(0, n.shape[0], _BLOCK)
-    if n.shape[0] * w.shape[0] ** (2 / 3) > 3e9:  # about a second of work or more
+    if n.shape[0] * w.shape[0] ** (2 / 3) > 1e8:  # about a second of work or more
         blocks = progress.track(blocks, description)
     for start in blocks:
         _cosine_sum(n[start : start + _BLOCK], *grouped, out[start : start + _BLOCK])
