@@ -96,6 +96,8 @@ def _numpy_forces(fleet, state, model, horizon):
 
 
 def job_forces(n_bodies):
+    import numba
+
     from bakeshop.buoyancy.forces import ForceModel, evaluate
     from bakeshop.buoyancy.water import Water, Wave
 
@@ -108,11 +110,16 @@ def job_forces(n_bodies):
     ref_f, ref_t = _numpy_forces(fleet, state, team, 1 / 60)
     agree = float(np.abs(ours.force - ref_f).max() / np.abs(ref_f).max())
     t_team = _best(lambda: evaluate(fleet, state, flat, team, 0.0, 1 / 60))
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    t_one = _best(lambda: evaluate(fleet, state, flat, team, 0.0, 1 / 60))
+    numba.set_num_threads(threads)
     t_drag = _best(lambda: evaluate(fleet, state, waves, drag, 0.3, 1 / 60))
     t_numpy = _best(lambda: _numpy_forces(fleet, state, team, 1 / 60), repeats=2)
     return {
         "points": points,
         "team_s": t_team,
+        "team_one_thread_s": t_one,
         "drag_waves_s": t_drag,
         "numpy_s": t_numpy,
         "max_rel_diff_vs_numpy": agree,
@@ -216,6 +223,7 @@ def main():
     print("| implementation | time per evaluation | point updates/s | ratio | peak RSS |")
     print("|---|---|---|---|---|")
     for label, key in (("bakeshop, team + predict, flat", "team_s"),
+                       ("same, one thread", "team_one_thread_s"),
                        ("bakeshop, drag, 2 wave trains", "drag_waves_s"),
                        ("numpy expressions, team + predict, flat", "numpy_s")):  # fmt: skip
         t = f[key]
