@@ -88,10 +88,11 @@ def test_trampoline_is_real_and_the_team_fix_works():
         assert r["times_left_water"] > 0
         # the per-frame jumps are far beyond what the undamped physics itself does
         assert r["max_jump_m"] > 2 * p["max_jump_m"]
-    for fps in (10, 20, 30, 60):
-        fixed = simulate(fleet, deep, WATER, FIX, seconds=8, fps=fps, forces="per-frame")
-        for row in summarize(fleet, fixed, WATER, FIX):
-            assert row["times_left_water"] == 0, fps
+    for forces in ("per-frame", "per-substep"):
+        for fps in (10, 20, 30, 60):
+            fixed = simulate(fleet, deep, WATER, FIX, seconds=8, fps=fps, forces=forces)
+            for row in summarize(fleet, fixed, WATER, FIX):
+                assert row["times_left_water"] == 0, (forces, fps)
 
 
 def test_cause_one_semi_implicit_euler_is_unstable_above_omega_dt_2():
