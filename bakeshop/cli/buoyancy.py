@@ -32,9 +32,8 @@ def _size(text: str | None):
 @click.option(
     "--resolution",
     type=int,
-    default=10,
-    show_default=True,
-    help="Voxel cells along the longest side.",
+    default=None,
+    help="Voxel cells along the longest side (default 10; 8 with --matrix).",
 )
 @click.option("--repair", is_flag=True, help="Try to close a mesh that is not watertight.")
 @click.option("--fps", type=float, default=60.0, show_default=True, help="Frame rate.")
@@ -81,7 +80,9 @@ def _size(text: str | None):
     help="A wave train: amplitude m, wavelength m, direction degrees, speed m/s "
     "(default deep water). Repeat for more.",
 )
-@click.option("--seconds", type=float, default=10.0, show_default=True)
+@click.option(
+    "--seconds", type=float, default=None, help="Simulated time (default 10 s; 8 s with --matrix)."
+)
 @click.option(
     "--release-height",
     type=float,
@@ -164,8 +165,8 @@ def float_command(
         return _matrix(
             out,
             density,
-            seconds,
-            resolution,
+            8.0 if seconds is None else seconds,
+            8 if resolution is None else resolution,
             solver_hz,
             water,
             -2.0 if release_height is None else release_height,
@@ -184,13 +185,14 @@ def float_command(
         clamp_speed=clamp_speed,
     )
     options = {"floor": floor, "shore": shore} if backend == "mujoco" else {}
+    seconds = 10.0 if seconds is None else seconds
     with progress.step(f"floating for {seconds:g} s of simulated time"):
         result = float_body(
             mesh,
             shape=shape,
             size=_size(size),
             density=density,
-            resolution=resolution,
+            resolution=10 if resolution is None else resolution,
             repair=repair,
             model=model,
             water=water,
@@ -232,7 +234,7 @@ def _matrix(out, density, seconds, resolution, solver_hz, water, release_height)
     result = run_matrix(
         density=density,
         seconds=seconds,
-        resolution=min(resolution, 10),
+        resolution=resolution,
         solver_hz=solver_hz,
         water=water,
         release_height=release_height,
