@@ -480,28 +480,51 @@ def _local(kind, h, w, x, y, z, cf, cx, cy):
 
 
 @_jit
-def _image(skind, sh, sw, f, u, v, rot, dkind, dh, dw, cf, cx, cy):
-    x, y, z = direction(skind, sh, sw, f, u, v)
+def _half_texel_trig(h, w):
+    """sin and cos of a latlong's longitude at every half texel (row 0, 1) and of its
+    colatitude (rows 2, 3): ``direction`` at (k/2, l/2) without trigonometry."""
+    trig = np.empty((4, 2 * max(h, w) + 1))
+    for k in range(2 * w + 1):
+        phi = 2 * math.pi * (k / (2 * w) - 0.5)
+        trig[0, k], trig[1, k] = math.sin(phi), math.cos(phi)
+    for k in range(2 * h + 1):
+        theta = math.pi * k / (2 * h)
+        trig[2, k], trig[3, k] = math.sin(theta), math.cos(theta)
+    return trig
+
+
+@_jit
+def _source_direction(kind, h, w, f, u2, v2, trig):
+    """``direction`` at the half-texel position (u2 / 2, v2 / 2)."""
+    if kind == LATLONG:
+        return trig[2, v2] * trig[0, u2], trig[3, v2], -trig[2, v2] * trig[1, u2]
+    return direction(kind, h, w, f, u2 / 2, v2 / 2)
+
+
+@_jit
+def _image(skind, sh, sw, f, u2, v2, trig, rot, dkind, dh, dw, cf, cx, cy):
+    x, y, z = _source_direction(skind, sh, sw, f, u2, v2, trig)
     x, y, z = _rotate(rot.T, x, y, z)
     return _local(dkind, dh, dw, x, y, z, cf, cx, cy)
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc, weight, span):
+def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc):
     """Deposit every source texel's radiance x solid angle into the destination texels.
 
     A source texel's footprint in destination coordinates is the box bounding its (locally
     affine) image, at most one destination texel wide; it deposits into the destination
     texels with the mean of their bilinear tents over that box (box-filtered tents tile
     exactly when the boxes do), renormalised to sum to 1 so that its whole energy is
-    deposited: ``acc[t] += w L``, ``weight[t] += w`` with ``w = omega_src x mean tent``.
-    ``span[t] += w x`` the footprint's narrower width in destination texels: the filter tells
-    averaging from interpolating by it.
+    deposited: ``acc[t, q, :C] += w L``, ``acc[t, q, C] += w`` with ``w = omega_src x mean
+    tent``, and ``acc[t, q, C + 1] += w x`` the footprint's narrower width in destination
+    texels, by which the filter tells averaging from interpolating.
     ``t`` is one of ``chunks`` partial buffers (one per thread). The rotation ``rot`` moves
     what the source shows at ``d`` to ``R d``.
     """
     rows = sfaces * sh
     nc = src.shape[1]
+    trig = _half_texel_trig(sh, sw)
     for t in numba.prange(chunks):
         wx = np.empty(3)
         wy = np.empty(3)
@@ -515,12 +538,16 @@ def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc, we
                 om = omega[p]
                 if om <= 0:
                     continue
-                x, y, z = direction(skind, sh, sw, f, i + 0.5, j + 0.5)
+                x, y, z = _source_direction(skind, sh, sw, f, 2 * i + 1, 2 * j + 1, trig)
                 x, y, z = _rotate(rot.T, x, y, z)
                 df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
                 # the footprint: twice the images of the centre-to-edge-midpoint steps
-                b0, b1 = _image(skind, sh, sw, f, i + 1.0, j + 0.5, rot, dkind, dh, dw, df, cx, cy)
-                d0, d1 = _image(skind, sh, sw, f, i + 0.5, j + 1.0, rot, dkind, dh, dw, df, cx, cy)
+                b0, b1 = _image(
+                    skind, sh, sw, f, 2 * i + 2, 2 * j + 1, trig, rot, dkind, dh, dw, df, cx, cy
+                )
+                d0, d1 = _image(
+                    skind, sh, sw, f, 2 * i + 1, 2 * j + 2, trig, rot, dkind, dh, dw, df, cx, cy
+                )
                 ex0, ex1, ey0, ey1 = 2 * (b0 - cx), 2 * (b1 - cy), 2 * (d0 - cx), 2 * (d1 - cy)
                 hx = 0.5 * (abs(ex0) + abs(ey0))
                 hy = 0.5 * (abs(ex1) + abs(ey1))
@@ -552,24 +579,25 @@ def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc, we
                     q = taps[k]
                     if q >= 0 and wts[k] > 0:
                         wk = om * wts[k] / total
-                        weight[t, q] += wk
-                        span[t, q] += wk * width
                         for c in range(nc):
                             acc[t, q, c] += wk * src[p, c]
+                        acc[t, q, nc] += wk
+                        acc[t, q, nc + 1] += wk * width
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def finish_area(acc, weight, span, omega, gathered, out):
+def finish_area(acc, omega, gathered, out):
     """The area filter's value: the normalised splat where the source texels landing in the
     destination texel are at most 1/AREA_SPLAT_RATIO of it across (in their narrower
     direction) and cover it, the bilinear value where they are as large as it or larger
     (upsampling) or leave it uncovered, a linear blend between."""
+    nc = out.shape[1]
     for p in numba.prange(out.shape[0]):
         wsum = 0.0
         width = 0.0
-        for t in range(weight.shape[0]):
-            wsum += weight[t, p]
-            width += span[t, p]
+        for t in range(acc.shape[0]):
+            wsum += acc[t, p, nc]
+            width += acc[t, p, nc + 1]
         alpha = 0.0
         if wsum > 0:
             width /= wsum

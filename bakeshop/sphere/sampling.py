@@ -187,17 +187,15 @@ def _area(flat, s: Layout, src_shape, d: Layout, dst_shape, key):
     threads = numba.get_num_threads()
     if threads * m * (flat.shape[1] + 2) * 8 > AREA_BUFFER_BYTES:
         threads = 1
-    acc = np.zeros((threads, m, flat.shape[1]))
-    weight = np.zeros((threads, m))
-    span = np.zeros((threads, m))
+    acc = np.zeros((threads, m, flat.shape[1] + 2))
     with progress.step(f"area filter {s.name} -> {d.name}"):
         _maps.splat(flat, s.kind, sh, sw, sfaces, omega_src, d.kind, dh, dw, threads,
-                    _matrix(key), acc, weight, span)  # fmt: skip
+                    _matrix(key), acc)  # fmt: skip
         index, frac = _plan(s.name, src_shape, d.name, dst_shape, "bilinear", key)
         gathered = _apply(flat, index, frac)
         out = np.empty((m, flat.shape[1]), flat.dtype)
         omega_dst = d.solid_angles(dst_shape).reshape(-1)
-        _maps.finish_area(acc, weight, span, omega_dst, gathered, out)
+        _maps.finish_area(acc, omega_dst, gathered, out)
     return out
 
 
