@@ -256,25 +256,51 @@ def _bins(dirs, subset, size):  # pragma: no cover - compiled
     return out
 
 
-@numba.njit(cache=True)
-def _accumulate(values, dirs, omega, subset, index, sums):  # pragma: no cover - compiled
-    # sums[index[k]] += (energy per channel..., weight, weight * direction) of texel k (of all
-    # texels, or of those listed in subset); weight = sum over channels of |energy|.
+@numba.njit(parallel=True, cache=True)
+def _accumulate(values, dirs, omega, subset, index, n_bins, chunks):  # pragma: no cover
+    # Row b of the result sums, over texel k (of all texels, or of those listed in subset)
+    # with index[k] == b: its energy per channel, its weight (sum over channels of |energy|),
+    # weight * direction, and a count. Chunks of texels run in parallel into partial sums.
     channels = values.shape[1]
+    count = index.shape[0]
+    partial = np.zeros((chunks, n_bins, channels + 5))
+    step = (count + chunks - 1) // chunks
+    for c in numba.prange(chunks):
+        for k in range(c * step, min(count, (c + 1) * step)):
+            t = subset[k] if subset.shape[0] > 0 else np.int64(k)
+            b = index[k]
+            partial[c, b, channels + 4] += 1.0
+            w = omega[t]
+            if w == 0.0:
+                continue
+            total = 0.0
+            for ch in range(channels):
+                e = values[t, ch] * w
+                partial[c, b, ch] += e
+                total += abs(e)
+            partial[c, b, channels] += total
+            for a in range(3):
+                partial[c, b, channels + 1 + a] += total * dirs[t, a]
+    return partial.sum(axis=0)
+
+
+@numba.njit(cache=True)
+def _select(index, subset, rank):  # pragma: no cover - compiled
+    # The texels (of all, or of subset) whose bin has a rank >= 0, and that rank.
+    n = 0
     for k in range(index.shape[0]):
-        t = subset[k] if subset.shape[0] > 0 else np.int64(k)
-        w = omega[t]
-        if w == 0.0:
-            continue
-        b = index[k]
-        total = 0.0
-        for c in range(channels):
-            e = values[t, c] * w
-            sums[b, c] += e
-            total += abs(e)
-        sums[b, channels] += total
-        for a in range(3):
-            sums[b, channels + 1 + a] += total * dirs[t, a]
+        if rank[index[k]] >= 0:
+            n += 1
+    chosen = np.empty(n, np.int64)
+    parent = np.empty(n, np.int64)
+    j = 0
+    for k in range(index.shape[0]):
+        r = rank[index[k]]
+        if r >= 0:
+            chosen[j] = subset[k] if subset.shape[0] > 0 else k
+            parent[j] = r
+            j += 1
+    return chosen, parent
 
 
 def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float = HOT_FRACTION):
@@ -323,26 +349,25 @@ def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float 
             # (face, j, i) at this size has the parity (j % 2, i % 2) in its parent (size even)
             index = 4 * parent + 2 * (bins // size % 2) + bins % 2
             n_bins = 4 * n_parents
-        sums = np.zeros((n_bins, channels + 4))
-        _accumulate(values, dirs, omega, subset, index, sums)
+        chunks = min(4 * numba.get_num_threads(), max(1, len(index) // 65536))
+        sums = _accumulate(values, dirs, omega, subset, index, n_bins, chunks)
         weight = sums[:, channels]
         if threshold is None:
             threshold = hot_fraction * weight.sum()
         # split a bin that holds too much energy, unless it is a single texel
-        hot = (weight * (base / size) > threshold) & (np.bincount(index, minlength=n_bins) > 1)
+        hot = (weight * (base / size) > threshold) & (sums[:, channels + 4] > 1)
         if size >= _MAX_BINS:
             hot[:] = False
-        moment = sums[:, channels + 1 :]
+        moment = sums[:, channels + 1 : channels + 4]
         norm = np.linalg.norm(moment, axis=1)
         emit = ~hot & (norm > 0)
         out_dirs.append(moment[emit] / norm[emit, None])
         out_energy.append(sums[emit, :channels])
         if not hot.any():
             break
-        in_hot = hot[index]
-        parent = (np.cumsum(hot) - 1)[index[in_hot]]
+        rank = np.where(hot, np.cumsum(hot) - 1, -1)
+        subset, parent = _select(index, subset, rank)
         n_parents = int(np.count_nonzero(hot))
-        subset = np.flatnonzero(in_hot) if not subset.size else subset[in_hot]
         size *= 2
     return np.concatenate(out_dirs), np.concatenate(out_energy)
 
