@@ -62,6 +62,11 @@ def make_body(mesh, density: float, *, resolution: int = 10, subsamples: int = 4
     density = float(density)
     if not (np.isfinite(density) and density > 0):
         raise ArgumentError(f"density must be a positive number of kg/m^3, got {density!r}")
+    if not mesh.is_watertight or not mesh.volume > 0:
+        raise ArgumentError(
+            "the mesh must be closed with outward normals (load it with load_mesh, which "
+            "welds, checks and orients it)"
+        )
     centred = mesh.copy()
     offset = np.array(mesh.center_mass, dtype=np.float64)
     centred.apply_translation(-offset)

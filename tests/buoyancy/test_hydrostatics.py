@@ -5,7 +5,7 @@ import pytest
 import trimesh
 from scipy.optimize import brentq
 
-from bakeshop.buoyancy.hydrostatics import archimedes_draft, submerged_volume
+from bakeshop.buoyancy.hydrostatics import archimedes_draft, submerged_volume, waterplane_area
 from bakeshop.buoyancy.shapes import make_shape
 from tests.tolerances import BUOYANCY_ARCHIMEDES_RTOL, BUOYANCY_CLIPPING_EXACT
 
@@ -73,3 +73,11 @@ def test_submerged_volume_matches_manifold3d_on_a_real_mesh(shared_data):
         reference = clipped_below(mesh, level).volume
         # manifold3d works in float32 vertices: agreement to ~1e-6 relative
         assert submerged_volume(mesh.triangles, level) == pytest.approx(reference, rel=1e-5)
+
+
+def test_waterplane_area():
+    box = make_shape("box", size=(2, 0.5, 1))
+    assert waterplane_area(box.triangles, 0.1) == pytest.approx(2.0, rel=1e-9)
+    sphere = make_shape("sphere")
+    assert waterplane_area(sphere.triangles, 0.0) == pytest.approx(np.pi * 0.25, rel=1e-3)
+    assert waterplane_area(sphere.triangles, 0.3) == pytest.approx(np.pi * (0.25 - 0.09), rel=2e-3)

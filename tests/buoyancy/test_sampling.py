@@ -78,3 +78,9 @@ def test_bad_arguments():
         make_body(mesh, float("nan"))
     with pytest.raises(ArgumentError, match="density"):
         make_body(mesh, -3)
+    inverted = mesh.copy()
+    inverted.invert()
+    with pytest.raises(ArgumentError, match="outward"):
+        make_body(inverted, 500)
+    with pytest.raises(ArgumentError, match="closed"):
+        make_body(trimesh.Trimesh(mesh.vertices, mesh.faces[:-1]), 500)
