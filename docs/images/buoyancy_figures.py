@@ -3,7 +3,8 @@
 Pictures (docs/images/): buoyancy_shapes.png (the built-in shapes' sample points),
 buoyancy_trampoline.png (a peep released 2 m deep: the failure and the fixes),
 buoyancy_causes.png (the two causes: omega*dt > 2, and held forces pumping energy),
-buoyancy_matrix.png (the matrix, per-frame forces). Tables: docs/buoyancy_matrix.csv (every
+buoyancy_waves.png (three shapes in two wave trains, MuJoCo), buoyancy_matrix.png (the matrix,
+per-frame forces). Tables: docs/buoyancy_matrix.csv (every
 run) and the Markdown summary, printed.
 
 Run: ``.venv/bin/python docs/images/buoyancy_figures.py`` (about a minute).
@@ -99,6 +100,33 @@ def causes_figure():
     plt.close(fig)
 
 
+def waves_figure():
+    """Hull, peep and torus in two wave trains, MuJoCo backend: heave follows the surface."""
+    from bakeshop.buoyancy.water import Wave
+
+    water = Water(waves=(Wave(0.25, 10.0, 0.0), Wave(0.08, 3.5, 60.0)))
+    names = ("hull", "peep", "torus")
+    fleet = pack([make_body(make_shape(n), 400, resolution=10) for n in names])
+    start = release(fleet, water, height=-0.1)
+    trace = simulate(fleet, start, water, ForceModel(), seconds=12, fps=30, backend="mujoco")
+    fig, axes = plt.subplots(1, 3, figsize=(12, 2.8), dpi=80, sharey=True)
+    for b, (ax, name) in enumerate(zip(axes, names, strict=True)):
+        x, z = trace.position[:, b, 0], trace.position[:, b, 2]
+        ax.plot(trace.time, water.height(x, z, trace.time), color="tab:blue", lw=1, label="water")
+        ax.plot(trace.time, trace.position[:, b, 1], color="tab:red", lw=1, label="centre of mass")
+        ax.set_title(name, fontsize=9)
+        ax.set_xlabel("time (s)")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("height (m)")
+    axes[0].legend(fontsize=7)
+    fig.suptitle(
+        "two wave trains (0.25 m x 10 m, 0.08 m x 3.5 m at 60 degrees), MuJoCo", fontsize=9
+    )
+    fig.tight_layout()
+    fig.savefig(HERE / "buoyancy_waves.png")
+    plt.close(fig)
+
+
 def matrix_outputs():
     matrix = run_matrix()
     (HERE.parent / "buoyancy_matrix.csv").write_text(to_csv(matrix))
@@ -110,4 +138,5 @@ if __name__ == "__main__":
     shapes_figure()
     trampoline_figure()
     causes_figure()
+    waves_figure()
     matrix_outputs()
