@@ -3,28 +3,11 @@
 import numpy as np
 import pytest
 import trimesh
-from scipy.optimize import brentq
 
 from bakeshop.buoyancy.hydrostatics import archimedes_draft, submerged_volume, waterplane_area
 from bakeshop.buoyancy.shapes import make_shape
+from tests.buoyancy.helpers import cylinder_draft, sphere_draft
 from tests.tolerances import BUOYANCY_ARCHIMEDES_RTOL, BUOYANCY_CLIPPING_EXACT
-
-
-def sphere_draft(radius, density):
-    mass_volume = density / 1000 * 4 / 3 * np.pi * radius**3
-    return brentq(lambda d: np.pi * d * d * (3 * radius - d) / 3 - mass_volume, 0, 2 * radius)
-
-
-def cylinder_draft(radius, density):
-    """Horizontal cylinder: the circular segment's area is the density ratio of the circle's."""
-    target = density / 1000 * np.pi * radius**2
-
-    def segment(d):
-        return radius**2 * np.arccos((radius - d) / radius) - (radius - d) * np.sqrt(
-            2 * radius * d - d * d
-        )
-
-    return brentq(lambda d: segment(d) - target, 0, 2 * radius)
 
 
 def test_tilted_box_volume_exact():

@@ -11,7 +11,7 @@ from bakeshop.buoyancy.shapes import make_shape
 from bakeshop.buoyancy.state import State, axis_angle_quaternion, quaternion_to_matrix
 from bakeshop.buoyancy.stepping import release, simulate
 from bakeshop.buoyancy.water import Water
-from tests.buoyancy.test_stepping import UNDAMPED, assert_energy_bounded, heave_period
+from tests.buoyancy.helpers import UNDAMPED, assert_energy_bounded, heave_period
 from tests.tolerances import BUOYANCY_BACKEND_RTOL
 
 WATER = Water()

@@ -3,7 +3,6 @@ theory, and the trampoline failure with its causes and fixes."""
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq
 
 from bakeshop.buoyancy.forces import ForceModel
 from bakeshop.buoyancy.mass import make_body, pack
@@ -13,21 +12,17 @@ from bakeshop.buoyancy.state import axis_angle_quaternion, quaternion_to_matrix
 from bakeshop.buoyancy.stepping import release, simulate
 from bakeshop.buoyancy.water import Water
 from bakeshop.errors import ArgumentError, BakeshopError
-from tests.buoyancy.test_hydrostatics import cylinder_draft, sphere_draft
+from tests.buoyancy.helpers import (
+    UNDAMPED,
+    assert_energy_bounded,
+    cylinder_draft,
+    heave_period,
+    sphere_draft,
+)
 from tests.tolerances import BUOYANCY_DRAFT_RTOL, BUOYANCY_PERIOD_RTOL
 
 WATER = Water()
-UNDAMPED = ForceModel(damping="none", stabilize="none")
 FIX = ForceModel(damping="team", stabilize="predict")
-
-
-def heave_period(trace, body=0):
-    y = trace.position[:, body, 1]
-    y = y - y.mean()
-    up = np.nonzero((y[:-1] < 0) & (y[1:] >= 0))[0]
-    # interpolate the crossing times
-    t = trace.time[up] - y[up] * (trace.time[1] - trace.time[0]) / (y[up + 1] - y[up])
-    return np.diff(t).mean()
 
 
 def test_equilibrium_drafts():
@@ -128,17 +123,6 @@ def test_energy_bounded_over_a_minute_builtin():
     assert_energy_bounded(fleet, trace)
 
 
-def assert_energy_bounded(fleet, trace):
-    e = energy(fleet, trace, WATER, UNDAMPED)[:, 0]
-    oscillation = (0.5 * fleet.mass[0] * (trace.velocity[:, 0] ** 2).sum(-1)).max()
-    h = trace.time[1]
-    omega = 2 * np.pi / heave_period(trace)
-    # semi-implicit Euler conserves a nearby energy: a wobble of about omega h, no drift
-    assert e.max() - e.min() < 1.5 * omega * h * oscillation
-    second = len(e) // 60
-    assert abs(e[-10 * second :].mean() - e[: 10 * second].mean()) < 0.01 * oscillation
-
-
 def tilt_after(fleet, trace, body=0):
     """Angle (degrees) between the body's up axis and the world's up at the end."""
     up = quaternion_to_matrix(trace.quaternion[-1, body])[:, 1]
@@ -212,8 +196,8 @@ def test_long_waves_carry_a_small_body():
     assert heave_period(trace) == pytest.approx(period, rel=0.05)
 
 
-def test_mass_properties_brentq_sanity():
-    # the analytic helpers the draft tests rely on, against their own definitions
+def test_reference_drafts_at_half_density():
+    """The closed-form helpers the draft tests rely on: a half-dense sphere or horizontal
+    cylinder floats exactly half submerged, by symmetry."""
     assert sphere_draft(0.5, 500) == pytest.approx(0.5)
     assert cylinder_draft(0.5, 500) == pytest.approx(0.5)
-    assert brentq(lambda x: x - 1, 0, 2) == pytest.approx(1)
