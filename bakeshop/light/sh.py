@@ -29,6 +29,7 @@ import json
 import math
 import os
 
+import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError, FormatError
@@ -37,7 +38,7 @@ from bakeshop.io._files import atomic_path
 #: the highest order the module accepts (a guard against absurd allocations).
 MAX_ORDER = 256
 
-#: basis values per chunk in projection and evaluation (bounds the temporary basis array to
+#: basis values per chunk in evaluation (bounds the temporary basis array to
 #: 128 MB whatever the order).
 _CHUNK_VALUES = 1 << 24
 
@@ -101,18 +102,24 @@ def basis(directions, order: int) -> np.ndarray:
     d = np.asarray(directions, dtype=np.float64)
     if d.shape[-1:] != (3,):
         raise ArgumentError(f"directions must have shape (..., 3), got {d.shape}")
-    lead = d.shape[:-1]
-    x, y, z = (d[..., i].reshape(-1) for i in range(3))
-    out = np.empty((x.size, (order + 1) ** 2), dtype=np.float64)
-    # cm, sm: Re and Im of (x + iy)^m = sin^m(theta) (cos m phi, sin m phi)
-    cm, sm = np.ones_like(x), np.zeros_like(x)
-    pmm = np.full_like(x, 0.5 / math.sqrt(math.pi))  # normalised P(m, m) / sin^m
+    flat = np.ascontiguousarray(d.reshape(-1, 3))
+    out = np.empty((flat.shape[0], (order + 1) ** 2), dtype=np.float64)
+    _basis_rows(flat, order, out)
+    return out.reshape(d.shape[:-1] + (out.shape[-1],))
+
+
+@numba.njit(cache=True)
+def _basis_into(x, y, z, order, out):  # pragma: no cover - compiled
+    # Y(l, m) at one direction into out[l * (l + 1) + m]: the fully normalised associated
+    # Legendre recurrence in z, and (cm, sm) = Re, Im of (x + iy)^m = sin^m (cos m phi, sin m phi).
+    cm, sm = 1.0, 0.0
+    pmm = 0.5 / math.sqrt(math.pi)  # normalised P(m, m) / sin^m
     root2 = math.sqrt(2.0)
     for m in range(order + 1):
         if m > 0:
             cm, sm = cm * x - sm * y, cm * y + sm * x
-            pmm = pmm * math.sqrt((2 * m + 1) / (2 * m))
-        p_prev, p = None, pmm  # P(l - 1, m), P(l, m) for l = m
+            pmm *= math.sqrt((2 * m + 1) / (2 * m))
+        p_prev, p = 0.0, pmm  # P(l - 1, m), P(l, m) for l = m
         for l in range(m, order + 1):
             if l == m + 1:
                 p_prev, p = p, math.sqrt(2 * m + 3) * z * p
@@ -121,11 +128,37 @@ def basis(directions, order: int) -> np.ndarray:
                 b = math.sqrt(((l - 1) ** 2 - m * m) / (4 * (l - 1) ** 2 - 1))
                 p_prev, p = p, a * (z * p - b * p_prev)
             if m == 0:
-                out[:, l * (l + 1)] = p
+                out[l * (l + 1)] = p
             else:
-                out[:, l * (l + 1) + m] = root2 * p * cm
-                out[:, l * (l + 1) - m] = root2 * p * sm
-    return out.reshape(*lead, out.shape[-1])
+                out[l * (l + 1) + m] = root2 * p * cm
+                out[l * (l + 1) - m] = root2 * p * sm
+
+
+@numba.njit(parallel=True, cache=True)
+def _basis_rows(dirs, order, out):  # pragma: no cover - compiled
+    for i in numba.prange(dirs.shape[0]):
+        _basis_into(dirs[i, 0], dirs[i, 1], dirs[i, 2], order, out[i])
+
+
+@numba.njit(parallel=True, cache=True)
+def _project(values, dirs, weights, order, chunks):  # pragma: no cover - compiled
+    # sum_i values[i] * weights[i] * Y(d_i), in parallel chunks, without a basis array.
+    n = (order + 1) ** 2
+    channels = values.shape[1]
+    partial = np.zeros((chunks, n, channels))
+    step = (dirs.shape[0] + chunks - 1) // chunks
+    for c in numba.prange(chunks):
+        y = np.empty(n)
+        for i in range(c * step, min(dirs.shape[0], (c + 1) * step)):
+            w = weights[i]
+            if w == 0.0:
+                continue
+            _basis_into(dirs[i, 0], dirs[i, 1], dirs[i, 2], order, y)
+            for k in range(n):
+                yw = y[k] * w
+                for ch in range(channels):
+                    partial[c, k, ch] += yw * values[i, ch]
+    return partial.sum(axis=0)
 
 
 def project(values, directions, weights, *, order: int = 2) -> np.ndarray:
@@ -163,17 +196,14 @@ def project(values, directions, weights, *, order: int = 2) -> np.ndarray:
             f"values {np.shape(values)}, directions {d.shape} and weights {w.shape} "
             "do not describe the same texels"
         )
-    d, w, f = d.reshape(-1, 3), w.reshape(-1), f.reshape(w.size, -1)
-    keep = w > 0
-    if not keep.all():
-        d, w, f = d[keep], w[keep], f[keep]
+    d = np.ascontiguousarray(d.reshape(-1, 3), dtype=np.float64)
+    w, f = w.reshape(-1), f.reshape(w.size, -1)
     if not np.isfinite(f).all():
         raise ArgumentError("the environment has NaN or infinite values; fix or clamp them first")
-    coeffs = np.zeros(((order + 1) ** 2, f.shape[1]))
-    chunk = _chunk(order)
-    for start in range(0, w.size, chunk):
-        sl = slice(start, start + chunk)
-        coeffs += basis(d[sl], order).T @ (f[sl] * w[sl, None])
+    if f.dtype not in (np.float32, np.float64):
+        f = f.astype(np.float64)
+    chunks = min(4 * numba.get_num_threads(), max(1, w.size // 16384))
+    coeffs = _project(f, d, w, order, chunks)
     return coeffs[:, 0] if scalar else coeffs
 
 

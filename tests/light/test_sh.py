@@ -226,3 +226,13 @@ def test_inverse_distance_weights_are_continuous_and_exact_at_probes():
     path = np.linspace(probes[0], probes[1], 101)
     ws = sh.inverse_distance_weights(path, probes)
     assert np.allclose(ws.sum(1), 1) and np.abs(np.diff(ws, axis=0)).max() < 0.2
+
+
+def test_project_is_the_weighted_sum_over_the_basis():
+    rng = np.random.default_rng(11)
+    d = _random_dirs(5000, seed=12)
+    f = rng.normal(size=(5000, 3)).astype(np.float32)
+    w = rng.random(5000)
+    w[::7] = 0  # texels outside a disk
+    brute = sh.basis(d, 6).T @ (f.astype(np.float64) * w[:, None])
+    np.testing.assert_allclose(sh.project(f, d, w, order=6), brute, rtol=1e-10, atol=1e-12)
