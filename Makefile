@@ -1,4 +1,4 @@
-# `make demo` runs the main job on the embedded default probe; `make test` runs every test.
+# `make demo` bakes the embedded default probe (the main job) into ./demo; `make test` runs every test.
 # Each creates its own virtual environment in .venv on first use.
 PYTHON ?= python3
 VENV := .venv
@@ -21,8 +21,7 @@ sysdeps:
 	  else echo "note: install libegl1 libgl1-mesa-dri libegl-mesa0 (as root) for the OpenGL tests"; fi; }
 
 demo: $(BIN)/.installed
-	$(BIN)/bakeshop info
-	$(BIN)/bakeshop convert bakeshop/data/default_probe.hdr demo/default_probe.exr
+	$(BIN)/bakeshop bake-probe -o demo
 
 test: $(BIN)/.installed sysdeps
 	$(BIN)/python -m pytest -n 2 -q
