@@ -133,15 +133,21 @@ def _profile(lum, ang, pitch, peak):
     """
     ring = (ang / pitch).astype(np.int64)
     counts = np.bincount(ring)
-    core, sky, inner, half = pitch, 0.0, 0.0, peak
+
+    def core_radius(half):
+        bright = np.bincount(ring[lum >= half], minlength=counts.size)
+        below = np.flatnonzero((bright == 0) & (counts > 0))
+        return (below[0] if below.size else counts.size) * pitch
+
+    sky, half = 0.0, 0.5 * peak
+    core = core_radius(half)  # first guess: half the peak over a black sky
+    inner = 0.0
     for _ in range(3):
         inner = max(3 * core, core + 3 * pitch, math.radians(2.0))
         in_ring = (ang > inner) & (ang < 2 * inner)
         sky = float(np.median(lum[in_ring])) if in_ring.any() else 0.0
         half = sky + 0.5 * (peak - sky)
-        bright = np.bincount(ring[lum >= half], minlength=counts.size)
-        below = np.flatnonzero((bright == 0) & (counts > 0))
-        core = (below[0] if below.size else counts.size) * pitch
+        core = core_radius(half)
     # the mask covers the core's rim and the glare around it: it reaches at least MASK_SCALE
     # core radii, and on until the rings' mean luminance falls to GLARE times the sky's
     mask = MASK_SCALE * core + 2 * pitch

@@ -5,6 +5,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from bakeshop.io import read_image
 from bakeshop.light import sun as sunlib
@@ -161,3 +163,22 @@ def test_sun_json(tmp_path):
     assert np.linalg.norm(doc["direction"]) == pytest.approx(1)
     sunlib.write_json(path, None)
     assert json.loads(path.read_text()) == {"sun": None}
+
+
+@settings(max_examples=12, deadline=None)
+@given(
+    z=st.floats(-0.99, 0.99),
+    azimuth=st.floats(0, 2 * math.pi),
+    radius=st.floats(1.0, 4.0),
+    radiance=st.floats(100.0, 1e5),
+)
+def test_random_suns_anywhere(z, azimuth, radius, radiance):
+    s = np.array(
+        [math.sqrt(1 - z * z) * math.cos(azimuth), z, math.sqrt(1 - z * z) * math.sin(azimuth)]
+    )
+    img, _ = _render("latlong", 512, s, radius, [radiance] * 3)
+    sun = sunlib.find_sun(img, "latlong")
+    assert sun is not None
+    assert _angle_deg(sun.direction, s) < SUN_DIRECTION_DEG
+    omega = 2 * math.pi * (1 - math.cos(math.radians(radius)))
+    assert sun.solid_angle_sr == pytest.approx(omega, rel=SUN_SOLID_ANGLE)
