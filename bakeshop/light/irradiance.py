@@ -201,10 +201,11 @@ def texels(image, layout):
     -------
     values : (N, C') float32 or float64
         Radiance of each texel (a view when possible).
-    dirs : (N, 3) float64
+    dirs : (N, 3) float64, read-only
         Unit direction of each texel centre.
-    omega : (N,) float64
-        Solid angle of each texel; 0 where the layout has no texel (outside a disk).
+    omega : (N,) float64, read-only
+        Solid angle of each texel; 0 where the layout has no texel (outside a disk). Both are
+        computed once per layout and shape and kept for the next call (one entry).
     shape : tuple
         The spatial shape, to put results back in the layout.
     """
@@ -222,10 +223,27 @@ def texels(image, layout):
         img = img.astype(np.float32)
     if not np.isfinite(img).all():
         raise ArgumentError("the environment has NaN or infinite values; fix or clamp them first")
-    dirs, valid = lay.directions(spatial)
-    omega = np.where(valid, lay.solid_angles(spatial), 0.0)
-    n = int(np.prod(spatial))
-    return img.reshape(n, -1), dirs.reshape(n, 3), omega.reshape(n), spatial
+    dirs, omega = _geometry(lay, spatial)
+    return img.reshape(len(omega), -1), dirs, omega, spatial
+
+
+#: the texel geometry of the last layout and shape used (one entry: a 12.6 MP probe's is
+#: 400 MB), so that the several passes of a probe bake compute it once.
+_GEOMETRY: dict = {}
+
+
+def _geometry(lay, spatial):
+    """Read-only flat texel directions (N, 3) and solid angles (N,) (0 where invalid)."""
+    key = (lay.name, spatial)
+    if key not in _GEOMETRY:
+        dirs, valid = lay.directions(spatial)
+        omega = np.where(valid, lay.solid_angles(spatial), 0.0).reshape(-1)
+        dirs = dirs.reshape(-1, 3)
+        dirs.setflags(write=False)
+        omega.setflags(write=False)
+        _GEOMETRY.clear()
+        _GEOMETRY[key] = dirs, omega
+    return _GEOMETRY[key]
 
 
 @numba.njit(cache=True)
