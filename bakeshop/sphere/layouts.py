@@ -183,7 +183,11 @@ class Layout:
 
 class LatLong(Layout):
     """Equirectangular: ``phi = 2 pi (u - 0.5)``, ``theta = pi v``,
-    ``d = (sin theta sin phi, cos theta, -sin theta cos phi)``; centre column -Z, top row +Y."""
+    ``d = (sin theta sin phi, cos theta, -sin theta cos phi)``; centre column -Z, top row +Y.
+
+    Any (H, W) is accepted (2:1 is usual). Filtering across a pole uses the texel half a turn
+    away in the same row, exact for even widths (odd widths round it to the nearest column).
+    """
 
     name = "latlong"
     kind = _maps.LATLONG
