@@ -168,7 +168,7 @@ def cosine_sum(normals, directions, energy, *, description: str = "irradiance") 
     n = np.ascontiguousarray(np.asarray(normals, dtype=np.float64).reshape(-1, 3))
     w = np.asarray(directions, dtype=np.float64).reshape(-1, 3)
     e = np.asarray(energy, dtype=np.float64)
-    e = e.reshape(e.shape[0], -1)
+    e = e.reshape(e.shape[0], -1) if e.size else e.reshape(e.shape[0], e.shape[-1])
     channels = e.shape[1]
     if e.shape[0] != w.shape[0] or channels > 3:
         raise ArgumentError(f"energy {e.shape} does not match {w.shape[0]} source directions")
@@ -480,7 +480,8 @@ class DimPair(NamedTuple):
     sun_dim: np.ndarray
     #: (..., C) float32: the DIM of the probe without its sun (surfaces in shadow).
     shadow_dim: np.ndarray
-    #: the probe with its sun painted out, in the input's layout, shape and dtype.
+    #: the probe with its sun painted out, in the input's layout and shape (float32, or
+    #: float64 for float64 input; alpha kept).
     shadow_probe: np.ndarray
     #: the sun's measurements, or None when the probe has none (then both DIMs are equal).
     sun: Sun | None
@@ -522,7 +523,7 @@ def dim_pair(
     values, dirs, omega, _ = texels(image, layout)
     with progress.step("finding the sun"):
         removal = sun_module.split_texels(image, layout, values, dirs, omega)
-    probe = np.array(image, copy=True)
+    probe = np.array(image, dtype=values.dtype)  # a float copy (the fill is fractional)
     if removal is not None:
         flat = probe.reshape(-1, probe.shape[-1])
         flat[removal.index, : values.shape[1]] = removal.filled

@@ -359,15 +359,16 @@ def remove_sun(image, layout: str):
     Returns
     -------
     probe : (..., C) array
-        A copy of ``image`` (same dtype; alpha kept) whose sun region is filled harmonically
-        from the sky around it; an unchanged copy when there is no sun.
+        A float copy of ``image`` (float32, float64 for float64 input; alpha kept) whose sun
+        region is filled harmonically from the sky around it; an unchanged copy when there is
+        no sun.
     sun : Sun or None
     """
     from bakeshop.light.irradiance import texels
 
     values, dirs, omega, _ = texels(image, layout)
     found = split_texels(image, layout, values, dirs, omega)
-    out = np.array(image, copy=True)
+    out = np.array(image, dtype=values.dtype)  # a float copy (the fill is fractional)
     if found is not None:
         flat = out.reshape(-1, out.shape[-1])
         flat[found.index, : values.shape[1]] = found.filled

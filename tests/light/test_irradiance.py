@@ -273,3 +273,19 @@ def test_auto_bound_holds_on_random_skies_with_lights(seed, n_lights, peak):
     auto = ir.irradiance(env, "latlong", size=(32, 16))
     rms, worst = _errors(auto, exact)
     assert rms < IRRADIANCE_AUTO_RMS and worst < IRRADIANCE_AUTO_MAX, (rms, worst)
+
+
+def test_black_integer_and_cube_inputs():
+    black = np.zeros((32, 64, 3), np.float32)
+    for method in ir.METHODS:
+        assert not ir.irradiance(black, "latlong", size=(8, 4), method=method).any()
+    pair = ir.dim_pair(black, "latlong", size=(8, 4))
+    assert pair.sun is None and not pair.sun_dim.any()
+    ldr = np.full((32, 64, 3), 200, np.uint8)
+    pair = ir.dim_pair(ldr, "latlong", size=(8, 4))
+    assert pair.shadow_probe.dtype == np.float32 and pair.sun_dim.dtype == np.float32
+    np.testing.assert_allclose(pair.sun_dim, 200, rtol=UNIFORM_DIM * 10)
+    cube = np.ones((6, 16, 16, 3), np.float32)
+    pair = ir.dim_pair(cube, "cube", to="cube", size=4)
+    assert pair.sun_dim.shape == (6, 4, 4, 3) and pair.shadow_probe.shape == cube.shape
+    np.testing.assert_allclose(pair.sun_dim, 1, atol=UNIFORM_DIM * 10)
