@@ -241,34 +241,6 @@ def resolve(kind, h, w, f, i, j, x):
     return cj * w + ci
 
 
-@_jit
-def density(kind, h, w, f, x, y):
-    """Solid angle per unit texel area at coordinates (f, x, y) (0 outside a disk)."""
-    if kind == LATLONG:
-        return math.sin(math.pi * y / h) * (2 * math.pi / w) * (math.pi / h)
-    if kind == CUBE:
-        sc = 2 * x / w - 1
-        tc = 2 * y / h - 1
-        return (2.0 / w) ** 2 / (1 + sc * sc + tc * tc) ** 1.5
-    if kind == OCTAHEDRAL:
-        px, py, pz = _octahedron_point(2 * x / w - 1, 2 * y / h - 1)
-        return (2.0 / w) ** 2 / math.sqrt(px * px + py * py + pz * pz) ** 3
-    n = h
-    disk = min(max(math.floor(x / n), 0), w // n - 1)
-    a = 2 * (x - disk * n) / n - 1
-    b = 1 - 2 * y / n
-    r2 = a * a + b * b
-    if r2 > 1:
-        return 0.0
-    area = (2.0 / n) ** 2
-    if kind == ANGULAR:
-        r = math.sqrt(r2)
-        return area * (math.pi * math.pi if r == 0 else math.pi * math.sin(math.pi * r) / r)
-    if kind == MIRRORBALL:
-        return 4 * area
-    return 4 * area / (1 + r2) ** 2
-
-
 # --- drivers ------------------------------------------------------------------------------------
 
 
