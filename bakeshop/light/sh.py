@@ -491,7 +491,7 @@ def shader_snippet(coeffs, *, language: str = "glsl") -> str:
     lines += [
         f"{vec} bakeshop_irradiance({vec} n) {{",
         f"    {v4} p = {v4}(n, 1.0);",
-        f"    return max({vec}({', '.join(quad)}), {vec}(0.0));",
+        f"    return max({vec}({', '.join(quad)}), 0.0);",
         "}",
     ]
     return "\n".join(lines) + "\n"
