@@ -79,54 +79,58 @@ _BLOCK = 4096
 
 
 @numba.njit(parallel=True, fastmath=True, cache=True)
-def _cosine_sum(normals, dirs, energy, starts, axes, sin_half, linear, out):  # pragma: no cover
-    # out[i, c] = sum_j energy[c, j] * max(0, normals[i] . dirs[:, j]) with the sources sorted
-    # into groups g (members starts[g]..starts[g+1]) inside a cone (axis, half-angle b). A group
-    # wholly below the horizon of n adds nothing; one wholly above it adds n . linear[g, c]
-    # (= sum_j e_cj w_j) exactly; only the groups the horizon crosses are summed member by
-    # member. Float64 throughout; fastmath only lets the reductions vectorise.
+def _cosine_sum(normals, dirs, energy, groups, supers, out):  # pragma: no cover - compiled
+    # out[i, c] = sum_j energy[c, j] * max(0, normals[i] . dirs[:, j]), with the sources
+    # sorted into cones (groups: members starts[g]..starts[g+1]) and the cones into larger
+    # cones (supers: groups starts[s]..starts[s+1]). A cone wholly below the horizon of n adds
+    # nothing; one wholly above it adds n . linear[c] (= sum_j e_cj w_j) exactly; only the
+    # cones the horizon crosses are opened. Float64 throughout; fastmath only lets the
+    # reductions vectorise.
+    g_starts, g_axes, g_sin, g_linear = groups
+    s_starts, s_axes, s_sin, s_linear = supers
     for i in numba.prange(normals.shape[0]):
         nx, ny, nz = normals[i, 0], normals[i, 1], normals[i, 2]
-        a0 = 0.0
-        a1 = 0.0
-        a2 = 0.0
-        for g in range(axes.shape[0]):
-            c = nx * axes[g, 0] + ny * axes[g, 1] + nz * axes[g, 2]
-            if c < -sin_half[g] - 1e-12:
+        acc = np.zeros(3)
+        for s in range(s_axes.shape[0]):
+            c = nx * s_axes[s, 0] + ny * s_axes[s, 1] + nz * s_axes[s, 2]
+            if c < -s_sin[s] - 1e-12:
                 continue
-            if c > sin_half[g] + 1e-12:
-                a0 += nx * linear[g, 0, 0] + ny * linear[g, 0, 1] + nz * linear[g, 0, 2]
-                a1 += nx * linear[g, 1, 0] + ny * linear[g, 1, 1] + nz * linear[g, 1, 2]
-                a2 += nx * linear[g, 2, 0] + ny * linear[g, 2, 1] + nz * linear[g, 2, 2]
+            if c > s_sin[s] + 1e-12:
+                for k in range(3):
+                    acc[k] += (
+                        nx * s_linear[s, k, 0] + ny * s_linear[s, k, 1] + nz * s_linear[s, k, 2]
+                    )
                 continue
-            for j in range(starts[g], starts[g + 1]):
-                c = max(nx * dirs[0, j] + ny * dirs[1, j] + nz * dirs[2, j], 0.0)
-                a0 += c * energy[0, j]
-                a1 += c * energy[1, j]
-                a2 += c * energy[2, j]
-        out[i, 0] = a0
-        out[i, 1] = a1
-        out[i, 2] = a2
+            for g in range(s_starts[s], s_starts[s + 1]):
+                c = nx * g_axes[g, 0] + ny * g_axes[g, 1] + nz * g_axes[g, 2]
+                if c < -g_sin[g] - 1e-12:
+                    continue
+                if c > g_sin[g] + 1e-12:
+                    for k in range(3):
+                        acc[k] += (
+                            nx * g_linear[g, k, 0] + ny * g_linear[g, k, 1] + nz * g_linear[g, k, 2]
+                        )
+                    continue
+                a0 = 0.0
+                a1 = 0.0
+                a2 = 0.0
+                for j in range(g_starts[g], g_starts[g + 1]):
+                    c = max(nx * dirs[0, j] + ny * dirs[1, j] + nz * dirs[2, j], 0.0)
+                    a0 += c * energy[0, j]
+                    a1 += c * energy[1, j]
+                    a2 += c * energy[2, j]
+                acc[0] += a0
+                acc[1] += a1
+                acc[2] += a2
+        out[i, 0] = acc[0]
+        out[i, 1] = acc[1]
+        out[i, 2] = acc[2]
 
 
-def _groups(dirs, energy):
-    """Sort sources into cone-bounded groups for :func:`_cosine_sum`.
-
-    The group size balances the two costs per normal: testing every group (~4 pi / h**2 for
-    groups of angular size h) and summing the members of the groups its horizon crosses
-    (~N h), the first ~1.5**3 times dearer per item: h = 1.5 (8 pi / N)**(1/3).
-    """
-    n = dirs.shape[0]
-    h = 1.5 * (8 * math.pi / max(n, 1)) ** (1 / 3)
-    size = int(np.clip(round(2 / h), 1, 1024))
-    bins = _bins(dirs, np.empty(0, np.int64), size)
-    order = np.argsort(bins, kind="stable")
-    counts = np.bincount(bins, minlength=6 * size * size)
-    counts = counts[counts > 0]
-    starts = np.concatenate([[0], np.cumsum(counts)])
-    d = dirs[order]
-    e = np.zeros((n, 3))
-    e[:, : energy.shape[1]] = energy[order]
+def _cones(d, e, starts):
+    """Axis, sin(half-angle) and linear sum of the cones of sorted sources ``d`` split at
+    ``starts`` (a half-angle of 90 degrees or more gets sin 2: never decided whole)."""
+    counts = np.diff(starts)
     axes = np.add.reduceat(d, starts[:-1], axis=0)
     norm = np.linalg.norm(axes, axis=1, keepdims=True)
     axes = np.divide(axes, norm, out=np.tile([1.0, 0.0, 0.0], (len(axes), 1)), where=norm > 0)
@@ -134,11 +138,46 @@ def _groups(dirs, energy):
         np.einsum("ij,ij->i", d, np.repeat(axes, counts, axis=0)), starts[:-1]
     )
     sin_half = np.where(cos_min > 0, np.sqrt(np.clip(1 - cos_min**2, 0, 1)), 2.0)
-    linear = np.empty((len(starts) - 1, 3, 3))
+    linear = np.empty((len(counts), 3, 3))
     for c in range(3):
         for k in range(3):
             linear[:, c, k] = np.add.reduceat(e[:, c] * d[:, k], starts[:-1])
-    return np.ascontiguousarray(d.T), np.ascontiguousarray(e.T), starts, axes, sin_half, linear
+    return axes, sin_half, linear
+
+
+#: a large cone holds (GROUP_RATIO x GROUP_RATIO) small cones' worth of cube-face bins.
+_GROUP_RATIO = 8
+
+
+def _groups(dirs, energy):
+    """Sort sources into two levels of cone-bounded groups for :func:`_cosine_sum`.
+
+    Small cones of angular size h ~ (8 pi / N)**(1/3), nested in cones 8 times larger:
+    per normal, every large cone is tested, the small cones of the ~2 pi / (8 h) large ones
+    its horizon crosses, and the ~N h sources of the small ones it crosses.
+    """
+    n = dirs.shape[0]
+    h = (8 * math.pi / max(n, 1)) ** (1 / 3)
+    coarse = max(1, round(2 / h / _GROUP_RATIO))
+    fine = coarse * _GROUP_RATIO  # fine bins nest in coarse ones
+    none = np.empty(0, np.int64)
+    key = _bins(dirs, none, coarse) * (6 * fine * fine) + _bins(dirs, none, fine)
+    order = np.argsort(key, kind="stable")
+    key = key[order]
+    starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1], True])
+    group_coarse = key[starts[:-1]] // (6 * fine * fine)
+    super_starts = np.flatnonzero(np.r_[True, group_coarse[1:] != group_coarse[:-1], True])
+    d = dirs[order]
+    e = np.zeros((n, 3))
+    e[:, : energy.shape[1]] = energy[order]
+    g_axes, g_sin, g_linear = _cones(d, e, starts)
+    s_axes, s_sin, s_linear = _cones(d, e, starts[super_starts])
+    return (
+        np.ascontiguousarray(d.T),
+        np.ascontiguousarray(e.T),
+        (starts, g_axes, g_sin, g_linear),
+        (super_starts, s_axes, s_sin, s_linear),
+    )
 
 
 def cosine_sum(normals, directions, energy, *, description: str = "irradiance") -> np.ndarray:
