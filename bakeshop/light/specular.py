@@ -31,15 +31,15 @@ source texel on a sunny probe, in a couple of seconds for a 6x256, 9-level chain
    analytically normalised lobe, so a sun is never undersampled.
 2. The rest has a bounded contrast. Where it is cheap (the wide lobes of the coarse levels,
    at most :data:`EXACT_BUDGET` texel pairs), it is convolved exactly over a level of its mip
-   pyramid whose texels are at most a third of the lobe's half-width. Elsewhere (the narrow
-   lobes of the fine levels) it is estimated by filtered importance sampling (Colbert and
-   Krivanek 2007): each output texel averages ``samples`` directions drawn from the lobe (a
-   Hammersley set, the same for every texel up to rotation, so the result is deterministic),
-   each read from the rest's box-filtered mip pyramid at the level whose texels are as large
-   as the solid angle the sample stands for, ``lod = 0.5 log2(Omega_s / Omega_p) + 1``, with
-   ``Omega_s = 1 / (samples pdf)`` and ``Omega_p`` the cube texel's solid angle where the
-   sample lands. The pyramid's faces are padded with their neighbours' texels, so bilinear
-   lookups are seamless.
+   pyramid whose texels are at most a sixth of the lobe's half-width (and twice as fine as
+   the output). Elsewhere (the narrow lobes of the fine levels) it is estimated by filtered
+   importance sampling (Colbert and Krivanek 2007): each output texel averages ``samples``
+   directions drawn from the lobe (a Hammersley set, the same for every texel up to
+   rotation, so the result is deterministic), each read from the rest's box-filtered mip
+   pyramid at the level whose texels are as large as the solid angle the sample stands for,
+   ``lod = 0.5 log2(Omega_s / Omega_p) + 1``, with ``Omega_s = 1 / (samples pdf)`` and
+   ``Omega_p`` the cube texel's solid angle where the sample lands. The pyramid's faces are
+   padded with their neighbours' texels, so bilinear lookups are seamless.
 
 Kernels are numba, parallel over output texels.
 
@@ -73,7 +73,11 @@ from bakeshop.sphere.cube import FACE_BASES
 #: Largest number of samples per texel accepted.
 MAX_SAMPLES = 1 << 16
 #: Largest exact convolution (output texels times source texels) done instead of sampling.
-EXACT_BUDGET = 1.5e8
+EXACT_BUDGET = 3e8
+#: The exact sum reads a pyramid level whose texels are at most 1/6 of the lobe's half-width
+#: and which is at least twice as fine as the output.
+EXACT_TEXELS_PER_LOBE = 6
+EXACT_SOURCE_RATIO = 2
 #: Texels brighter than this many times the environment's mean (and at most
 #: :data:`MAX_BRIGHT` of them) are convolved exactly rather than sampled.
 BRIGHT_RATIO = 8.0
@@ -426,9 +430,9 @@ def _convolve(source: _Source, size: int, lobe: _Lobe) -> np.ndarray:
     """One output level: the bright texels exactly, plus the rest by exact convolution where it
     is cheap and by filtered importance sampling elsewhere.
 
-    The exact sum over the rest runs over a pyramid level whose texels are at most a third of
-    the lobe's half-width (and at least the output's size); it is used when it costs at most
-    :data:`EXACT_BUDGET` texel pairs: the wide lobes of the coarse levels, where importance
+    The exact sum over the rest runs over a pyramid level whose texels are at most a sixth of
+    the lobe's half-width (and at least twice as fine as the output); it is used when it costs
+    at most :data:`EXACT_BUDGET` texel pairs: the wide lobes of the coarse levels, where importance
     sampling is least accurate.
     """
     cube_layout = get_layout("cube")
@@ -436,7 +440,11 @@ def _convolve(source: _Source, size: int, lobe: _Lobe) -> np.ndarray:
     dirs = np.ascontiguousarray(dirs.reshape(-1, 3))
     n, channels = dirs.shape[0], source.channels
     sizes = source.pyramid[2]
-    need = max(1.5 * math.pi / max(lobe.half_width, 1e-6), size)
+    # a face of s texels spans pi/2: texel ~ pi / (2 s) <= half_width / EXACT_TEXELS_PER_LOBE
+    need = max(
+        EXACT_TEXELS_PER_LOBE * math.pi / (2 * max(lobe.half_width, 1e-6)),
+        EXACT_SOURCE_RATIO * size,
+    )
     k = next((i for i in range(len(sizes) - 1, -1, -1) if sizes[i] >= need), 0)
     if 36 * size**2 * int(sizes[k]) ** 2 <= EXACT_BUDGET:
         sk, values = source.rest_level(k)
