@@ -4,6 +4,8 @@ cv2.remap converter, float32 RGB, cold (first call: geometry built) and warm (ca
 Each measurement runs in its own subprocess so that peak memory (ru_maxrss above the process's
 state once the input exists) and "cold" mean the same for everyone; numba's kernels are loaded
 from its on-disk cache before the clock starts (a one-off of a few seconds per installation).
+Wall and CPU times are both printed: on a shared machine the CPU seconds (all threads) are the
+steadier figure.
 
     python benchmarks/bench_remap.py            # the sizes
     python benchmarks/bench_remap.py --quick    # a quarter of each edge
@@ -115,16 +117,23 @@ def _child(case: str, engine: str, scale: int) -> dict:
         remap(small, src, dst, 4, filter="area" if engine == "bakeshop-area" else "bilinear")
     fn = _make(engine, src, image.shape[:-1], dst, dsize)
     base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    t = time.perf_counter()
+    t, c = time.perf_counter(), time.process_time()
     fn(image)
-    cold = time.perf_counter() - t
+    cold, cold_cpu = time.perf_counter() - t, time.process_time() - c
     warm = []
     for _ in range(WARM_RUNS):
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         fn(image)
-        warm.append(time.perf_counter() - t)
+        warm.append((time.perf_counter() - t, time.process_time() - c))
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - base
-    return {"cold": cold, "warm": sorted(warm)[len(warm) // 2], "peak_mib": peak / 1024}
+    w, w_cpu = sorted(warm)[len(warm) // 2]
+    return {
+        "cold": cold,
+        "cold_cpu": cold_cpu,
+        "warm": w,
+        "warm_cpu": w_cpu,
+        "peak_mib": peak / 1024,
+    }
 
 
 def _run(case: str, engine: str, scale: int) -> dict:
@@ -193,15 +202,19 @@ def main() -> None:
     for case, src, ssize, dst, dsize in CASES:
         ssize, dsize = ssize // scale, dsize // scale
         print(f"\n{case}: {src} {ssize} -> {dst} {dsize}")
-        print("| engine | cold s | warm s | peak MiB | warm / cv2-cached | warm / bakeshop |")
-        print("|---|---:|---:|---:|---:|---:|")
+        print(
+            "| engine | cold s | cold CPU s | warm s | warm CPU s | peak MiB | warm / cv2-cached "
+            "| warm / bakeshop |"
+        )
+        print("|---|---:|---:|---:|---:|---:|---:|---:|")
         results = {e: _run(case, e, scale) for e in ENGINES[case]}
         ref_cv2 = results["cv2-cached"]["warm"]
         ref_b = results["bakeshop"]["warm"]
         for e, r in results.items():
             print(
-                f"| {e} | {r['cold']:.3f} | {r['warm']:.3f} | {r['peak_mib']:.0f} | "
-                f"{r['warm'] / ref_cv2:.2f} | {r['warm'] / ref_b:.2f} |"
+                f"| {e} | {r['cold']:.3f} | {r['cold_cpu']:.3f} | {r['warm']:.3f} | "
+                f"{r['warm_cpu']:.3f} | {r['peak_mib']:.0f} | {r['warm'] / ref_cv2:.2f} | "
+                f"{r['warm'] / ref_b:.2f} |"
             )
     print("\nscaling, latlong 4096x2048 -> cube, bilinear:")
     print("| face | output Mtexels | cold s | warm s | peak MiB |")
