@@ -2,7 +2,8 @@
 
 Pictures (docs/images/): irradiance_pair.png (a probe, its sun-removed probe, its sun DIM and
 its shadow DIM, and the sun before and after removal), irradiance_methods.png (the relative
-error of ``sh`` L = 2 and of ``auto`` against ``exact``). Table (printed as Markdown): ``auto``
+error of ``sh`` L = 2 and of ``auto`` against ``exact``), irradiance_suns.png (what sun
+detection says on every shared probe). Table (printed as Markdown): ``auto``
 and ``sh`` L = 2 against ``exact`` on every probe of ../shared/data/hdr at 360x180.
 
 Run: ``.venv/bin/python docs/images/irradiance_figures.py`` (a few minutes: ``exact`` runs at
@@ -11,6 +12,7 @@ Run: ``.venv/bin/python docs/images/irradiance_figures.py`` (a few minutes: ``ex
 
 from __future__ import annotations
 
+import io
 import sys
 from pathlib import Path
 
@@ -19,10 +21,12 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from PIL import Image
 
 from bakeshop.io import read_image
 from bakeshop.light import irradiance as ir
-from bakeshop.light.tonemap import exposure, to_srgb8
+from bakeshop.light.sun import find_sun
+from bakeshop.light.tonemap import auto_exposure, exposure, to_srgb8
 from bakeshop.sphere import layout
 
 HERE = Path(__file__).resolve().parent
@@ -41,6 +45,14 @@ DPI = 100
 
 def say(line: str) -> None:
     sys.stdout.write(line + "\n")
+
+
+def save(fig, name):
+    """Save a figure as an optimised RGB PNG (the docs keep each picture under 300 KB)."""
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png")
+    plt.close(fig)
+    Image.open(buffer).convert("RGB").save(HERE / name, optimize=True)
 
 
 def picture(image, ev):
@@ -80,8 +92,7 @@ def pair_figure(probe):
         ax.set_title(title, fontsize=9)
         ax.axis("off")
     fig.tight_layout()
-    fig.savefig(HERE / "irradiance_pair.png")
-    plt.close(fig)
+    save(fig, "irradiance_pair.png")
     return pair
 
 
@@ -100,8 +111,30 @@ def methods_figure(probe):
         ax.axis("off")
         fig.colorbar(im, ax=ax, fraction=0.025)
     fig.tight_layout()
-    fig.savefig(HERE / "irradiance_methods.png")
-    plt.close(fig)
+    save(fig, "irradiance_methods.png")
+
+
+def suns_figure():
+    fig, axes = plt.subplots(4, 2, figsize=(7.2, 6.9), dpi=80)
+    for ax, name in zip(axes.flat, NAMES + [None], strict=True):
+        ax.axis("off")
+        if name is None:
+            continue
+        probe = read_image(PROBES / f"{name}_1k.hdr")
+        found = find_sun(probe, "latlong")
+        ax.imshow(picture(probe, auto_exposure(probe)))
+        if found is None:
+            ax.set_title(f"{name}: no sun", fontsize=9)
+            continue
+        x, y = layout("latlong").coordinates(found.direction, probe.shape[:2])
+        ax.add_patch(plt.Circle((x, y), 18, fill=False, color="red", linewidth=1.2))
+        ax.set_title(
+            f"{name}: sun, {found.angular_radius_deg:.2f} deg, elevation "
+            f"{np.degrees(np.arcsin(found.direction[1])):.1f} deg",
+            fontsize=9,
+        )
+    fig.tight_layout()
+    save(fig, "irradiance_suns.png")
 
 
 def table():
@@ -124,6 +157,7 @@ def main():
     pair = pair_figure(probe)
     say(f"sun: {pair.sun.to_dict()}")
     methods_figure(probe)
+    suns_figure()
     table()
 
 
