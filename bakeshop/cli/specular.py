@@ -186,8 +186,10 @@ def prefilter(source, target, brdf, exponent, size, mips, src_layout, samples, c
 
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("target", metavar="OUT", type=OUTPUT)
-@click.option("--size", type=click.IntRange(1, 4096), default=128, show_default=True)
-@click.option("--samples", type=click.IntRange(1, 1 << 20), default=4096, show_default=True)
+@click.option("--size", type=click.IntRange(1, 4096), default=128, show_default=True,
+              help="Side of the square table.")  # fmt: skip
+@click.option("--samples", type=click.IntRange(1, 1 << 20), default=4096, show_default=True,
+              help="Importance samples per texel.")  # fmt: skip
 @click.option(
     "--visibility",
     type=click.Choice(("height-correlated", "schlick")),
@@ -251,8 +253,10 @@ def dfg(target, size, samples, visibility, float32):
 )
 @click.option("--cube-size", type=click.IntRange(1, 8192), help="Face size of the environment "
               "cube (default: as many texels as the probe, a power of two).")  # fmt: skip
-@click.option("--specular-size", type=click.IntRange(1, 8192), default=256, show_default=True)
-@click.option("--mips", type=click.IntRange(1, 14), default=9, show_default=True)
+@click.option("--specular-size", type=click.IntRange(1, 8192), default=256, show_default=True,
+              help="Face size of level 0 of the GGX chain.")  # fmt: skip
+@click.option("--mips", type=click.IntRange(1, 14), default=9, show_default=True,
+              help="Levels of the GGX chain (roughness m / (mips - 1)).")  # fmt: skip
 def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_size, mips):
     """Bake everything the renderer needs from one probe IN (default: the embedded probe).
 
