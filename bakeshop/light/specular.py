@@ -37,7 +37,8 @@ source texel on a sunny probe, in a couple of seconds for a 6x256, 9-level chain
    directions drawn from the lobe (a Hammersley set, the same for every texel up to
    rotation, so the result is deterministic), each read from the rest's box-filtered mip
    pyramid at the level whose texels are as large as the solid angle the sample stands for,
-   ``lod = 0.5 log2(Omega_s / Omega_p) + 1``, with ``Omega_s = 1 / (samples pdf)`` and
+   ``lod = 0.5 log2(Omega_s / Omega_p)`` (Colbert and Krivanek add a bias of 1; see
+   :data:`LOD_BIAS`), with ``Omega_s = 1 / (samples pdf)`` and
    ``Omega_p`` the cube texel's solid angle where the sample lands. The pyramid's faces are
    padded with their neighbours' texels, so bilinear lookups are seamless.
 
@@ -80,11 +81,13 @@ EXACT_TEXELS_PER_LOBE = 6
 EXACT_SOURCE_RATIO = 2
 #: Texels brighter than this many times the environment's mean (and at most
 #: :data:`MAX_BRIGHT` of them) are convolved exactly rather than sampled.
-BRIGHT_RATIO = 8.0
+BRIGHT_RATIO = 2.0
 MAX_BRIGHT = 1024
-#: Mip level bias of filtered importance sampling (Colbert and Krivanek's +1: each sample reads
-#: a level twice as wide as its solid angle, which hides the sampling pattern).
-LOD_BIAS = 1.0
+#: Mip level bias of filtered importance sampling. Colbert and Krivanek add 1 (each sample reads
+#: a level twice as wide as its solid angle, hiding the sampling pattern at few samples); with
+#: 256 samples the unbiased level is closer to the true convolution (on real probes 2-5x lower
+#: RMS and worst-texel error against brute force), so none is added.
+LOD_BIAS = 0.0
 
 __all__ = [
     "hammersley",
