@@ -314,10 +314,11 @@ def _bins(dirs, subset, size):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _accumulate(values, dirs, omega, subset, index, n_bins, chunks):  # pragma: no cover
+def _accumulate(values, dirs, omega, subset, index, n_bins, chunks, size):  # pragma: no cover
     # Row b of the result sums, over texel k (of all texels, or of those listed in subset)
     # with index[k] == b: its energy per channel, its weight (sum over channels of |energy|),
     # weight * direction, and a count. Chunks of texels run in parallel into partial sums.
+    # With size > 0, index[k] is first set to the texel's bin at that size.
     channels = values.shape[1]
     count = index.shape[0]
     partial = np.zeros((chunks, n_bins, channels + 5))
@@ -325,6 +326,8 @@ def _accumulate(values, dirs, omega, subset, index, n_bins, chunks):  # pragma: 
     for c in numba.prange(chunks):
         for k in range(c * step, min(count, (c + 1) * step)):
             t = subset[k] if subset.shape[0] > 0 else np.int64(k)
+            if size > 0:
+                index[k] = _bin_of(dirs[t, 0], dirs[t, 1], dirs[t, 2], size)
             b = index[k]
             partial[c, b, channels + 4] += 1.0
             w = omega[t]
@@ -398,16 +401,16 @@ def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float 
     out_dirs, out_energy = [], []
     threshold = None
     while True:
-        bins = _bins(dirs, subset, size)
-        if parent is None:
-            index, n_bins = bins, 6 * size * size
+        if parent is None:  # every texel: the bins are found while summing
+            index, n_bins, fused = np.empty(len(omega), np.int64), 6 * size * size, size
         else:
             # the four children of each split bin, numbered after their parent's rank: bin
             # (face, j, i) at this size has the parity (j % 2, i % 2) in its parent (size even)
+            bins = _bins(dirs, subset, size)
             index = 4 * parent + 2 * (bins // size % 2) + bins % 2
-            n_bins = 4 * n_parents
+            n_bins, fused = 4 * n_parents, 0
         chunks = min(4 * numba.get_num_threads(), max(1, len(index) // 65536))
-        sums = _accumulate(values, dirs, omega, subset, index, n_bins, chunks)
+        sums = _accumulate(values, dirs, omega, subset, index, n_bins, chunks, fused)
         weight = sums[:, channels]
         if threshold is None:
             threshold = hot_fraction * weight.sum()
