@@ -108,10 +108,27 @@ class _Candidate:
 
 
 @numba.njit(parallel=True, cache=True)
-def _cosines(dirs, centre):  # pragma: no cover - compiled
-    out = np.empty(dirs.shape[0])
-    for i in numba.prange(dirs.shape[0]):
-        out[i] = dirs[i, 0] * centre[0] + dirs[i, 1] * centre[1] + dirs[i, 2] * centre[2]
+def _cap(dirs, omega, centre, cos_limit):  # pragma: no cover - compiled
+    # Indices (ascending) of the texels with a solid angle within acos(cos_limit) of centre.
+    chunks = 64
+    step = (dirs.shape[0] + chunks - 1) // chunks
+    counts = np.zeros(chunks + 1, np.int64)
+    for c in numba.prange(chunks):
+        n = 0
+        for i in range(c * step, min(dirs.shape[0], (c + 1) * step)):
+            cos = dirs[i, 0] * centre[0] + dirs[i, 1] * centre[1] + dirs[i, 2] * centre[2]
+            if cos > cos_limit and omega[i] > 0:
+                n += 1
+        counts[c + 1] = n
+    offsets = np.cumsum(counts)
+    out = np.empty(offsets[-1], np.int64)
+    for c in numba.prange(chunks):
+        j = offsets[c]
+        for i in range(c * step, min(dirs.shape[0], (c + 1) * step)):
+            cos = dirs[i, 0] * centre[0] + dirs[i, 1] * centre[1] + dirs[i, 2] * centre[2]
+            if cos > cos_limit and omega[i] > 0:
+                out[j] = i
+                j += 1
     return out
 
 
@@ -165,10 +182,9 @@ def _candidate(lum, dirs, omega, k, max_core) -> _Candidate | None:
     around it."""
     pitch = max(math.sqrt(omega[k]), 1e-6)
     peak = float(lum[k])
-    cosines = _cosines(dirs, dirs[k])
     reach = math.radians(8.0)
     while True:  # examine the texels within reach of the peak, further if the light needs it
-        near = np.flatnonzero((cosines > math.cos(reach)) & (omega > 0))
+        near = _cap(dirs, omega, dirs[k], math.cos(reach))
         lum_n, dirs_n, omega_n = lum[near], dirs[near], omega[near]
         centre = dirs[k]
         # the brightest texel may lie anywhere in a uniform disk: measure again around the
@@ -193,10 +209,33 @@ def _candidate(lum, dirs, omega, k, max_core) -> _Candidate | None:
     return _Candidate(centre, peak, sky, core, mask, excess, pitch, near)
 
 
+@numba.njit(parallel=True, cache=True)
+def _brightest(lum, omega, dirs, centre, cos_limit):  # pragma: no cover - compiled
+    # The texel of largest luminance among those with a solid angle and at more than
+    # acos(cos_limit) from centre (cos_limit > 1: all of them); -1 if none is positive.
+    chunks = 64
+    best = np.full(chunks, -1, np.int64)
+    step = (lum.shape[0] + chunks - 1) // chunks
+    for c in numba.prange(chunks):
+        top = 0.0
+        for i in range(c * step, min(lum.shape[0], (c + 1) * step)):
+            if lum[i] > top and omega[i] > 0:
+                if (
+                    dirs[i, 0] * centre[0] + dirs[i, 1] * centre[1] + dirs[i, 2] * centre[2]
+                    < cos_limit
+                ):
+                    top = lum[i]
+                    best[c] = i
+    k = -1
+    for c in range(chunks):
+        if best[c] >= 0 and (k < 0 or lum[best[c]] > lum[k]):
+            k = best[c]
+    return k
+
+
 def _detect(lum, dirs, omega) -> _Candidate | None:
-    lum = np.where(omega > 0, lum, 0)
-    k = int(np.argmax(lum))
-    if not lum[k] > 0:
+    k = _brightest(lum, omega, dirs, np.zeros(3), 2.0)
+    if k < 0:
         return None
     sun = _candidate(lum, dirs, omega, k, math.radians(MAX_RADIUS_DEG))
     if sun is None:
@@ -204,9 +243,8 @@ def _detect(lum, dirs, omega) -> _Candidate | None:
     # the next brightest light away from this one, if it is about as compact (not a broad
     # patch of bright sky), must be much weaker
     exclude = max(3 * sun.mask_radius, math.radians(4.0))
-    rest = np.where(_cosines(dirs, sun.centre) < math.cos(exclude), lum, 0)
-    k2 = int(np.argmax(rest))
-    if rest[k2] > 0:
+    k2 = _brightest(lum, omega, dirs, sun.centre, math.cos(exclude))
+    if k2 >= 0:
         limit = min(math.radians(MAX_RADIUS_DEG), max(4 * sun.core_radius, math.radians(2.0)))
         rival = _candidate(lum, dirs, omega, k2, limit)
         if rival is not None and sun.excess < DOMINANCE * rival.excess:
