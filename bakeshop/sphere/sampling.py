@@ -158,21 +158,39 @@ def sample(image, layout_name, dirs, *, filter: str = "bilinear") -> np.ndarray:
 
 @functools.lru_cache(maxsize=PLAN_CACHE_SIZE)
 def _plan(src: str, src_shape, dst: str, dst_shape, filter: str, rotation: bytes | None):
-    """Source taps of every output texel: int32 (m, 1) or (m, 4) indices, float32 (m, 2)
-    fractions (None for nearest); read-only, cached."""
+    """The cached remap plan of every output texel (read-only arrays), see ``_maps.plan``:
+    ``(base, frac, taps)``. Nearest: int32 (m,) source texels, no fractions or taps. Bilinear:
+    int32 (m,) base indices of 2x2 blocks, float32 (m, 2) fractions and int32 (k, 4) explicit
+    taps of the k output texels whose taps cross a seam: 12 bytes per output texel plus 16 per
+    seam texel."""
     s, d = layout(src), layout(dst)
     sh, sw, _ = s._hw(src_shape)
     dh, dw, faces = d._hw(dst_shape)
     m = faces * dh * dw
     nearest = filter == "nearest"
-    index = np.empty((m, 1 if nearest else 4), np.int32)
-    frac = None if nearest else np.empty((m, 2), np.float32)
-    _maps.plan(s.kind, sh, sw, d.kind, dh, dw, faces, _matrix(rotation), nearest, index,
-               _NO_FRAC if frac is None else frac)  # fmt: skip
-    index.setflags(write=False)
-    if frac is not None:
-        frac.setflags(write=False)
-    return index, frac
+    rot = _matrix(rotation)
+    base = np.empty(m, np.int32)
+    frac = np.empty((0, 2) if nearest else (m, 2), np.float32)
+    _maps.plan(s.kind, sh, sw, d.kind, dh, dw, faces, rot, nearest, base, frac)
+    where = np.flatnonzero(base == _maps.EXCEPTION)
+    taps = np.empty((len(where), 4), np.int32)
+    if len(where):
+        _maps.plan_exceptions(s.kind, sh, sw, d.kind, dh, dw, rot, where, taps)
+        base[where] = _maps.EXCEPTION - np.arange(len(where), dtype=np.int32)
+    for a in (base, frac, taps):
+        a.setflags(write=False)
+    return base, frac, taps
+
+
+def _apply_plan(flat_src, plan, row: int):
+    """A cached plan applied to a flat (n, C) source whose rows are ``row`` texels long."""
+    base, frac, taps = plan
+    out = np.empty((base.shape[0], flat_src.shape[1]), flat_src.dtype)
+    if len(frac) == 0:
+        _maps.gather_nearest(flat_src, base[:, None], out)
+    else:
+        _maps.gather_plan(flat_src, row, base, frac, taps, out)
+    return out
 
 
 def _matrix(rotation: bytes | None) -> np.ndarray:
@@ -191,8 +209,8 @@ def _area(flat, s: Layout, src_shape, d: Layout, dst_shape, key):
     with progress.step(f"area filter {s.name} -> {d.name}"):
         _maps.splat(flat, s.kind, sh, sw, sfaces, omega_src, d.kind, dh, dw, threads,
                     _matrix(key), acc)  # fmt: skip
-        index, frac = _plan(s.name, src_shape, d.name, dst_shape, "bilinear", key)
-        gathered = _apply(flat, index, frac)
+        plan = _plan(s.name, src_shape, d.name, dst_shape, "bilinear", key)
+        gathered = _apply_plan(flat, plan, sw)
         out = np.empty((m, flat.shape[1]), flat.dtype)
         omega_dst = d.solid_angles(dst_shape).reshape(-1)
         _maps.finish_area(acc, omega_dst, gathered, out)
@@ -255,8 +273,8 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
     if filter == "area":
         out = _area(flat, s.base, src_shape, d.base, base_shape, key)
     else:
-        index, frac = _plan(s.base.name, src_shape, d.base.name, base_shape, filter, key)
-        out = _apply(flat, index, frac)
+        plan = _plan(s.base.name, src_shape, d.base.name, base_shape, filter, key)
+        out = _apply_plan(flat, plan, s.base._hw(src_shape)[1])
     out = out.reshape(base_shape + (img.shape[-1],))
     if d.base is not d:
         out = cube_to_view(out, d.name)
