@@ -32,7 +32,7 @@ import os
 import numba
 import numpy as np
 
-from bakeshop.errors import ArgumentError, FormatError
+from bakeshop.errors import ArgumentError, FormatError, validate_choice
 from bakeshop.io._files import atomic_path
 
 #: the highest order the module accepts (a guard against absurd allocations).
@@ -422,6 +422,7 @@ def to_json(coeffs, *, kind: str = "radiance") -> str:
     ``kind`` says what the coefficients expand: ``"radiance"`` (the environment) or
     ``"irradiance"`` (the DIM, E / pi).
     """
+    validate_choice(kind, ("radiance", "irradiance"), "SH coefficient kind")
     c = np.asarray(coeffs, dtype=np.float64)
     if c.ndim == 1:
         c = c[:, None]
