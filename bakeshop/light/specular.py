@@ -343,11 +343,11 @@ def _filter_kernel(dirs, samples, pyramid, offsets, sizes, bases, lod_bias, log2
 
 
 @numba.njit(cache=True, parallel=True)
-def _lobe_kernel(dirs, src_dirs, src_omega, src_values, ggx, param, acc, total):
+def _lobe_kernel(dirs, src_dirs, src_omega, src_values, ggx, param, cos_cut, acc, total):
     """acc[p] = sum_j w(n_p . l_j) Omega_j L_j and total[p] = sum_j w(n_p . l_j) Omega_j.
 
     The lobe w is GGX's D(h) (n.l) up to the constant alpha^2 / pi (param = alpha^2), or Phong's
-    (n.l)^e (param = e), over n.l > 0.
+    (n.l)^e (param = e), over n.l > ``cos_cut`` (where w has fallen below 1e-10 of its peak).
     """
     channels = src_values.shape[1]
     for p in numba.prange(dirs.shape[0]):
@@ -355,7 +355,7 @@ def _lobe_kernel(dirs, src_dirs, src_omega, src_values, ggx, param, acc, total):
         t = 0.0
         for j in range(src_dirs.shape[0]):
             nl = nx * src_dirs[j, 0] + ny * src_dirs[j, 1] + nz * src_dirs[j, 2]
-            if nl <= 0.0:
+            if nl <= cos_cut:
                 continue
             if ggx:
                 # (n.h)^2 = (1 + n.l) / 2 for h = normalize(n + l)
@@ -367,6 +367,11 @@ def _lobe_kernel(dirs, src_dirs, src_omega, src_values, ggx, param, acc, total):
             for c in range(channels):
                 acc[p, c] += w * src_values[j, c]
         total[p] = t
+
+
+#: The exact sums skip directions where the lobe is below this fraction of its peak (GGX's tail
+#: beyond it holds less than about 1e-5 of its energy; Phong's far less).
+LOBE_CUTOFF = 1e-10
 
 
 class _Lobe:
@@ -385,10 +390,18 @@ class _Lobe:
             w = np.cos(t) / (0.5 * (1 + np.cos(t)) * (param - 1) + 1) ** 2
             half = w < 0.5 * w[0]
             self.half_width = float(t[np.argmax(half)]) if half.any() else np.pi / 2
+            # w(n.l) = n.l / q^2 grows with n.l: bisect for w = LOBE_CUTOFF * w(1)
+            lo, hi, peak = 0.0, 1.0, 1.0 / param**2
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                q = 0.5 * (1 + mid) * (param - 1) + 1
+                lo, hi = (mid, hi) if mid / q**2 < LOBE_CUTOFF * peak else (lo, mid)
+            self.cos_cut = lo
         else:
             self.samples = _phong_samples(param, samples)
             self.norm = 2 * np.pi / (param + 1)
             self.half_width = math.acos(0.5 ** (1.0 / param))
+            self.cos_cut = LOBE_CUTOFF ** (1.0 / param)
 
 
 class _Source:
@@ -460,6 +473,7 @@ def _convolve(source: _Source, size: int, lobe: _Lobe) -> np.ndarray:
             values,
             lobe.ggx,
             lobe.param,
+            lobe.cos_cut,
             acc,
             total,
         )
@@ -478,6 +492,7 @@ def _convolve(source: _Source, size: int, lobe: _Lobe) -> np.ndarray:
             source.bright_values,
             lobe.ggx,
             lobe.param,
+            lobe.cos_cut,
             acc,
             total,
         )
