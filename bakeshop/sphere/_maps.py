@@ -351,21 +351,21 @@ EXCEPTION = -2
 
 
 @_jit
-def _block(kind, h, w, f, i0, j0):
-    """Flat index of texel (f, i0, j0) when it and its right, lower and lower-right neighbours
-    are four ordinary texels of one image (one face, one disk, all valid), else -1: then
-    ``resolve`` of the four is simply index, +1, +w, +w+1."""
-    if i0 < 0 or j0 < 0 or i0 + 1 >= w or j0 + 1 >= h:
+def _block(kind, h, w, f, i0, j0, size):
+    """Flat index of texel (f, i0, j0) when the size x size block from it holds ordinary
+    texels of one image (one face, one disk, all valid), else -1: then ``resolve`` of block
+    texel (a, b) is simply that index + b w + a."""
+    if i0 < 0 or j0 < 0 or i0 + size > w or j0 + size > h:
         return -1
     if kind == CUBE:
         return (int(f) * h + j0) * w + i0
     if kind == ANGULAR or kind == MIRRORBALL or kind == DUAL_PARABOLOID:
         n = h
         li = i0 % n
-        if li + 1 >= n:
+        if li + size > n:
             return -1
-        for dj in range(2):
-            for di in range(2):
+        for dj in range(size):
+            for di in range(size):
                 if not valid(kind, h, w, 0, li + di, j0 + dj):
                     return -1
     return j0 * w + i0
@@ -440,7 +440,7 @@ def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, base, frac):
             xf, yf = sx - 0.5, sy - 0.5
             x0, y0 = math.floor(xf), math.floor(yf)
             frac[p, 0], frac[p, 1] = xf - x0, yf - y0
-            b = _block(skind, sh, sw, sf[i], int(x0), int(y0))
+            b = _block(skind, sh, sw, sf[i], int(x0), int(y0), 2)
             base[p] = b if b >= 0 else EXCEPTION
 
 
@@ -465,28 +465,34 @@ def plan_exceptions(skind, sh, sw, dkind, dh, dw, rot, where, taps):
 def gather_plan(src, row, base, frac, taps, out):
     """Apply a bilinear remap plan (see :func:`plan`): ``row`` is the source's row stride
     (its width). Weights are computed in the image's type (float32 stays float32)."""
+    for p in numba.prange(base.shape[0]):
+        _gather_texel(src, row, base, frac, taps, p, out)
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _gather_texel(src, row, base, frac, taps, p, out):
+    """out[p] from the bilinear plan (see :func:`plan`); inlined: a call costs 2x here."""
     nc = src.shape[1]
     one = src.dtype.type(1)
-    for p in numba.prange(base.shape[0]):
-        b = base[p]
-        if b == -1:
-            for c in range(nc):
-                out[p, c] = 0
-            continue
-        fx, fy = src.dtype.type(frac[p, 0]), src.dtype.type(frac[p, 1])
-        if b >= 0:
-            i0, i1, i2, i3 = b, b + 1, b + row, b + row + 1
-        else:
-            k = EXCEPTION - b
-            i0, i1, i2, i3 = taps[k, 0], taps[k, 1], taps[k, 2], taps[k, 3]
-        gx, gy = one - fx, one - fy
-        w0, w1, w2, w3 = gx * gy, fx * gy, gx * fy, fx * fy
-        if i0 >= 0 and i1 >= 0 and i2 >= 0 and i3 >= 0:
-            for c in range(nc):
-                out[p, c] = w0 * src[i0, c] + w1 * src[i1, c] + w2 * src[i2, c] + w3 * src[i3, c]
-        else:
-            for c in range(nc):
-                out[p, c] = _bilinear(src, i0, i1, i2, i3, fx, fy, c)
+    b = base[p]
+    if b == -1:
+        for c in range(nc):
+            out[p, c] = 0
+        return
+    fx, fy = src.dtype.type(frac[p, 0]), src.dtype.type(frac[p, 1])
+    if b >= 0:
+        i0, i1, i2, i3 = b, b + 1, b + row, b + row + 1
+    else:
+        k = EXCEPTION - b
+        i0, i1, i2, i3 = taps[k, 0], taps[k, 1], taps[k, 2], taps[k, 3]
+    gx, gy = one - fx, one - fy
+    w0, w1, w2, w3 = gx * gy, fx * gy, gx * fy, fx * fy
+    if i0 >= 0 and i1 >= 0 and i2 >= 0 and i3 >= 0:
+        for c in range(nc):
+            out[p, c] = w0 * src[i0, c] + w1 * src[i1, c] + w2 * src[i2, c] + w3 * src[i3, c]
+    else:
+        for c in range(nc):
+            out[p, c] = _bilinear(src, i0, i1, i2, i3, fx, fy, c)
 
 
 @_jit
@@ -641,106 +647,195 @@ def _image(skind, sh, sw, f, u2, v2, trig, rot, dkind, dh, dw, cf, cx, cy):
     return _local(dkind, dh, dw, x, y, z, cf, cx, cy)
 
 
+@_jit
+def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
+    """Source texel (f, i, j) in destination coordinates: (face, centre x, centre y, half
+    widths of the box bounding its locally affine image (at most 1/2), its narrower width)."""
+    x, y, z = _source_direction(skind, sh, sw, f, 2 * i + 1, 2 * j + 1, trig)
+    x, y, z = _rotate(rot.T, x, y, z)
+    df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
+    # the footprint: twice the images of the centre-to-edge-midpoint steps
+    b0, b1 = _image(skind, sh, sw, f, 2 * i + 2, 2 * j + 1, trig, rot, dkind, dh, dw, df, cx, cy)
+    d0, d1 = _image(skind, sh, sw, f, 2 * i + 1, 2 * j + 2, trig, rot, dkind, dh, dw, df, cx, cy)
+    ex0, ex1, ey0, ey1 = 2 * (b0 - cx), 2 * (b1 - cy), 2 * (d0 - cx), 2 * (d1 - cy)
+    hx = 0.5 * (abs(ex0) + abs(ey0))
+    hy = 0.5 * (abs(ex1) + abs(ey1))
+    hx = hx if hx >= 0 else 0.0  # NaN at a degenerate point: a tent
+    hy = hy if hy >= 0 else 0.0
+    # the narrower width (area over length): an upsampled texel is wider than a destination
+    # texel across every direction
+    length = max(math.hypot(ex0, ex1), math.hypot(ey0, ey1))
+    width = abs(ex0 * ey1 - ex1 * ey0) / length if length > 0 else 0.0
+    return df, cx, cy, min(0.5, hx), min(0.5, hy), width
+
+
+#: the splat plan stores a source texel's first two tent weights per axis in units of 1/W_ONE.
+W_ONE = 65535
+
+
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat(src, skind, sh, sw, sfaces, omega, dkind, dh, dw, chunks, rot, acc):
-    """Deposit every source texel's radiance x solid angle into the destination texels.
+def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, scale, width):
+    """The area filter's geometry, per source texel ``p`` (see :func:`splat`).
 
     A source texel's footprint in destination coordinates is the box bounding its (locally
-    affine) image, at most one destination texel wide; it deposits into the destination
-    texels with the mean of their bilinear tents over that box (box-filtered tents tile
-    exactly when the boxes do), renormalised to sum to 1 so that its whole energy is
-    deposited: ``acc[t, q, :C] += w L``, ``acc[t, q, C] += w`` with ``w = omega_src x mean
-    tent``, and ``acc[t, q, C + 1] += w x`` the footprint's narrower width in destination
-    texels, by which the filter tells averaging from interpolating.
-    ``t`` is one of ``chunks`` partial buffers (one per thread). The rotation ``rot`` moves
-    what the source shows at ``d`` to ``R d``.
+    affine) image, at most one destination texel wide; it deposits into the 3 x 3 destination
+    texels around it with the mean of their bilinear tents over that box (box-filtered tents
+    tile exactly when the boxes do), renormalised so that its whole energy is deposited.
+    ``anchor[p]``: flat index of the upper-left of the 3 x 3 destination texels when they are
+    one ordinary block (deposit into anchor + b dw + a), ``EXCEPTION`` across a seam (see
+    :func:`splat_exceptions`), -1 for none; ``wq[p]``: the first two box-tent weights along x
+    and along y, in units of 1/W_ONE (the third is the rest, so they sum to 1 exactly);
+    ``scale[p]``: omega; ``width[p]``: the footprint's narrower width in destination texels.
+    The rotation ``rot`` moves what the source shows at ``d`` to ``R d``.
     """
-    rows = sfaces * sh
-    nc = src.shape[1]
     trig = _half_texel_trig(sh, sw)
-    for t in numba.prange(chunks):
+    for row in numba.prange(sfaces * sh):
+        f = row // sh
+        j = row - f * sh
         wx = np.empty(3)
         wy = np.empty(3)
-        taps = np.empty(9, np.int64)
-        wts = np.empty(9)
-        for row in range(t * rows // chunks, (t + 1) * rows // chunks):
-            f = row // sh
-            j = row - f * sh
-            for i in range(sw):
-                p = row * sw + i
-                om = omega[p]
-                if om <= 0:
-                    continue
-                x, y, z = _source_direction(skind, sh, sw, f, 2 * i + 1, 2 * j + 1, trig)
-                x, y, z = _rotate(rot.T, x, y, z)
-                df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
-                # the footprint: twice the images of the centre-to-edge-midpoint steps
-                b0, b1 = _image(
-                    skind, sh, sw, f, 2 * i + 2, 2 * j + 1, trig, rot, dkind, dh, dw, df, cx, cy
-                )
-                d0, d1 = _image(
-                    skind, sh, sw, f, 2 * i + 1, 2 * j + 2, trig, rot, dkind, dh, dw, df, cx, cy
-                )
-                ex0, ex1, ey0, ey1 = 2 * (b0 - cx), 2 * (b1 - cy), 2 * (d0 - cx), 2 * (d1 - cy)
-                hx = 0.5 * (abs(ex0) + abs(ey0))
-                hy = 0.5 * (abs(ex1) + abs(ey1))
-                hx = hx if hx >= 0 else 0.0  # NaN at a degenerate point: a tent
-                hy = hy if hy >= 0 else 0.0
-                # the footprint's narrower width (area over length): an upsampled texel is
-                # wider than a destination texel across every direction
-                length = max(math.hypot(ex0, ex1), math.hypot(ey0, ey1))
-                width = abs(ex0 * ey1 - ex1 * ey0) / length if length > 0 else 0.0
-                hx = min(0.5, hx)
-                hy = min(0.5, hy)
-                lx = int(math.floor(cx - 0.5 - hx))
-                ly = int(math.floor(cy - 0.5 - hy))
-                _box_tent_weights(cx, hx, lx, wx)
-                _box_tent_weights(cy, hy, ly, wy)
-                total = 0.0
-                for b in range(3):
-                    for a in range(3):
-                        k = 3 * b + a
-                        taps[k] = -1
-                        wts[k] = wx[a] * wy[b]
-                        if wts[k] > 0:
-                            taps[k] = resolve(dkind, dh, dw, df, lx + a, ly + b, cx)
-                            if taps[k] >= 0:
-                                total += wts[k]
-                if total <= 0:
-                    continue
-                for k in range(9):
-                    q = taps[k]
-                    if q >= 0 and wts[k] > 0:
-                        wk = om * wts[k] / total
-                        for c in range(nc):
-                            acc[t, q, c] += wk * src[p, c]
-                        acc[t, q, nc] += wk
-                        acc[t, q, nc + 1] += wk * width
+        for i in range(sw):
+            p = row * sw + i
+            om = omega[p]
+            anchor[p] = -1
+            if om <= 0:
+                continue
+            df, cx, cy, hx, hy, wd = _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw)
+            lx = int(math.floor(cx - 0.5 - hx))
+            ly = int(math.floor(cy - 0.5 - hy))
+            _box_tent_weights(cx, hx, lx, wx)
+            _box_tent_weights(cy, hy, ly, wy)
+            width[p] = wd
+            scale[p] = om
+            b = _block(dkind, dh, dw, df, lx, ly, 3)
+            anchor[p] = b if b >= 0 else EXCEPTION
+            u0 = int(wx[0] * W_ONE + 0.5)
+            v0 = int(wy[0] * W_ONE + 0.5)
+            wq[p, 0], wq[p, 1] = u0, min(int(wx[1] * W_ONE + 0.5), W_ONE - u0)
+            wq[p, 2], wq[p, 3] = v0, min(int(wy[1] * W_ONE + 0.5), W_ONE - v0)
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def finish_area(acc, omega, gathered, out):
-    """The area filter's value: the normalised splat where the source texels landing in the
-    destination texel are at most 1/AREA_SPLAT_RATIO of it across (in their narrower
-    direction) and cover it, the bilinear value where they are as large as it or larger
-    (upsampling) or leave it uncovered, a linear blend between."""
-    nc = out.shape[1]
-    for p in numba.prange(out.shape[0]):
+def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, taps, weights):
+    """The explicit taps and weights (summing to omega) of the splat plan's EXCEPTION texels:
+    their 3 x 3 destination texels cross a seam (-1: a cube corner, weight 0)."""
+    trig = _half_texel_trig(sh, sw)
+    for k in numba.prange(where.shape[0]):
+        wx = np.empty(3)
+        wy = np.empty(3)
+        f, r = divmod(where[k], sh * sw)
+        j, i = divmod(r, sw)
+        df, cx, cy, hx, hy, _ = _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw)
+        lx = int(math.floor(cx - 0.5 - hx))
+        ly = int(math.floor(cy - 0.5 - hy))
+        _box_tent_weights(cx, hx, lx, wx)
+        _box_tent_weights(cy, hy, ly, wy)
+        total = 0.0
+        for b in range(3):
+            for a in range(3):
+                t = 3 * b + a
+                weights[k, t] = wx[a] * wy[b]
+                taps[k, t] = -1
+                if weights[k, t] > 0:
+                    taps[k, t] = resolve(dkind, dh, dw, df, lx + a, ly + b, cx)
+                if taps[k, t] >= 0:
+                    total += weights[k, t]
+                else:
+                    weights[k, t] = 0.0
+        for t in range(9):
+            weights[k, t] = omega[where[k]] * weights[k, t] / total if total > 0 else 0.0
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def splat(src, anchor, wq, scale, row, taps, weights, chunks, acc):
+    """Deposit every source texel's value x weight by the splat plan (:func:`splat_plan`):
+    ``acc[t, q] += w src[p]`` into one of ``chunks`` partial buffers ``t`` (one per thread).
+    The weights of source texel p sum to ``scale[p]`` (its solid angle)."""
+    n = anchor.shape[0]
+    nc = src.shape[1]
+    unit = 1.0 / W_ONE
+    for t in numba.prange(chunks):
+        for p in range(t * n // chunks, (t + 1) * n // chunks):
+            b = anchor[p]
+            if b == -1:
+                continue
+            if b < 0:
+                k = EXCEPTION - b
+                for m in range(9):
+                    q = taps[k, m]
+                    if q >= 0:
+                        for c in range(nc):
+                            acc[t, q, c] += weights[k, m] * src[p, c]
+                continue
+            wx0, wx1 = wq[p, 0] * unit, wq[p, 1] * unit
+            wy0, wy1 = wq[p, 2] * unit, wq[p, 3] * unit
+            om = scale[p]
+            wx2 = 1.0 - wx0 - wx1
+            for yb in range(3):
+                wy = wy0 if yb == 0 else (wy1 if yb == 1 else 1.0 - wy0 - wy1)
+                if wy == 0:
+                    continue
+                wy *= om
+                q0 = b + yb * row
+                for c in range(nc):
+                    v = wy * src[p, c]
+                    acc[t, q0, c] += wx0 * v
+                    acc[t, q0 + 1, c] += wx1 * v
+                    acc[t, q0 + 2, c] += wx2 * v
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def prune_splat(anchor, row, taps, alpha):
+    """Drop (anchor -1) the source texels whose 3 x 3 destination texels all have alpha 0."""
+    for p in numba.prange(anchor.shape[0]):
+        b = anchor[p]
+        if b < 0:
+            continue
+        used = False
+        for yb in range(3):
+            for a in range(3):
+                used = used or alpha[b + yb * row + a] > 0
+        if not used:
+            anchor[p] = -1
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def area_alpha(acc, omega, alpha, inverse):
+    """The area filter's blend per destination texel from the splat of ones and of the
+    source footprints' widths (``acc[t, q] = (sum w, sum w width)``): alpha = 1 (the splat's
+    mean) where the source texels landing there are at most 1/AREA_SPLAT_RATIO of it across
+    (in their narrower direction) and cover it, 0 (bilinear) where they are as large as it or
+    larger (upsampling) or leave it uncovered, linear between; ``inverse`` = 1 / sum w."""
+    for p in numba.prange(alpha.shape[0]):
         wsum = 0.0
         width = 0.0
         for t in range(acc.shape[0]):
-            wsum += acc[t, p, nc]
-            width += acc[t, p, nc + 1]
-        alpha = 0.0
+            wsum += acc[t, p, 0]
+            width += acc[t, p, 1]
+        a = 0.0
         if wsum > 0:
             width /= wsum
             ratio = 1 / width if width > 0 else AREA_SPLAT_RATIO
-            alpha = min(1.0, max(0.0, (ratio - 1) / (AREA_SPLAT_RATIO - 1)))
+            a = min(1.0, max(0.0, (ratio - 1) / (AREA_SPLAT_RATIO - 1)))
             if omega[p] > 0:
-                alpha *= min(1.0, wsum / omega[p])
-        for c in range(out.shape[1]):
-            e = 0.0
-            for t in range(acc.shape[0]):
-                e += acc[t, p, c]
-            mean = e / wsum if wsum > 0 else 0.0
-            out[p, c] = alpha * mean + (1 - alpha) * gathered[p, c]
+                a *= min(1.0, wsum / omega[p])
+        alpha[p] = a
+        inverse[p] = 1 / wsum if wsum > 0 else 0.0
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def finish_area(acc, alpha, inverse, src, row, base, frac, taps, out):
+    """out = alpha x (the splat's weighted mean) + (1 - alpha) x bilinear (the plan base,
+    frac, taps of :func:`plan`), the bilinear value computed only where alpha < 1."""
+    nc = out.shape[1]
+    for p in numba.prange(out.shape[0]):
+        a = alpha[p]
+        if a < 1:
+            _gather_texel(src, row, base, frac, taps, p, out)
+        for c in range(nc):
+            mean = 0.0
+            if a > 0:
+                for t in range(acc.shape[0]):
+                    mean += acc[t, p, c]
+                mean *= inverse[p]
+            out[p, c] = a * mean + (1 - a) * out[p, c] if a < 1 else mean

@@ -32,11 +32,13 @@ from bakeshop.sphere.layouts import Layout, layout
 
 FILTERS = ("nearest", "bilinear", "area")
 
-#: largest memory for the area filter's per-thread accumulation buffers (else one thread).
+#: largest memory for the area filter's per-thread accumulation buffers (fewer threads above).
 AREA_BUFFER_BYTES = 1 << 29
 
 #: number of cached remap plans (each holds indices and weights for every output texel).
 PLAN_CACHE_SIZE = 4
+#: number of cached area filter plans (16 bytes per source texel, 8 per output texel).
+AREA_PLAN_CACHE_SIZE = 2
 
 _NO_FRAC = np.empty((0, 2), np.float32)
 
@@ -197,23 +199,63 @@ def _matrix(rotation: bytes | None) -> np.ndarray:
     return np.eye(3) if rotation is None else np.frombuffer(rotation).reshape(3, 3)
 
 
-def _area(flat, s: Layout, src_shape, d: Layout, dst_shape, key):
+def _accumulators(m: int, channels: int) -> np.ndarray:
+    """Zeroed float64 (chunks, m, channels) partial sums for a parallel splat: one per thread,
+    as many as fit in AREA_BUFFER_BYTES (at least one)."""
+    fit = AREA_BUFFER_BYTES // (m * channels * 8)
+    return np.zeros((max(1, min(numba.get_num_threads(), fit)), m, channels))
+
+
+@functools.lru_cache(maxsize=AREA_PLAN_CACHE_SIZE)
+def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
+    """The area filter's cached geometry (read-only arrays), see ``_maps.splat_plan``: per
+    source texel an int32 anchor, four uint16 weights and a float32 solid angle (16 bytes),
+    36 bytes of explicit taps and weights per source texel at a seam, and per output texel
+    the float32 blend alpha and 1 / (sum of weights) (8 bytes)."""
+    s, d = layout(src), layout(dst)
     sh, sw, sfaces = s._hw(src_shape)
     dh, dw, faces = d._hw(dst_shape)
+    n, m = sfaces * sh * sw, faces * dh * dw
+    omega = s.solid_angles(src_shape).reshape(-1)
+    rot = _matrix(rotation)
+    anchor = np.empty(n, np.int32)
+    wq = np.empty((n, 4), np.uint16)
+    scale = np.zeros(n, np.float32)
+    width = np.zeros(n, np.float32)
+    _maps.splat_plan(s.kind, sh, sw, sfaces, omega, d.kind, dh, dw, rot, anchor, wq, scale, width)
+    where = np.flatnonzero(anchor == _maps.EXCEPTION)
+    taps = np.empty((len(where), 9), np.int32)
+    weights = np.empty((len(where), 9))
+    if len(where):
+        _maps.splat_exceptions(s.kind, sh, sw, omega, d.kind, dh, dw, rot, where, taps, weights)
+        anchor[where] = _maps.EXCEPTION - np.arange(len(where), dtype=np.int32)
+    # the blend between splat and bilinear depends on the geometry only: splat ones and widths
+    acc = _accumulators(m, 2)
+    ones_width = np.stack([np.ones(n), width.astype(np.float64)], axis=1)
+    _maps.splat(ones_width, anchor, wq, scale, dw, taps, weights, acc.shape[0], acc)
+    alpha = np.empty(m, np.float32)
+    inverse = np.empty(m, np.float32)
+    _maps.area_alpha(acc, d.solid_angles(dst_shape).reshape(-1), alpha, inverse)
+    _maps.prune_splat(anchor, dw, taps, alpha)
+    plan = (anchor, wq, scale, taps, weights, alpha, inverse)
+    for a in plan:
+        a.setflags(write=False)
+    return plan
+
+
+def _area(flat, s: Layout, src_shape, d: Layout, dst_shape, key):
+    sh, sw, _ = s._hw(src_shape)
+    dh, dw, faces = d._hw(dst_shape)
     m = faces * dh * dw
-    omega_src = s.solid_angles(src_shape).reshape(-1)
-    threads = numba.get_num_threads()
-    if threads * m * (flat.shape[1] + 2) * 8 > AREA_BUFFER_BYTES:
-        threads = 1
-    acc = np.zeros((threads, m, flat.shape[1] + 2))
     with progress.step(f"area filter {s.name} -> {d.name}"):
-        _maps.splat(flat, s.kind, sh, sw, sfaces, omega_src, d.kind, dh, dw, threads,
-                    _matrix(key), acc)  # fmt: skip
-        plan = _plan(s.name, src_shape, d.name, dst_shape, "bilinear", key)
-        gathered = _apply_plan(flat, plan, sw)
+        anchor, wq, scale, taps, weights, alpha, inverse = _area_plan(
+            s.name, src_shape, d.name, dst_shape, key
+        )
+        base, frac, btaps = _plan(s.name, src_shape, d.name, dst_shape, "bilinear", key)
+        acc = _accumulators(m, flat.shape[1])
+        _maps.splat(flat, anchor, wq, scale, dw, taps, weights, acc.shape[0], acc)
         out = np.empty((m, flat.shape[1]), flat.dtype)
-        omega_dst = d.solid_angles(dst_shape).reshape(-1)
-        _maps.finish_area(acc, omega_dst, gathered, out)
+        _maps.finish_area(acc, alpha, inverse, flat, sw, base, frac, btaps, out)
     return out
 
 
@@ -256,7 +298,10 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
     its energy is deposited; an output texel is the deposits' weighted mean (a constant stays
     exactly constant). Where source texels are as wide as an output texel or wider, the value
     is bilinear, blended linearly up to 1.5 source texels per output texel. The sum of
-    radiance x solid angle is preserved to 0.1% when downsampling (docs/panoramas.md).
+    radiance x solid angle is preserved to 0.1% when downsampling (docs/panoramas.md). Its
+    geometry (each source texel's nine weights, each output texel's blend) is cached too, in
+    16 bytes per source texel and 8 per output texel; a cached call is one splat and one
+    gather.
     """
     validate_choice(filter, FILTERS, "filter")
     s, d = layout(src), layout(dst)

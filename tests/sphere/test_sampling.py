@@ -346,3 +346,22 @@ def test_nan_and_infinite_directions_give_nan():
     for filter in ("nearest", "bilinear"):
         out = sample(img, "cube", d, filter=filter)
         assert np.isnan(out[:2]).all() and np.isfinite(out[2]).all()
+
+
+def test_area_filter_plan_is_cached_per_geometry_and_the_filter_is_linear():
+    """The area filter's geometry is cached: a second image of the same shape reuses it and
+    gets what a fresh plan gives; the filter is linear (a cached plan cannot hold image data)."""
+    from bakeshop.sphere import sampling
+
+    rng = np.random.default_rng(7)
+    a = rng.random((96, 192, 3)).astype(np.float32)
+    b = (rng.random((96, 192, 3)) ** 3).astype(np.float32)
+    args = ("latlong", "cube", 12)
+    first = remap(a, *args, filter="area", rotation=(20, 10, 0))
+    hits = sampling._area_plan.cache_info().hits
+    mixed = remap(a + 2 * b, *args, filter="area", rotation=(20, 10, 0))
+    assert sampling._area_plan.cache_info().hits == hits + 1
+    only_b = remap(b, *args, filter="area", rotation=(20, 10, 0))
+    np.testing.assert_allclose(mixed, first + 2 * only_b, rtol=1e-5, atol=1e-6)
+    sampling._area_plan.cache_clear()
+    np.testing.assert_array_equal(remap(b, *args, filter="area", rotation=(20, 10, 0)), only_b)
