@@ -182,16 +182,16 @@ def coordinates(kind, h, w, x, y, z):
         return 0, (px + 1) / 2 * w, (pz + 1) / 2 * h
     n = h
     disk = 0
-    if kind == ANGULAR:
-        r = math.atan2(math.sqrt(x * x + y * y), z) / math.pi
-        psi = math.atan2(y, x)
-        a, b = r * math.cos(psi), r * math.sin(psi)
-    elif kind == MIRRORBALL:
-        norm = math.sqrt(x * x + y * y + z * z)
-        zn = z / norm if norm > 0 else 1.0
-        r = math.sqrt(min(max((1 - zn) / 2, 0.0), 1.0))
-        psi = math.atan2(y, x)
-        a, b = r * math.cos(psi), r * math.sin(psi)
+    if kind == ANGULAR or kind == MIRRORBALL:
+        rho = math.sqrt(x * x + y * y)
+        if kind == ANGULAR:
+            r = math.atan2(rho, z) / math.pi
+        else:
+            norm = math.sqrt(rho * rho + z * z)
+            zn = z / norm if norm > 0 else 1.0
+            r = math.sqrt(min(max((1 - zn) / 2, 0.0), 1.0))
+        # (cos, sin) of the azimuth atan2(y, x); along the axis (0, 0)'s azimuth, 0
+        a, b = (r * x / rho, r * y / rho) if rho > 0 else (r, 0.0)
     else:
         norm = math.sqrt(x * x + y * y + z * z)
         if norm == 0:
