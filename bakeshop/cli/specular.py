@@ -338,7 +338,7 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
     ]
     for name, what, seconds in rows:
         took = f"{seconds:6.2f} s" if seconds is not None else ""
-        click.echo(f"  {name:<22} {what:<52} {took}")
+        click.echo(f"  {name:<22} {what:<52} {took}".rstrip())
     if bake.sun is not None:
         x, y, z = bake.sun.direction
         click.echo(
