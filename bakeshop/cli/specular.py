@@ -12,9 +12,17 @@ from bakeshop.cli._common import OUTPUT, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
 
 #: single-file containers of a whole mip chain.
-CONTAINERS = (".dds", ".ktx")
+CONTAINERS = (".dds", ".ktx", ".ktx2")
 #: largest value float16 holds; beyond it the containers are written as float32.
 HALF_MAX = 65504.0
+
+
+def _container_writer(target: Path):
+    from bakeshop.io.dds import write_dds
+    from bakeshop.io.ktx import write_ktx
+    from bakeshop.io.ktx2 import write_ktx2
+
+    return {".dds": write_dds, ".ktx": write_ktx, ".ktx2": write_ktx2}[target.suffix.lower()]
 
 
 def _sample_type(levels, force_float32: bool) -> str:
@@ -27,14 +35,14 @@ def _sample_type(levels, force_float32: bool) -> str:
 def _check_chain_target(target: Path) -> None:
     if target.suffix.lower() not in CONTAINERS and "{mip}" not in str(target):
         raise ArgumentError(
-            "a mip chain is one .dds or .ktx file, or a name with {mip} (and {face} for six "
+            "a mip chain is one .dds, .ktx or .ktx2 file, or a name with {mip} (and {face} for six "
             "face files per level, else one vertical cross per level): spec_{mip}_{face}.hdr",
             target,
         )
 
 
 def write_chain(target: Path, chain, *, convention: str, float32: bool = False) -> list[Path]:
-    """Write a cube mip chain: one .dds/.ktx file, or files per level (``{mip}``) and face.
+    """Write a cube mip chain: one .dds/.ktx/.ktx2 file, or files per level (``{mip}``) and face.
 
     Returns the paths written; a container holds float16 unless a value would overflow it.
     """
@@ -45,11 +53,7 @@ def write_chain(target: Path, chain, *, convention: str, float32: bool = False) 
     _check_chain_target(target)
     faces = [sphere.cube_to_faces(level, convention=convention) for level in chain]
     if target.suffix.lower() in CONTAINERS:
-        from bakeshop.io.dds import write_dds
-        from bakeshop.io.ktx import write_ktx
-
-        write = write_dds if target.suffix.lower() == ".dds" else write_ktx
-        write(target, faces, dtype=_sample_type(faces, float32))
+        _container_writer(target)(target, faces, dtype=_sample_type(faces, float32))
         return [target]
     paths = []
     for m, level in enumerate(chain):
@@ -63,16 +67,12 @@ def write_chain(target: Path, chain, *, convention: str, float32: bool = False) 
 
 
 def write_dfg(target: Path, table, *, float32: bool = False) -> None:
-    """Write the DFG table: RG in a .dds/.ktx 2-D texture, else RGB (blue 0) as an image
+    """Write the DFG table: RG in a .dds/.ktx/.ktx2 2-D texture, else RGB (blue 0) as an image
     (16-bit for PNG: the table is linear data, not a picture)."""
     from bakeshop.io import write_image
 
     if target.suffix.lower() in CONTAINERS:
-        from bakeshop.io.dds import write_dds
-        from bakeshop.io.ktx import write_ktx
-
-        write = write_dds if target.suffix.lower() == ".dds" else write_ktx
-        write(target, [table], dtype="float32" if float32 else "float16")
+        _container_writer(target)(target, [table], dtype="float32" if float32 else "float16")
         return
     rgb = np.concatenate([table, np.zeros_like(table[..., :1])], axis=-1)
     options = {"bits": 16} if target.suffix.lower() == ".png" else {}
@@ -114,7 +114,7 @@ _convention = click.option(
     help="Engine whose cube faces to write (directx: the left-handed, z-forward face set).",
 )
 _float32 = click.option(
-    "--float32", is_flag=True, help="Store 32-bit floats in .dds/.ktx (default: half floats "
+    "--float32", is_flag=True, help="Store 32-bit floats in .dds/.ktx/.ktx2 (default: half floats "
     "unless a value exceeds 65504)."
 )  # fmt: skip
 
@@ -143,13 +143,13 @@ def prefilter(source, target, brdf, exponent, size, mips, src_layout, samples, c
     GGX (the split-sum approximation of UE4): level m has roughness m / (mips - 1), so level 0
     is the environment itself and the last level roughness 1; a shader reads it with
     textureLod(env, R, roughness * (mips - 1)) and multiplies by the DFG table (bakeshop dfg).
-    Phong: cmft's exponent per level, or one lobe with --exponent. OUT is one .dds or .ktx
-    file holding the whole chain, or a name with {mip} (and {face} for six face files).
+    Phong: cmft's exponent per level, or one lobe with --exponent. OUT is one .dds, .ktx or
+    .ktx2 file holding the whole chain, or a name with {mip} (and {face} for six face files).
 
     \b
     Example:
       bakeshop prefilter probe.hdr specular.dds
-      bakeshop prefilter probe.exr specular.ktx --size 128 --mips 8
+      bakeshop prefilter probe.exr specular.ktx2 --size 128 --mips 8
       bakeshop prefilter probe.hdr "spec_{mip}_{face}.hdr" --convention directx
       bakeshop prefilter probe.hdr glossy.dds --brdf phong --exponent 64 --size 64
     """
@@ -204,8 +204,8 @@ def dfg(target, size, samples, visibility, float32):
 
     Columns are n.v and rows roughness (row 0 smoothest), both at texel centres:
     specular = prefiltered * (F0 * lut.r + lut.g) with lut = texture(dfg, vec2(NdotV,
-    roughness)). A .dds/.ktx file holds an RG float texture; an image file (.exr, .hdr, .pfm,
-    16-bit .png) holds RGB with blue 0.
+    roughness)). A .dds/.ktx/.ktx2 file holds an RG float texture; an image file (.exr, .hdr,
+    .pfm, 16-bit .png) holds RGB with blue 0.
 
     \b
     Example:
@@ -246,7 +246,7 @@ def dfg(target, size, samples, visibility, float32):
 )
 @click.option(
     "--container",
-    type=click.Choice(("dds", "ktx")),
+    type=click.Choice(("dds", "ktx", "ktx2")),
     default="dds",
     show_default=True,
     help="Container of the specular mip chain and the DFG table.",

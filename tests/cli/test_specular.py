@@ -50,6 +50,17 @@ def test_prefilter_writes_the_chain_in_one_dds(probe, tmp_path, convention):
         assert np.abs(got[..., :3] - faces).max() == EXACT
 
 
+def test_prefilter_ktx2(probe, tmp_path):
+    from bakeshop.io.ktx2 import read_ktx2
+
+    out = tmp_path / "spec.ktx2"
+    assert main(["prefilter", str(probe), str(out), "--size", "8", "--mips", "4"]) == 0
+    mips, meta = read_ktx2(out)
+    assert meta["cube"] and [m.shape for m in mips] == [(6, s, s, 3) for s in (8, 4, 2, 1)]
+    assert main(["dfg", str(tmp_path / "dfg.ktx2"), "--size", "8", "--samples", "64"]) == 0
+    assert read_ktx2(tmp_path / "dfg.ktx2")[0][0].shape == (8, 8, 2)
+
+
 def test_prefilter_half_floats_unless_they_overflow(probe, tmp_path):
     out = tmp_path / "spec.ktx"
     assert main(["prefilter", str(probe), str(out), "--size", "8", "--mips", "2"]) == 0

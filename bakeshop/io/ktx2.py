@@ -1,0 +1,223 @@
+"""Khronos texture 2 (KTX2): float cube maps and 2-D textures with their mip chains.
+
+The container of Vulkan-era engines (and glTF's KHR_texture_basisu); formats are Vulkan's.
+Layout of a file written here (Khronos, "KTX File Format Specification" version 2.0;
+little-endian)::
+
+    AB 4B 54 58 20 32 30 BB 0D 0A 1A 0A      identifier "«KTX 20»\\r\\n\\x1A\\n"
+    uint32 vkFormat (VK_FORMAT_R16G16B16A16_SFLOAT = 97, ...), typeSize (2 or 4),
+           pixelWidth, pixelHeight, pixelDepth 0, layerCount 0, faceCount (6 or 1),
+           levelCount, supercompressionScheme 0
+    uint32 dfdByteOffset, dfdByteLength, kvdByteOffset, kvdByteLength;
+    uint64 sgdByteOffset 0, sgdByteLength 0
+    level index             per level (base level first): uint64 byteOffset, byteLength,
+                            uncompressedByteLength
+    data format descriptor  one basic block: RGBSDA colour model, BT.709 primaries, linear
+                            transfer, one signed-float sample per channel
+    key/value data          "KTXorientation" = "rd", "KTXwriter" = "bakeshop <version>"
+    level data              smallest level first, each aligned to lcm(texel size, 4): the
+                            faces (+X, -X, +Y, -Y, +Z, -Z) in order, rows unpadded, row 0 first
+
+Row 0 is bakeshop's row 0 (t = 0, shown at the top: "rd"), so cube faces are exactly bakeshop's
+internal (OpenGL) cube, which is also what Vulkan samples. Sample types ``float16`` (default)
+and ``float32``, 1 to 4 channels; half clamps finite values beyond +-65504.
+
+The reader takes uncompressed float files without supercompression (what this writer writes);
+the data format descriptor is kept as bytes, not interpreted.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import struct
+
+import numpy as np
+
+from bakeshop import __version__
+from bakeshop.errors import FormatError, UnsupportedError, validate_choice
+from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload
+from bakeshop.io._levels import DTYPES, MAX_LEVELS, check_levels, encode, mip_size
+from bakeshop.io.ktx import _key_values
+
+NAME = "KTX2"
+IDENTIFIER = b"\xabKTX 20\xbb\r\n\x1a\n"
+
+#: (dtype name, channels) -> VkFormat.
+VK_FORMATS = {
+    ("float16", 1): 76,  # VK_FORMAT_R16_SFLOAT
+    ("float16", 2): 83,  # VK_FORMAT_R16G16_SFLOAT
+    ("float16", 3): 90,  # VK_FORMAT_R16G16B16_SFLOAT
+    ("float16", 4): 97,  # VK_FORMAT_R16G16B16A16_SFLOAT
+    ("float32", 1): 100,  # VK_FORMAT_R32_SFLOAT
+    ("float32", 2): 103,  # VK_FORMAT_R32G32_SFLOAT
+    ("float32", 3): 106,  # VK_FORMAT_R32G32B32_SFLOAT
+    ("float32", 4): 109,  # VK_FORMAT_R32G32B32A32_SFLOAT
+}
+# Khronos Data Format: colour model, primaries, transfer, channel ids and sample qualifiers.
+KHR_DF_MODEL_RGBSDA, KHR_DF_PRIMARIES_BT709, KHR_DF_TRANSFER_LINEAR = 1, 1, 1
+CHANNEL_IDS = (0, 1, 2, 15)  # R, G, B, alpha
+KHR_DF_SAMPLE_DATATYPE_SIGNED, KHR_DF_SAMPLE_DATATYPE_FLOAT = 0x40, 0x80
+FLOAT_LOWER, FLOAT_UPPER = 0xBF800000, 0x3F800000  # -1.0f and 1.0f
+
+_HEADER = struct.Struct("<12s9I4I2Q")
+_LEVEL = struct.Struct("<3Q")
+
+__all__ = ["write_ktx2", "read_ktx2", "sniff"]
+
+
+def sniff(head: bytes) -> bool:
+    """True if ``head`` starts with the KTX 2.0 identifier."""
+    return head[: len(IDENTIFIER)] == IDENTIFIER
+
+
+def _pad(n: int, align: int) -> int:
+    return -(-n // align) * align
+
+
+def data_format_descriptor(dtype: str, channels: int) -> bytes:
+    """The basic data format descriptor block of a linear signed-float RGBA-like format,
+    preceded by its total size (as it is stored in a KTX2 file)."""
+    bits = DTYPES[dtype].itemsize * 8
+    block = 24 + 16 * channels
+    words = [
+        0,  # vendorId 0 (Khronos), descriptorType 0 (basic)
+        2 | block << 16,  # versionNumber 2, descriptorBlockSize
+        KHR_DF_MODEL_RGBSDA | KHR_DF_PRIMARIES_BT709 << 8 | KHR_DF_TRANSFER_LINEAR << 16,
+        0,  # texelBlockDimension 1x1x1x1 (stored as 0s)
+        channels * bits // 8,  # bytesPlane0
+        0,
+    ]
+    qualifiers = KHR_DF_SAMPLE_DATATYPE_SIGNED | KHR_DF_SAMPLE_DATATYPE_FLOAT
+    for c in range(channels):
+        words += [
+            c * bits | (bits - 1) << 16 | (CHANNEL_IDS[c] | qualifiers) << 24,
+            0,  # samplePosition 0
+            FLOAT_LOWER,
+            FLOAT_UPPER,
+        ]
+    return struct.pack(f"<{len(words) + 1}I", 4 + block, *words)
+
+
+def write_ktx2(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None:
+    """Write a mip chain (a cube map or a 2-D texture) as a KTX 2.0 file.
+
+    Parameters
+    ----------
+    path : path-like
+        Written atomically (a failed write leaves no partial file).
+    mips : sequence of arrays, level 0 first
+        Cube map levels ``(6, S, S, C)`` in OpenGL face order, or 2-D levels ``(H, W, C)`` (or
+        ``(H, W)``), C in 1..4, each level half the previous (floor, at least 1). NaN is refused.
+    dtype : {"float16", "float32"}
+        Stored sample type (VK_FORMAT_R16G16B16A16_SFLOAT and friends, or the 32-bit ones).
+    """
+    validate_choice(dtype, tuple(DTYPES), "KTX2 sample type")
+    levels, cube = check_levels(mips)
+    channels = levels[0].shape[-1]
+    height, width = levels[0].shape[-3:-1]
+    texel = channels * DTYPES[dtype].itemsize
+    align = texel * 4 // math.gcd(texel, 4)
+    dfd = data_format_descriptor(dtype, channels)
+    kv = b""
+    for key, value in (
+        (b"KTXorientation", b"rd"),
+        (b"KTXwriter", f"bakeshop {__version__}".encode()),
+    ):
+        entry = key + b"\x00" + value + b"\x00"
+        kv += struct.pack("<I", len(entry)) + entry
+        kv += bytes(_pad(len(kv), 4) - len(kv))
+    index_end = _HEADER.size + _LEVEL.size * len(levels)
+    dfd_offset = index_end
+    kv_offset = dfd_offset + len(dfd)
+    data = [np.ascontiguousarray(encode(level, DTYPES[dtype])).tobytes() for level in levels]
+    offsets = [0] * len(levels)
+    position = kv_offset + len(kv)
+    for m in reversed(range(len(levels))):  # the smallest level first
+        position = _pad(position, align)
+        offsets[m] = position
+        position += len(data[m])
+    header = _HEADER.pack(
+        IDENTIFIER, VK_FORMATS[dtype, channels], DTYPES[dtype].itemsize, width, height, 0, 0,
+        6 if cube else 1, len(levels), 0, dfd_offset, len(dfd), kv_offset, len(kv), 0, 0,
+    )  # fmt: skip
+    index = b"".join(
+        _LEVEL.pack(offsets[m], len(data[m]), len(data[m])) for m in range(len(levels))
+    )
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        f.write(header + index + dfd + kv)
+        for m in reversed(range(len(levels))):
+            f.write(bytes(offsets[m] - f.tell()))
+            f.write(data[m])
+
+
+def read_ktx2(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
+    """Read an uncompressed float KTX 2.0 file (a cube map or a 2-D texture with its mips).
+
+    Returns
+    -------
+    mips : list of float32 arrays
+        Level 0 first; ``(6, S, S, C)`` per level for a cube map, ``(H, W, C)`` for a 2-D
+        texture.
+    metadata : dict
+        ``format`` ("KTX2"), ``stored`` ("float16" or "float32"), ``cube`` (bool),
+        ``vk_format`` (int), ``key_values`` (dict of str to bytes) and ``dfd`` (bytes).
+
+    Raises
+    ------
+    bakeshop.errors.FormatError
+        Not a KTX2 file, an inconsistent header or level index, or a truncated file.
+    bakeshop.errors.UnsupportedError
+        Other formats, supercompression, 3-D textures and texture arrays.
+    """
+    with open(path, "rb") as f:
+        data = f.read()
+    if len(data) < _HEADER.size or not sniff(data):
+        raise FormatError("not a KTX2 file (bad identifier)")
+    (_, vk_format, type_size, width, height, depth, layers, faces, level_count, scheme,
+     dfd_offset, dfd_length, kv_offset, kv_length, _, _) = _HEADER.unpack_from(data)  # fmt: skip
+    match = [k for k, v in VK_FORMATS.items() if v == vk_format]
+    if not match:
+        raise UnsupportedError(f"VkFormat {vk_format} is not supported (only float formats)")
+    dtype, channels = match[0]
+    if type_size != DTYPES[dtype].itemsize:
+        raise FormatError(f"typeSize {type_size} does not match VkFormat {vk_format}")
+    if scheme:
+        raise UnsupportedError(f"supercompression scheme {scheme} is not supported")
+    if depth or layers:
+        raise UnsupportedError("3-D textures and texture arrays are not supported")
+    if faces not in (1, 6):
+        raise FormatError(f"faceCount is {faces} (expected 1 or 6)")
+    cube = faces == 6
+    if not (1 <= width and 1 <= height and width * height <= max_pixels):
+        raise FormatError(f"KTX2 size {width}x{height} out of range (limit {max_pixels} pixels)")
+    if cube and width != height:
+        raise FormatError(f"a cube map's faces must be square; the header says {width}x{height}")
+    levels = max(level_count, 1)
+    if levels > MAX_LEVELS or max(width, height) >> (levels - 1) == 0:
+        raise FormatError(f"{levels} mip levels is more than a {width}x{height} texture has")
+    check_payload(_HEADER.size + _LEVEL.size * levels, len(data), "level index")
+    for offset, length, what in ((dfd_offset, dfd_length, "format descriptor"),
+                                 (kv_offset, kv_length, "key/value data")):  # fmt: skip
+        check_payload(offset + length, len(data), what)
+    stored = np.dtype(DTYPES[dtype])
+    mips = []
+    for m in range(levels):
+        offset, length, _ = _LEVEL.unpack_from(data, _HEADER.size + _LEVEL.size * m)
+        h, w = mip_size(height, m), mip_size(width, m)
+        expected = faces * h * w * channels * stored.itemsize
+        if length != expected:
+            raise FormatError(f"level {m}: byteLength {length}, expected {expected}")
+        check_payload(offset + length, len(data), f"level {m}")
+        level = np.frombuffer(data, stored, length // stored.itemsize, offset)
+        level = level.reshape(faces, h, w, channels).astype(np.float32)
+        mips.append(level if cube else level[0])
+    metadata = {
+        "format": NAME,
+        "stored": dtype,
+        "cube": cube,
+        "vk_format": vk_format,
+        "key_values": _key_values(data[kv_offset : kv_offset + kv_length], "<"),
+        "dfd": data[dfd_offset : dfd_offset + dfd_length],
+    }
+    return mips, metadata
