@@ -100,9 +100,7 @@ def bake_probe(
 
     lay = get_layout(layout)
     if cube_size is None:
-        texels = int(
-            np.count_nonzero(lay.base.solid_angles(np.shape(image)[: 3 if lay.cubic else 2]))
-        )
+        texels = int(np.count_nonzero(lay.solid_angles(np.shape(image)[: 3 if lay.cubic else 2])))
         cube_size = int(min(2048, 2 ** round(np.log2(max(1.0, np.sqrt(texels / 6))))))
     with progress.step("environment cube map"):
         cube = timed("cube", specular.source_cube, image, layout=layout, size=cube_size)

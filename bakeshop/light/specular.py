@@ -68,7 +68,7 @@ import numpy as np
 from bakeshop import progress
 from bakeshop.errors import ArgumentError
 from bakeshop.sphere import layout as get_layout
-from bakeshop.sphere import remap, sample
+from bakeshop.sphere import remap, sample, view_to_cube
 from bakeshop.sphere.cube import FACE_BASES
 
 #: Largest number of samples per texel accepted.
@@ -527,11 +527,14 @@ def source_cube(image, *, layout: str = "cube", size: int = 256) -> np.ndarray:
     if not 1 <= size <= 1 << 14:
         raise ArgumentError(f"cube face size must be in 1..{1 << 14}, got {size}")
     img = img.astype(np.float32, copy=False)
+    if lay.base is not lay and lay.base.name == "cube":
+        # a cross or strip is the cube's faces rearranged: take them out exactly
+        img, lay = view_to_cube(img, lay.name), lay.base
     if lay.name == "cube" and img.shape[1] == size:
         return img
-    valid_texels = int(np.count_nonzero(lay.base.solid_angles(img.shape[:-1])))
+    valid_texels = int(np.count_nonzero(lay.solid_angles(img.shape[:-1])))
     down = valid_texels >= 6 * size * size
-    return remap(img, layout, "cube", size, filter="area" if down else "bilinear")
+    return remap(img, lay.name, "cube", size, filter="area" if down else "bilinear")
 
 
 def _source(image, layout, size, samples) -> _Source:

@@ -14,7 +14,7 @@ from bakeshop.light.specular import (
     prefilter_phong,
     source_cube,
 )
-from bakeshop.sphere import layout, remap, sample
+from bakeshop.sphere import cube_to_view, layout, remap, sample
 from tests.tolerances import (
     EXACT,
     FIS_MAX,
@@ -75,6 +75,19 @@ def test_roughness_zero_returns_the_source():
     latlong = (rng.random((32, 64, 3)) * 10).astype(np.float32)
     chain = prefilter_ggx(latlong, layout="latlong", size=8, mips=2)
     np.testing.assert_array_equal(chain[0], remap(latlong, "latlong", "cube", 8, filter="area"))
+
+
+@pytest.mark.parametrize("view", ["cross-vertical", "strip-horizontal"])
+def test_a_cross_gives_the_chain_of_its_cube(view):
+    rng = np.random.default_rng(2)
+    cube = (rng.random((6, 16, 16, 3)) * 10).astype(np.float32)
+    picture = cube_to_view(cube, view)
+    for a, b in zip(
+        prefilter_ggx(picture, layout=view, size=16, mips=3),
+        prefilter_ggx(cube, size=16, mips=3),
+        strict=True,
+    ):
+        np.testing.assert_array_equal(a, b)
 
 
 @pytest.mark.parametrize("brdf", ["ggx", "phong"])
