@@ -129,7 +129,7 @@ _float32 = click.option(
     help="Phong only: one lobe of this exponent, one level (HDRShop's specular convolution). "
     "Default: a chain with cmft's exponents, 2^(10 (1 - m/(mips-1)) + 1).",
 )
-@click.option("--size", type=click.IntRange(1, 8192), default=256, show_default=True,
+@click.option("--size", type=click.IntRange(1, 4096), default=256, show_default=True,
               help="Face size of level 0.")  # fmt: skip
 @click.option("--mips", type=click.IntRange(1, 14), help="Levels (default: 9, or down to 1x1).")
 @_from
@@ -251,9 +251,9 @@ def dfg(target, size, samples, visibility, float32):
     show_default=True,
     help="Container of the specular mip chain and the DFG table.",
 )
-@click.option("--cube-size", type=click.IntRange(1, 8192), help="Face size of the environment "
+@click.option("--cube-size", type=click.IntRange(1, 4096), help="Face size of the environment "
               "cube (default: as many texels as the probe, a power of two).")  # fmt: skip
-@click.option("--specular-size", type=click.IntRange(1, 8192), default=256, show_default=True,
+@click.option("--specular-size", type=click.IntRange(1, 4096), default=256, show_default=True,
               help="Face size of level 0 of the GGX chain.")  # fmt: skip
 @click.option("--mips", type=click.IntRange(1, 14), default=9, show_default=True,
               help="Levels of the GGX chain (roughness m / (mips - 1)).")  # fmt: skip

@@ -71,6 +71,8 @@ from bakeshop.sphere import layout as get_layout
 from bakeshop.sphere import remap, sample, view_to_cube
 from bakeshop.sphere.cube import FACE_BASES
 
+#: Largest cube face accepted (a 6x4096 RGBA float32 pyramid is already 1.6 GB).
+MAX_FACE = 4096
 #: Largest number of samples per texel accepted.
 MAX_SAMPLES = 1 << 16
 #: Largest exact convolution (output texels times source texels) done instead of sampling.
@@ -524,8 +526,8 @@ def source_cube(image, *, layout: str = "cube", size: int = 256) -> np.ndarray:
         )
     if not np.all(np.isfinite(img)):
         raise ArgumentError("the environment holds NaN or infinite values")
-    if not 1 <= size <= 1 << 14:
-        raise ArgumentError(f"cube face size must be in 1..{1 << 14}, got {size}")
+    if not 1 <= size <= MAX_FACE:
+        raise ArgumentError(f"cube face size must be in 1..{MAX_FACE}, got {size}")
     img = img.astype(np.float32, copy=False)
     if lay.base is not lay and lay.base.name == "cube":
         # a cross or strip is the cube's faces rearranged: take them out exactly
