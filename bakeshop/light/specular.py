@@ -150,16 +150,13 @@ def _ggx_samples(roughness: float, count: int) -> np.ndarray:
     l = reflect(-n, h) with h drawn from D(h) (n.h); its pdf is D(h) (n.h) / (4 v.h) = D(h) / 4
     because n = v. Samples below the horizon are dropped; the weight is n.l (Karis 2013).
     """
-    xi = hammersley(count)
     alpha = max(roughness * roughness, 1e-8)
     a2 = alpha * alpha
-    cos2 = (1 - xi[:, 1]) / (1 + (a2 - 1) * xi[:, 1])
-    cos_t, sin_t = np.sqrt(cos2), np.sqrt(np.maximum(0.0, 1 - cos2))
-    phi = 2 * np.pi * xi[:, 0]
-    h = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), cos_t], axis=-1)
+    h = np.array([ggx_half_vector(u, v, alpha) for u, v in hammersley(count)]).reshape(-1, 3)
+    cos_t = h[:, 2]
     l = 2 * cos_t[:, None] * h
     l[:, 2] -= 1
-    d = a2 / (np.pi * (cos2 * (a2 - 1) + 1) ** 2)
+    d = a2 / (np.pi * (cos_t**2 * (a2 - 1) + 1) ** 2)
     pdf = d / 4
     keep = l[:, 2] > 0
     log_omega = -np.log2(count * pdf)
