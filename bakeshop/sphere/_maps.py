@@ -664,7 +664,7 @@ def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
     hy = hy if hy >= 0 else 0.0
     # the narrower width (area over length): an upsampled texel is wider than a destination
     # texel across every direction
-    length = max(math.hypot(ex0, ex1), math.hypot(ey0, ey1))
+    length = math.sqrt(max(ex0 * ex0 + ex1 * ex1, ey0 * ey0 + ey1 * ey1))
     width = abs(ex0 * ey1 - ex1 * ey0) / length if length > 0 else 0.0
     return df, cx, cy, min(0.5, hx), min(0.5, hy), width
 
@@ -673,8 +673,29 @@ def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
 W_ONE = 65535
 
 
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _deposit(acc, t, b, row, wq, p, om, values):
+    """acc[t, q] += w values for the 3 x 3 destination texels from flat index b (rows ``row``
+    apart), weights w = om x (x weight) x (y weight) from the splat plan's ``wq[p]``."""
+    unit = 1.0 / W_ONE
+    wx0, wx1 = wq[p, 0] * unit, wq[p, 1] * unit
+    wy0, wy1 = wq[p, 2] * unit, wq[p, 3] * unit
+    wx2 = 1.0 - wx0 - wx1
+    for yb in range(3):
+        wy = wy0 if yb == 0 else (wy1 if yb == 1 else 1.0 - wy0 - wy1)
+        if wy == 0:
+            continue
+        wy *= om
+        q0 = b + yb * row
+        for c in range(values.shape[0]):
+            v = wy * values[c]
+            acc[t, q0, c] += wx0 * v
+            acc[t, q0 + 1, c] += wx1 * v
+            acc[t, q0 + 2, c] += wx2 * v
+
+
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, scale, width):
+def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, scale, width, acc):
     """The area filter's geometry, per source texel ``p`` (see :func:`splat`).
 
     A source texel's footprint in destination coordinates is the box bounding its (locally
@@ -686,33 +707,44 @@ def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, sca
     :func:`splat_exceptions`), -1 for none; ``wq[p]``: the first two box-tent weights along x
     and along y, in units of 1/W_ONE (the third is the rest, so they sum to 1 exactly);
     ``scale[p]``: omega; ``width[p]``: the footprint's narrower width in destination texels.
-    The rotation ``rot`` moves what the source shows at ``d`` to ``R d``.
+    The ordinary texels' weights and weighted widths are summed into ``acc[t, q, :2]``, one
+    partial sum per chunk ``t``. The rotation ``rot`` moves what the source shows at ``d`` to
+    ``R d``.
     """
     trig = _half_texel_trig(sh, sw)
-    for row in numba.prange(sfaces * sh):
-        f = row // sh
-        j = row - f * sh
+    rows = sfaces * sh
+    chunks = acc.shape[0]
+    for t in numba.prange(chunks):
         wx = np.empty(3)
         wy = np.empty(3)
-        for i in range(sw):
-            p = row * sw + i
-            om = omega[p]
-            anchor[p] = -1
-            if om <= 0:
-                continue
-            df, cx, cy, hx, hy, wd = _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw)
-            lx = int(math.floor(cx - 0.5 - hx))
-            ly = int(math.floor(cy - 0.5 - hy))
-            _box_tent_weights(cx, hx, lx, wx)
-            _box_tent_weights(cy, hy, ly, wy)
-            width[p] = wd
-            scale[p] = om
-            b = _block(dkind, dh, dw, df, lx, ly, 3)
-            anchor[p] = b if b >= 0 else EXCEPTION
-            u0 = int(wx[0] * W_ONE + 0.5)
-            v0 = int(wy[0] * W_ONE + 0.5)
-            wq[p, 0], wq[p, 1] = u0, min(int(wx[1] * W_ONE + 0.5), W_ONE - u0)
-            wq[p, 2], wq[p, 3] = v0, min(int(wy[1] * W_ONE + 0.5), W_ONE - v0)
+        values = np.ones(2)
+        for row in range(t * rows // chunks, (t + 1) * rows // chunks):
+            f = row // sh
+            j = row - f * sh
+            for i in range(sw):
+                p = row * sw + i
+                om = omega[p]
+                anchor[p] = -1
+                if om <= 0:
+                    continue
+                df, cx, cy, hx, hy, wd = _footprint(
+                    skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw
+                )
+                lx = int(math.floor(cx - 0.5 - hx))
+                ly = int(math.floor(cy - 0.5 - hy))
+                _box_tent_weights(cx, hx, lx, wx)
+                _box_tent_weights(cy, hy, ly, wy)
+                width[p] = wd
+                scale[p] = om
+                u0 = int(wx[0] * W_ONE + 0.5)
+                v0 = int(wy[0] * W_ONE + 0.5)
+                wq[p, 0], wq[p, 1] = u0, min(int(wx[1] * W_ONE + 0.5), W_ONE - u0)
+                wq[p, 2], wq[p, 3] = v0, min(int(wy[1] * W_ONE + 0.5), W_ONE - v0)
+                b = _block(dkind, dh, dw, df, lx, ly, 3)
+                anchor[p] = b if b >= 0 else EXCEPTION
+                if b >= 0:
+                    values[1] = width[p]
+                    _deposit(acc, t, b, dw, wq, p, scale[p], values)
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
@@ -746,42 +778,38 @@ def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, taps, weig
             weights[k, t] = omega[where[k]] * weights[k, t] / total if total > 0 else 0.0
 
 
+@_jit
+def _deposit_exception(acc, t, taps, weights, k, values):
+    for m in range(9):
+        q = taps[k, m]
+        if q >= 0:
+            for c in range(values.shape[0]):
+                acc[t, q, c] += weights[k, m] * values[c]
+
+
+@_jit
+def deposit_exceptions(where, taps, weights, width, acc):
+    """Add the EXCEPTION texels' weights and weighted widths to ``acc[0, q, :2]``."""
+    values = np.ones(2)
+    for k in range(where.shape[0]):
+        values[1] = width[where[k]]
+        _deposit_exception(acc, 0, taps, weights, k, values)
+
+
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat(src, anchor, wq, scale, row, taps, weights, chunks, acc):
+def splat(src, anchor, wq, scale, row, taps, weights, acc):
     """Deposit every source texel's value x weight by the splat plan (:func:`splat_plan`):
-    ``acc[t, q] += w src[p]`` into one of ``chunks`` partial buffers ``t`` (one per thread).
-    The weights of source texel p sum to ``scale[p]`` (its solid angle)."""
+    ``acc[t, q] += w src[p]`` into one partial sum ``t`` per chunk of source texels. The
+    weights of source texel p sum to ``scale[p]`` (its solid angle)."""
     n = anchor.shape[0]
-    nc = src.shape[1]
-    unit = 1.0 / W_ONE
+    chunks = acc.shape[0]
     for t in numba.prange(chunks):
         for p in range(t * n // chunks, (t + 1) * n // chunks):
             b = anchor[p]
-            if b == -1:
-                continue
-            if b < 0:
-                k = EXCEPTION - b
-                for m in range(9):
-                    q = taps[k, m]
-                    if q >= 0:
-                        for c in range(nc):
-                            acc[t, q, c] += weights[k, m] * src[p, c]
-                continue
-            wx0, wx1 = wq[p, 0] * unit, wq[p, 1] * unit
-            wy0, wy1 = wq[p, 2] * unit, wq[p, 3] * unit
-            om = scale[p]
-            wx2 = 1.0 - wx0 - wx1
-            for yb in range(3):
-                wy = wy0 if yb == 0 else (wy1 if yb == 1 else 1.0 - wy0 - wy1)
-                if wy == 0:
-                    continue
-                wy *= om
-                q0 = b + yb * row
-                for c in range(nc):
-                    v = wy * src[p, c]
-                    acc[t, q0, c] += wx0 * v
-                    acc[t, q0 + 1, c] += wx1 * v
-                    acc[t, q0 + 2, c] += wx2 * v
+            if b >= 0:
+                _deposit(acc, t, b, row, wq, p, scale[p], src[p])
+            elif b != -1:
+                _deposit_exception(acc, t, taps, weights, EXCEPTION - b, src[p])
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")

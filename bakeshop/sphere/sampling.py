@@ -19,6 +19,7 @@ cached plan is one numba-parallel gather over the output.
 
 from __future__ import annotations
 
+import collections
 import functools
 
 import numba
@@ -37,8 +38,9 @@ AREA_BUFFER_BYTES = 1 << 29
 
 #: number of cached remap plans (each holds indices and weights for every output texel).
 PLAN_CACHE_SIZE = 4
-#: number of cached area filter plans (16 bytes per source texel, 8 per output texel).
-AREA_PLAN_CACHE_SIZE = 2
+#: memory for cached area filter plans (16 bytes per source texel, 8 per output texel; a mip
+#: chain of a 1024 cube fits, and so does one 4096 x 2048 latlong's plan).
+AREA_PLAN_CACHE_BYTES = 1 << 28
 
 _NO_FRAC = np.empty((0, 2), np.float32)
 
@@ -206,7 +208,35 @@ def _accumulators(m: int, channels: int) -> np.ndarray:
     return np.zeros((max(1, min(numba.get_num_threads(), fit)), m, channels))
 
 
-@functools.lru_cache(maxsize=AREA_PLAN_CACHE_SIZE)
+class _ByteBoundedCache:
+    """Least-recently-used results of ``fn`` (tuples of arrays) holding at most ``budget``
+    bytes in all; the newest result is kept whatever its size."""
+
+    def __init__(self, fn, budget: int):
+        self.fn, self.budget = fn, budget
+        self.entries: collections.OrderedDict = collections.OrderedDict()
+        self.hits = self.misses = 0
+        functools.update_wrapper(self, fn)
+
+    def __call__(self, *key):
+        if key in self.entries:
+            self.hits += 1
+            self.entries.move_to_end(key)
+            return self.entries[key]
+        self.misses += 1
+        value = self.fn(*key)
+        self.entries[key] = value
+        while len(self.entries) > 1 and self.nbytes() > self.budget:
+            self.entries.popitem(last=False)
+        return value
+
+    def nbytes(self) -> int:
+        return sum(a.nbytes for value in self.entries.values() for a in value)
+
+    def cache_clear(self) -> None:
+        self.entries.clear()
+
+
 def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
     """The area filter's cached geometry (read-only arrays), see ``_maps.splat_plan``: per
     source texel an int32 anchor, four uint16 weights and a float32 solid angle (16 bytes),
@@ -222,17 +252,18 @@ def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
     wq = np.empty((n, 4), np.uint16)
     scale = np.zeros(n, np.float32)
     width = np.zeros(n, np.float32)
-    _maps.splat_plan(s.kind, sh, sw, sfaces, omega, d.kind, dh, dw, rot, anchor, wq, scale, width)
+    # the blend between splat and bilinear depends on the geometry only: sums of the weights
+    # and of the weighted footprint widths
+    acc = _accumulators(m, 2)
+    _maps.splat_plan(s.kind, sh, sw, sfaces, omega, d.kind, dh, dw, rot, anchor, wq, scale,
+                     width, acc)  # fmt: skip
     where = np.flatnonzero(anchor == _maps.EXCEPTION)
     taps = np.empty((len(where), 9), np.int32)
     weights = np.empty((len(where), 9))
     if len(where):
         _maps.splat_exceptions(s.kind, sh, sw, omega, d.kind, dh, dw, rot, where, taps, weights)
+        _maps.deposit_exceptions(where, taps, weights, width, acc)
         anchor[where] = _maps.EXCEPTION - np.arange(len(where), dtype=np.int32)
-    # the blend between splat and bilinear depends on the geometry only: splat ones and widths
-    acc = _accumulators(m, 2)
-    ones_width = np.stack([np.ones(n), width.astype(np.float64)], axis=1)
-    _maps.splat(ones_width, anchor, wq, scale, dw, taps, weights, acc.shape[0], acc)
     alpha = np.empty(m, np.float32)
     inverse = np.empty(m, np.float32)
     _maps.area_alpha(acc, d.solid_angles(dst_shape).reshape(-1), alpha, inverse)
@@ -241,6 +272,9 @@ def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
     for a in plan:
         a.setflags(write=False)
     return plan
+
+
+_area_plan = _ByteBoundedCache(_area_plan, AREA_PLAN_CACHE_BYTES)
 
 
 def _area(flat, s: Layout, src_shape, d: Layout, dst_shape, key):
@@ -253,7 +287,7 @@ def _area(flat, s: Layout, src_shape, d: Layout, dst_shape, key):
         )
         base, frac, btaps = _plan(s.name, src_shape, d.name, dst_shape, "bilinear", key)
         acc = _accumulators(m, flat.shape[1])
-        _maps.splat(flat, anchor, wq, scale, dw, taps, weights, acc.shape[0], acc)
+        _maps.splat(flat, anchor, wq, scale, dw, taps, weights, acc)
         out = np.empty((m, flat.shape[1]), flat.dtype)
         _maps.finish_area(acc, alpha, inverse, flat, sw, base, frac, btaps, out)
     return out

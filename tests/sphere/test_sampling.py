@@ -358,10 +358,23 @@ def test_area_filter_plan_is_cached_per_geometry_and_the_filter_is_linear():
     b = (rng.random((96, 192, 3)) ** 3).astype(np.float32)
     args = ("latlong", "cube", 12)
     first = remap(a, *args, filter="area", rotation=(20, 10, 0))
-    hits = sampling._area_plan.cache_info().hits
+    hits = sampling._area_plan.hits
     mixed = remap(a + 2 * b, *args, filter="area", rotation=(20, 10, 0))
-    assert sampling._area_plan.cache_info().hits == hits + 1
+    assert sampling._area_plan.hits == hits + 1
     only_b = remap(b, *args, filter="area", rotation=(20, 10, 0))
     np.testing.assert_allclose(mixed, first + 2 * only_b, rtol=1e-5, atol=1e-6)
     sampling._area_plan.cache_clear()
     np.testing.assert_array_equal(remap(b, *args, filter="area", rotation=(20, 10, 0)), only_b)
+
+
+def test_area_plan_cache_keeps_recent_plans_within_its_byte_budget():
+    from bakeshop.sphere.sampling import _ByteBoundedCache
+
+    calls = []
+    cache = _ByteBoundedCache(lambda n: calls.append(n) or (np.zeros(n, np.uint8),), 100)
+    for n in (40, 50, 40, 30, 50, 500, 500):
+        cache(n)
+    # 40 and 50 fit together; 30 evicts the least recent (50); 500 alone exceeds the budget
+    # but the newest result stays
+    assert calls == [40, 50, 30, 50, 500] and cache.hits == 2
+    assert list(cache.entries) == [(500,)]
