@@ -83,3 +83,28 @@ def encode(level: np.ndarray, dtype: np.dtype) -> np.ndarray:
 
         return to_half(level.astype(np.float32, copy=False)).astype("<f2", copy=False)
     return level.astype(dtype, copy=False)
+
+
+def names_its_file(read):
+    """Decorate a container reader so that every error it raises names the file it read."""
+    import functools
+    import os
+
+    from bakeshop.errors import BakeshopError
+
+    @functools.wraps(read)
+    def wrapper(path, *args, **kwargs):
+        try:
+            return read(path, *args, **kwargs)
+        except BakeshopError as e:
+            if e.path is None:
+                e.path = os.fspath(path)
+            raise
+        except OSError as e:
+            raise BakeshopError(e.strerror or str(e), path) from None
+        except MemoryError:
+            raise BakeshopError(
+                "the texture is too large for this machine's memory", path
+            ) from None
+
+    return wrapper

@@ -40,7 +40,14 @@ import numpy as np
 
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
 from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload
-from bakeshop.io._levels import DTYPES, MAX_LEVELS, check_levels, encode, mip_size
+from bakeshop.io._levels import (
+    DTYPES,
+    MAX_LEVELS,
+    check_levels,
+    encode,
+    mip_size,
+    names_its_file,
+)
 
 NAME = "DDS"
 MAGIC = b"DDS "
@@ -131,6 +138,7 @@ def write_dds(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None:
                 f.write(np.ascontiguousarray(encode(texels, DTYPES[dtype])).tobytes())
 
 
+@names_its_file
 def read_dds(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     """Read an uncompressed float DDS file (a cube map or a 2-D texture with its mips).
 

@@ -31,7 +31,14 @@ import numpy as np
 
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
 from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload
-from bakeshop.io._levels import DTYPES, MAX_LEVELS, check_levels, encode, mip_size
+from bakeshop.io._levels import (
+    DTYPES,
+    MAX_LEVELS,
+    check_levels,
+    encode,
+    mip_size,
+    names_its_file,
+)
 
 NAME = "KTX"
 IDENTIFIER = b"\xabKTX 11\xbb\r\n\x1a\n"
@@ -109,6 +116,7 @@ def write_ktx(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None:
                 f.write(np.ascontiguousarray(data).tobytes())
 
 
+@names_its_file
 def read_ktx(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     """Read an uncompressed float KTX 1.1 file (a cube map or a 2-D texture with its mips).
 

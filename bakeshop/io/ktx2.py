@@ -37,7 +37,14 @@ import numpy as np
 from bakeshop import __version__
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
 from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload
-from bakeshop.io._levels import DTYPES, MAX_LEVELS, check_levels, encode, mip_size
+from bakeshop.io._levels import (
+    DTYPES,
+    MAX_LEVELS,
+    check_levels,
+    encode,
+    mip_size,
+    names_its_file,
+)
 from bakeshop.io.ktx import _key_values
 
 NAME = "KTX2"
@@ -151,6 +158,7 @@ def write_ktx2(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None
             f.write(data[m])
 
 
+@names_its_file
 def read_ktx2(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     """Read an uncompressed float KTX 2.0 file (a cube map or a 2-D texture with its mips).
 

@@ -166,6 +166,7 @@ scratch = fuzzing.scratch_file("f.dds")
 def test_truncation_at_every_offset_is_refused(scratch, seed_files):
     for data in seed_files:
         fuzzing.assert_truncations_refused(scratch, data, read=levels)
+    fuzzing.assert_refused(scratch, seed_files[0][:40], "DDS", read=levels)
 
 
 @fuzzing.FUZZ

@@ -130,6 +130,7 @@ scratch = fuzzing.scratch_file("f.ktx")
 def test_truncation_at_every_offset_is_refused(scratch, seed_files):
     for data in seed_files:
         fuzzing.assert_truncations_refused(scratch, data, read=levels)
+    fuzzing.assert_refused(scratch, seed_files[0][:40], "KTX", read=levels)
 
 
 @fuzzing.FUZZ

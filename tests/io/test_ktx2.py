@@ -6,11 +6,14 @@ import struct
 import numpy as np
 import pyktx2.parser
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from pyktx2.parser import TransferFunction, VkFormat, parse_bytes
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
-from bakeshop.io.ktx2 import read_ktx2, write_ktx2
-from tests.io.test_dds import chain
+from bakeshop.io.ktx2 import IDENTIFIER, read_ktx2, write_ktx2
+from tests.io import fuzzing
+from tests.io.test_dds import chain, mip_seeds
 from tests.io.test_ktx import direction_chain, opengl_lookup
 
 
@@ -127,3 +130,37 @@ def test_broken_files(tmp_path):
         (tmp_path / name).write_bytes(content)
         with pytest.raises(error):
             read_ktx2(tmp_path / name)
+
+
+# --- fuzzing: only BakeshopError may escape ------------------------------------------------------
+
+
+def levels(path):
+    return read_ktx2(path)[0]
+
+
+@pytest.fixture(scope="module")
+def seed_files(tmp_path_factory):
+    return mip_seeds(write_ktx2, tmp_path_factory.mktemp("ktx2_seeds") / "s.ktx2")
+
+
+scratch = fuzzing.scratch_file("f.ktx2")
+
+
+def test_truncation_at_every_offset_is_refused(scratch, seed_files):
+    for data in seed_files:
+        fuzzing.assert_truncations_refused(scratch, data, read=levels)
+    fuzzing.assert_refused(scratch, seed_files[0][:40], "KTX2", read=levels)
+
+
+@fuzzing.FUZZ
+@given(st.binary(max_size=300))
+def test_random_bytes(scratch, data):
+    fuzzing.decode(scratch, data, levels)
+    fuzzing.decode(scratch, IDENTIFIER + data, levels)
+
+
+@fuzzing.FUZZ
+@given(st.integers(0, 1), fuzzing.edits(300), st.integers(1, 1500))
+def test_mutations_of_valid_files(scratch, seed_files, which, changes, end):
+    fuzzing.decode(scratch, fuzzing.mutate(seed_files[which], changes, end), levels)
