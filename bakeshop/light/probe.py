@@ -70,6 +70,7 @@ def bake_probe(
     ----------
     image : array
         The probe (linear radiance) in ``layout``: ``(H, W, C)``, or ``(6, S, S, C)`` for a cube.
+        Alpha (C = 4) is dropped and grey (C = 1) repeated to RGB: every output is RGB.
     layout : str
         Its layout name (:data:`bakeshop.sphere.LAYOUT_NAMES`).
     cube_size : int, optional
@@ -99,6 +100,12 @@ def bake_probe(
         return result
 
     lay = get_layout(layout)
+    image = np.asarray(image)
+    spatial = 3 if lay.cubic else 2
+    if image.ndim == spatial + 1 and image.shape[-1] == 4:
+        image = image[..., :3]
+    elif image.ndim == spatial + 1 and image.shape[-1] == 1:
+        image = np.repeat(image, 3, axis=-1)
     if cube_size is None:
         texels = int(np.count_nonzero(lay.solid_angles(np.shape(image)[: 3 if lay.cubic else 2])))
         cube_size = int(min(2048, 2 ** round(np.log2(max(1.0, np.sqrt(texels / 6))))))
@@ -126,9 +133,11 @@ def bake_probe(
 
 
 def _to_latlong(image, layout: str, height: int) -> np.ndarray:
+    """An RGB latlong thumbnail of an environment (alpha dropped, grey repeated)."""
     from bakeshop.sphere import remap
 
-    return remap(image, layout, "latlong", height, filter="area")[..., :3]
+    rgb = remap(image, layout, "latlong", height, filter="area")[..., :3]
+    return np.repeat(rgb, 3, axis=-1) if rgb.shape[-1] == 1 else rgb
 
 
 def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndarray:

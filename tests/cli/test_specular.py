@@ -147,3 +147,16 @@ def test_bake_probe_default_probe(tmp_path, capsys):
     assert main([*args, "--cube-size", "16", "--container", "ktx"]) == 0
     assert "default_probe.hdr" in capsys.readouterr().out
     assert (tmp_path / "specular.ktx").is_file() and (tmp_path / "contact_sheet.png").is_file()
+
+
+@pytest.mark.parametrize("channels", [1, 4])
+def test_bake_probe_rgba_and_grey_probes_give_rgb_files(tmp_path, channels):
+    sky = _sky()
+    image = np.concatenate([sky, np.ones_like(sky[..., :1])], -1) if channels == 4 else sky[..., :1]
+    src = tmp_path / "probe.exr"
+    write_image(src, image, pixel_type="float")
+    out = tmp_path / "baked"
+    args = ["bake-probe", str(src), "-o", str(out), "--specular-size", "8", "--mips", "2"]
+    assert main([*args, "--cube-size", "8"]) == 0
+    for name in ("env_posx.hdr", "sun_dim.hdr", "shadow_probe.hdr"):
+        assert read_image(out / name).shape[-1] == 3
