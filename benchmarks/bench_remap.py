@@ -5,7 +5,7 @@ Each measurement runs in its own subprocess so that peak memory (ru_maxrss above
 state once the input exists) and "cold" mean the same for everyone; numba's kernels are loaded
 from its on-disk cache before the clock starts (a one-off of a few seconds per installation).
 Wall and CPU times are both printed: on a shared machine the CPU seconds (all threads) are the
-steadier figure.
+steadier figure; each figure is the median over PROCESSES processes.
 
     python benchmarks/bench_remap.py            # the issue's sizes
     python benchmarks/bench_remap.py --quick    # a quarter of each edge
@@ -31,6 +31,8 @@ ENGINES = {
     "mirrorball->cross": ["bakeshop", "bakeshop-area", "cv2-cached"],
 }
 WARM_RUNS = 3
+#: fresh processes per engine and case; the table shows each figure's median.
+PROCESSES = 3
 
 
 def _source(src: str, size: int):
@@ -137,13 +139,17 @@ def _child(case: str, engine: str, scale: int) -> dict:
 
 
 def _run(case: str, engine: str, scale: int) -> dict:
-    out = subprocess.run(
-        [sys.executable, __file__, "--child", case, engine, str(scale)],
-        capture_output=True,
-        text=True,
-        check=True,
-    )
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    """Median of each figure over PROCESSES fresh processes (a shared machine's noise)."""
+    runs = []
+    for _ in range(PROCESSES):
+        out = subprocess.run(
+            [sys.executable, __file__, "--child", case, engine, str(scale)],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
+    return {k: sorted(r[k] for r in runs)[len(runs) // 2] for k in runs[0]}
 
 
 def _scaling(scale: int) -> list[tuple[int, dict]]:
@@ -198,7 +204,10 @@ def main() -> None:
         (line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if "model name" in line),
         platform.processor(),
     )
-    print(f"machine: {cpu}; float32 RGB; warm = median of {WARM_RUNS}")
+    print(
+        f"machine: {cpu}; float32 RGB; warm = median of {WARM_RUNS} calls; "
+        f"each figure the median of {PROCESSES} processes"
+    )
     for case, src, ssize, dst, dsize in CASES:
         ssize, dsize = ssize // scale, dsize // scale
         print(f"\n{case}: {src} {ssize} -> {dst} {dsize}")
