@@ -1,4 +1,4 @@
-"""Small helpers shared by the command modules: argument types and output safety."""
+"""Small helpers shared by the command modules: argument types, input checks and output safety."""
 
 from __future__ import annotations
 
@@ -53,3 +53,20 @@ def input_layout(image, given: str | None, path) -> str:
             path,
         )
     return candidates[0]
+
+
+def is_ldr(path) -> bool:
+    """True when ``path``'s format stores 8-bit display-encoded pictures (PNG, JPEG, TGA)."""
+    from bakeshop.io import HDR_CODECS, codec_for
+
+    return codec_for(path) not in HDR_CODECS
+
+
+def require_hdr(path) -> None:
+    """Raise :class:`ArgumentError` unless ``path`` is a linear HDR format (.hdr, .exr, .pfm)."""
+    if is_ldr(path):
+        raise ArgumentError(
+            "this command takes linear HDR input (.hdr, .exr, .pfm); 8-bit pictures hold "
+            "display-encoded values (decode with 'bakeshop convert --srgb-decode' first)",
+            path,
+        )

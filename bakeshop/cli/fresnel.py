@@ -11,7 +11,15 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import OUTPUT, parse_size, refuse_overwriting_inputs
+from bakeshop.cli._common import (
+    OUTPUT,
+    input_layout,
+    is_ldr,
+    parse_size,
+    refuse_overwriting_inputs,
+    require_hdr,
+)
+from bakeshop.cli._environment import is_container, write_environment
 from bakeshop.errors import ArgumentError
 
 _AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
@@ -46,51 +54,17 @@ def parse_exposure(text: str | None) -> float | str | None:
     return ev
 
 
-def _is_ldr(path) -> bool:
-    from bakeshop.io import HDR_CODECS, codec_for
-
-    return codec_for(path) not in HDR_CODECS
-
-
-def _require_hdr(path) -> None:
-    if _is_ldr(path):
-        raise ArgumentError(
-            "this command takes linear HDR input (.hdr, .exr, .pfm); 8-bit pictures hold "
-            "display-encoded values (decode with 'bakeshop convert --srgb-decode' first)",
-            path,
-        )
-
-
-def _input_layout(image, given: str | None, path) -> str:
-    from bakeshop import sphere
-
-    if given is not None:
-        return given
-    h, w = image.shape[:2]
-    candidates = sphere.guess_layout(h, w)
-    if len(candidates) != 1:
-        which = ", ".join(candidates) if candidates else "none"
-        raise ArgumentError(
-            f"cannot tell the layout of a {w}x{h} image (candidates: {which}); name it with --from",
-            path,
-        )
-    return candidates[0]
-
-
-#: single-file cube map containers (float samples, mip level 0 only here).
-CUBE_CONTAINERS = (".dds", ".ktx")
-
-
 def _check_output(target: Path, layout: str, ldr: bool) -> None:
     """Refuse an output whose format does not fit the layout or the sample type."""
-    if target.suffix.lower() in CUBE_CONTAINERS:
+    if is_container(target):
         if layout != "cube" or ldr:
             raise ArgumentError(
-                "a .dds or .ktx output is a float cube map: use --layout cube, without --ldr",
+                "a .dds, .ktx or .ktx2 output is a float cube map: use --layout cube, without "
+                "--ldr",
                 target,
             )
         return
-    if _is_ldr(target) != ldr:
+    if is_ldr(target) != ldr:
         raise ArgumentError(
             "--ldr writes 8-bit sRGB: give a .png or .tga output"
             if ldr
@@ -101,35 +75,10 @@ def _check_output(target: Path, layout: str, ldr: bool) -> None:
     if layout == "cube" and "{face}" not in str(target):
         raise ArgumentError(
             "a cube is written as six faces: put {face} in the output name (for example "
-            "sky_{face}.png), write one .dds or .ktx file, or choose --layout cross-vertical",
+            "sky_{face}.png), write one .dds, .ktx or .ktx2 file, or choose --layout "
+            "cross-vertical",
             target,
         )
-
-
-def _write_environment(target: Path, image, layout: str, convention: str) -> list[Path]:
-    """Write a flat layout to ``target``; a cube to one .dds/.ktx file or six {face} files."""
-    from bakeshop import sphere
-    from bakeshop.io import write_image
-
-    if layout != "cube":
-        write_image(target, image)
-        return [target]
-    faces = sphere.cube_to_faces(image, convention=convention)
-    if target.suffix.lower() in CUBE_CONTAINERS:
-        from bakeshop.io.dds import write_dds
-        from bakeshop.io.ktx import write_ktx
-
-        write = write_dds if target.suffix.lower() == ".dds" else write_ktx
-        # half floats unless a value (the sun) would overflow them
-        dtype = "float16" if np.nanmax(np.abs(faces)) <= 65504 else "float32"
-        write(target, [faces], dtype=dtype)
-        return [target]
-    written = []
-    for name, face in zip(sphere.FACE_NAMES, faces, strict=True):
-        path = Path(str(target).replace("{face}", name))
-        write_image(path, face)
-        written.append(path)
-    return written
 
 
 def _size_text(shape) -> str:
@@ -182,7 +131,7 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
     "dst_layout",
     metavar="LAYOUT",
     help="Layout of the output (default: that of SOURCE); 'cube' writes six faces "
-    "to a TARGET containing {face}, or one float cube map to a .dds or .ktx TARGET.",
+    "to a TARGET containing {face}, or one float cube map to a .dds, .ktx or .ktx2 TARGET.",
 )
 @click.option(
     "--size",
@@ -264,7 +213,7 @@ def fresnel(
     --ldr writes 8-bit sRGB (IEC 61966-2-1) after --exposure (auto by default), optionally
     dithered; otherwise the bake is written as float (.exr, .hdr, .pfm). --layout cube writes
     the six faces an engine loads (OpenGL order and orientation, or --convention directx), as
-    six pictures or one float .dds/.ktx cube map.
+    six pictures or one float .dds/.ktx/.ktx2 cube map.
 
     \b
     Example:
@@ -287,14 +236,14 @@ def fresnel(
     from bakeshop.light.tonemap import to_srgb8
 
     refuse_overwriting_inputs(target, source)
-    _require_hdr(source)
+    require_hdr(source)
     up_axis = parse_axis(up)
     ev = parse_exposure(exposure_text)
     if dither and not ldr:
         raise ArgumentError("--dither applies to --ldr output only")
 
     image = read_image(source)
-    src = _input_layout(image, src_layout, source)
+    src = input_layout(image, src_layout, source)
     dst = dst_layout or src
     _check_output(target, dst, ldr)
     if dst != src or size is not None:
@@ -310,7 +259,7 @@ def fresnel(
     out = apply_exposure(baked, ev)
     if ldr:
         out = to_srgb8(out, dither="triangular" if dither else "none", seed=seed)
-    written = _write_environment(target, out, dst, convention)
+    written = write_environment(target, out, dst, convention)
 
     encoding = "8-bit sRGB" + (", dithered" if dither else "") if ldr else "float"
     where = str(written[0]) if len(written) == 1 else f"{len(written)} faces ({target})"
@@ -477,10 +426,10 @@ def tonemap(
 
     frames = expand_inputs(inputs)
     for frame in frames:
-        _require_hdr(frame)
+        require_hdr(frame)
     outputs = frame_paths(target, len(frames))
     for out in outputs:
-        if not _is_ldr(out):
+        if not is_ldr(out):
             raise ArgumentError("tonemap writes 8-bit sRGB pictures: use .png, .tga or .jpg", out)
         refuse_overwriting_inputs(out, *frames)
     if len(set(outputs)) != len(outputs):

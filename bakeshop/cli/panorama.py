@@ -7,13 +7,15 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import input_layout, parse_size, refuse_overwriting_inputs
+from bakeshop.cli._common import parse_size, refuse_overwriting_inputs
+from bakeshop.cli._environment import (
+    FACES,
+    is_container,
+    is_cube,
+    read_environment,
+    write_environment,
+)
 from bakeshop.errors import ArgumentError
-
-#: single-file float cube map containers (level 0 only here).
-CUBE_CONTAINERS = (".dds", ".ktx")
-#: the layout name for six files, one per face (``{face}`` in the file name).
-FACES = "faces"
 
 
 def _layouts() -> list[str]:
@@ -22,94 +24,13 @@ def _layouts() -> list[str]:
     return [*LAYOUT_NAMES, FACES]
 
 
-def _face_paths(pattern: Path, short: bool) -> list[Path]:
-    from bakeshop.sphere import FACE_NAMES, FACE_NAMES_SHORT
-
-    names = FACE_NAMES_SHORT if short else FACE_NAMES
-    return [Path(str(pattern).replace("{face}", name)) for name in names]
-
-
-def _is_cube(layout: str) -> bool:
-    return layout in ("cube", FACES)
-
-
-def read_environment(path: Path, layout: str | None, convention: str, short: bool):
-    """(image, layout, how the layout was known) of an input: one image file, six ``{face}``
-    files or a .dds/.ktx cube map (cube layouts in the engine ``convention``)."""
-    from bakeshop import sphere
-    from bakeshop.io import read_image
-
-    if "{face}" in str(path):
-        if layout is not None and not _is_cube(layout):
-            raise ArgumentError(f"a {{face}} input is six cube faces, not {layout}", path)
-        faces = []
-        for face_path in _face_paths(path, short):
-            if not face_path.is_file():
-                raise ArgumentError("missing cube face file", face_path)
-            faces.append(read_image(face_path))
-        shapes = {f.shape for f in faces}
-        if len(shapes) != 1 or faces[0].shape[0] != faces[0].shape[1]:
-            raise ArgumentError(
-                f"the six faces must be square and equal; got {sorted(shapes)}", path
-            )
-        cube = sphere.faces_to_cube(np.stack(faces), convention=convention)
-        return cube, "cube", "six face files"
-    if not path.is_file():
-        raise ArgumentError("no such file", path)
-    if path.suffix.lower() in CUBE_CONTAINERS:
-        from bakeshop.io.dds import read_dds
-        from bakeshop.io.ktx import read_ktx
-
-        mips, meta = (read_dds if path.suffix.lower() == ".dds" else read_ktx)(path)
-        if not meta.get("cube"):
-            raise ArgumentError("this texture is not a cube map", path)
-        return sphere.faces_to_cube(mips[0], convention=convention), "cube", "a cube map file"
-    image = read_image(path)
-    if layout is not None and _is_cube(layout):
-        raise ArgumentError(
-            "a cube input is six files (put {face} in the name), a .dds or .ktx file, or a "
-            "cross or strip picture (--from cross-vertical, ...)",
-            path,
-        )
-    if layout is not None:
-        return image, layout, "given"
-    guessed = input_layout(image, None, path)
-    h, w = image.shape[:2]
-    return image, guessed, f"guessed from its {w}x{h} shape"
-
-
-def write_environment(target: Path, image, layout: str, convention: str, short: bool) -> list:
-    """Write a flat layout to ``target``; a cube to six ``{face}`` files or a .dds/.ktx file,
-    as the engine ``convention`` loads it. Returns the paths written."""
-    from bakeshop import sphere
-    from bakeshop.io import write_image
-
-    if not _is_cube(layout):
-        write_image(target, image)
-        return [target]
-    faces = sphere.cube_to_faces(image, convention=convention)
-    if target.suffix.lower() in CUBE_CONTAINERS:
-        from bakeshop.io.dds import write_dds
-        from bakeshop.io.ktx import write_ktx
-
-        write = write_dds if target.suffix.lower() == ".dds" else write_ktx
-        # half floats unless a value (the sun) would overflow them
-        dtype = "float16" if np.nanmax(np.abs(faces)) <= 65504 else "float32"
-        write(target, [faces], dtype=dtype)
-        return [target]
-    paths = _face_paths(target, short)
-    for path, face in zip(paths, faces, strict=True):
-        write_image(path, face)
-    return paths
-
-
 def _check_target(target: Path, layout: str) -> None:
-    if _is_cube(layout):
-        if "{face}" not in str(target) and target.suffix.lower() not in CUBE_CONTAINERS:
+    if is_cube(layout):
+        if "{face}" not in str(target) and not is_container(target):
             raise ArgumentError(
                 "a cube is written as six files: put {face} in the output name (sky_{face}.exr "
-                "gives sky_posx.exr ... sky_negz.exr), write one .dds or .ktx file, or choose a "
-                "cross or strip (--to cross-vertical)",
+                "gives sky_posx.exr ... sky_negz.exr), write one .dds, .ktx or .ktx2 file, or "
+                "choose a cross or strip (--to cross-vertical)",
                 target,
             )
     elif "{face}" in str(target):
@@ -161,7 +82,7 @@ def _describe(layout: str, shape) -> str:
     type=click.Choice(["opengl", "vulkan", "directx"]),
     default="opengl",
     show_default=True,
-    help="Face set of cube files (faces, .dds, .ktx), read and written: opengl and vulkan "
+    help="Face set of cube files (faces, .dds, .ktx, .ktx2), read and written: opengl and vulkan "
     "sample the same faces; directx is the left-handed (z forward) set.",
 )
 @click.option(
@@ -173,7 +94,7 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
     """Convert the panorama SOURCE from one layout to another and write TARGET.
 
     Layouts: latlong (equirectangular), angular (Debevec light probe), mirrorball, octahedral,
-    dual-paraboloid, cube maps as six files (faces: {face} in the name, or one .dds/.ktx
+    dual-paraboloid, cube maps as six files (faces: {face} in the name, or one .dds/.ktx/.ktx2
     file) and as pictures: cross-vertical, cross-horizontal, strip-horizontal,
     strip-vertical. Crosses and strips are drawn as HDRShop and cmft draw them (seen from
     inside the cube, unmirrored, the centre looking forward); six face files follow
@@ -186,6 +107,7 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
       bakeshop remap ball.hdr sky.hdr --from mirrorball --to latlong --size 2048x1024
       bakeshop remap sky.exr sky_{face}.exr --to faces --size 1024 --convention directx
       bakeshop remap sky_{face}.hdr sky.exr --from faces --to latlong --rotate 90,0,0
+      bakeshop remap sky.ktx2 sky.hdr --to latlong
     """
     from bakeshop import progress, sphere
 

@@ -9,31 +9,17 @@ import click
 import numpy as np
 
 from bakeshop.cli._common import OUTPUT, refuse_overwriting_inputs
+from bakeshop.cli._environment import (
+    is_container,
+    read_environment,
+    write_container,
+    write_environment,
+)
 from bakeshop.errors import ArgumentError
-
-#: single-file containers of a whole mip chain.
-CONTAINERS = (".dds", ".ktx", ".ktx2")
-#: largest value float16 holds; beyond it the containers are written as float32.
-HALF_MAX = 65504.0
-
-
-def _container_writer(target: Path):
-    from bakeshop.io.dds import write_dds
-    from bakeshop.io.ktx import write_ktx
-    from bakeshop.io.ktx2 import write_ktx2
-
-    return {".dds": write_dds, ".ktx": write_ktx, ".ktx2": write_ktx2}[target.suffix.lower()]
-
-
-def _sample_type(levels, force_float32: bool) -> str:
-    if force_float32:
-        return "float32"
-    peak = max(float(np.abs(level).max()) for level in levels)
-    return "float16" if peak <= HALF_MAX else "float32"
 
 
 def _check_chain_target(target: Path) -> None:
-    if target.suffix.lower() not in CONTAINERS and "{mip}" not in str(target):
+    if not is_container(target) and "{mip}" not in str(target):
         raise ArgumentError(
             "a mip chain is one .dds, .ktx or .ktx2 file, or a name with {mip} (and {face} for six "
             "face files per level, else one vertical cross per level): spec_{mip}_{face}.hdr",
@@ -47,13 +33,12 @@ def write_chain(target: Path, chain, *, convention: str, float32: bool = False) 
     Returns the paths written; a container holds float16 unless a value would overflow it.
     """
     from bakeshop import sphere
-    from bakeshop.cli.panorama import write_environment
     from bakeshop.io import write_image
 
     _check_chain_target(target)
     faces = [sphere.cube_to_faces(level, convention=convention) for level in chain]
-    if target.suffix.lower() in CONTAINERS:
-        _container_writer(target)(target, faces, dtype=_sample_type(faces, float32))
+    if is_container(target):
+        write_container(target, faces, float32=float32)
         return [target]
     paths = []
     for m, level in enumerate(chain):
@@ -71,8 +56,8 @@ def write_dfg(target: Path, table, *, float32: bool = False) -> None:
     (16-bit for PNG: the table is linear data, not a picture)."""
     from bakeshop.io import write_image
 
-    if target.suffix.lower() in CONTAINERS:
-        _container_writer(target)(target, [table], dtype="float32" if float32 else "float16")
+    if is_container(target):
+        write_container(target, [table], float32=float32)
         return
     rgb = np.concatenate([table, np.zeros_like(table[..., :1])], axis=-1)
     options = {"bits": 16} if target.suffix.lower() == ".png" else {}
@@ -82,7 +67,6 @@ def write_dfg(target: Path, table, *, float32: bool = False) -> None:
 def _read_probe(source: Path | None, src_layout: str | None):
     """(image, layout, name) of the input probe; the embedded default when ``source`` is None."""
     from bakeshop import progress
-    from bakeshop.cli.panorama import read_environment
 
     if source is None:
         from importlib.resources import files
@@ -104,7 +88,7 @@ _from = click.option(
     "src_layout",
     metavar="LAYOUT",
     help="Layout of IN (latlong, angular, mirrorball, cross-vertical, ...); guessed from its "
-    "shape when only one fits. IN may also be a .dds/.ktx cube or six files with {face}.",
+    "shape when only one fits. IN may also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
 )
 _convention = click.option(
     "--convention",
@@ -302,7 +286,6 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
         image, layout, cube_size=cube_size, specular_size=specular_size, mips=mips
     )
     from bakeshop import progress
-    from bakeshop.cli.panorama import write_environment
 
     with progress.step("writing files"):
         faces = write_environment(paths["cube"], bake.cube, "cube", "opengl", False)

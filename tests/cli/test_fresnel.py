@@ -83,11 +83,12 @@ def test_fresnel_cube_faces_and_report(sky, tmp_path, capsys):
 def test_fresnel_cube_containers(sky, tmp_path):
     from bakeshop.io.dds import read_dds
     from bakeshop.io.ktx import read_ktx
+    from bakeshop.io.ktx2 import read_ktx2
 
     path, image = sky
     cube = sphere.remap(image, "latlong", "cube", 8, filter="area")  # what the command does
     expect = bake_fresnel(cube, "cube")
-    for ext, reader in ((".dds", read_dds), (".ktx", read_ktx)):
+    for ext, reader in ((".dds", read_dds), (".ktx", read_ktx), (".ktx2", read_ktx2)):
         out = tmp_path / f"water{ext}"
         assert main(["fresnel", str(path), str(out), "--layout", "cube", "--size", "8"]) == 0
         mips, meta = reader(out)

@@ -6,6 +6,7 @@ import pytest
 from bakeshop.cli.main import main
 from bakeshop.io import read_image, write_image
 from bakeshop.sphere import cube_to_faces, layout, remap
+from tests.tolerances import HALF_FLOAT_RTOL
 
 
 def smooth(d):
@@ -54,6 +55,31 @@ def test_faces_round_trip_in_every_convention(latlong, tmp_path):
                 "--size", "128x64", "--convention", convention]  # fmt: skip
         assert main(argv) == 0
         np.testing.assert_allclose(read_image(back), image, atol=0.02)
+
+
+@pytest.mark.parametrize("ext", [".dds", ".ktx", ".ktx2"])
+def test_cube_containers_hold_the_same_faces_as_face_files(latlong, tmp_path, ext):
+    from bakeshop.io.dds import read_dds
+    from bakeshop.io.ktx import read_ktx
+    from bakeshop.io.ktx2 import read_ktx2
+
+    path, image = latlong
+    common = ["--to", "faces", "--size", "16", "--convention", "directx"]
+    assert main(["-q", "remap", str(path), str(tmp_path / "f_{face}.pfm"), *common]) == 0
+    faces = np.stack([read_image(tmp_path / f"f_{n}.pfm") for n in
+                      ("posx", "negx", "posy", "negy", "posz", "negz")])  # fmt: skip
+    container = tmp_path / f"sky{ext}"
+    assert main(["-q", "remap", str(path), str(container), *common]) == 0
+    reader = {".dds": read_dds, ".ktx": read_ktx, ".ktx2": read_ktx2}[ext]
+    mips, meta = reader(container)
+    assert len(mips) == 1 and meta["cube"] and meta["stored"] == "float16"
+    np.testing.assert_allclose(mips[0][..., :3], faces, rtol=HALF_FLOAT_RTOL)
+    # and read back as an input, in the same convention
+    back = tmp_path / "back.exr"
+    argv = ["-q", "remap", str(container), str(back), "--to", "latlong", "--size", "128x64",
+            "--convention", "directx"]  # fmt: skip
+    assert main(argv) == 0
+    np.testing.assert_allclose(read_image(back), image, atol=0.02)
 
 
 def test_short_face_names_and_rotation(latlong, tmp_path):
