@@ -33,7 +33,9 @@ def area_weights(n_in: int, n_out: int) -> sp.csr_matrix:
     k_last = (hi - 1) // n_out
     counts = k_last - k_first + 1
     rows = np.repeat(i, counts)
-    cols = np.repeat(k_first, counts) + (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts))
+    cols = np.repeat(k_first, counts) + (
+        np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    )
     overlap = np.minimum(hi[rows], (cols + 1) * n_out) - np.maximum(lo[rows], cols * n_out)
     return sp.csr_matrix((overlap / n_in, (rows, cols)), shape=(n_out, n_in))
 

@@ -48,7 +48,10 @@ def main():
     image = rng.lognormal(0.0, 2.0, (4096, 8192, 3)).astype(np.float32)
     mean = image.mean(dtype=np.float64)
     print(f"input 8192x4096x3 float32 ({image.nbytes / 2**20:.0f} MiB)")
-    print(f"{'size':>10} {'tool':>18} {'seconds':>8} {'x bakeshop':>10} {'mean err':>9} {'peak/in':>7}")
+    print(
+        f"{'size':>10} {'tool':>18} {'seconds':>8} {'x bakeshop':>10} {'mean err':>9} "
+        f"{'peak/in':>7}"
+    )
     for size in [(2048, 1024), (1000, 500)]:
         base = None
         for name, function in PEERS.items():

@@ -47,7 +47,9 @@ def test_mean_is_preserved(size):
     rng = np.random.default_rng(3)
     image = (rng.lognormal(0, 3, (400, 800, 3))).astype(np.float32)  # HDR-like, 1e-4..1e4
     out = resize_area(image, size)
-    assert out.mean(dtype=np.float64) == pytest.approx(image.mean(dtype=np.float64), rel=FLOAT32_MEAN)
+    assert out.mean(dtype=np.float64) == pytest.approx(
+        image.mean(dtype=np.float64), rel=FLOAT32_MEAN
+    )
 
 
 def test_weights_are_a_partition():

@@ -94,8 +94,10 @@ def _print_info(r: dict) -> None:
     table = Table(box=None, padding=(0, 2), show_edge=False)
     for col in ("channel", "min", "max", "mean"):
         table.add_column(col, justify="right")
-    for name, s in zip(names, r["channel_stats"]):
-        table.add_row(name, *(f"{s[k]:.6g}" if s[k] is not None else "-" for k in ("min", "max", "mean")))
+    for name, s in zip(names, r["channel_stats"], strict=True):
+        table.add_row(
+            name, *(f"{s[k]:.6g}" if s[k] is not None else "-" for k in ("min", "max", "mean"))
+        )
     console.print(table)
     console.print(
         f"  NaN: {r['nan']}  Inf: {r['inf']}  dynamic range: "

@@ -43,7 +43,7 @@ for _name in COMMAND_MODULES:
 
 def error(message: str) -> int:
     """Print ``bakeshop: error: message`` on stderr and return the exit status 2."""
-    print(f"bakeshop: error: {message}", file=sys.stderr)
+    click.echo(f"bakeshop: error: {message}", err=True)
     return 2
 
 
@@ -59,7 +59,7 @@ def main(argv: list[str] | None = None) -> int:
     except click.ClickException as e:
         return error(e.format_message())
     except (click.Abort, KeyboardInterrupt):
-        print("bakeshop: interrupted", file=sys.stderr)
+        click.echo("bakeshop: interrupted", err=True)
         return 130
     except OSError as e:
         return error(f"{e.filename}: {e.strerror}" if e.filename else str(e))

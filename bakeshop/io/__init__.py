@@ -42,7 +42,15 @@ ALPHA_EXTENSIONS = frozenset({".tga", ".exr", ".png"})
 #: bytes read from the head of a file to recognise its format.
 SNIFF_BYTES = 64
 
-__all__ = ["CODECS", "HDR_CODECS", "ALPHA_EXTENSIONS", "read_image", "write_image", "codec_for", "sniff_format"]
+__all__ = [
+    "CODECS",
+    "HDR_CODECS",
+    "ALPHA_EXTENSIONS",
+    "read_image",
+    "write_image",
+    "codec_for",
+    "sniff_format",
+]
 
 
 def _module(name: str):
@@ -56,7 +64,9 @@ def codec_for(path: str | os.PathLike) -> str:
         if ext in extensions:
             return name
     known = ", ".join(e for exts in CODECS.values() for e in exts)
-    raise UnsupportedError(f"unknown image extension {ext!r}; bakeshop reads and writes {known}", path)
+    raise UnsupportedError(
+        f"unknown image extension {ext!r}; bakeshop reads and writes {known}", path
+    )
 
 
 def sniff_format(head: bytes) -> str | None:

@@ -86,7 +86,10 @@ def test_convert_float_round_trip_is_exact(hdr_image, tmp_path):
 def test_convert_passes_writer_options(hdr_image, tmp_path):
     path, image = hdr_image
     out = tmp_path / "half.exr"
-    assert main(["convert", str(path), str(out), "-O", "pixel_type=half", "-O", "compression=piz"]) == 0
+    assert (
+        main(["convert", str(path), str(out), "-O", "pixel_type=half", "-O", "compression=piz"])
+        == 0
+    )
     spec = oiio.ImageInput.open(str(out)).spec()
     assert spec.format == oiio.HALF and spec.get_string_attribute("compression") == "piz"
 
