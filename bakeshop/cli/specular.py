@@ -248,7 +248,8 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
     Writes to DIR:
       env_posx ... env_negz   the environment as OpenGL cube faces
       sun_dim, shadow_dim     the DIM pair (E/pi, latlong 360x180): lit and shadowed surfaces
-      shadow_probe            the probe with its sun painted out (input layout)
+      shadow_probe            the probe with its sun painted out (input layout; a cube
+                              input gives a vertical cross)
       sun.json                the sun's direction, size, colour and irradiance ({"sun": null}
                               when there is none)
       sh.json                 order-2 SH radiance coefficients (9 per channel)
@@ -285,13 +286,17 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
     bake = probe_module.bake_probe(
         image, layout, cube_size=cube_size, specular_size=specular_size, mips=mips
     )
-    from bakeshop import progress
+    from bakeshop import progress, sphere
 
     with progress.step("writing files"):
         faces = write_environment(paths["cube"], bake.cube, "cube", "opengl", False)
         write_image(paths["sun_dim"], bake.sun_dim)
         write_image(paths["shadow_dim"], bake.shadow_dim)
-        write_image(paths["shadow_probe"], bake.shadow_probe)
+        # a cube probe (faces or a container) is painted as a cube: one picture, a cross
+        shadow_probe = bake.shadow_probe
+        if layout == "cube":
+            shadow_probe = sphere.cube_to_view(shadow_probe, "cross-vertical")
+        write_image(paths["shadow_probe"], shadow_probe)
         sun_module.write_json(paths["sun"], bake.sun)
         sh.write_json(paths["sh"], bake.sh)
         write_chain(paths["specular"], bake.specular, convention="opengl")
@@ -308,7 +313,12 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
         (f"{faces[0].name} ...", f"environment, 6 OpenGL faces of {s}x{s}", t["cube"]),
         (paths["sun_dim"].name, "DIM of the probe (E/pi), latlong 360x180", t["dims"]),
         (paths["shadow_dim"].name, "DIM without the sun", None),
-        (paths["shadow_probe"].name, f"probe without the sun ({_describe(image, layout)})", None),
+        (
+            paths["shadow_probe"].name,
+            "probe without the sun "
+            + ("(vertical cross)" if layout == "cube" else f"({_describe(image, layout)})"),
+            None,
+        ),
         (paths["sun"].name, "the sun" if bake.sun is not None else "no sun found", None),
         (paths["sh"].name, f"SH radiance, {bake.sh.shape[0]} coefficients per channel", t["sh"]),
         (

@@ -160,3 +160,16 @@ def test_bake_probe_rgba_and_grey_probes_give_rgb_files(tmp_path, channels):
     assert main([*args, "--cube-size", "8"]) == 0
     for name in ("env_posx.hdr", "sun_dim.hdr", "shadow_probe.hdr"):
         assert read_image(out / name).shape[-1] == 3
+
+
+def test_bake_probe_from_a_ktx2_cube(probe, tmp_path, capsys):
+    # a cube probe: its shadow probe is a cube too, written as one vertical cross picture
+    cube = tmp_path / "probe.ktx2"
+    assert main(["-q", "remap", str(probe), str(cube), "--to", "cube", "--size", "16"]) == 0
+    out = tmp_path / "baked"
+    args = ["bake-probe", str(cube), "-o", str(out), "--specular-size", "8", "--mips", "2"]
+    assert main([*args, "--cube-size", "16", "--container", "ktx2"]) == 0
+    assert read_image(out / "shadow_probe.hdr").shape == (64, 48, 3)
+    assert read_image(out / "env_posx.hdr").shape == (16, 16, 3)
+    assert (out / "specular.ktx2").is_file() and (out / "dfg.ktx2").is_file()
+    assert "vertical cross" in capsys.readouterr().out
