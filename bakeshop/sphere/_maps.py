@@ -669,20 +669,14 @@ def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
     return df, cx, cy, min(0.5, hx), min(0.5, hy), width
 
 
-#: the splat plan stores a source texel's first two tent weights per axis in units of 1/W_ONE.
-W_ONE = 65535
-
-
 @numba.njit(cache=True, error_model="numpy", inline="always")
 def _deposit(acc, t, b, row, wq, p, om, values):
     """acc[t, q] += w values for the 3 x 3 destination texels from flat index b (rows ``row``
     apart), weights w = om x (x weight) x (y weight) from the splat plan's ``wq[p]``."""
-    unit = 1.0 / W_ONE
-    wx0, wx1 = wq[p, 0] * unit, wq[p, 1] * unit
-    wy0, wy1 = wq[p, 2] * unit, wq[p, 3] * unit
-    wx2 = 1.0 - wx0 - wx1
+    wx0, wx1, wy0, wy1 = float(wq[p, 0]), float(wq[p, 1]), float(wq[p, 2]), float(wq[p, 3])
+    wx2 = max(0.0, 1.0 - wx0 - wx1)
     for yb in range(3):
-        wy = wy0 if yb == 0 else (wy1 if yb == 1 else 1.0 - wy0 - wy1)
+        wy = wy0 if yb == 0 else (wy1 if yb == 1 else max(0.0, 1.0 - wy0 - wy1))
         if wy == 0:
             continue
         wy *= om
@@ -705,7 +699,7 @@ def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, sca
     ``anchor[p]``: flat index of the upper-left of the 3 x 3 destination texels when they are
     one ordinary block (deposit into anchor + b dw + a), ``EXCEPTION`` across a seam (see
     :func:`splat_exceptions`), -1 for none; ``wq[p]``: the first two box-tent weights along x
-    and along y, in units of 1/W_ONE (the third is the rest, so they sum to 1 exactly);
+    and along y, float32 (the third is the rest, so they sum to 1);
     ``scale[p]``: omega; ``width[p]``: the footprint's narrower width in destination texels.
     The ordinary texels' weights and weighted widths are summed into ``acc[t, q, :2]``, one
     partial sum per chunk ``t``. The rotation ``rot`` moves what the source shows at ``d`` to
@@ -736,10 +730,7 @@ def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, sca
                 _box_tent_weights(cy, hy, ly, wy)
                 width[p] = wd
                 scale[p] = om
-                u0 = int(wx[0] * W_ONE + 0.5)
-                v0 = int(wy[0] * W_ONE + 0.5)
-                wq[p, 0], wq[p, 1] = u0, min(int(wx[1] * W_ONE + 0.5), W_ONE - u0)
-                wq[p, 2], wq[p, 3] = v0, min(int(wy[1] * W_ONE + 0.5), W_ONE - v0)
+                wq[p, 0], wq[p, 1], wq[p, 2], wq[p, 3] = wx[0], wx[1], wy[0], wy[1]
                 b = _block(dkind, dh, dw, df, lx, ly, 3)
                 anchor[p] = b if b >= 0 else EXCEPTION
                 if b >= 0:

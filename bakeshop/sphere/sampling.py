@@ -38,7 +38,7 @@ AREA_BUFFER_BYTES = 1 << 29
 
 #: number of cached remap plans (each holds indices and weights for every output texel).
 PLAN_CACHE_SIZE = 4
-#: memory for cached area filter plans (16 bytes per source texel, 8 per output texel; a mip
+#: memory for cached area filter plans (24 bytes per source texel, 8 per output texel; a mip
 #: chain of a 1024 cube fits, and so does one 4096 x 2048 latlong's plan).
 AREA_PLAN_CACHE_BYTES = 1 << 28
 
@@ -239,7 +239,7 @@ class _ByteBoundedCache:
 
 def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
     """The area filter's cached geometry (read-only arrays), see ``_maps.splat_plan``: per
-    source texel an int32 anchor, four uint16 weights and a float32 solid angle (16 bytes),
+    source texel an int32 anchor, four float32 weights and a float32 solid angle (24 bytes),
     36 bytes of explicit taps and weights per source texel at a seam, and per output texel
     the float32 blend alpha and 1 / (sum of weights) (8 bytes)."""
     s, d = layout(src), layout(dst)
@@ -249,7 +249,7 @@ def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
     omega = s.solid_angles(src_shape).reshape(-1)
     rot = _matrix(rotation)
     anchor = np.empty(n, np.int32)
-    wq = np.empty((n, 4), np.uint16)
+    wq = np.empty((n, 4), np.float32)
     scale = np.zeros(n, np.float32)
     width = np.zeros(n, np.float32)
     # the blend between splat and bilinear depends on the geometry only: sums of the weights
@@ -334,7 +334,7 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
     is bilinear, blended linearly up to 1.5 source texels per output texel. The sum of
     radiance x solid angle is preserved to 0.1% when downsampling (docs/panoramas.md). Its
     geometry (each source texel's nine weights, each output texel's blend) is cached too, in
-    16 bytes per source texel and 8 per output texel; a cached call is one splat and one
+    24 bytes per source texel and 8 per output texel; a cached call is one splat and one
     gather.
     """
     validate_choice(filter, FILTERS, "filter")
