@@ -34,6 +34,38 @@ def parse_size(text: str) -> tuple[int, int] | int:
 INPUT = click.Path(exists=True, dir_okay=False, readable=True, path_type=Path)
 #: click type for output files.
 OUTPUT = click.Path(dir_okay=False, writable=True, path_type=Path)
+#: click type for an output directory (the commands create it when missing).
+OUT_DIR = click.Path(file_okay=False, path_type=Path)
+
+
+def out_dir_option(help: str):
+    """The ``--out-dir``/``-o`` option of commands that write a set of files."""
+    return click.option("--out-dir", "-o", required=True, type=OUT_DIR, help=help)
+
+
+def float_format_option(help: str):
+    """The ``--format`` option (hdr, exr, pfm) of commands that write a set of float images."""
+    return click.option(
+        "--format",
+        "fmt",
+        type=click.Choice(("hdr", "exr", "pfm")),
+        default="hdr",
+        show_default=True,
+        help=help,
+    )
+
+
+def convention_option(help: str):
+    """The ``--convention`` option: the engine whose cube face set is read or written."""
+    from bakeshop.sphere import CONVENTIONS
+
+    return click.option(
+        "--convention",
+        type=click.Choice(CONVENTIONS),
+        default="opengl",
+        show_default=True,
+        help=help,
+    )
 
 
 def input_layout(image, given: str | None, path) -> str:

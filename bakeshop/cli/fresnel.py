@@ -13,6 +13,7 @@ import numpy as np
 
 from bakeshop.cli._common import (
     OUTPUT,
+    convention_option,
     input_layout,
     is_ldr,
     parse_size,
@@ -172,13 +173,7 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
     help="With --ldr: triangular dither of +-1 code value (seeded) against banding.",
 )
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the dither.")
-@click.option(
-    "--convention",
-    type=click.Choice(["opengl", "vulkan", "directx"]),
-    default="opengl",
-    show_default=True,
-    help="Face set written for --layout cube.",
-)
+@convention_option("Face set written for --layout cube.")
 @click.option(
     "--report",
     is_flag=True,

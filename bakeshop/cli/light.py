@@ -10,7 +10,15 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import INPUT, OUTPUT, input_layout, parse_size, refuse_overwriting_inputs
+from bakeshop.cli._common import (
+    INPUT,
+    OUTPUT,
+    float_format_option,
+    input_layout,
+    out_dir_option,
+    parse_size,
+    refuse_overwriting_inputs,
+)
 from bakeshop.errors import ArgumentError
 
 #: layouts a single image file can hold (the cube is written as a cross or a strip).
@@ -213,22 +221,9 @@ def sun(source, src_layout, as_json):
 
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("source", metavar="IN", type=INPUT)
-@click.option(
-    "--out-dir",
-    "-o",
-    required=True,
-    type=click.Path(file_okay=False, path_type=Path),
-    help="Directory for the outputs (created if missing).",
-)
+@out_dir_option("Directory for the outputs (created if missing).")
 @_from
-@click.option(
-    "--format",
-    "fmt",
-    type=click.Choice(("hdr", "exr", "pfm")),
-    default="hdr",
-    show_default=True,
-    help="File format of the three images.",
-)
+@float_format_option("File format of the three images.")
 @_method
 @_order
 @_to

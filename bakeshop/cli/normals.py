@@ -47,6 +47,29 @@ _writer = click.option(
 )
 
 
+def _placement(*, tile: str, rotate: str, strength: str):
+    """The --tile, --offset, --rotate and --strength options that place a detail pattern."""
+    options = [
+        click.option("--tile", default="1", show_default=True, metavar="N|UxV", help=tile),
+        click.option(
+            "--offset",
+            default="0",
+            show_default=True,
+            metavar="U|UxV",
+            help="Shift of the pattern, in tiles.",
+        ),
+        click.option("--rotate", default=0.0, show_default=True, metavar="DEG", help=rotate),
+        click.option("--strength", default=1.0, show_default=True, metavar="S", help=strength),
+    ]
+
+    def apply(command):
+        for option in reversed(options):
+            command = option(command)
+        return command
+
+    return apply
+
+
 def _pair_text(text: str, what: str) -> tuple[float, float]:
     """'4' -> (4, 4); '4x2' -> (4, 2); also accepts negative and fractional numbers."""
     parts = text.lower().split("x")
@@ -164,33 +187,10 @@ def normals():
     "onto the macro UVs; rnm for detail laid out by arc length; pd for heights added along "
     "the low-poly normal; sg, whiteout, udn, overlay and linear for comparison.",
 )
-@click.option(
-    "--tile",
-    default="1",
-    show_default=True,
-    metavar="N|UxV",
-    help="Repetitions of DETAIL across the macro map (negative mirrors).",
-)
-@click.option(
-    "--offset",
-    default="0",
-    show_default=True,
-    metavar="U|UxV",
-    help="Shift of the pattern, in tiles.",
-)
-@click.option(
-    "--rotate",
-    default=0.0,
-    show_default=True,
-    metavar="DEG",
-    help="Counter-clockwise rotation of the pattern; the normals turn with it.",
-)
-@click.option(
-    "--strength",
-    default=1.0,
-    show_default=True,
-    metavar="S",
-    help="Height scale of the detail (0 = none, negative inverts).",
+@_placement(
+    tile="Repetitions of DETAIL across the macro map (negative mirrors).",
+    rotate="Counter-clockwise rotation of the pattern; the normals turn with it.",
+    strength="Height scale of the detail (0 = none, negative inverts).",
 )
 @click.option(
     "--mask",
@@ -301,29 +301,10 @@ def combine(
     show_default=True,
     help="Axis of the planar projection.",
 )
-@click.option(
-    "--tile",
-    default="1",
-    show_default=True,
-    metavar="N|UxV",
-    help="Repetitions per unit of uv2, or per object-space unit for projections.",
-)
-@click.option(
-    "--offset",
-    default="0",
-    show_default=True,
-    metavar="U|UxV",
-    help="Shift of the pattern, in tiles.",
-)
-@click.option(
-    "--rotate",
-    default=0.0,
-    show_default=True,
-    metavar="DEG",
-    help="Counter-clockwise rotation of the pattern.",
-)
-@click.option(
-    "--strength", default=1.0, show_default=True, metavar="S", help="Height scale of the detail."
+@_placement(
+    tile="Repetitions per unit of uv2, or per object-space unit for projections.",
+    rotate="Counter-clockwise rotation of the pattern.",
+    strength="Height scale of the detail.",
 )
 @click.option(
     "--sharpness",

@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import parse_size, refuse_overwriting_inputs
+from bakeshop.cli._common import OUTPUT, convention_option, parse_size, refuse_overwriting_inputs
 from bakeshop.cli._environment import (
     FACES,
     is_container,
@@ -45,7 +45,7 @@ def _describe(layout: str, shape) -> str:
 
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("source", type=click.Path(dir_okay=False, path_type=Path))
-@click.argument("target", type=click.Path(dir_okay=False, writable=True, path_type=Path))
+@click.argument("target", type=OUTPUT)
 @click.option(
     "--from",
     "src",
@@ -77,13 +77,9 @@ def _describe(layout: str, shape) -> str:
     help="Rotate the environment, degrees: yaw about +Y (positive turns the view ahead to the "
     "left), pitch about +X (positive lifts it), roll about +Z; applied roll, pitch, yaw.",
 )
-@click.option(
-    "--convention",
-    type=click.Choice(["opengl", "vulkan", "directx"]),
-    default="opengl",
-    show_default=True,
-    help="Face set of cube files (faces, .dds, .ktx, .ktx2), read and written: opengl and vulkan "
-    "sample the same faces; directx is the left-handed (z forward) set.",
+@convention_option(
+    "Face set of cube files (faces, .dds, .ktx, .ktx2), read and written: opengl and vulkan "
+    "sample the same faces; directx is the left-handed (z forward) set."
 )
 @click.option(
     "--short-face-names",

@@ -8,7 +8,13 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import OUTPUT, refuse_overwriting_inputs
+from bakeshop.cli._common import (
+    OUTPUT,
+    convention_option,
+    float_format_option,
+    out_dir_option,
+    refuse_overwriting_inputs,
+)
 from bakeshop.cli._environment import (
     is_container,
     read_environment,
@@ -90,12 +96,8 @@ _from = click.option(
     help="Layout of IN (latlong, angular, mirrorball, cross-vertical, ...); guessed from its "
     "shape when only one fits. IN may also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
 )
-_convention = click.option(
-    "--convention",
-    type=click.Choice(("opengl", "vulkan", "directx")),
-    default="opengl",
-    show_default=True,
-    help="Engine whose cube faces to write (directx: the left-handed, z-forward face set).",
+_convention = convention_option(
+    "Engine whose cube faces to write (directx: the left-handed, z-forward face set)."
 )
 _float32 = click.option(
     "--float32", is_flag=True, help="Store 32-bit floats in .dds/.ktx/.ktx2 (default: half floats "
@@ -212,22 +214,9 @@ def dfg(target, size, samples, visibility, float32):
 @click.argument(
     "source", metavar="[IN]", required=False, type=click.Path(dir_okay=False, path_type=Path)
 )
-@click.option(
-    "--out-dir",
-    "-o",
-    required=True,
-    type=click.Path(file_okay=False, path_type=Path),
-    help="Directory for everything (created if missing).",
-)
+@out_dir_option("Directory for everything (created if missing).")
 @_from
-@click.option(
-    "--format",
-    "fmt",
-    type=click.Choice(("hdr", "exr", "pfm")),
-    default="hdr",
-    show_default=True,
-    help="File format of the cube faces, DIMs and shadow probe.",
-)
+@float_format_option("File format of the cube faces, DIMs and shadow probe.")
 @click.option(
     "--container",
     type=click.Choice(("dds", "ktx", "ktx2")),
