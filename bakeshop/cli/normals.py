@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-import numpy as np
 
 from bakeshop.cli._common import INPUT, OUTPUT, parse_size, refuse_overwriting_inputs
 from bakeshop.cli.images import parse_options
@@ -548,23 +547,20 @@ def convert(
       bakeshop normals convert rifle_bc5.png rifle_n.png --from gl --to gl --xy
     """
     from bakeshop.io import read_image, write_image
-    from bakeshop.normals.encoding import decode_normals, encode_normals
+    from bakeshop.normals.encoding import convert_normal_map
 
     refuse_overwriting_inputs(target, source)
     image = read_image(source)
-    if xy or renormalize:
-        n = decode_normals(
-            image, convention=source_convention, encoding=encoding, channels="xy" if xy else "xyz"
-        )
-        values = encode_normals(n, convention=target_convention, encoding=encoding)
-        if image.shape[2] == 4:
-            values = np.concatenate([values, image[:, :, 3:]], axis=2)
-    else:
-        if image.shape[2] < 3:
-            raise ArgumentError("a normal map needs at least three channels (or --xy)", source)
-        values = image.copy()
-        if source_convention != target_convention:
-            values[:, :, 1] = -values[:, :, 1] if encoding == "signed" else 1 - values[:, :, 1]
+    if image.shape[2] < 3 and not xy:
+        raise ArgumentError("a normal map needs at least three channels (or --xy)", source)
+    values = convert_normal_map(
+        image,
+        source=source_convention,
+        target=target_convention,
+        encoding=encoding,
+        channels="xy" if xy else "xyz",
+        renormalize=renormalize,
+    )
     write_image(target, values, **parse_options(options))
     click.echo(f"wrote {target}: {source_convention} -> {target_convention}")
 

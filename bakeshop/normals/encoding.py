@@ -50,6 +50,7 @@ __all__ = [
     "encode_normals",
     "normalize",
     "convert_convention",
+    "convert_normal_map",
     "check_normals",
     "NormalCheck",
     "read_normal_map",
@@ -104,6 +105,60 @@ def convert_convention(normals, source: str, target: str) -> np.ndarray:
     if source != target:
         n[..., 1] = -n[..., 1]
     return n
+
+
+def convert_normal_map(
+    image,
+    *,
+    source: str,
+    target: str,
+    encoding: str = "packed",
+    channels: str = "xyz",
+    renormalize: bool = False,
+) -> np.ndarray:
+    """Convert a stored normal-map image between the OpenGL (Y+) and DirectX (Y-) conventions.
+
+    Three-channel maps without ``renormalize`` change in the Y channel only, exactly: packed
+    values v become 1 - v (an 8-bit value c becomes 255 - c), signed ones -v; every other
+    channel is copied, so converting twice gives back the same file. With ``renormalize``, or
+    for a two-channel map (``channels="xy"``, z rebuilt), the vectors are decoded, renormalised
+    and encoded again (:func:`decode_normals`, :func:`encode_normals`); a fourth (alpha)
+    channel is kept.
+
+    Parameters
+    ----------
+    image : (H, W, C) float array
+        Stored values, as :func:`bakeshop.io.read_image` returns them.
+    source, target : {"gl", "dx"}
+        Conventions of ``image`` and of the result.
+    encoding : {"packed", "signed"}
+    channels : {"xyz", "xy"}
+    renormalize : bool
+
+    Returns
+    -------
+    (H, W, C') float array of stored values: C' = C for the exact flip, else 3 (4 with alpha).
+    """
+    validate_choice(source, CONVENTIONS, "normal-map convention")
+    validate_choice(target, CONVENTIONS, "normal-map convention")
+    validate_choice(encoding, ENCODINGS, "normal-map encoding")
+    validate_choice(channels, CHANNELS, "normal-map channels")
+    a = _float(image)
+    if channels == "xy" or renormalize:
+        n = decode_normals(a, convention=source, encoding=encoding, channels=channels)
+        values = encode_normals(n, convention=target, encoding=encoding)
+        if a.shape[2] == 4:
+            values = np.concatenate([values, a[:, :, 3:]], axis=2)
+        return values
+    if a.ndim != 3 or a.shape[2] < 3:
+        raise ArgumentError(
+            f"a normal map needs at least three channels (a two-channel map: xy); got shape "
+            f"{a.shape}"
+        )
+    values = a.copy()
+    if source != target:
+        values[:, :, 1] = -values[:, :, 1] if encoding == "signed" else 1 - values[:, :, 1]
+    return values
 
 
 def _raw(image, encoding: str, channels: str) -> np.ndarray:

@@ -9,6 +9,7 @@ from bakeshop.errors import ArgumentError
 from bakeshop.normals.encoding import (
     check_normals,
     convert_convention,
+    convert_normal_map,
     decode_normals,
     encode_normals,
     normalize,
@@ -135,3 +136,30 @@ def test_16bit_png_decodes_with_65535(tmp_path):
     n = 2.0 * c / 65535 - 1
     n /= np.linalg.norm(n, axis=2, keepdims=True)
     np.testing.assert_allclose(read_normal_map(tmp_path / "n16.png"), n, atol=tol.FLOAT32_UNIT)
+
+
+def test_convert_normal_map_flips_stored_green_exactly():
+    c = np.random.default_rng(5).integers(0, 256, size=(9, 11, 4))
+    packed = (c / 255).astype(np.float32)
+    dx = convert_normal_map(packed, source="gl", target="dx")
+    np.testing.assert_array_equal(np.rint(dx * 255).astype(int)[..., 1], 255 - c[..., 1])
+    np.testing.assert_array_equal(dx[..., [0, 2, 3]], packed[..., [0, 2, 3]])  # alpha too
+    back = convert_normal_map(dx, source="dx", target="gl")
+    np.testing.assert_array_equal(np.rint(back * 255).astype(int), c)  # the same 8-bit file
+    np.testing.assert_array_equal(convert_normal_map(packed, source="gl", target="gl"), packed)
+    signed = packed * 2 - 1
+    got = convert_normal_map(signed, source="dx", target="gl", encoding="signed")
+    np.testing.assert_array_equal(got[..., 1], -signed[..., 1])
+    with pytest.raises(ArgumentError, match="three channels"):
+        convert_normal_map(packed[..., :2], source="gl", target="dx")
+
+
+def test_convert_normal_map_rebuilds_z_of_two_channel_maps_and_keeps_alpha():
+    rng = np.random.default_rng(6)
+    x, y = rng.uniform(-0.6, 0.6, (2, 7, 8))
+    alpha = rng.uniform(0, 1, (7, 8))
+    bc5 = np.stack([(x + 1) / 2, (y + 1) / 2, np.zeros_like(x), alpha], -1)  # blue unused
+    got = convert_normal_map(bc5, source="gl", target="dx", channels="xy")
+    z = np.sqrt(1 - x * x - y * y)  # unit length by construction
+    expect = np.stack([(x + 1) / 2, (1 - y) / 2, (z + 1) / 2, alpha], -1)
+    np.testing.assert_allclose(got, expect, atol=1e-12)
