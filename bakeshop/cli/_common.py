@@ -1,4 +1,5 @@
-"""Small helpers shared by the command modules: argument types, input checks and output safety."""
+"""Small helpers shared by the command modules: argument types, option builders, input checks
+and output safety."""
 
 from __future__ import annotations
 
@@ -36,6 +37,36 @@ INPUT = click.Path(exists=True, dir_okay=False, readable=True, path_type=Path)
 OUTPUT = click.Path(dir_okay=False, writable=True, path_type=Path)
 #: click type for an output directory (the commands create it when missing).
 OUT_DIR = click.Path(file_okay=False, path_type=Path)
+
+
+def _parse_value(text: str):
+    lowered = text.lower()
+    if lowered in ("true", "yes", "on"):
+        return True
+    if lowered in ("false", "no", "off"):
+        return False
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def parse_options(pairs: tuple[str, ...]) -> dict:
+    """``('compression=piz', 'bits=16')`` -> ``{'compression': 'piz', 'bits': 16}``."""
+    options = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key:
+            raise ArgumentError(f"invalid option {pair!r}: expected KEY=VALUE")
+        options[key.strip().replace("-", "_")] = _parse_value(value.strip())
+    return options
+
+
+def writer_option(help: str):
+    """The repeatable ``-O/--option KEY=VALUE`` writer option (read with :func:`parse_options`)."""
+    return click.option("-O", "--option", "options", multiple=True, metavar="KEY=VALUE", help=help)
 
 
 def out_dir_option(help: str):

@@ -8,35 +8,18 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import INPUT, OUTPUT, parse_size, refuse_overwriting_inputs
+from bakeshop.cli._common import (
+    INPUT,
+    OUTPUT,
+    is_ldr,
+    parse_options,
+    parse_size,
+    refuse_overwriting_inputs,
+    writer_option,
+)
 from bakeshop.errors import ArgumentError
 
 DEFAULT_PROBE = Path(__file__).resolve().parents[1] / "data" / "default_probe.hdr"
-
-
-def _parse_value(text: str):
-    lowered = text.lower()
-    if lowered in ("true", "yes", "on"):
-        return True
-    if lowered in ("false", "no", "off"):
-        return False
-    for kind in (int, float):
-        try:
-            return kind(text)
-        except ValueError:
-            pass
-    return text
-
-
-def parse_options(pairs: tuple[str, ...]) -> dict:
-    """``('compression=piz', 'bits=16')`` -> ``{'compression': 'piz', 'bits': 16}``."""
-    options = {}
-    for pair in pairs:
-        key, sep, value = pair.partition("=")
-        if not sep or not key:
-            raise ArgumentError(f"invalid option {pair!r}: expected KEY=VALUE")
-        options[key.strip().replace("-", "_")] = _parse_value(value.strip())
-    return options
 
 
 @click.command(context_settings={"max_content_width": 100})
@@ -129,14 +112,9 @@ def _print_info(r: dict) -> None:
     is_flag=True,
     help="Reading an 8/16-bit format into a float one: decode sRGB to linear values.",
 )
-@click.option(
-    "-O",
-    "--option",
-    "options",
-    multiple=True,
-    metavar="KEY=VALUE",
-    help="A writer option, repeatable: EXR pixel_type=half|float, compression=zip|piz|...; "
-    "PNG bits=8|16; JPEG quality=1..100; TGA rle=true; PFM byteorder=<|>.",
+@writer_option(
+    "A writer option, repeatable: EXR pixel_type=half|float, compression=zip|piz|...; "
+    "PNG bits=8|16; JPEG quality=1..100; TGA rle=true; PFM byteorder=<|>."
 )
 def convert(source, target, exposure, linear, srgb_decode, options):
     """Convert SOURCE to TARGET, any supported format to any other (by extension: .hdr .pfm
@@ -153,15 +131,15 @@ def convert(source, target, exposure, linear, srgb_decode, options):
       bakeshop convert probe.exr preview.png --exposure -2
       bakeshop convert albedo.png albedo.exr --srgb-decode
     """
-    from bakeshop.io import ALPHA_EXTENSIONS, HDR_CODECS, codec_for, read_image, write_image
+    from bakeshop.io import ALPHA_EXTENSIONS, read_image, write_image
     from bakeshop.light.tonemap import exposure as apply_exposure
     from bakeshop.light.tonemap import srgb_decode as decode
     from bakeshop.light.tonemap import srgb_encode
 
     refuse_overwriting_inputs(target, source)
     writer_options = parse_options(options)
-    src_hdr = codec_for(source) in HDR_CODECS
-    dst_hdr = codec_for(target) in HDR_CODECS
+    src_hdr = not is_ldr(source)
+    dst_hdr = not is_ldr(target)
     image = read_image(source)
     steps = []
     if image.shape[2] == 4 and target.suffix.lower() not in ALPHA_EXTENSIONS:

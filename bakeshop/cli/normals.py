@@ -6,8 +6,14 @@ from pathlib import Path
 
 import click
 
-from bakeshop.cli._common import INPUT, OUTPUT, parse_size, refuse_overwriting_inputs
-from bakeshop.cli.images import parse_options
+from bakeshop.cli._common import (
+    INPUT,
+    OUTPUT,
+    parse_options,
+    parse_size,
+    refuse_overwriting_inputs,
+    writer_option,
+)
 from bakeshop.errors import ArgumentError
 from bakeshop.normals.blend import DEFAULT_METHOD, METHODS
 from bakeshop.normals.encoding import CONVENTIONS, ENCODINGS
@@ -36,13 +42,8 @@ _encoding = click.option(
     help="packed: stored (n + 1) / 2, as every 8/16-bit map and most EXR bakes; signed: float "
     "files that store the components in [-1, 1].",
 )
-_writer = click.option(
-    "-O",
-    "--option",
-    "options",
-    multiple=True,
-    metavar="KEY=VALUE",
-    help="A writer option for OUT, repeatable: PNG bits=8|16; EXR pixel_type=half|float.",
+_writer = writer_option(
+    "A writer option for OUT, repeatable: PNG bits=8|16; EXR pixel_type=half|float."
 )
 
 
