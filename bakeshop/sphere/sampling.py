@@ -13,8 +13,9 @@ Filters:
 - ``area``: an antialiasing filter for downsampling, see :func:`remap`.
 
 Geometry is computed once per (source layout and shape, destination layout and shape,
-rotation, filter) and cached: the texel indices and weights of every output texel. Applying a
-cached plan is one numba-parallel gather over the output.
+rotation, filter) and cached: the texel indices and weights of every output texel (and, for the
+area filter, of every source texel). Applying a cached plan is one numba-parallel gather over
+the output (the area filter: a splat over the source, then a gather).
 """
 
 from __future__ import annotations
