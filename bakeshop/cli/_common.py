@@ -33,6 +33,8 @@ def parse_size(text: str) -> tuple[int, int] | int:
 
 #: click type for input files: must exist, readable, not a directory.
 INPUT = click.Path(exists=True, dir_okay=False, readable=True, path_type=Path)
+#: click type for an input environment: one file, or six named with {face} (checked on reading).
+ENVIRONMENT = click.Path(dir_okay=False, path_type=Path)
 #: click type for output files.
 OUTPUT = click.Path(dir_okay=False, writable=True, path_type=Path)
 #: click type for an output directory (the commands create it when missing).

@@ -36,6 +36,20 @@ def face_paths(pattern: Path, short: bool = False) -> list[Path]:
     return [Path(str(pattern).replace("{face}", name)) for name in names]
 
 
+def describe(image, layout: str) -> str:
+    """``'latlong 1024x512'`` or ``'cube (6 faces of 256x256)'``: for the commands' summaries."""
+    if is_cube(layout):
+        return f"cube (6 faces of {image.shape[2]}x{image.shape[1]})"
+    return f"{layout} {image.shape[1]}x{image.shape[0]}"
+
+
+def as_picture(image, layout: str):
+    """``image`` as one picture: a cube becomes a vertical cross, other layouts are pictures."""
+    from bakeshop import sphere
+
+    return sphere.cube_to_view(image, "cross-vertical") if is_cube(layout) else image
+
+
 def read_container(path: Path):
     """``(mips, metadata)`` of a .dds, .ktx or .ktx2 file."""
     from bakeshop.io.dds import read_dds

@@ -12,15 +12,15 @@ import click
 import numpy as np
 
 from bakeshop.cli._common import (
+    ENVIRONMENT,
     OUTPUT,
     convention_option,
-    input_layout,
     is_ldr,
     parse_size,
     refuse_overwriting_inputs,
     require_hdr,
 )
-from bakeshop.cli._environment import is_container, write_environment
+from bakeshop.cli._environment import describe, is_container, read_environment, write_environment
 from bakeshop.errors import ArgumentError
 
 _AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
@@ -82,12 +82,6 @@ def _check_output(target: Path, layout: str, ldr: bool) -> None:
         )
 
 
-def _size_text(shape) -> str:
-    if len(shape) == 4:  # a cube
-        return f"6 faces of {shape[2]}x{shape[1]}"
-    return f"{shape[1]}x{shape[0]}"
-
-
 def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
     lines = [
         f"Schlick's approximation vs the exact reflectance: {schlick['max']:+.4f} at "
@@ -118,14 +112,14 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("source", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.argument("source", type=ENVIRONMENT)
 @click.argument("target", type=OUTPUT)
 @click.option(
     "--from",
     "src_layout",
     metavar="LAYOUT",
-    help="Layout of SOURCE (default: "
-    "guessed from its shape when unambiguous, e.g. 2:1 is latlong).",
+    help="Layout of SOURCE (default: guessed from its shape when unambiguous, e.g. 2:1 is "
+    "latlong). SOURCE may also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
 )
 @click.option(
     "--layout",
@@ -173,7 +167,9 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
     help="With --ldr: triangular dither of +-1 code value (seeded) against banding.",
 )
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the dither.")
-@convention_option("Face set written for --layout cube.")
+@convention_option(
+    "Face set of cube files, read (a {face} or .dds/.ktx/.ktx2 SOURCE) and written (--layout cube)."
+)
 @click.option(
     "--report",
     is_flag=True,
@@ -218,7 +214,6 @@ def fresnel(
       bakeshop fresnel sky.exr water.dds --layout cube --size 512 --below mirror
     """
     from bakeshop import progress, sphere
-    from bakeshop.io import read_image
     from bakeshop.light.fresnel import (
         RMS_SLOPES,
         bake_fresnel,
@@ -231,14 +226,14 @@ def fresnel(
     from bakeshop.light.tonemap import to_srgb8
 
     refuse_overwriting_inputs(target, source)
-    require_hdr(source)
+    if not is_container(source):  # a container holds floats
+        require_hdr(source)
     up_axis = parse_axis(up)
     ev = parse_exposure(exposure_text)
     if dither and not ldr:
         raise ArgumentError("--dither applies to --ldr output only")
 
-    image = read_image(source)
-    src = input_layout(image, src_layout, source)
+    image, src, _ = read_environment(source, src_layout, convention)
     dst = dst_layout or src
     _check_output(target, dst, ldr)
     if dst != src or size is not None:
@@ -259,7 +254,7 @@ def fresnel(
     encoding = "8-bit sRGB" + (", dithered" if dither else "") if ldr else "float"
     where = str(written[0]) if len(written) == 1 else f"{len(written)} faces ({target})"
     click.echo(
-        f"wrote {where}: {dst} {_size_text(out.shape)}, fresnel ior {ior:g} "
+        f"wrote {where}: {describe(out, dst)}, fresnel ior {ior:g} "
         f"up {up}, below horizon {below}, exposure {ev:+.2f} EV, {encoding}"
     )
     if report:

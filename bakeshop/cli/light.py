@@ -11,14 +11,14 @@ import click
 import numpy as np
 
 from bakeshop.cli._common import (
-    INPUT,
+    ENVIRONMENT,
     OUTPUT,
     float_format_option,
-    input_layout,
     out_dir_option,
     parse_size,
     refuse_overwriting_inputs,
 )
+from bakeshop.cli._environment import as_picture, describe, read_environment
 from bakeshop.errors import ArgumentError
 
 #: layouts a single image file can hold (the cube is written as a cross or a strip).
@@ -40,7 +40,8 @@ _from = click.option(
     "--from",
     "src_layout",
     type=click.Choice(FILE_LAYOUTS),
-    help="Layout of IN; guessed from its shape when only one fits (2:1 is latlong).",
+    help="Layout of IN; guessed from its shape when only one fits (2:1 is latlong). IN may "
+    "also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
 )
 _to = click.option(
     "--to",
@@ -75,11 +76,10 @@ _order = click.option(
 
 def _read(path: Path, given: str | None):
     from bakeshop import progress
-    from bakeshop.io import read_image
 
     with progress.step(f"reading {path.name}"):
-        image = read_image(path)
-    return image, input_layout(image, given, path)
+        image, layout, _ = read_environment(path, given)
+    return image, layout
 
 
 def _output_size(layout: str, size: str | None):
@@ -92,13 +92,8 @@ def _output_size(layout: str, size: str | None):
     return get_layout(layout).default_size(DEFAULT_TEXELS)
 
 
-def _describe(image, layout: str) -> str:
-    h, w = image.shape[:2]
-    return f"{w}x{h} {layout}"
-
-
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("source", metavar="IN", type=INPUT)
+@click.argument("source", metavar="IN", type=ENVIRONMENT)
 @click.argument("target", metavar="OUT", type=OUTPUT)
 @_from
 @_method
@@ -152,8 +147,8 @@ def irradiance(source, target, src_layout, method, order, dst_layout, size, sh_j
     elapsed = time.perf_counter() - started
     write_image(target, dim)
     click.echo(
-        f"wrote {target}: {_describe(dim, dst_layout)} DIM (E/pi) of {source.name} "
-        f"({_describe(image, layout)}), method {method}"
+        f"wrote {target}: {describe(dim, dst_layout)} DIM (E/pi) of {source.name} "
+        f"({describe(image, layout)}), method {method}"
         + (f" order {order}" if method == "sh" else "")
         + f", {elapsed:.2f} s"
     )
@@ -189,7 +184,7 @@ def _sun_lines(sun) -> list[str]:
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("source", metavar="IN", type=INPUT)
+@click.argument("source", metavar="IN", type=ENVIRONMENT)
 @_from
 @click.option("--json", "as_json", is_flag=True, help="Print sun.json instead.")
 def sun(source, src_layout, as_json):
@@ -220,7 +215,7 @@ def sun(source, src_layout, as_json):
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("source", metavar="IN", type=INPUT)
+@click.argument("source", metavar="IN", type=ENVIRONMENT)
 @out_dir_option("Directory for the outputs (created if missing).")
 @_from
 @float_format_option("File format of the three images.")
@@ -231,7 +226,8 @@ def sun(source, src_layout, as_json):
 def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
     """Make the DIM pair of the probe IN: sun_dim, shadow_dim, shadow_probe and sun.json.
 
-    The sun is found and painted out of the probe (shadow_probe, same layout and size as IN);
+    The sun is found and painted out of the probe (shadow_probe, same layout and size as IN,
+    a vertical cross for a cube);
     shadow_dim is the DIM of the painted probe, for surfaces the shadow pass says are in
     shadow; sun_dim adds the sun's own light, for lit surfaces. sun.json gives the sun's
     direction for the shadow pass. A probe without a sun gives two equal DIMs and
@@ -265,12 +261,12 @@ def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
     with progress.step(f"writing {out_dir}"):
         write_image(names["sun_dim"], pair.sun_dim)
         write_image(names["shadow_dim"], pair.shadow_dim)
-        write_image(names["shadow_probe"], pair.shadow_probe)
+        write_image(names["shadow_probe"], as_picture(pair.shadow_probe, layout))
         sunlib.write_json(out_dir / "sun.json", pair.sun)
     click.echo(
         f"wrote {out_dir}: sun_dim.{fmt} and shadow_dim.{fmt} "
-        f"({_describe(pair.sun_dim, dst_layout)}, method {method}), shadow_probe.{fmt} "
-        f"({_describe(image, layout)}), sun.json; {elapsed:.2f} s"
+        f"({describe(pair.sun_dim, dst_layout)}, method {method}), shadow_probe.{fmt} "
+        f"({describe(image, layout)}), sun.json; {elapsed:.2f} s"
     )
     if pair.sun is None:
         click.echo("  no sun: the two DIMs are equal and the probe is unchanged")

@@ -7,9 +7,16 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import OUTPUT, convention_option, parse_size, refuse_overwriting_inputs
+from bakeshop.cli._common import (
+    ENVIRONMENT,
+    OUTPUT,
+    convention_option,
+    parse_size,
+    refuse_overwriting_inputs,
+)
 from bakeshop.cli._environment import (
     FACES,
+    describe,
     is_container,
     is_cube,
     read_environment,
@@ -37,14 +44,8 @@ def _check_target(target: Path, layout: str) -> None:
         raise ArgumentError(f"{{face}} in the output name needs --to faces, not {layout}", target)
 
 
-def _describe(layout: str, shape) -> str:
-    if len(shape) == 3:
-        return f"{layout} (6 faces of {shape[2]}x{shape[1]})"
-    return f"{layout} {shape[1]}x{shape[0]}"
-
-
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("source", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("source", type=ENVIRONMENT)
 @click.argument("target", type=OUTPUT)
 @click.option(
     "--from",
@@ -134,10 +135,9 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
         out = sphere.remap(image, src, dst_name, size, filter=filter_name, rotation=rotation)
     with progress.step(f"writing {target}"):
         written = write_environment(target, out, dst, convention, short_face_names)
-    shape = out.shape[:-1]
     where = written[0] if len(written) == 1 else f"{written[0]} ... {written[-1].name}"
     click.echo(
-        f"wrote {where}: {_describe(dst_name, shape)} from {_describe(src, image.shape[:-1])} "
+        f"wrote {where}: {describe(out, dst_name)} from {describe(image, src)} "
         f"({how}), {filter_name}" + (f", rotated {rotate}" if rotate else "")
     )
 

@@ -9,6 +9,7 @@ import click
 import numpy as np
 
 from bakeshop.cli._common import (
+    ENVIRONMENT,
     OUTPUT,
     convention_option,
     float_format_option,
@@ -16,6 +17,8 @@ from bakeshop.cli._common import (
     refuse_overwriting_inputs,
 )
 from bakeshop.cli._environment import (
+    as_picture,
+    describe,
     is_container,
     read_environment,
     write_container,
@@ -83,12 +86,6 @@ def _read_probe(source: Path | None, src_layout: str | None):
     return image, layout, source
 
 
-def _describe(image, layout: str) -> str:
-    if layout == "cube":
-        return f"cube 6x{image.shape[1]}"
-    return f"{layout} {image.shape[1]}x{image.shape[0]}"
-
-
 _from = click.option(
     "--from",
     "src_layout",
@@ -106,7 +103,7 @@ _float32 = click.option(
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("source", metavar="IN", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("source", metavar="IN", type=ENVIRONMENT)
 @click.argument("target", metavar="OUT", type=OUTPUT)
 @click.option("--brdf", type=click.Choice(("ggx", "phong")), default="ggx", show_default=True)
 @click.option(
@@ -165,7 +162,7 @@ def prefilter(source, target, brdf, exponent, size, mips, src_layout, samples, c
     where = target if len(paths) == 1 else f"{len(paths)} files ({paths[0].name} ...)"
     click.echo(
         f"wrote {where}: {len(chain)} levels of 6x{size} down to 6x{chain[-1].shape[1]} "
-        f"({what}; {convention} faces) from {source.name} ({_describe(image, layout)}), "
+        f"({what}; {convention} faces) from {source.name} ({describe(image, layout)}), "
         f"{elapsed:.2f} s"
     )
 
@@ -211,9 +208,7 @@ def dfg(target, size, samples, visibility, float32):
 
 
 @click.command("bake-probe", context_settings={"max_content_width": 100})
-@click.argument(
-    "source", metavar="[IN]", required=False, type=click.Path(dir_okay=False, path_type=Path)
-)
+@click.argument("source", metavar="[IN]", required=False, type=ENVIRONMENT)
 @out_dir_option("Directory for everything (created if missing).")
 @_from
 @float_format_option("File format of the cube faces, DIMs and shadow probe.")
@@ -275,17 +270,14 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
     bake = probe_module.bake_probe(
         image, layout, cube_size=cube_size, specular_size=specular_size, mips=mips
     )
-    from bakeshop import progress, sphere
+    from bakeshop import progress
 
     with progress.step("writing files"):
         faces = write_environment(paths["cube"], bake.cube, "cube", "opengl", False)
         write_image(paths["sun_dim"], bake.sun_dim)
         write_image(paths["shadow_dim"], bake.shadow_dim)
         # a cube probe (faces or a container) is painted as a cube: one picture, a cross
-        shadow_probe = bake.shadow_probe
-        if layout == "cube":
-            shadow_probe = sphere.cube_to_view(shadow_probe, "cross-vertical")
-        write_image(paths["shadow_probe"], shadow_probe)
+        write_image(paths["shadow_probe"], as_picture(bake.shadow_probe, layout))
         sun_module.write_json(paths["sun"], bake.sun)
         sh.write_json(paths["sh"], bake.sh)
         write_chain(paths["specular"], bake.specular, convention="opengl")
@@ -296,7 +288,7 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
     t = bake.timings
     s = bake.cube.shape[1]
     click.echo(
-        f"baked {source.name} ({_describe(image, layout)}) into {out_dir}/ in {elapsed:.1f} s"
+        f"baked {source.name} ({describe(image, layout)}) into {out_dir}/ in {elapsed:.1f} s"
     )
     rows = [
         (f"{faces[0].name} ...", f"environment, 6 OpenGL faces of {s}x{s}", t["cube"]),
@@ -305,7 +297,7 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
         (
             paths["shadow_probe"].name,
             "probe without the sun "
-            + ("(vertical cross)" if layout == "cube" else f"({_describe(image, layout)})"),
+            + ("(vertical cross)" if layout == "cube" else f"({describe(image, layout)})"),
             None,
         ),
         (paths["sun"].name, "the sun" if bake.sun is not None else "no sun found", None),

@@ -192,3 +192,17 @@ def test_sequence_inputs_in_numeric_order(tmp_path):
         (tmp_path / f"f_{i}.exr").touch()
     names = [p.name for p in expand_inputs([str(tmp_path / "f_*.exr")])]
     assert names == ["f_1.exr", "f_2.exr", "f_10.exr"]
+
+
+def test_fresnel_of_a_ktx2_cube_probe(sky, tmp_path):
+    # a cube SOURCE is read with the faces of --convention, baked in its own layout
+    path, image = sky
+    cube = sphere.remap(image, "latlong", "cube", 8, filter="area")
+    src = tmp_path / "sky.ktx2"
+    argv = ["-q", "remap", str(path), str(src), "--to", "cube", "--size", "8"]
+    assert main([*argv, "--convention", "directx"]) == 0
+    out = tmp_path / "water_{face}.exr"
+    assert main(["fresnel", str(src), str(out), "--convention", "directx"]) == 0
+    faces = np.stack([read_image(tmp_path / f"water_{n}.exr") for n in sphere.FACE_NAMES])
+    expect = sphere.cube_to_faces(bake_fresnel(cube, "cube"), convention="directx")
+    np.testing.assert_allclose(faces, expect, rtol=HALF_FLOAT_RTOL, atol=1e-6)

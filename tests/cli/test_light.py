@@ -9,7 +9,8 @@ from bakeshop.cli.main import main
 from bakeshop.io import read_image, write_image
 from bakeshop.light import irradiance as ir
 from bakeshop.light import sh
-from bakeshop.sphere import layout
+from bakeshop.sphere import layout, remap
+from tests.tolerances import HALF_FLOAT_RTOL
 
 
 def _sky_with_sun(height=128, sun=(0.5, 0.6, -0.62), radiance=5e4):
@@ -138,3 +139,29 @@ def test_dims_writes_the_pair(probe, tmp_path, capsys):
     assert np.abs(lit - shade - law).max() < 0.02 * law.max()
     probe_out = read_image(out / "shadow_probe.exr")
     assert probe_out.shape == img.shape and probe_out.max() < 10
+
+
+def test_cube_probes_from_ktx2_and_face_files(probe, tmp_path, capsys):
+    # a cube file gives the DIM of that cube (stored as half floats), close to the latlong's
+    # (the area remap into 48-texel faces keeps all but ~0.8% of the tiny sun's energy), and
+    # the same sun; a cube shadow probe is written as a vertical cross
+    path, img, s = probe
+    cube = tmp_path / "probe.ktx2"
+    assert main(["-q", "remap", str(path), str(cube), "--to", "cube", "--size", "48"]) == 0
+    faces = tmp_path / "probe_{face}.exr"
+    assert main(["-q", "remap", str(path), str(faces), "--to", "faces", "--size", "48"]) == 0
+    latlong = ir.irradiance(img, "latlong", size=(64, 32))
+    cube_map = remap(img, "latlong", "cube", 48, filter="area")  # what remap --size 48 does
+    expect = ir.irradiance(cube_map, "cube", size=(64, 32))
+    for source in (cube, faces):
+        out = tmp_path / "dim.pfm"
+        assert main(["-q", "irradiance", str(source), str(out), "--size", "64x32"]) == 0
+        assert "cube (6 faces of 48x48)" in capsys.readouterr().out
+        got = read_image(out)
+        assert np.abs(got - expect).max() < HALF_FLOAT_RTOL * expect.max()
+        assert np.abs(got - latlong).max() < 0.015 * latlong.max()
+    dims = tmp_path / "dims"
+    assert main(["-q", "dims", str(cube), "-o", str(dims), "--size", "64x32"]) == 0
+    assert read_image(dims / "shadow_probe.hdr").shape == (192, 144, 3)
+    sun = json.loads((dims / "sun.json").read_text())["direction"]
+    assert np.degrees(np.arccos(np.dot(sun, s))) < 1.0
