@@ -82,6 +82,20 @@ def _read(path: Path, given: str | None):
     return image, layout
 
 
+def _timed(compute, image, layout, dst_layout, size, method, order):
+    """``(compute(image, layout, to=..., ...), seconds)``: the DIM or the DIM pair, timed."""
+    started = time.perf_counter()
+    result = compute(
+        image,
+        layout,
+        to=dst_layout,
+        size=_output_size(dst_layout, size),
+        method=method,
+        order=order,
+    )
+    return result, time.perf_counter() - started
+
+
 def _output_size(layout: str, size: str | None):
     from bakeshop.sphere import layout as get_layout
 
@@ -135,16 +149,7 @@ def irradiance(source, target, src_layout, method, order, dst_layout, size, sh_j
     if shader is not None and shader.suffix.lower() not in (".glsl", ".hlsl"):
         raise ArgumentError("the shader file must end in .glsl or .hlsl", shader)
     image, layout = _read(source, src_layout)
-    started = time.perf_counter()
-    dim = ir.irradiance(
-        image,
-        layout,
-        to=dst_layout,
-        size=_output_size(dst_layout, size),
-        method=method,
-        order=order,
-    )
-    elapsed = time.perf_counter() - started
+    dim, elapsed = _timed(ir.irradiance, image, layout, dst_layout, size, method, order)
     write_image(target, dim)
     click.echo(
         f"wrote {target}: {describe(dim, dst_layout)} DIM (E/pi) of {source.name} "
@@ -248,16 +253,7 @@ def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
     for path in (*names.values(), out_dir / "sun.json"):
         refuse_overwriting_inputs(path, source)
     image, layout = _read(source, src_layout)
-    started = time.perf_counter()
-    pair = ir.dim_pair(
-        image,
-        layout,
-        to=dst_layout,
-        size=_output_size(dst_layout, size),
-        method=method,
-        order=order,
-    )
-    elapsed = time.perf_counter() - started
+    pair, elapsed = _timed(ir.dim_pair, image, layout, dst_layout, size, method, order)
     with progress.step(f"writing {out_dir}"):
         write_image(names["sun_dim"], pair.sun_dim)
         write_image(names["shadow_dim"], pair.shadow_dim)
