@@ -36,6 +36,22 @@ def face_paths(pattern: Path, short: bool = False) -> list[Path]:
     return [Path(str(pattern).replace("{face}", name)) for name in names]
 
 
+def auto_filter(image, src: str, dst: str, size=None) -> str:
+    """The filter ``--filter auto`` means for remapping ``image`` from ``src`` to ``dst``:
+    ``"area"`` (the energy-preserving average) when the output holds fewer directions than
+    the input, else ``"bilinear"``. ``size`` None is the default :func:`sphere.remap` picks
+    (about as many directions as the input)."""
+    from bakeshop import sphere
+
+    src_layout, dst_layout = sphere.layout(src), sphere.layout(dst)
+    in_texels = int(
+        np.count_nonzero(src_layout.solid_angles(image.shape[: 3 if src == "cube" else 2]))
+    )
+    shape = dst_layout.shape(size if size is not None else dst_layout.default_size(in_texels))
+    out_texels = int(np.count_nonzero(dst_layout.solid_angles(shape)))
+    return "area" if out_texels < in_texels else "bilinear"
+
+
 def describe(image, layout: str) -> str:
     """``'latlong 1024x512'`` or ``'cube (6 faces of 256x256)'``: for the commands' summaries."""
     if is_cube(layout):

@@ -20,7 +20,13 @@ from bakeshop.cli._common import (
     refuse_overwriting_inputs,
     require_hdr,
 )
-from bakeshop.cli._environment import describe, is_container, read_environment, write_environment
+from bakeshop.cli._environment import (
+    auto_filter,
+    describe,
+    is_container,
+    read_environment,
+    write_environment,
+)
 from bakeshop.errors import ArgumentError
 
 _AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
@@ -237,11 +243,8 @@ def fresnel(
     dst = dst_layout or src
     _check_output(target, dst, ldr)
     if dst != src or size is not None:
-        texels = image[..., 0].size
-        target_layout = sphere.layout(dst)
-        wanted = parse_size(size) if size else target_layout.default_size(texels)
-        shrink = np.prod(target_layout.shape(wanted)) < texels  # the area filter when downsampling
-        image = sphere.remap(image, src, dst, wanted, filter="area" if shrink else "bilinear")
+        wanted = parse_size(size) if size else None
+        image = sphere.remap(image, src, dst, wanted, filter=auto_filter(image, src, dst, wanted))
     baked = bake_fresnel(image, dst, ior=ior, up=up_axis, below=below)
     if ev == "auto" or (ev is None and ldr):
         ev = ldr_exposure(baked, dst, up=up_axis)

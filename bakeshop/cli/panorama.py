@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-import numpy as np
 
 from bakeshop.cli._common import (
     ENVIRONMENT,
@@ -16,6 +15,7 @@ from bakeshop.cli._common import (
 )
 from bakeshop.cli._environment import (
     FACES,
+    auto_filter,
     describe,
     is_container,
     is_cube,
@@ -120,17 +120,10 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
             raise ArgumentError(f"--rotate takes YAW,PITCH,ROLL in degrees; got {rotate!r}")
     with progress.step(f"reading {source}"):
         image, src, how = read_environment(source, src, convention, short_face_names)
-    src_layout = sphere.layout(src)
     dst_name = "cube" if dst == FACES else dst
-    dst_layout = sphere.layout(dst_name)
     size = None if size_text is None else parse_size(size_text)
-    in_texels = int(
-        np.count_nonzero(src_layout.solid_angles(image.shape[: 3 if src == "cube" else 2]))
-    )
     if filter_name == "auto":
-        shape = dst_layout.shape(size if size is not None else dst_layout.default_size(in_texels))
-        out_texels = int(np.count_nonzero(dst_layout.solid_angles(shape)))
-        filter_name = "area" if out_texels < in_texels else "bilinear"
+        filter_name = auto_filter(image, src, dst_name, size)
     with progress.step(f"remapping {src} -> {dst_name} ({filter_name})"):
         out = sphere.remap(image, src, dst_name, size, filter=filter_name, rotation=rotation)
     with progress.step(f"writing {target}"):

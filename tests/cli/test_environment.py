@@ -3,7 +3,12 @@
 import numpy as np
 import pytest
 
-from bakeshop.cli._environment import read_environment, write_container, write_environment
+from bakeshop.cli._environment import (
+    auto_filter,
+    read_environment,
+    write_container,
+    write_environment,
+)
 from bakeshop.errors import ArgumentError
 from bakeshop.io.ktx2 import read_ktx2, write_ktx2
 from bakeshop.sphere import cube_to_faces
@@ -39,3 +44,14 @@ def test_a_2d_texture_is_not_an_environment(tmp_path):
     write_ktx2(path, [np.zeros((8, 8, 2), np.float32)])
     with pytest.raises(ArgumentError, match="not a cube map"):
         read_environment(path, None)
+
+
+def test_auto_filter_averages_only_when_the_output_holds_fewer_directions():
+    latlong = np.zeros((64, 128, 3), np.float32)  # 8192 directions
+    assert auto_filter(latlong, "latlong", "cube", 16) == "area"  # 6 x 256 = 1536
+    assert auto_filter(latlong, "latlong", "cube", 64) == "bilinear"  # 24576
+    assert auto_filter(latlong, "latlong", "latlong", (128, 64)) == "bilinear"  # as many
+    # a mirror ball holds directions in its disk only (pi/4 of the square: 804 of 1024)
+    ball = np.zeros((32, 32, 3), np.float32)
+    assert auto_filter(ball, "mirrorball", "latlong", (40, 20)) == "area"  # 800
+    assert auto_filter(ball, "mirrorball", "latlong", (42, 21)) == "bilinear"  # 882

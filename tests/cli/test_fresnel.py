@@ -206,3 +206,15 @@ def test_fresnel_of_a_ktx2_cube_probe(sky, tmp_path):
     faces = np.stack([read_image(tmp_path / f"water_{n}.exr") for n in sphere.FACE_NAMES])
     expect = sphere.cube_to_faces(bake_fresnel(cube, "cube"), convention="directx")
     np.testing.assert_allclose(faces, expect, rtol=HALF_FLOAT_RTOL, atol=1e-6)
+
+
+def test_fresnel_default_size_is_the_remap_default(tmp_path):
+    # about as many texels as SOURCE holds directions: an angular probe's disk, not its square
+    image = np.ones((32, 32, 3), np.float32)
+    src = tmp_path / "probe.exr"
+    write_image(src, image, pixel_type="float")
+    out = tmp_path / "water.exr"
+    assert (
+        main(["-q", "fresnel", str(src), str(out), "--from", "angular", "--layout", "latlong"]) == 0
+    )
+    assert read_image(out).shape == sphere.remap(image, "angular", "latlong").shape
