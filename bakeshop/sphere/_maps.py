@@ -403,7 +403,7 @@ def _latlong_row(h, w, xs, ys, zs, us, vs):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, base, frac):
+def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, base, frac, src, out):
     """The remap plan of every destination texel centre, one destination row at a time.
 
     Nearest: ``base[p]`` is the source texel (-1: invalid destination texel). Bilinear:
@@ -411,7 +411,11 @@ def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, base, frac):
     base, +1, +sw, +sw+1), ``EXCEPTION`` where the taps cross a seam (resolved afterwards by
     :func:`plan_exceptions`) or -1 for an invalid texel; ``frac[p]`` holds the fractions,
     float32 (as :func:`taps_of` computes them, so that ``sample`` and ``remap`` agree exactly).
+    Unless ``out`` is empty, the plan is also applied to the flat image ``src`` on the way
+    (the EXCEPTION texels are left to :func:`gather_at`): a first remap reads no plan back.
     """
+    apply = out.shape[0] > 0
+    no_taps = np.empty((0, 4), np.int32)
     trig = _plan_trig(dkind, dh, dw)
     for row in numba.prange(faces * dh):
         f = row // dh
@@ -431,17 +435,22 @@ def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, base, frac):
             sx, sy = us[i], vs[i]
             if not valid(dkind, dh, dw, f, i, j) or not (abs(sx) < 1e18 and abs(sy) < 1e18):
                 base[p] = -1
-                continue
-            if nearest:
+            elif nearest:
                 base[p] = resolve(
                     skind, sh, sw, sf[i], int(math.floor(sx)), int(math.floor(sy)), sx
                 )
-                continue
-            xf, yf = sx - 0.5, sy - 0.5
-            x0, y0 = math.floor(xf), math.floor(yf)
-            frac[p, 0], frac[p, 1] = xf - x0, yf - y0
-            b = _block(skind, sh, sw, sf[i], int(x0), int(y0), 2)
-            base[p] = b if b >= 0 else EXCEPTION
+            else:
+                xf, yf = sx - 0.5, sy - 0.5
+                x0, y0 = math.floor(xf), math.floor(yf)
+                frac[p, 0], frac[p, 1] = xf - x0, yf - y0
+                b = _block(skind, sh, sw, sf[i], int(x0), int(y0), 2)
+                base[p] = b if b >= 0 else EXCEPTION
+            if apply:
+                if nearest:
+                    for c in range(src.shape[1]):
+                        out[p, c] = src[base[p], c] if base[p] >= 0 else 0
+                elif base[p] != EXCEPTION:
+                    _gather_texel(src, sw, base, frac, no_taps, p, out)
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
@@ -459,6 +468,13 @@ def plan_exceptions(skind, sh, sw, dkind, dh, dw, rot, where, taps):
         taps[k, 1] = resolve(skind, sh, sw, sf, i0 + 1, j0, sx)
         taps[k, 2] = resolve(skind, sh, sw, sf, i0, j0 + 1, sx)
         taps[k, 3] = resolve(skind, sh, sw, sf, i0 + 1, j0 + 1, sx)
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def gather_at(src, row, base, frac, taps, where, out):
+    """:func:`gather_plan` for the output texels ``where`` only."""
+    for k in numba.prange(where.shape[0]):
+        _gather_texel(src, row, base, frac, taps, where[k], out)
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")

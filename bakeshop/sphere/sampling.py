@@ -37,13 +37,14 @@ FILTERS = ("nearest", "bilinear", "area")
 #: largest memory for the area filter's per-thread accumulation buffers (fewer threads above).
 AREA_BUFFER_BYTES = 1 << 29
 
-#: number of cached remap plans (each holds indices and weights for every output texel).
-PLAN_CACHE_SIZE = 4
+#: memory for cached remap plans (12 bytes per output texel: six of 6 x 1024^2 faces).
+PLAN_CACHE_BYTES = 1 << 29
 #: memory for cached area filter plans (24 bytes per source texel, 8 per output texel; a mip
 #: chain of a 1024 cube fits, and so does one 4096 x 2048 latlong's plan).
 AREA_PLAN_CACHE_BYTES = 1 << 28
 
 _NO_FRAC = np.empty((0, 2), np.float32)
+_NO_IMAGE = np.empty((0, 1), np.float32)
 
 
 # --- rotation -----------------------------------------------------------------------------------
@@ -161,30 +162,75 @@ def sample(image, layout_name, dirs, *, filter: str = "bilinear") -> np.ndarray:
 # --- remap --------------------------------------------------------------------------------------
 
 
-@functools.lru_cache(maxsize=PLAN_CACHE_SIZE)
-def _plan(src: str, src_shape, dst: str, dst_shape, filter: str, rotation: bytes | None):
-    """The cached remap plan of every output texel (read-only arrays), see ``_maps.plan``:
+class _ByteBoundedCache:
+    """Least-recently-used results of ``fn`` (tuples of arrays) holding at most ``budget``
+    bytes in all; the newest result is kept whatever its size."""
+
+    def __init__(self, fn, budget: int):
+        self.fn, self.budget = fn, budget
+        self.entries: collections.OrderedDict = collections.OrderedDict()
+        self.hits = self.misses = 0
+        functools.update_wrapper(self, fn)
+
+    def __call__(self, *key):
+        value = self.get(key)
+        return self.put(key, self.fn(*key)) if value is None else value
+
+    def get(self, key):
+        """The cached result for ``key`` (now the most recent), or None."""
+        if key not in self.entries:
+            self.misses += 1
+            return None
+        self.hits += 1
+        self.entries.move_to_end(key)
+        return self.entries[key]
+
+    def put(self, key, value):
+        """Cache ``value`` for ``key``, dropping the least recent beyond the budget."""
+        self.entries[key] = value
+        while len(self.entries) > 1 and self.nbytes() > self.budget:
+            self.entries.popitem(last=False)
+        return value
+
+    def nbytes(self) -> int:
+        return sum(a.nbytes for value in self.entries.values() for a in value)
+
+    def cache_clear(self) -> None:
+        self.entries.clear()
+
+
+def _build_plan(src: str, src_shape, dst: str, dst_shape, filter: str, rotation, image=None,
+                out=None):  # fmt: skip
+    """The remap plan of every output texel (read-only arrays), see ``_maps.plan``:
     ``(base, frac, taps)``. Nearest: int32 (m,) source texels, no fractions or taps. Bilinear:
     int32 (m,) base indices of 2x2 blocks, float32 (m, 2) fractions and int32 (k, 4) explicit
     taps of the k output texels whose taps cross a seam: 12 bytes per output texel plus 16 per
-    seam texel."""
+    seam texel. With a flat ``image`` and an ``out`` (m, C), the plan is applied on the way."""
     s, d = layout(src), layout(dst)
     sh, sw, _ = s._hw(src_shape)
     dh, dw, faces = d._hw(dst_shape)
     m = faces * dh * dw
     nearest = filter == "nearest"
     rot = _matrix(rotation)
+    if out is None:
+        image = out = _NO_IMAGE
     base = np.empty(m, np.int32)
     frac = np.empty((0, 2) if nearest else (m, 2), np.float32)
-    _maps.plan(s.kind, sh, sw, d.kind, dh, dw, faces, rot, nearest, base, frac)
+    _maps.plan(s.kind, sh, sw, d.kind, dh, dw, faces, rot, nearest, base, frac, image, out)
     where = np.flatnonzero(base == _maps.EXCEPTION)
     taps = np.empty((len(where), 4), np.int32)
     if len(where):
         _maps.plan_exceptions(s.kind, sh, sw, d.kind, dh, dw, rot, where, taps)
         base[where] = _maps.EXCEPTION - np.arange(len(where), dtype=np.int32)
+        if len(out):
+            _maps.gather_at(image, sw, base, frac, taps, where, out)
     for a in (base, frac, taps):
         a.setflags(write=False)
     return base, frac, taps
+
+
+#: cached remap plans, by (source, source shape, destination, shape, filter, rotation).
+_plan = _ByteBoundedCache(_build_plan, PLAN_CACHE_BYTES)
 
 
 def _apply_plan(flat_src, plan, row: int):
@@ -207,35 +253,6 @@ def _accumulators(m: int, channels: int) -> np.ndarray:
     as many as fit in AREA_BUFFER_BYTES (at least one)."""
     fit = AREA_BUFFER_BYTES // (m * channels * 8)
     return np.zeros((max(1, min(numba.get_num_threads(), fit)), m, channels))
-
-
-class _ByteBoundedCache:
-    """Least-recently-used results of ``fn`` (tuples of arrays) holding at most ``budget``
-    bytes in all; the newest result is kept whatever its size."""
-
-    def __init__(self, fn, budget: int):
-        self.fn, self.budget = fn, budget
-        self.entries: collections.OrderedDict = collections.OrderedDict()
-        self.hits = self.misses = 0
-        functools.update_wrapper(self, fn)
-
-    def __call__(self, *key):
-        if key in self.entries:
-            self.hits += 1
-            self.entries.move_to_end(key)
-            return self.entries[key]
-        self.misses += 1
-        value = self.fn(*key)
-        self.entries[key] = value
-        while len(self.entries) > 1 and self.nbytes() > self.budget:
-            self.entries.popitem(last=False)
-        return value
-
-    def nbytes(self) -> int:
-        return sum(a.nbytes for value in self.entries.values() for a in value)
-
-    def cache_clear(self) -> None:
-        self.entries.clear()
 
 
 def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
@@ -353,8 +370,14 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
     if filter == "area":
         out = _area(flat, s.base, src_shape, d.base, base_shape, key)
     else:
-        plan = _plan(s.base.name, src_shape, d.base.name, base_shape, filter, key)
-        out = _apply_plan(flat, plan, s.base._hw(src_shape)[1])
+        plan_key = (s.base.name, src_shape, d.base.name, base_shape, filter, key)
+        plan = _plan.get(plan_key)
+        if plan is None:
+            # a first conversion applies the plan while building it
+            out = np.empty((int(np.prod(base_shape)), flat.shape[1]), flat.dtype)
+            _plan.put(plan_key, _build_plan(*plan_key, flat, out))
+        else:
+            out = _apply_plan(flat, plan, s.base._hw(src_shape)[1])
     out = out.reshape(base_shape + (img.shape[-1],))
     if d.base is not d:
         out = cube_to_view(out, d.name)

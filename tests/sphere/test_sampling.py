@@ -378,3 +378,20 @@ def test_area_plan_cache_keeps_recent_plans_within_its_byte_budget():
     # but the newest result stays
     assert calls == [40, 50, 30, 50, 500] and cache.hits == 2
     assert list(cache.entries) == [(500,)]
+
+
+@pytest.mark.parametrize("filter", ["nearest", "bilinear"])
+def test_first_remap_applies_the_plan_as_a_cached_one_does(filter):
+    """A first conversion applies its plan while building it; a cached one gathers: equal."""
+    from bakeshop.sphere import sampling
+
+    for src, dst in [("latlong", "cube"), ("cube", "latlong"), ("mirrorball", "octahedral")]:
+        img = environment(src, 20)
+        sampling._plan.cache_clear()
+        first = remap(img, src, dst, 24, filter=filter, rotation=(15, 5, 0))
+        rot = sampling.as_rotation((15, 5, 0)).tobytes()
+        key = (src, img.shape[:-1], dst, layout(dst).shape(24), filter, rot)
+        assert sampling._plan.get(key) is not None
+        np.testing.assert_array_equal(
+            remap(img, src, dst, 24, filter=filter, rotation=(15, 5, 0)), first
+        )
