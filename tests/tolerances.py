@@ -59,6 +59,8 @@ SPHERE_SOLID_ANGLE_RTOL = 1e-12
 SPHERE_TEXEL_OMEGA_RTOL = 1e-9
 #: random directions -> coordinates -> directions (the issue asks 1e-6; float64 gives ~1e-15).
 SPHERE_ROUND_TRIP_ATOL = 1e-6
+#: latlong directions by separable products vs the per-texel formula (a few ulps).
+SPHERE_LATLONG_SEPARABLE_ATOL = 1e-15
 
 #: a 3x3 colour matrix computed in float64 vs a property it must have exactly (absolute).
 XYZ_MATRIX_ATOL = 1e-12

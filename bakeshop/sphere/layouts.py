@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import functools
 
+import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError, validate_choice
@@ -206,12 +207,34 @@ class LatLong(Layout):
     def default_size(self, texels):
         return max(1, round(np.sqrt(texels / 2)))
 
+    def directions(self, shape):
+        # separable: W + H sines and cosines, then products (~25x faster than the general path
+        # at 12.6 Mtexels, bit-identical to it: the same trigonometry as remap's plans)
+        shape = self.check_shape(shape)
+        dirs = np.empty(shape + (3,))
+        _latlong_directions(dirs)
+        return dirs, self._valid(shape)
+
     def solid_angles(self, shape):
         h, w = self.check_shape(shape)
         # exact: the band between theta_j and theta_j+1 covers 2 pi (cos theta_j - cos theta_j+1)
         c = np.cos(np.pi * np.arange(h + 1) / h)
         band = (c[:-1] - c[1:]) * (2 * np.pi / w)
         return np.repeat(band[:, None], w, axis=1)
+
+
+@numba.njit(parallel=True, cache=True)
+def _latlong_directions(out):
+    """Fill ``out`` (H, W, 3) with the latlong texel-centre directions
+    ``(sin theta_j sin phi_i, cos theta_j, -sin theta_j cos phi_i)``."""
+    h, w = out.shape[0], out.shape[1]
+    trig = _maps._plan_trig(_maps.LATLONG, h, w)
+    for j in numba.prange(h):
+        st, ct = trig[2, j], trig[3, j]
+        for i in range(w):
+            out[j, i, 0] = st * trig[0, i]
+            out[j, i, 1] = ct
+            out[j, i, 2] = -st * trig[1, i]
 
 
 # --- disk layouts -----------------------------------------------------------------------------
