@@ -23,6 +23,8 @@ DISK_OVERLAP_EPS = 1e-9
 #: the area filter averages (splats) where a destination texel is at least this many source
 #: texels across, interpolates bilinearly where it is at most one, and blends between.
 AREA_SPLAT_RATIO = 1.5
+#: most parts a source texel is cut into along each of its axes by the area filter.
+AREA_MAX_PARTS = 2048
 
 _BASES = np.ascontiguousarray(FACE_BASES)
 _jit = numba.njit(cache=True, error_model="numpy")
@@ -682,7 +684,44 @@ def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
     # texel across every direction
     length = math.sqrt(max(ex0 * ex0 + ex1 * ex1, ey0 * ey0 + ey1 * ey1))
     width = abs(ex0 * ey1 - ex1 * ey0) / length if length > 0 else 0.0
-    return df, cx, cy, min(0.5, hx), min(0.5, hy), width
+    nx = _parts(max(abs(ex0), abs(ex1)))
+    ny = _parts(max(abs(ey0), abs(ey1)))
+    return df, cx, cy, min(0.5, hx), min(0.5, hy), width, nx, ny
+
+
+@_jit
+def _parts(extent):
+    """Into how many parts a source texel ``extent`` destination texels long is cut so that
+    each is at most 1 / AREA_SPLAT_RATIO long (1 for NaN; at most AREA_MAX_PARTS)."""
+    if not extent * AREA_SPLAT_RATIO > 1:
+        return 1
+    return int(min(AREA_MAX_PARTS, math.ceil(extent * AREA_SPLAT_RATIO)))
+
+
+@_jit
+def _part_footprint(skind, sh, sw, f, u, v, du, dv, rot, dkind, dh, dw):
+    """The part of a source texel centred at (f, u, v), du x dv source texels large, in
+    destination coordinates: (face, centre x, centre y, half widths of its bounding box (at
+    most 1/2), its solid angle (the tangent parallelogram's area))."""
+    x, y, z = direction(skind, sh, sw, f, u, v)
+    x, y, z = _rotate(rot.T, x, y, z)
+    df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
+    ax, ay, az = direction(skind, sh, sw, f, u + du / 2, v)
+    bx, by, bz = direction(skind, sh, sw, f, u, v + dv / 2)
+    om = 4 * math.sqrt(
+        ((ay - y) * (bz - z) - (az - z) * (by - y)) ** 2
+        + ((az - z) * (bx - x) - (ax - x) * (bz - z)) ** 2
+        + ((ax - x) * (by - y) - (ay - y) * (bx - x)) ** 2
+    )
+    ax, ay, az = _rotate(rot.T, ax, ay, az)
+    bx, by, bz = _rotate(rot.T, bx, by, bz)
+    b0, b1 = _local(dkind, dh, dw, ax, ay, az, df, cx, cy)
+    d0, d1 = _local(dkind, dh, dw, bx, by, bz, df, cx, cy)
+    hx = abs(b0 - cx) + abs(d0 - cx)
+    hy = abs(b1 - cy) + abs(d1 - cy)
+    hx = hx if hx >= 0 else 0.0
+    hy = hy if hy >= 0 else 0.0
+    return df, cx, cy, min(0.5, hx), min(0.5, hy), om if om >= 0 else 0.0
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
@@ -705,7 +744,8 @@ def _deposit(acc, t, b, row, wq, p, om, values):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, scale, width, acc):
+def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, scale, width, parts,
+               acc):  # fmt: skip
     """The area filter's geometry, per source texel ``p`` (see :func:`splat`).
 
     A source texel's footprint in destination coordinates is the box bounding its (locally
@@ -713,8 +753,10 @@ def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, sca
     texels around it with the mean of their bilinear tents over that box (box-filtered tents
     tile exactly when the boxes do), renormalised so that its whole energy is deposited.
     ``anchor[p]``: flat index of the upper-left of the 3 x 3 destination texels when they are
-    one ordinary block (deposit into anchor + b dw + a), ``EXCEPTION`` across a seam (see
-    :func:`splat_exceptions`), -1 for none; ``wq[p]``: the first two box-tent weights along x
+    one ordinary block (deposit into anchor + b dw + a), ``EXCEPTION`` across a seam or where
+    the texel is more than 1 / AREA_SPLAT_RATIO destination texels long (see
+    :func:`splat_exceptions`; ``parts[p]``: into how many parts it is cut along x and y), -1
+    for none; ``wq[p]``: the first two box-tent weights along x
     and along y, float32 (the third is the rest, so they sum to 1);
     ``scale[p]``: omega; ``width[p]``: the footprint's narrower width in destination texels.
     The ordinary texels' weights and weighted widths are summed into ``acc[t, q, :2]``, one
@@ -737,15 +779,21 @@ def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, sca
                 anchor[p] = -1
                 if om <= 0:
                     continue
-                df, cx, cy, hx, hy, wd = _footprint(
+                df, cx, cy, hx, hy, wd, nx, ny = _footprint(
                     skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw
                 )
+                parts[p, 0], parts[p, 1] = nx, ny
+                scale[p] = om
+                if nx * ny > 1:
+                    # wider than a destination texel: deposited in parts (splat_exceptions)
+                    anchor[p] = EXCEPTION
+                    width[p] = min(wd, 0.5)
+                    continue
                 lx = int(math.floor(cx - 0.5 - hx))
                 ly = int(math.floor(cy - 0.5 - hy))
                 _box_tent_weights(cx, hx, lx, wx)
                 _box_tent_weights(cy, hy, ly, wy)
                 width[p] = wd
-                scale[p] = om
                 wq[p, 0], wq[p, 1], wq[p, 2], wq[p, 3] = wx[0], wx[1], wy[0], wy[1]
                 b = _block(dkind, dh, dw, df, lx, ly, 3)
                 anchor[p] = b if b >= 0 else EXCEPTION
@@ -755,56 +803,88 @@ def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, sca
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, taps, weights):
-    """The explicit taps and weights (summing to omega) of the splat plan's EXCEPTION texels:
-    their 3 x 3 destination texels cross a seam (-1: a cube corner, weight 0)."""
+def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, offsets, taps,
+                     weights, counts):  # fmt: skip
+    """The explicit taps and weights (summing to omega) of the splat plan's EXCEPTION texels
+    ``where``: texel k's entries are ``offsets[k]:offsets[k] + counts[k]`` (room for 9 per
+    part). A texel whose 3 x 3 destination texels cross a seam deposits into them (-1: a cube
+    corner, left out); a texel cut into nx x ny parts (``parts``) deposits each part's solid
+    angle into the 3 x 3 texels around the part's centre by the part's box-filtered tents, so
+    that a texel wider than the destination's texels is shared among all the texels it
+    overlaps. Repeated taps are merged, in increasing order."""
     trig = _half_texel_trig(sh, sw)
     for k in numba.prange(where.shape[0]):
         wx = np.empty(3)
         wy = np.empty(3)
-        f, r = divmod(where[k], sh * sw)
+        p = where[k]
+        f, r = divmod(p, sh * sw)
         j, i = divmod(r, sw)
-        df, cx, cy, hx, hy, _ = _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw)
-        lx = int(math.floor(cx - 0.5 - hx))
-        ly = int(math.floor(cy - 0.5 - hy))
-        _box_tent_weights(cx, hx, lx, wx)
-        _box_tent_weights(cy, hy, ly, wy)
-        total = 0.0
-        for b in range(3):
-            for a in range(3):
-                t = 3 * b + a
-                weights[k, t] = wx[a] * wy[b]
-                taps[k, t] = -1
-                if weights[k, t] > 0:
-                    taps[k, t] = resolve(dkind, dh, dw, df, lx + a, ly + b, cx)
-                if taps[k, t] >= 0:
-                    total += weights[k, t]
+        nx, ny = parts[p, 0], parts[p, 1]
+        o = offsets[k]
+        e = o
+        for b in range(ny):
+            for a in range(nx):
+                if nx * ny == 1:
+                    df, cx, cy, hx, hy, _, _, _ = _footprint(
+                        skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw
+                    )
+                    om = 1.0
                 else:
-                    weights[k, t] = 0.0
-        for t in range(9):
-            weights[k, t] = omega[where[k]] * weights[k, t] / total if total > 0 else 0.0
+                    df, cx, cy, hx, hy, om = _part_footprint(
+                        skind, sh, sw, f, i + (a + 0.5) / nx, j + (b + 0.5) / ny, 1 / nx, 1 / ny,
+                        rot, dkind, dh, dw,
+                    )  # fmt: skip
+                lx = int(math.floor(cx - 0.5 - hx))
+                ly = int(math.floor(cy - 0.5 - hy))
+                _box_tent_weights(cx, hx, lx, wx)
+                _box_tent_weights(cy, hy, ly, wy)
+                for yb in range(3):
+                    for xa in range(3):
+                        wt = om * wx[xa] * wy[yb]
+                        if wt > 0:
+                            q = resolve(dkind, dh, dw, df, lx + xa, ly + yb, cx)
+                            if q >= 0:
+                                taps[e] = q
+                                weights[e] = wt
+                                e += 1
+        # merge repeated taps and scale to the texel's solid angle
+        order = np.argsort(taps[o:e], kind="mergesort")
+        ts = taps[o:e][order]
+        ws = weights[o:e][order]
+        total = ws.sum()
+        n = 0
+        for m in range(ts.shape[0]):
+            if n > 0 and taps[o + n - 1] == ts[m]:
+                weights[o + n - 1] += ws[m]
+            else:
+                taps[o + n] = ts[m]
+                weights[o + n] = ws[m]
+                n += 1
+        for m in range(n):
+            weights[o + m] = omega[p] * weights[o + m] / total if total > 0 else 0.0
+        counts[k] = n
 
 
 @_jit
-def _deposit_exception(acc, t, taps, weights, k, values):
-    for m in range(9):
-        q = taps[k, m]
-        if q >= 0:
-            for c in range(values.shape[0]):
-                acc[t, q, c] += weights[k, m] * values[c]
+def _deposit_exception(acc, t, offsets, taps, weights, k, values):
+    for m in range(offsets[k], offsets[k + 1]):
+        q = taps[m]
+        w = weights[m]
+        for c in range(values.shape[0]):
+            acc[t, q, c] += w * values[c]
 
 
 @_jit
-def deposit_exceptions(where, taps, weights, width, acc):
+def deposit_exceptions(where, offsets, taps, weights, width, acc):
     """Add the EXCEPTION texels' weights and weighted widths to ``acc[0, q, :2]``."""
     values = np.ones(2)
     for k in range(where.shape[0]):
         values[1] = width[where[k]]
-        _deposit_exception(acc, 0, taps, weights, k, values)
+        _deposit_exception(acc, 0, offsets, taps, weights, k, values)
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat(src, anchor, wq, scale, row, taps, weights, acc):
+def splat(src, anchor, wq, scale, row, offsets, taps, weights, acc):
     """Deposit every source texel's value x weight by the splat plan (:func:`splat_plan`):
     ``acc[t, q] += w src[p]`` into one partial sum ``t`` per chunk of source texels. The
     weights of source texel p sum to ``scale[p]`` (its solid angle)."""
@@ -816,7 +896,7 @@ def splat(src, anchor, wq, scale, row, taps, weights, acc):
             if b >= 0:
                 _deposit(acc, t, b, row, wq, p, scale[p], src[p])
             elif b != -1:
-                _deposit_exception(acc, t, taps, weights, EXCEPTION - b, src[p])
+                _deposit_exception(acc, t, offsets, taps, weights, EXCEPTION - b, src[p])
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
@@ -838,9 +918,10 @@ def prune_splat(anchor, row, taps, alpha):
 def area_alpha(acc, omega, alpha, inverse):
     """The area filter's blend per destination texel from the splat of ones and of the
     source footprints' widths (``acc[t, q] = (sum w, sum w width)``): alpha = 1 (the splat's
-    mean) where the source texels landing there are at most 1/AREA_SPLAT_RATIO of it across
-    (in their narrower direction) and cover it, 0 (bilinear) where they are as large as it or
-    larger (upsampling) or leave it uncovered, linear between; ``inverse`` = 1 / sum w."""
+    mean) where the source texels (or their parts) landing there are at most
+    1/AREA_SPLAT_RATIO of it across (in their narrower direction) and cover it, which
+    splat_plan's cutting of wide texels into parts ensures wherever it is covered; 0
+    (bilinear) where nothing lands, linear between; ``inverse`` = 1 / sum w."""
     for p in numba.prange(alpha.shape[0]):
         wsum = 0.0
         width = 0.0

@@ -10,7 +10,7 @@ Filters:
   filtering); an octahedral map folds back over its edges; angular and paraboloid maps
   continue through their rims, and a mirror ball's rim texel stands in for what lies beyond
   (so the rim never fades to black).
-- ``area``: an antialiasing filter for downsampling, see :func:`remap`.
+- ``area``: an energy-preserving antialiasing filter for downsampling, see :func:`remap`.
 
 Geometry is computed once per (source layout and shape, destination layout and shape,
 rotation, filter) and cached: the texel indices and weights of every output texel (and, for the
@@ -257,8 +257,9 @@ def _accumulators(m: int, channels: int) -> np.ndarray:
 
 def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
     """The area filter's cached geometry (read-only arrays), see ``_maps.splat_plan``: per
-    source texel an int32 anchor, four float32 weights and a float32 solid angle (24 bytes),
-    36 bytes of explicit taps and weights per source texel at a seam, and per output texel
+    source texel an int32 anchor, four float32 weights and a float32 solid angle (24 bytes);
+    for the source texels at a seam or wider than 1 / AREA_SPLAT_RATIO destination texels,
+    explicit taps and weights (8 bytes per destination texel they reach); per output texel
     the float32 blend alpha and 1 / (sum of weights) (8 bytes)."""
     s, d = layout(src), layout(dst)
     sh, sw, sfaces = s._hw(src_shape)
@@ -270,23 +271,58 @@ def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
     wq = np.empty((n, 4), np.float32)
     scale = np.zeros(n, np.float32)
     width = np.zeros(n, np.float32)
+    parts = np.ones((n, 2), np.int32)
     # the blend between splat and bilinear depends on the geometry only: sums of the weights
     # and of the weighted footprint widths
     acc = _accumulators(m, 2)
     _maps.splat_plan(s.kind, sh, sw, sfaces, omega, d.kind, dh, dw, rot, anchor, wq, scale,
-                     width, acc)  # fmt: skip
+                     width, parts, acc)  # fmt: skip
+    if np.all(parts[omega > 0] > 2):
+        # magnifying everywhere (every source texel over 4/3 destination texels long along both
+        # of its axes): the area filter is bilinear (an empty plan)
+        plan = tuple(np.empty(0, a.dtype) for a in (anchor, wq, scale, anchor, anchor, wq))
+        return plan + (np.empty(0, np.float32), np.empty(0, np.float32))
     where = np.flatnonzero(anchor == _maps.EXCEPTION)
-    taps = np.empty((len(where), 9), np.int32)
-    weights = np.empty((len(where), 9))
+    offsets = np.zeros(len(where) + 1, np.int64)
+    pieces = [(np.empty(0, np.int32), np.empty(0, np.float32))]
     if len(where):
-        _maps.splat_exceptions(s.kind, sh, sw, omega, d.kind, dh, dw, rot, where, taps, weights)
-        _maps.deposit_exceptions(where, taps, weights, width, acc)
+        # in chunks, so that the unmerged taps (9 per part) stay within AREA_BUFFER_BYTES
+        room = 9 * parts[where, 0].astype(np.int64) * parts[where, 1]
+        ends = np.cumsum(room)
+        start = 0
+        while start < len(where):
+            stop = max(
+                start + 1,
+                int(
+                    np.searchsorted(
+                        ends, ends[start] - room[start] + AREA_BUFFER_BYTES // 8, side="right"
+                    )
+                ),
+            )
+            chunk, chunk_room = where[start:stop], room[start:stop]
+            at = np.zeros(len(chunk) + 1, np.int64)
+            np.cumsum(chunk_room, out=at[1:])
+            taps, weights = np.empty(at[-1], np.int32), np.empty(at[-1], np.float32)
+            counts = offsets[start + 1 : stop + 1]
+            _maps.splat_exceptions(s.kind, sh, sw, omega, d.kind, dh, dw, rot, chunk, parts,
+                                   at, taps, weights, counts)  # fmt: skip
+            # keep each texel's merged entries only
+            keep = np.arange(at[-1]) - np.repeat(at[:-1], chunk_room) < np.repeat(
+                counts, chunk_room
+            )
+            pieces.append((taps[keep], weights[keep]))
+            start = stop
+        np.cumsum(offsets, out=offsets)
+    taps = np.concatenate([t for t, _ in pieces])
+    weights = np.concatenate([w for _, w in pieces])
+    if len(where):
+        _maps.deposit_exceptions(where, offsets, taps, weights, width, acc)
         anchor[where] = _maps.EXCEPTION - np.arange(len(where), dtype=np.int32)
     alpha = np.empty(m, np.float32)
     inverse = np.empty(m, np.float32)
     _maps.area_alpha(acc, d.solid_angles(dst_shape).reshape(-1), alpha, inverse)
     _maps.prune_splat(anchor, dw, taps, alpha)
-    plan = (anchor, wq, scale, taps, weights, alpha, inverse)
+    plan = (anchor, wq, scale, offsets, taps, weights, alpha, inverse)
     for a in plan:
         a.setflags(write=False)
     return plan
@@ -300,12 +336,14 @@ def _area(flat, s: Layout, src_shape, d: Layout, dst_shape, key):
     dh, dw, faces = d._hw(dst_shape)
     m = faces * dh * dw
     with progress.step(f"area filter {s.name} -> {d.name}"):
-        anchor, wq, scale, taps, weights, alpha, inverse = _area_plan(
+        anchor, wq, scale, offsets, taps, weights, alpha, inverse = _area_plan(
             s.name, src_shape, d.name, dst_shape, key
         )
         base, frac, btaps = _plan(s.name, src_shape, d.name, dst_shape, "bilinear", key)
+        if len(anchor) == 0:
+            return _apply_plan(flat, (base, frac, btaps), sw)
         acc = _accumulators(m, flat.shape[1])
-        _maps.splat(flat, anchor, wq, scale, dw, taps, weights, acc)
+        _maps.splat(flat, anchor, wq, scale, dw, offsets, taps, weights, acc)
         out = np.empty((m, flat.shape[1]), flat.dtype)
         _maps.finish_area(acc, alpha, inverse, flat, sw, base, frac, btaps, out)
     return out
@@ -348,12 +386,14 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
     texels around its direction, with the output's bilinear tents averaged over the source
     texel's footprint (the box bounding its locally affine image) and renormalised so that all
     its energy is deposited; an output texel is the deposits' weighted mean (a constant stays
-    exactly constant). Where source texels are as wide as an output texel or wider, the value
-    is bilinear, blended linearly up to 1.5 source texels per output texel. The sum of
-    radiance x solid angle is preserved to 0.1% when downsampling (docs/panoramas.md). Its
-    geometry (each source texel's nine weights, each output texel's blend) is cached too, in
-    24 bytes per source texel and 8 per output texel; a cached call is one splat and one
-    gather.
+    exactly constant). A source texel more than 2/3 of an output texel long (where the output
+    is locally finer) is cut into parts that short, each depositing its own solid angle the
+    same way, so its energy is shared among every output texel it covers (boxy, as an area
+    average of a coarser source is). Only when every source texel is over 4/3 output texels
+    long along both its axes (magnifying everywhere) is the filter plain bilinear. The sum of
+    radiance x solid angle is preserved to about 0.1% (docs/panoramas.md). Its geometry is cached
+    too: 24 bytes per source texel, explicit taps (8 bytes each) for the texels cut into parts
+    or at a seam, and 8 bytes per output texel; a cached call is one splat and one gather.
     """
     validate_choice(filter, FILTERS, "filter")
     s, d = layout(src), layout(dst)
