@@ -137,7 +137,7 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
 @click.option(
     "--size",
     help="Output size: N (latlong height, face edge, disk edge) or WxH. Remapping uses the "
-    "area filter when the output has fewer texels, bilinear otherwise.",
+    "area filter when the output has at most half the input's texels, bilinear otherwise.",
 )
 @click.option(
     "--ior", type=float, default=1.333, show_default=True, help="Index of refraction of the water."

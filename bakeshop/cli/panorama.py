@@ -69,8 +69,8 @@ def _check_target(target: Path, layout: str) -> None:
     type=click.Choice(["auto", "nearest", "bilinear", "area"]),
     default="auto",
     show_default=True,
-    help="Sampling filter; auto is area (energy-preserving average) when the output has fewer "
-    "texels than SOURCE, else bilinear.",
+    help="Sampling filter; auto is area (energy-preserving average) when the output has at most "
+    "half the texels of SOURCE, else bilinear.",
 )
 @click.option(
     "--rotate",

@@ -46,12 +46,14 @@ def test_a_2d_texture_is_not_an_environment(tmp_path):
         read_environment(path, None)
 
 
-def test_auto_filter_averages_only_when_the_output_holds_fewer_directions():
+def test_auto_filter_averages_only_when_the_output_holds_at_most_half_the_directions():
     latlong = np.zeros((64, 128, 3), np.float32)  # 8192 directions
     assert auto_filter(latlong, "latlong", "cube", 16) == "area"  # 6 x 256 = 1536
+    assert auto_filter(latlong, "latlong", "cube", 26) == "area"  # 4056 <= 4096
+    assert auto_filter(latlong, "latlong", "cube", 27) == "bilinear"  # 4374 > 4096
     assert auto_filter(latlong, "latlong", "cube", 64) == "bilinear"  # 24576
     assert auto_filter(latlong, "latlong", "latlong", (128, 64)) == "bilinear"  # as many
     # a mirror ball holds directions in its disk only (pi/4 of the square: 804 of 1024)
     ball = np.zeros((32, 32, 3), np.float32)
-    assert auto_filter(ball, "mirrorball", "latlong", (40, 20)) == "area"  # 800
-    assert auto_filter(ball, "mirrorball", "latlong", (42, 21)) == "bilinear"  # 882
+    assert auto_filter(ball, "mirrorball", "latlong", (28, 14)) == "area"  # 392 <= 402
+    assert auto_filter(ball, "mirrorball", "latlong", (30, 15)) == "bilinear"  # 450
