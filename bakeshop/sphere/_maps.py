@@ -704,10 +704,25 @@ def _part_footprint(skind, sh, sw, f, u, v, du, dv, rot, dkind, dh, dw):
     destination coordinates: (face, centre x, centre y, half widths of its bounding box (at
     most 1/2), its solid angle (the tangent parallelogram's area))."""
     x, y, z = direction(skind, sh, sw, f, u, v)
-    x, y, z = _rotate(rot.T, x, y, z)
-    df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
     ax, ay, az = direction(skind, sh, sw, f, u + du / 2, v)
     bx, by, bz = direction(skind, sh, sw, f, u, v + dv / 2)
+    return _part_of(x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw)
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _latlong_unit(sp, cp, st, ct):
+    """``direction`` of a latlong from the sines and cosines of longitude and colatitude."""
+    x, y, z = st * sp, ct, -st * cp
+    norm = math.sqrt(x * x + y * y + z * z)
+    return x / norm, y / norm, z / norm
+
+
+@_jit
+def _part_of(x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw):
+    """:func:`_part_footprint` from the source directions at the part's centre (x, y, z) and
+    at the midpoints of its right (a) and lower (b) edges."""
+    x, y, z = _rotate(rot.T, x, y, z)
+    df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
     om = 4 * math.sqrt(
         ((ay - y) * (bz - z) - (az - z) * (by - y)) ** 2
         + ((az - z) * (bx - x) - (ax - x) * (bz - z)) ** 2
@@ -823,12 +838,32 @@ def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, off
         o = offsets[k]
         e = o
         for b in range(ny):
+            if skind == LATLONG:
+                # the parts' directions from one sine and cosine per row and column (as
+                # ``direction`` computes them)
+                v = j + (b + 0.5) / ny
+                theta = math.pi * v / sh
+                st, ct = math.sin(theta), math.cos(theta)
+                theta = math.pi * (v + 1 / ny / 2) / sh
+                st2, ct2 = math.sin(theta), math.cos(theta)
             for a in range(nx):
                 if nx * ny == 1:
                     df, cx, cy, hx, hy, _, _, _ = _footprint(
                         skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw
                     )
                     om = 1.0
+                elif skind == LATLONG:
+                    u = i + (a + 0.5) / nx
+                    phi = 2 * math.pi * (u / sw - 0.5)
+                    sp, cp = math.sin(phi), math.cos(phi)
+                    phi = 2 * math.pi * ((u + 1 / nx / 2) / sw - 0.5)
+                    sp2, cp2 = math.sin(phi), math.cos(phi)
+                    x, y, z = _latlong_unit(sp, cp, st, ct)
+                    ax, ay, az = _latlong_unit(sp2, cp2, st, ct)
+                    bx, by, bz = _latlong_unit(sp, cp, st2, ct2)
+                    df, cx, cy, hx, hy, om = _part_of(
+                        x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw
+                    )
                 else:
                     df, cx, cy, hx, hy, om = _part_footprint(
                         skind, sh, sw, f, i + (a + 0.5) / nx, j + (b + 0.5) / ny, 1 / nx, 1 / ny,
@@ -847,22 +882,49 @@ def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, off
                                 taps[e] = q
                                 weights[e] = wt
                                 e += 1
-        # merge repeated taps and scale to the texel's solid angle
-        order = np.argsort(taps[o:e], kind="mergesort")
-        ts = taps[o:e][order]
-        ws = weights[o:e][order]
-        total = ws.sum()
+        # merge repeated taps and scale to the texel's solid angle, after a stable sort: in
+        # place by insertion for the few parts of most texels (no allocation per texel)
+        if e - o <= 4 * 9 * 4:
+            for m in range(o, e):
+                tq, tw = taps[m], weights[m]
+                c = m
+                while c > o and taps[c - 1] > tq:
+                    taps[c], weights[c] = taps[c - 1], weights[c - 1]
+                    c -= 1
+                taps[c], weights[c] = tq, tw
+        else:
+            order = np.argsort(taps[o:e], kind="mergesort")
+            ts = taps[o:e][order]
+            ws = weights[o:e][order]
+            taps[o:e] = ts
+            weights[o:e] = ws
+        # summed in float32 in sorted order
+        total = weights.dtype.type(0)
+        for m in range(o, e):
+            total += weights[m]
         n = 0
-        for m in range(ts.shape[0]):
-            if n > 0 and taps[o + n - 1] == ts[m]:
-                weights[o + n - 1] += ws[m]
+        for m in range(o, e):
+            if n > 0 and taps[o + n - 1] == taps[m]:
+                weights[o + n - 1] += weights[m]
             else:
-                taps[o + n] = ts[m]
-                weights[o + n] = ws[m]
+                taps[o + n] = taps[m]
+                weights[o + n] = weights[m]
                 n += 1
         for m in range(n):
             weights[o + m] = omega[p] * weights[o + m] / total if total > 0 else 0.0
         counts[k] = n
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def compact_exceptions(at, counts, taps, weights, ends, out_taps, out_weights):
+    """Copy texel k's ``counts[k]`` merged entries from ``at[k]`` in ``taps``/``weights`` (the
+    buffers :func:`splat_exceptions` filled) to ``ends[k] - counts[k]`` in the outputs."""
+    for k in numba.prange(counts.shape[0]):
+        src = at[k]
+        dst = ends[k] - counts[k]
+        for m in range(counts[k]):
+            out_taps[dst + m] = taps[src + m]
+            out_weights[dst + m] = weights[src + m]
 
 
 @_jit

@@ -286,7 +286,8 @@ def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
     offsets = np.zeros(len(where) + 1, np.int64)
     pieces = [(np.empty(0, np.int32), np.empty(0, np.float32))]
     if len(where):
-        # in chunks, so that the unmerged taps (9 per part) stay within AREA_BUFFER_BYTES
+        # in chunks, so that the unmerged taps (9 per part, 8 bytes each) stay within an
+        # eighth of AREA_BUFFER_BYTES
         room = 9 * parts[where, 0].astype(np.int64) * parts[where, 1]
         ends = np.cumsum(room)
         start = 0
@@ -295,7 +296,7 @@ def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
                 start + 1,
                 int(
                     np.searchsorted(
-                        ends, ends[start] - room[start] + AREA_BUFFER_BYTES // 8, side="right"
+                        ends, ends[start] - room[start] + AREA_BUFFER_BYTES // 64, side="right"
                     )
                 ),
             )
@@ -307,14 +308,23 @@ def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
             _maps.splat_exceptions(s.kind, sh, sw, omega, d.kind, dh, dw, rot, chunk, parts,
                                    at, taps, weights, counts)  # fmt: skip
             # keep each texel's merged entries only
-            keep = np.arange(at[-1]) - np.repeat(at[:-1], chunk_room) < np.repeat(
-                counts, chunk_room
-            )
-            pieces.append((taps[keep], weights[keep]))
+            kept_ends = np.cumsum(counts)
+            kept = (np.empty(kept_ends[-1], np.int32), np.empty(kept_ends[-1], np.float32))
+            _maps.compact_exceptions(at, counts, taps, weights, kept_ends, *kept)
+            del taps, weights
+            pieces.append(kept)
             start = stop
         np.cumsum(offsets, out=offsets)
-    taps = np.concatenate([t for t, _ in pieces])
-    weights = np.concatenate([w for _, w in pieces])
+    # joined piece by piece, each dropped once copied: at most one piece held twice
+    taps = np.empty(offsets[-1], np.int32)
+    weights = np.empty(offsets[-1], np.float32)
+    at = 0
+    pieces.reverse()
+    while pieces:
+        t, w = pieces.pop()
+        taps[at : at + len(t)], weights[at : at + len(t)] = t, w
+        at += len(t)
+    del t, w
     if len(where):
         _maps.deposit_exceptions(where, offsets, taps, weights, width, acc)
         anchor[where] = _maps.EXCEPTION - np.arange(len(where), dtype=np.int32)
