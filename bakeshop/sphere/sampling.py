@@ -284,47 +284,50 @@ def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
         return plan + (np.empty(0, np.float32), np.empty(0, np.float32))
     where = np.flatnonzero(anchor == _maps.EXCEPTION)
     offsets = np.zeros(len(where) + 1, np.int64)
-    pieces = [(np.empty(0, np.int32), np.empty(0, np.float32))]
+    # the merged entries, written straight into arrays grown as needed (fresh pages are what
+    # costs here: nothing is allocated twice); the spare end is never touched
+    kept, filled = (np.empty(0, np.int32), np.empty(0, np.float32)), 0
     if len(where):
-        # in chunks, so that the unmerged taps (9 per part, 8 bytes each) stay within an
-        # eighth of AREA_BUFFER_BYTES
+        # in chunks, so that the unmerged taps (9 per part, 8 bytes each) stay within
+        # AREA_BUFFER_BYTES / 64 (or one texel's)
         room = 9 * parts[where, 0].astype(np.int64) * parts[where, 1]
         ends = np.cumsum(room)
         start = 0
+        # one pair of buffers for every chunk: fresh pages cost more than the copying
+        room_bytes = AREA_BUFFER_BYTES // 64
+        buffers = (
+            np.empty(room_bytes // 8 + int(room.max()), np.int32),
+            np.empty(room_bytes // 8 + int(room.max()), np.float32),
+        )
         while start < len(where):
             stop = max(
                 start + 1,
                 int(
-                    np.searchsorted(
-                        ends, ends[start] - room[start] + AREA_BUFFER_BYTES // 64, side="right"
-                    )
+                    np.searchsorted(ends, ends[start] - room[start] + room_bytes // 8, side="right")
                 ),
             )
             chunk, chunk_room = where[start:stop], room[start:stop]
             at = np.zeros(len(chunk) + 1, np.int64)
             np.cumsum(chunk_room, out=at[1:])
-            taps, weights = np.empty(at[-1], np.int32), np.empty(at[-1], np.float32)
+            taps, weights = buffers[0][: at[-1]], buffers[1][: at[-1]]
             counts = offsets[start + 1 : stop + 1]
             _maps.splat_exceptions(s.kind, sh, sw, omega, d.kind, dh, dw, rot, chunk, parts,
                                    at, taps, weights, counts)  # fmt: skip
             # keep each texel's merged entries only
-            kept_ends = np.cumsum(counts)
-            kept = (np.empty(kept_ends[-1], np.int32), np.empty(kept_ends[-1], np.float32))
+            kept_ends = np.cumsum(counts) + filled
+            if kept_ends[-1] > len(kept[0]):
+                # room for all at this chunk's merged share of the unmerged entries, + 1/16
+                share = kept_ends[-1] / ends[stop - 1]
+                cap = max(int(kept_ends[-1]), int(share * ends[-1] * 17 / 16) + 1024)
+                grown = (np.empty(cap, np.int32), np.empty(cap, np.float32))
+                grown[0][:filled], grown[1][:filled] = kept[0][:filled], kept[1][:filled]
+                kept = grown
             _maps.compact_exceptions(at, counts, taps, weights, kept_ends, *kept)
-            del taps, weights
-            pieces.append(kept)
+            filled = int(kept_ends[-1])
             start = stop
         np.cumsum(offsets, out=offsets)
-    # joined piece by piece, each dropped once copied: at most one piece held twice
-    taps = np.empty(offsets[-1], np.int32)
-    weights = np.empty(offsets[-1], np.float32)
-    at = 0
-    pieces.reverse()
-    while pieces:
-        t, w = pieces.pop()
-        taps[at : at + len(t)], weights[at : at + len(t)] = t, w
-        at += len(t)
-    del t, w
+        del buffers
+    taps, weights = kept[0][:filled], kept[1][:filled]
     if len(where):
         _maps.deposit_exceptions(where, offsets, taps, weights, width, acc)
         anchor[where] = _maps.EXCEPTION - np.arange(len(where), dtype=np.int32)
