@@ -93,7 +93,7 @@ def main() -> None:
             "cross-vertical",
             s,
             slots,
-            "cross-vertical (slots: left-handed set; centre forward)",
+            "cross-vertical\n(left-handed slots, centre forward)",
             "cross_vertical",
         )  # fmt: skip
     )
