@@ -946,34 +946,43 @@ def deposit_exceptions(where, offsets, taps, weights, width, acc):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat(src, anchor, wq, scale, row, offsets, taps, weights, acc):
-    """Deposit every source texel's value x weight by the splat plan (:func:`splat_plan`):
-    ``acc[t, q] += w src[p]`` into one partial sum ``t`` per chunk of source texels. The
-    weights of source texel p sum to ``scale[p]`` (its solid angle)."""
+def splat_rows(anchor, wq, scale, row, offsets, taps, weights, alpha, inverse, cursor, fill,
+               indices, values):  # fmt: skip
+    """The splat plan (:func:`splat_plan`, :func:`splat_exceptions`) transposed into rows, one
+    per destination texel q with alpha > 0: source texel p's weight w into q becomes the entry
+    (p, w alpha[q] inverse[q]) of row q. Chunk t of the source texels counts its entries per
+    row into ``cursor[t, q]`` (``fill`` False), or writes them at ``cursor[t, q]`` onwards
+    (``fill`` True; the chunks' starts in each row), so that each row lists p in order."""
     n = anchor.shape[0]
-    chunks = acc.shape[0]
+    chunks = cursor.shape[0]
     for t in numba.prange(chunks):
         for p in range(t * n // chunks, (t + 1) * n // chunks):
             b = anchor[p]
             if b >= 0:
-                _deposit(acc, t, b, row, wq, p, scale[p], src[p])
+                wx0, wx1 = float(wq[p, 0]), float(wq[p, 1])
+                wy0, wy1 = float(wq[p, 2]), float(wq[p, 3])
+                wx2, wy2 = max(0.0, 1.0 - wx0 - wx1), max(0.0, 1.0 - wy0 - wy1)
+                for yb in range(3):
+                    wy = wy0 if yb == 0 else (wy1 if yb == 1 else wy2)
+                    for xa in range(3):
+                        w = scale[p] * wy * (wx0 if xa == 0 else (wx1 if xa == 1 else wx2))
+                        q = b + yb * row + xa
+                        if w > 0 and alpha[q] > 0:
+                            if fill:
+                                e = cursor[t, q]
+                                indices[e] = p
+                                values[e] = w * alpha[q] * inverse[q]
+                            cursor[t, q] += 1
             elif b != -1:
-                _deposit_exception(acc, t, offsets, taps, weights, EXCEPTION - b, src[p])
-
-
-@numba.njit(parallel=True, cache=True, error_model="numpy")
-def prune_splat(anchor, row, taps, alpha):
-    """Drop (anchor -1) the source texels whose 3 x 3 destination texels all have alpha 0."""
-    for p in numba.prange(anchor.shape[0]):
-        b = anchor[p]
-        if b < 0:
-            continue
-        used = False
-        for yb in range(3):
-            for a in range(3):
-                used = used or alpha[b + yb * row + a] > 0
-        if not used:
-            anchor[p] = -1
+                k = EXCEPTION - b
+                for m in range(offsets[k], offsets[k + 1]):
+                    q = taps[m]
+                    if weights[m] > 0 and alpha[q] > 0:
+                        if fill:
+                            e = cursor[t, q]
+                            indices[e] = p
+                            values[e] = weights[m] * alpha[q] * inverse[q]
+                        cursor[t, q] += 1
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
@@ -1002,18 +1011,38 @@ def area_alpha(acc, omega, alpha, inverse):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def finish_area(acc, alpha, inverse, src, row, base, frac, taps, out):
-    """out = alpha x (the splat's weighted mean) + (1 - alpha) x bilinear (the plan base,
-    frac, taps of :func:`plan`), the bilinear value computed only where alpha < 1."""
+def area_gather(src, indptr, indices, values, alpha, row, base, frac, taps, out):
+    """The area filter applied: out[q] = sum over row q of (weight x src[p]) (the splat's
+    weighted mean, already scaled by alpha; :func:`splat_rows`) + (1 - alpha[q]) x bilinear
+    (the plan base, frac, taps of :func:`plan`, computed only where alpha < 1). Sums in
+    float64."""
     nc = out.shape[1]
-    for p in numba.prange(out.shape[0]):
-        a = alpha[p]
+    for q in numba.prange(out.shape[0]):
+        a = alpha[q]
         if a < 1:
-            _gather_texel(src, row, base, frac, taps, p, out)
-        for c in range(nc):
-            mean = 0.0
-            if a > 0:
-                for t in range(acc.shape[0]):
-                    mean += acc[t, p, c]
-                mean *= inverse[p]
-            out[p, c] = a * mean + (1 - a) * out[p, c] if a < 1 else mean
+            _gather_texel(src, row, base, frac, taps, q, out)
+        # four channels at a time, in registers
+        for c in range(0, nc, 4):
+            k = min(4, nc - c)
+            s0 = s1 = s2 = s3 = 0.0
+            for e in range(indptr[q], indptr[q + 1]):
+                p, w = indices[e], float(values[e])
+                s0 += w * src[p, c]
+                if k > 1:
+                    s1 += w * src[p, c + 1]
+                if k > 2:
+                    s2 += w * src[p, c + 2]
+                if k > 3:
+                    s3 += w * src[p, c + 3]
+            if a < 1:
+                s0 += (1.0 - a) * out[q, c]
+                s1 += (1.0 - a) * out[q, c + 1] if k > 1 else 0.0
+                s2 += (1.0 - a) * out[q, c + 2] if k > 2 else 0.0
+                s3 += (1.0 - a) * out[q, c + 3] if k > 3 else 0.0
+            out[q, c] = s0
+            if k > 1:
+                out[q, c + 1] = s1
+            if k > 2:
+                out[q, c + 2] = s2
+            if k > 3:
+                out[q, c + 3] = s3

@@ -41,7 +41,7 @@ AREA_BUFFER_BYTES = 1 << 29
 PLAN_CACHE_BYTES = 1 << 29
 #: memory for cached area filter plans (24 bytes per source texel, 8 per output texel; a mip
 #: chain of a 1024 cube fits, and so does one 4096 x 2048 latlong's plan).
-AREA_PLAN_CACHE_BYTES = 1 << 28
+AREA_PLAN_CACHE_BYTES = 1 << 30
 
 _NO_FRAC = np.empty((0, 2), np.float32)
 _NO_IMAGE = np.empty((0, 1), np.float32)
@@ -256,11 +256,12 @@ def _accumulators(m: int, channels: int) -> np.ndarray:
 
 
 def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
-    """The area filter's cached geometry (read-only arrays), see ``_maps.splat_plan``: per
-    source texel an int32 anchor, four float32 weights and a float32 solid angle (24 bytes);
-    for the source texels at a seam or wider than 1 / AREA_SPLAT_RATIO destination texels,
-    explicit taps and weights (8 bytes per destination texel they reach); per output texel
-    the float32 blend alpha and 1 / (sum of weights) (8 bytes)."""
+    """The area filter's cached geometry (read-only arrays), built from the per-source-texel
+    splat of ``_maps.splat_plan`` and ``_maps.splat_exceptions`` and transposed by
+    ``_maps.splat_rows``: int64 row starts (m + 1), then per entry an int32 source texel and a
+    float32 weight (about 9 entries per output texel where the output is as fine as the
+    source, ~72 bytes), and per output texel the float32 blend alpha with bilinear. Empty
+    arrays when the filter is bilinear everywhere."""
     s, d = layout(src), layout(dst)
     sh, sw, sfaces = s._hw(src_shape)
     dh, dw, faces = d._hw(dst_shape)
@@ -280,8 +281,7 @@ def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
     if np.all(parts[omega > 0] > 2):
         # magnifying everywhere (every source texel over 4/3 destination texels long along both
         # of its axes): the area filter is bilinear (an empty plan)
-        plan = tuple(np.empty(0, a.dtype) for a in (anchor, wq, scale, anchor, anchor, wq))
-        return plan + (np.empty(0, np.float32), np.empty(0, np.float32))
+        return np.empty(0, np.int64), np.empty(0, np.int32), np.empty(0, np.float32), scale[:0]
     where = np.flatnonzero(anchor == _maps.EXCEPTION)
     offsets = np.zeros(len(where) + 1, np.int64)
     # the merged entries, written straight into arrays grown as needed (fresh pages are what
@@ -334,8 +334,21 @@ def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
     alpha = np.empty(m, np.float32)
     inverse = np.empty(m, np.float32)
     _maps.area_alpha(acc, d.solid_angles(dst_shape).reshape(-1), alpha, inverse)
-    _maps.prune_splat(anchor, dw, taps, alpha)
-    plan = (anchor, wq, scale, offsets, taps, weights, alpha, inverse)
+    del acc
+    # transposed into one row of (source texel, weight) per output texel: a cached call is
+    # then a parallel gather (no per-thread accumulators to clear and sum)
+    cursor = np.zeros((numba.get_num_threads(), m), np.int64)
+    none = (np.empty(0, np.int32), np.empty(0, np.float32))
+    _maps.splat_rows(anchor, wq, scale, dw, offsets, taps, weights, alpha, inverse, cursor,
+                     False, *none)  # fmt: skip
+    indptr = np.zeros(m + 1, np.int64)
+    np.cumsum(cursor.sum(axis=0), out=indptr[1:])
+    # chunk t starts where the earlier chunks' entries of the row end
+    cursor = np.cumsum(cursor, axis=0) - cursor + indptr[:-1]
+    rows = (np.empty(indptr[-1], np.int32), np.empty(indptr[-1], np.float32))
+    _maps.splat_rows(anchor, wq, scale, dw, offsets, taps, weights, alpha, inverse, cursor,
+                     True, *rows)  # fmt: skip
+    plan = (indptr, *rows, alpha)
     for a in plan:
         a.setflags(write=False)
     return plan
@@ -345,20 +358,14 @@ _area_plan = _ByteBoundedCache(_area_plan, AREA_PLAN_CACHE_BYTES)
 
 
 def _area(flat, s: Layout, src_shape, d: Layout, dst_shape, key):
-    sh, sw, _ = s._hw(src_shape)
-    dh, dw, faces = d._hw(dst_shape)
-    m = faces * dh * dw
+    sw = s._hw(src_shape)[1]
     with progress.step(f"area filter {s.name} -> {d.name}"):
-        anchor, wq, scale, offsets, taps, weights, alpha, inverse = _area_plan(
-            s.name, src_shape, d.name, dst_shape, key
-        )
-        base, frac, btaps = _plan(s.name, src_shape, d.name, dst_shape, "bilinear", key)
-        if len(anchor) == 0:
-            return _apply_plan(flat, (base, frac, btaps), sw)
-        acc = _accumulators(m, flat.shape[1])
-        _maps.splat(flat, anchor, wq, scale, dw, offsets, taps, weights, acc)
-        out = np.empty((m, flat.shape[1]), flat.dtype)
-        _maps.finish_area(acc, alpha, inverse, flat, sw, base, frac, btaps, out)
+        indptr, indices, values, alpha = _area_plan(s.name, src_shape, d.name, dst_shape, key)
+        bilinear = _plan(s.name, src_shape, d.name, dst_shape, "bilinear", key)
+        if len(indptr) == 0:
+            return _apply_plan(flat, bilinear, sw)
+        out = np.empty((len(alpha), flat.shape[1]), flat.dtype)
+        _maps.area_gather(flat, indptr, indices, values, alpha, sw, *bilinear, out)
     return out
 
 
