@@ -23,6 +23,10 @@ DISK_OVERLAP_EPS = 1e-9
 #: the area filter averages (splats) where a destination texel is at least this many source
 #: texels across, interpolates bilinearly where it is at most one, and blends between.
 AREA_SPLAT_RATIO = 1.5
+#: the area filter averages only where the deposits cover at least this fraction of a
+#: destination texel's solid angle (blending towards bilinear below): the deposits of boxes
+#: that do not tile exactly cover each texel to within a few percent.
+AREA_COVERAGE = 0.75
 #: most parts a source texel is cut into along each of its axes by the area filter.
 AREA_MAX_PARTS = 2048
 
@@ -564,26 +568,15 @@ def gather_bilinear(src, index, frac, out):
 
 
 @_jit
-def _tent_integral(u):
-    """Integral of the tent max(0, 1 - |x|) from -inf to u."""
-    if u <= -1:
-        return 0.0
-    if u <= 0:
-        return 0.5 * (u + 1) ** 2
-    if u <= 1:
-        return 1.0 - 0.5 * (1 - u) ** 2
-    return 1.0
-
-
-@_jit
-def _box_tent_weights(c, half, lo, out):
-    """Mean of the tents of texels lo..lo+2 (centres q + 0.5) over [c - half, c + half]."""
+def _box_weights(c, half, lo, out):
+    """Overlaps of [c - half, c + half] with texels lo..lo+2 (texel q spans [q, q + 1]) as
+    fractions of its length; for a point (half ~ 0), 1 for the texel containing it."""
     for k in range(3):
-        t = c - (lo + k + 0.5)
+        a, b = lo + k, lo + k + 1
         if half < 1e-9:
-            out[k] = max(0.0, 1 - abs(t))
+            out[k] = 1.0 if a <= c < b else 0.0
         else:
-            out[k] = (_tent_integral(t + half) - _tent_integral(t - half)) / (2 * half)
+            out[k] = max(0.0, min(b, c + half) - max(a, c - half)) / (2 * half)
 
 
 @_jit
@@ -678,7 +671,7 @@ def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
     ex0, ex1, ey0, ey1 = 2 * (b0 - cx), 2 * (b1 - cy), 2 * (d0 - cx), 2 * (d1 - cy)
     hx = 0.5 * (abs(ex0) + abs(ey0))
     hy = 0.5 * (abs(ex1) + abs(ey1))
-    hx = hx if hx >= 0 else 0.0  # NaN at a degenerate point: a tent
+    hx = hx if hx >= 0 else 0.0  # NaN at a degenerate point: a point
     hy = hy if hy >= 0 else 0.0
     # the narrower width (area over length): an upsampled texel is wider than a destination
     # texel across every direction
@@ -761,18 +754,18 @@ def _deposit(acc, t, b, row, wq, p, om, values):
 @numba.njit(parallel=True, cache=True, error_model="numpy")
 def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, scale, width, parts,
                acc):  # fmt: skip
-    """The area filter's geometry, per source texel ``p`` (see :func:`splat`).
+    """The area filter's geometry, per source texel ``p`` (transposed by :func:`splat_rows`).
 
     A source texel's footprint in destination coordinates is the box bounding its (locally
-    affine) image, at most one destination texel wide; it deposits into the 3 x 3 destination
-    texels around it with the mean of their bilinear tents over that box (box-filtered tents
-    tile exactly when the boxes do), renormalised so that its whole energy is deposited.
+    affine) image, at most one destination texel wide; it deposits into the destination texels
+    that box overlaps (within the 3 x 3 around it) in proportion to the overlap, so that its
+    whole energy is deposited.
     ``anchor[p]``: flat index of the upper-left of the 3 x 3 destination texels when they are
     one ordinary block (deposit into anchor + b dw + a), ``EXCEPTION`` across a seam or where
     the texel is more than 1 / AREA_SPLAT_RATIO destination texels long (see
     :func:`splat_exceptions`; ``parts[p]``: into how many parts it is cut along x and y), -1
-    for none; ``wq[p]``: the first two box-tent weights along x
-    and along y, float32 (the third is the rest, so they sum to 1);
+    for none; ``wq[p]``: the first two overlap fractions along x and along y, float32 (the
+    third is the rest, so they sum to 1);
     ``scale[p]``: omega; ``width[p]``: the footprint's narrower width in destination texels.
     The ordinary texels' weights and weighted widths are summed into ``acc[t, q, :2]``, one
     partial sum per chunk ``t``. The rotation ``rot`` moves what the source shows at ``d`` to
@@ -806,8 +799,8 @@ def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, sca
                     continue
                 lx = int(math.floor(cx - 0.5 - hx))
                 ly = int(math.floor(cy - 0.5 - hy))
-                _box_tent_weights(cx, hx, lx, wx)
-                _box_tent_weights(cy, hy, ly, wy)
+                _box_weights(cx, hx, lx, wx)
+                _box_weights(cy, hy, ly, wy)
                 width[p] = wd
                 wq[p, 0], wq[p, 1], wq[p, 2], wq[p, 3] = wx[0], wx[1], wy[0], wy[1]
                 b = _block(dkind, dh, dw, df, lx, ly, 3)
@@ -824,7 +817,7 @@ def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, off
     ``where``: texel k's entries are ``offsets[k]:offsets[k] + counts[k]`` (room for 9 per
     part). A texel whose 3 x 3 destination texels cross a seam deposits into them (-1: a cube
     corner, left out); a texel cut into nx x ny parts (``parts``) deposits each part's solid
-    angle into the 3 x 3 texels around the part's centre by the part's box-filtered tents, so
+    angle into the texels the part's box overlaps (within the 3 x 3 around its centre), so
     that a texel wider than the destination's texels is shared among all the texels it
     overlaps. Repeated taps are merged, in increasing order."""
     trig = _half_texel_trig(sh, sw)
@@ -871,8 +864,8 @@ def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, off
                     )  # fmt: skip
                 lx = int(math.floor(cx - 0.5 - hx))
                 ly = int(math.floor(cy - 0.5 - hy))
-                _box_tent_weights(cx, hx, lx, wx)
-                _box_tent_weights(cy, hy, ly, wy)
+                _box_weights(cx, hx, lx, wx)
+                _box_weights(cy, hy, ly, wy)
                 for yb in range(3):
                     for xa in range(3):
                         wt = om * wx[xa] * wy[yb]
@@ -1005,23 +998,92 @@ def area_alpha(acc, omega, alpha, inverse):
             ratio = 1 / width if width > 0 else AREA_SPLAT_RATIO
             a = min(1.0, max(0.0, (ratio - 1) / (AREA_SPLAT_RATIO - 1)))
             if omega[p] > 0:
-                a *= min(1.0, wsum / omega[p])
+                a *= min(1.0, wsum / (AREA_COVERAGE * omega[p]))
         alpha[p] = a
         inverse[p] = 1 / wsum if wsum > 0 else 0.0
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def area_gather(src, indptr, indices, values, alpha, row, base, frac, taps, out):
-    """The area filter applied: out[q] = sum over row q of (weight x src[p]) (the splat's
-    weighted mean, already scaled by alpha; :func:`splat_rows`) + (1 - alpha[q]) x bilinear
-    (the plan base, frac, taps of :func:`plan`, computed only where alpha < 1). Sums in
-    float64."""
+def bilinear_rows(alpha, row, base, frac, taps, indptr, counts, fill, indices, values):
+    """Append to row q (at ``indptr[q + 1] - counts[q]``) the bilinear taps of the plan
+    (:func:`plan`) weighted by 1 - alpha[q], where alpha[q] < 1 (``fill``); else count them
+    into ``counts[q]``. A cube corner's missing tap (the mean of the other three) gives a third
+    of its weight to each of them."""
+    for q in numba.prange(alpha.shape[0]):
+        b = base[q]
+        if alpha[q] >= 1 or b == -1:
+            continue
+        if b >= 0:
+            i0, i1, i2, i3 = b, b + 1, b + row, b + row + 1
+        else:
+            x = EXCEPTION - b
+            i0, i1, i2, i3 = taps[x, 0], taps[x, 1], taps[x, 2], taps[x, 3]
+        if not fill:
+            counts[q] = (i0 >= 0) + (i1 >= 0) + (i2 >= 0) + (i3 >= 0)
+            continue
+        fx, fy = float(frac[q, 0]), float(frac[q, 1])
+        w0, w1, w2, w3 = (1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy
+        lost = (w0 if i0 < 0 else 0.0) + (w1 if i1 < 0 else 0.0)
+        lost += (w2 if i2 < 0 else 0.0) + (w3 if i3 < 0 else 0.0)
+        scale = 1.0 - alpha[q]
+        e = indptr[q + 1] - counts[q]
+        for k in range(4):
+            i = i0 if k == 0 else (i1 if k == 1 else (i2 if k == 2 else i3))
+            w = w0 if k == 0 else (w1 if k == 1 else (w2 if k == 2 else w3))
+            if i >= 0:
+                indices[e] = i
+                values[e] = scale * (w + lost / 3)
+                e += 1
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def scale_rows(indptr, indices, values, factor):
+    """Multiply each entry by ``factor`` of its column (none: all 1), then scale each nonempty
+    row to sum 1."""
+    scaled = factor.shape[0] > 0
+    for q in numba.prange(indptr.shape[0] - 1):
+        total = 0.0
+        for e in range(indptr[q], indptr[q + 1]):
+            if scaled:
+                values[e] = values[e] * factor[indices[e]]
+            total += values[e]
+        if total > 0:
+            for e in range(indptr[q], indptr[q + 1]):
+                values[e] = values[e] / total
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def column_factors(indptr, indices, values, omega_out, omega_in, relax, sums, factor):
+    """The column step of the area filter's balancing: the energy each source texel p sends,
+    sum_q omega_out[q] M[q, p] (partial sums per chunk of rows in ``sums``), against its solid
+    angle ``omega_in[p]``; ``factor[p]`` = (omega_in / sent)^relax (1 where nothing is sent).
+    Returns the largest relative difference."""
+    m = indptr.shape[0] - 1
+    chunks = sums.shape[0]
+    for t in numba.prange(chunks):
+        sums[t, :] = 0.0
+        for q in range(t * m // chunks, (t + 1) * m // chunks):
+            for e in range(indptr[q], indptr[q + 1]):
+                sums[t, indices[e]] += omega_out[q] * values[e]
+    err = 0.0
+    for p in numba.prange(omega_in.shape[0]):
+        sent = 0.0
+        for t in range(chunks):
+            sent += sums[t, p]
+        factor[p] = 1.0
+        if sent > 0:
+            r = omega_in[p] / sent
+            err = max(err, abs(r - 1))
+            factor[p] = r**relax
+    return err
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def area_gather(src, indptr, indices, values, out):
+    """The area filter applied: out[q] = sum over row q of weight x src[p], in float64, four
+    channels at a time in registers."""
     nc = out.shape[1]
     for q in numba.prange(out.shape[0]):
-        a = alpha[q]
-        if a < 1:
-            _gather_texel(src, row, base, frac, taps, q, out)
-        # four channels at a time, in registers
         for c in range(0, nc, 4):
             k = min(4, nc - c)
             s0 = s1 = s2 = s3 = 0.0
@@ -1034,11 +1096,6 @@ def area_gather(src, indptr, indices, values, alpha, row, base, frac, taps, out)
                     s2 += w * src[p, c + 2]
                 if k > 3:
                     s3 += w * src[p, c + 3]
-            if a < 1:
-                s0 += (1.0 - a) * out[q, c]
-                s1 += (1.0 - a) * out[q, c + 1] if k > 1 else 0.0
-                s2 += (1.0 - a) * out[q, c + 2] if k > 2 else 0.0
-                s3 += (1.0 - a) * out[q, c + 3] if k > 3 else 0.0
             out[q, c] = s0
             if k > 1:
                 out[q, c + 1] = s1
