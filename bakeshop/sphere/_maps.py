@@ -477,6 +477,17 @@ def plan_exceptions(skind, sh, sw, dkind, dh, dw, rot, where, taps):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
+def reorder_plan(base, frac, order, out_base, out_frac):
+    """The plan (:func:`plan`) of texels ``order`` (-1: none, an invalid texel)."""
+    for p in numba.prange(order.shape[0]):
+        k = order[p]
+        out_base[p] = base[k] if k >= 0 else -1
+        if out_frac.shape[0] > 0:
+            out_frac[p, 0] = frac[k, 0] if k >= 0 else 0
+            out_frac[p, 1] = frac[k, 1] if k >= 0 else 0
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
 def gather_at(src, row, base, frac, taps, where, out):
     """:func:`gather_plan` for the output texels ``where`` only."""
     for k in numba.prange(where.shape[0]):

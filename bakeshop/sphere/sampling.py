@@ -250,6 +250,20 @@ def _apply_plan(flat_src, plan, row: int):
     return out
 
 
+def _view_plan(plan, view: str, cube_shape):
+    """A cube's remap plan rearranged for its picture ``view``: the unused squares get -1
+    (zero)."""
+    base, frac, taps = plan
+    order = np.arange(base.size, dtype=np.int32).reshape(cube_shape)
+    order = cube_to_view(order, view, fill=-1).reshape(-1)
+    view_base = np.empty(order.size, np.int32)
+    view_frac = np.empty((order.size if len(frac) else 0, 2), np.float32)
+    _maps.reorder_plan(base, frac, order, view_base, view_frac)
+    for a in (view_base, view_frac):
+        a.setflags(write=False)
+    return view_base, view_frac, taps
+
+
 def _matrix(rotation: bytes | None) -> np.ndarray:
     return np.eye(3) if rotation is None else np.frombuffer(rotation).reshape(3, 3)
 
@@ -463,18 +477,27 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
     rot = as_rotation(rotation)
     key = None if rot is None else rot.tobytes()
     flat = np.ascontiguousarray(img.reshape(-1, img.shape[-1]))
+    channels = img.shape[-1]
     if filter == "area":
         out = _area(flat, s.base, src_shape, d.base, base_shape, key)
     else:
-        plan_key = (s.base.name, src_shape, d.base.name, base_shape, filter, key)
-        plan = _plan.get(plan_key)
-        if plan is None:
-            # a first conversion applies the plan while building it
-            out = np.empty((int(np.prod(base_shape)), flat.shape[1]), flat.dtype)
-            _plan.put(plan_key, _build_plan(*plan_key, flat, out))
-        else:
+        # a cube picture (cross, strip) has a plan of its own, so that a cached call gathers
+        # straight into the picture
+        view_key = (s.base.name, src_shape, d.name, dst_shape, filter, key)
+        plan = _plan.get(view_key)
+        if plan is not None:
             out = _apply_plan(flat, plan, s.base._hw(src_shape)[1])
-    out = out.reshape(base_shape + (img.shape[-1],))
+            return _shaped(out.reshape(dst_shape + (channels,)), squeeze)
+        # a first conversion applies the plan while building it
+        out = np.empty((int(np.prod(base_shape)), channels), flat.dtype)
+        plan = _build_plan(s.base.name, src_shape, d.base.name, base_shape, filter, key, flat, out)
+        _plan.put(view_key, plan if d.base is d else _view_plan(plan, d.name, base_shape))
+    out = out.reshape(base_shape + (channels,))
     if d.base is not d:
         out = cube_to_view(out, d.name)
+    return _shaped(out, squeeze)
+
+
+def _shaped(out, squeeze: bool):
+    """``out`` without its channel axis where the input had none."""
     return out[..., 0] if squeeze else out

@@ -439,3 +439,21 @@ def test_first_remap_applies_the_plan_as_a_cached_one_does(filter):
         np.testing.assert_array_equal(
             remap(img, src, dst, 24, filter=filter, rotation=(15, 5, 0)), first
         )
+
+
+@pytest.mark.parametrize("filter", ["nearest", "bilinear"])
+@pytest.mark.parametrize("view", ["cross-vertical", "cross-horizontal", "strip-vertical"])
+def test_a_cube_picture_gathered_straight_from_its_own_plan_is_the_arranged_cube(filter, view):
+    """A cached conversion to a cross or strip gathers into the picture through a reordered
+    plan: it equals the cube converted and then arranged, unused squares zero."""
+    from bakeshop.sphere import sampling
+
+    img = environment("mirrorball", 40)
+    sampling._plan.cache_clear()
+    cube = remap(img, "mirrorball", "cube", 16, filter=filter)
+    first = remap(img, "mirrorball", view, 16, filter=filter)
+    hits = sampling._plan.hits
+    cached = remap(img, "mirrorball", view, 16, filter=filter)
+    assert sampling._plan.hits == hits + 1
+    np.testing.assert_array_equal(first, cube_to_view(cube, view))
+    np.testing.assert_array_equal(cached, first)
