@@ -1090,6 +1090,19 @@ def column_factors(indptr, indices, values, omega_out, omega_in, relax, sums, fa
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
+def reorder_rows(indptr, indices, values, order, out_indptr, out_indices, out_values):
+    """Row p of the output matrix = row order[p] of the input (empty where -1)."""
+    for p in numba.prange(order.shape[0]):
+        q = order[p]
+        if q >= 0:
+            o = out_indptr[p]
+            for e in range(indptr[q], indptr[q + 1]):
+                out_indices[o] = indices[e]
+                out_values[o] = values[e]
+                o += 1
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
 def area_gather(src, indptr, indices, values, out):
     """The area filter applied: out[q] = sum over row q of weight x src[p], in float64, four
     channels at a time in registers."""

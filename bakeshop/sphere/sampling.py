@@ -250,12 +250,21 @@ def _apply_plan(flat_src, plan, row: int):
     return out
 
 
+@functools.lru_cache(maxsize=4)
+def _view_order(view: str, cube_shape) -> np.ndarray:
+    """Per texel of the picture ``view`` of a cube of ``cube_shape``: the flat index of the
+    cube texel it shows, -1 in the unused squares (int32, read-only)."""
+    order = np.arange(int(np.prod(cube_shape)), dtype=np.int32).reshape(cube_shape)
+    order = cube_to_view(order, view, fill=-1).reshape(-1)
+    order.setflags(write=False)
+    return order
+
+
 def _view_plan(plan, view: str, cube_shape):
     """A cube's remap plan rearranged for its picture ``view``: the unused squares get -1
     (zero)."""
     base, frac, taps = plan
-    order = np.arange(base.size, dtype=np.int32).reshape(cube_shape)
-    order = cube_to_view(order, view, fill=-1).reshape(-1)
+    order = _view_order(view, cube_shape)
     view_base = np.empty(order.size, np.int32)
     view_frac = np.empty((order.size if len(frac) else 0, 2), np.float32)
     _maps.reorder_plan(base, frac, order, view_base, view_frac)
@@ -275,7 +284,7 @@ def _accumulators(m: int, channels: int) -> np.ndarray:
     return np.zeros((max(1, min(numba.get_num_threads(), fit)), m, channels))
 
 
-def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
+def _build_area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
     """The area filter's cached geometry: the sparse matrix from source to output texels
     (read-only CSR arrays: int64 row starts, int32 source texels, float32 weights; about 5
     entries per output texel where the output is as fine as the source, ~48 bytes). Built
@@ -394,6 +403,7 @@ def _balance(indptr, indices, values, omega_out, omega_in, sums):
     returns the largest relative column error left. ``sums``: scratch, (chunks, n)."""
     factor = np.empty(len(omega_in))
     _maps.scale_rows(indptr, indices, values, factor[:0])
+    err = np.inf
     for _ in range(AREA_BALANCE_ITERATIONS):
         err = _maps.column_factors(indptr, indices, values, omega_out, omega_in,
                                    AREA_BALANCE_RELAXATION, sums, factor)  # fmt: skip
@@ -403,17 +413,45 @@ def _balance(indptr, indices, values, omega_out, omega_in, sums):
     return err
 
 
+def _area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
+    """:func:`_build_area_plan` into layout ``dst``; for a cube picture, the cube's with its
+    rows reordered into the picture's (the unused squares' rows are empty)."""
+    d = layout(dst)
+    if d.base is d:
+        return _build_area_plan(src, src_shape, dst, dst_shape, rotation)
+    cube_shape = d.base.shape(d.face_size(dst_shape))
+    indptr, indices, values = _build_area_plan(src, src_shape, d.base.name, cube_shape, rotation)
+    if len(indptr) == 0:
+        return indptr, indices, values
+    order = _view_order(dst, cube_shape)
+    lengths = np.zeros(order.size + 1, np.int64)
+    used = order >= 0
+    lengths[1:][used] = np.diff(indptr)[order[used]]
+    view_indptr = np.cumsum(lengths)
+    view_rows = (np.empty_like(indices), np.empty_like(values))
+    _maps.reorder_rows(indptr, indices, values, order, view_indptr, *view_rows)
+    plan = (view_indptr, *view_rows)
+    for a in plan:
+        a.setflags(write=False)
+    return plan
+
+
 _area_plan = _ByteBoundedCache(_area_plan, AREA_PLAN_CACHE_BYTES)
 
 
 def _area(flat, s: Layout, src_shape, d: Layout, dst_shape, key):
+    """The area filter into ``d`` (a cube picture: gathered straight into it)."""
     with progress.step(f"area filter {s.name} -> {d.name}"):
         indptr, indices, values = _area_plan(s.name, src_shape, d.name, dst_shape, key)
         if len(indptr) == 0:
-            plan = _plan(s.name, src_shape, d.name, dst_shape, "bilinear", key)
-            return _apply_plan(flat, plan, s._hw(src_shape)[1])
-        out = np.empty((len(indptr) - 1, flat.shape[1]), flat.dtype)
-        _maps.area_gather(flat, indptr, indices, values, out)
+            # magnifying everywhere: bilinear
+            base_shape = dst_shape if d.base is d else d.base.shape(d.face_size(dst_shape))
+            plan = _plan(s.name, src_shape, d.base.name, base_shape, "bilinear", key)
+            out = _apply_plan(flat, plan, s._hw(src_shape)[1])
+            out = out.reshape(base_shape + flat.shape[1:])
+            return out if d.base is d else cube_to_view(out, d.name)
+        out = np.empty(dst_shape + (flat.shape[1],), flat.dtype)
+        _maps.area_gather(flat, indptr, indices, values, out.reshape(-1, flat.shape[1]))
     return out
 
 
@@ -479,23 +517,20 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
     flat = np.ascontiguousarray(img.reshape(-1, img.shape[-1]))
     channels = img.shape[-1]
     if filter == "area":
-        out = _area(flat, s.base, src_shape, d.base, base_shape, key)
-    else:
-        # a cube picture (cross, strip) has a plan of its own, so that a cached call gathers
-        # straight into the picture
-        view_key = (s.base.name, src_shape, d.name, dst_shape, filter, key)
-        plan = _plan.get(view_key)
-        if plan is not None:
-            out = _apply_plan(flat, plan, s.base._hw(src_shape)[1])
-            return _shaped(out.reshape(dst_shape + (channels,)), squeeze)
-        # a first conversion applies the plan while building it
-        out = np.empty((int(np.prod(base_shape)), channels), flat.dtype)
-        plan = _build_plan(s.base.name, src_shape, d.base.name, base_shape, filter, key, flat, out)
-        _plan.put(view_key, plan if d.base is d else _view_plan(plan, d.name, base_shape))
+        return _shaped(_area(flat, s.base, src_shape, d, dst_shape, key), squeeze)
+    # a cube picture (cross, strip) has a plan of its own, so that a cached call gathers
+    # straight into the picture
+    view_key = (s.base.name, src_shape, d.name, dst_shape, filter, key)
+    plan = _plan.get(view_key)
+    if plan is not None:
+        out = _apply_plan(flat, plan, s.base._hw(src_shape)[1])
+        return _shaped(out.reshape(dst_shape + (channels,)), squeeze)
+    # a first conversion applies the plan while building it
+    out = np.empty((int(np.prod(base_shape)), channels), flat.dtype)
+    plan = _build_plan(s.base.name, src_shape, d.base.name, base_shape, filter, key, flat, out)
+    _plan.put(view_key, plan if d.base is d else _view_plan(plan, d.name, base_shape))
     out = out.reshape(base_shape + (channels,))
-    if d.base is not d:
-        out = cube_to_view(out, d.name)
-    return _shaped(out, squeeze)
+    return _shaped(out if d.base is d else cube_to_view(out, d.name), squeeze)
 
 
 def _shaped(out, squeeze: bool):

@@ -457,3 +457,12 @@ def test_a_cube_picture_gathered_straight_from_its_own_plan_is_the_arranged_cube
     assert sampling._plan.hits == hits + 1
     np.testing.assert_array_equal(first, cube_to_view(cube, view))
     np.testing.assert_array_equal(cached, first)
+
+
+def test_area_filter_into_a_cube_picture_is_the_arranged_cube():
+    img = (np.random.default_rng(5).random((64, 128, 3)) ** 3).astype(np.float32)
+    cube = remap(img, "latlong", "cube", 12, filter="area")
+    for view in ("cross-horizontal", "strip-horizontal"):
+        np.testing.assert_array_equal(
+            remap(img, "latlong", view, 12, filter="area"), cube_to_view(cube, view)
+        )
