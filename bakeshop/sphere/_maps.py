@@ -1064,28 +1064,40 @@ def scale_rows(indptr, indices, values, factor):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def column_factors(indptr, indices, values, omega_out, omega_in, relax, sums, factor):
-    """The column step of the area filter's balancing: the energy each source texel p sends,
-    sum_q omega_out[q] M[q, p] (partial sums per chunk of rows in ``sums``), against its solid
-    angle ``omega_in[p]``; ``factor[p]`` = (omega_in / sent)^relax (1 where nothing is sent).
-    Returns the largest relative difference."""
+def balance_rows(indptr, indices, values, omega_out, col, sums):
+    """One pass of the area filter's balancing of M = diag(r) K diag(col) (K: ``values``):
+    the row scales r making every nonempty row sum 1, and the energy each column then sends,
+    sum_q omega_out[q] r[q] K[q, p] (x col[p] to come), as partial sums per chunk of rows in
+    ``sums``."""
     m = indptr.shape[0] - 1
     chunks = sums.shape[0]
     for t in numba.prange(chunks):
         sums[t, :] = 0.0
         for q in range(t * m // chunks, (t + 1) * m // chunks):
+            total = 0.0
             for e in range(indptr[q], indptr[q + 1]):
-                sums[t, indices[e]] += omega_out[q] * values[e]
+                total += values[e] * col[indices[e]]
+            if total > 0:
+                scale = omega_out[q] / total
+                for e in range(indptr[q], indptr[q + 1]):
+                    sums[t, indices[e]] += scale * values[e]
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def balance_columns(sums, omega_in, col):
+    """The column step, over-relaxed: col[p] *= (omega_in[p] / sent)^1.5 where source texel p
+    sends ``sent`` = col[p] x (sum of its partial sums) > 0. Returns the largest
+    |omega_in / sent - 1|."""
     err = 0.0
     for p in numba.prange(omega_in.shape[0]):
         sent = 0.0
-        for t in range(chunks):
+        for t in range(sums.shape[0]):
             sent += sums[t, p]
-        factor[p] = 1.0
+        sent *= col[p]
         if sent > 0:
             r = omega_in[p] / sent
             err = max(err, abs(r - 1))
-            factor[p] = r**relax
+            col[p] *= r * math.sqrt(r)
     return err
 
 

@@ -43,11 +43,10 @@ PLAN_CACHE_BYTES = 1 << 29
 #: fine as the source: the plan of 4096 x 2048 latlong -> 6 x 1024^2 cube, 320 MB, fits).
 AREA_PLAN_CACHE_BYTES = 1 << 29
 
-#: the area filter's balancing (see ``_balance``): iterations at most, column tolerance,
-#: over-relaxation exponent.
+#: the area filter's balancing (see ``_balance``): iterations at most, and the relative
+#: error of every column's energy at which it stops.
 AREA_BALANCE_ITERATIONS = 20
 AREA_BALANCE_RTOL = 1e-4
-AREA_BALANCE_RELAXATION = 1.5
 
 _NO_FRAC = np.empty((0, 2), np.float32)
 _NO_IMAGE = np.empty((0, 1), np.float32)
@@ -319,12 +318,12 @@ def _build_area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes |
     kept, filled = (np.empty(0, np.int32), np.empty(0, np.float32)), 0
     if len(where):
         # in chunks, so that the unmerged taps (9 per part, 8 bytes each) stay within
-        # AREA_BUFFER_BYTES / 64 (or one texel's)
+        # AREA_BUFFER_BYTES / 16 (or one texel's)
         room = 9 * parts[where, 0].astype(np.int64) * parts[where, 1]
         ends = np.cumsum(room)
         start = 0
         # one pair of buffers for every chunk: fresh pages cost more than the copying
-        room_bytes = AREA_BUFFER_BYTES // 64
+        room_bytes = AREA_BUFFER_BYTES // 4
         buffers = (
             np.empty(room_bytes // 8 + int(room.max()), np.int32),
             np.empty(room_bytes // 8 + int(room.max()), np.float32),
@@ -398,18 +397,18 @@ def _balance(indptr, indices, values, omega_out, omega_in, sums):
     column p carrying its source texel's solid angle, sum_q omega_out[q] M[q, p] = omega_in[p]
     (radiance x solid angle is preserved): Sinkhorn's alternating normalisation (Sinkhorn &
     Knopp 1967) of the energy transport omega_out[q] M[q, p], over-relaxed (column factors
-    raised to AREA_BALANCE_RELAXATION, Thibault et al. 2017), ending on the rows (exact).
-    Stops when every column is within AREA_BALANCE_RTOL or after AREA_BALANCE_ITERATIONS;
-    returns the largest relative column error left. ``sums``: scratch, (chunks, n)."""
-    factor = np.empty(len(omega_in))
-    _maps.scale_rows(indptr, indices, values, factor[:0])
+    raised to the power 1.5, Thibault et al. 2017), on the scale vectors (one pass
+    over M per iteration), ending on the rows (exact). Stops when every column is within
+    AREA_BALANCE_RTOL or after AREA_BALANCE_ITERATIONS; returns the largest relative column
+    error left. ``sums``: scratch, (chunks, n)."""
+    col = np.ones(len(omega_in))
     err = np.inf
     for _ in range(AREA_BALANCE_ITERATIONS):
-        err = _maps.column_factors(indptr, indices, values, omega_out, omega_in,
-                                   AREA_BALANCE_RELAXATION, sums, factor)  # fmt: skip
+        _maps.balance_rows(indptr, indices, values, omega_out, col, sums)
+        err = _maps.balance_columns(sums, omega_in, col)
         if err <= AREA_BALANCE_RTOL:
             break
-        _maps.scale_rows(indptr, indices, values, factor)
+    _maps.scale_rows(indptr, indices, values, col)
     return err
 
 
