@@ -886,8 +886,30 @@ def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, off
                                 taps[e] = q
                                 weights[e] = wt
                                 e += 1
-        # merge repeated taps and scale to the texel's solid angle, after a stable sort: in
-        # place by insertion for the few parts of most texels (no allocation per texel)
+        counts[k] = _merge_taps(taps, weights, o, e, omega[p])
+
+
+@_jit
+def _merge_taps(taps, weights, o, e, om):
+    """Merge the repeated taps of entries o..e-1 (in increasing tap order) and scale their
+    weights to sum ``om``; returns how many remain (at o onwards). In place by insertion sort
+    for the few taps of most texels (no allocation); through a dense scratch array over the
+    taps' range for the many of a texel cut into many parts (the range of a few destination
+    rows), else by sorting."""
+    lo, hi = taps[o], taps[o]
+    for m in range(o, e):
+        lo, hi = min(lo, taps[m]), max(hi, taps[m])
+    n = 0
+    if e - o > 4 * 9 * 4 and hi - lo < 64 * (e - o):
+        dense = np.zeros(hi - lo + 1)
+        for m in range(o, e):
+            dense[taps[m] - lo] += weights[m]
+        for c in range(hi - lo + 1):
+            if dense[c] > 0:
+                taps[o + n] = lo + c
+                weights[o + n] = dense[c]
+                n += 1
+    else:
         if e - o <= 4 * 9 * 4:
             for m in range(o, e):
                 tq, tw = taps[m], weights[m]
@@ -902,11 +924,6 @@ def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, off
             ws = weights[o:e][order]
             taps[o:e] = ts
             weights[o:e] = ws
-        # summed in float32 in sorted order
-        total = weights.dtype.type(0)
-        for m in range(o, e):
-            total += weights[m]
-        n = 0
         for m in range(o, e):
             if n > 0 and taps[o + n - 1] == taps[m]:
                 weights[o + n - 1] += weights[m]
@@ -914,9 +931,12 @@ def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, off
                 taps[o + n] = taps[m]
                 weights[o + n] = weights[m]
                 n += 1
-        for m in range(n):
-            weights[o + m] = omega[p] * weights[o + m] / total if total > 0 else 0.0
-        counts[k] = n
+    total = 0.0
+    for m in range(o, o + n):
+        total += weights[m]
+    for m in range(o, o + n):
+        weights[m] = om * weights[m] / total if total > 0 else 0.0
+    return n
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
