@@ -41,8 +41,9 @@ def auto_filter(image, src: str, dst: str, size=None) -> str:
     ``"area"`` (the energy-preserving average) when the output holds at most half as many
     directions as the input (a real downsampling, where a point filter aliases), else
     ``"bilinear"``: near the input's size the area filter must cut source texels into parts,
-    which costs seconds and gigabytes on a first 4096x2048 -> 6x1024^2 call, while bilinear
-    moves the total energy by ~0.2-1% only for a one-texel sun. ``size`` None is the default
+    which costs 7-13 s and ~1.3 GB on a first 4096x2048 <-> 6x1024^2 call (a single command
+    does not reuse the plan), while bilinear moves the total energy by ~0.2-1% only for a
+    one-texel sun. ``size`` None is the default
     :func:`sphere.remap` picks (about as many directions as the input)."""
     from bakeshop import sphere
 
