@@ -138,6 +138,12 @@ SPHERE_PEER_SCIPY_ATOL = 1e-5
 #: layout including a 64-texel mirror ball, whose rim texels are long curved slivers).
 SPHERE_AREA_ENERGY_RTOL = 1e-3
 
+#: the area filter against a brute-force area average (each output texel's 16 x 16 sub-texels
+#: looked up by nearest, weighted by their solid angles), the default probe (sun clipped) from
+#: 1024x512 into 64-128 texel maps: relative RMS (measured 4.2e-3 to 8.5e-3; bilinear 2.2e-2
+#: to 9.6e-2). The footprint boxes only approximate each source texel's image.
+SPHERE_AREA_VS_BRUTE_FORCE_RRMS = 1.5e-2
+
 #: an 8-bit sRGB cube texture filtered bilinearly by the OpenGL driver (llvmpipe) vs bakeshop's
 #: decode-then-bilinear model, linear values: the driver's filter weights are fixed point.
 GL_SRGB_FILTER_ATOL = 2e-3
