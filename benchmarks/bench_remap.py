@@ -30,7 +30,7 @@ ENGINES = {
     "cube->latlong": ["bakeshop", "bakeshop-area", "py360-cv2", "py360-scipy", "cv2-cached"],
     "mirrorball->cross": ["bakeshop", "bakeshop-area", "cv2-cached"],
 }
-WARM_RUNS = 3
+WARM_RUNS = 5
 #: fresh processes per engine and case; the table shows each figure's median.
 PROCESSES = 3
 

@@ -517,17 +517,19 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
     channels = img.shape[-1]
     if filter == "area":
         return _shaped(_area(flat, s.base, src_shape, d, dst_shape, key), squeeze)
-    # a cube picture (cross, strip) has a plan of its own, so that a cached call gathers
-    # straight into the picture
+    # a cube picture (cross, strip) gets a plan of its own, the cube's reordered, the first
+    # time the cube's plan is reused: a cached call then gathers straight into the picture
+    key_of = (s.base.name, src_shape, d.base.name, base_shape, filter, key)
     view_key = (s.base.name, src_shape, d.name, dst_shape, filter, key)
     plan = _plan.get(view_key)
+    if plan is None and d.base is not d and key_of in _plan.entries:
+        plan = _plan.put(view_key, _view_plan(_plan.get(key_of), d.name, base_shape))
     if plan is not None:
         out = _apply_plan(flat, plan, s.base._hw(src_shape)[1])
         return _shaped(out.reshape(dst_shape + (channels,)), squeeze)
     # a first conversion applies the plan while building it
     out = np.empty((int(np.prod(base_shape)), channels), flat.dtype)
-    plan = _build_plan(s.base.name, src_shape, d.base.name, base_shape, filter, key, flat, out)
-    _plan.put(view_key, plan if d.base is d else _view_plan(plan, d.name, base_shape))
+    _plan.put(key_of, _build_plan(*key_of, flat, out))
     out = out.reshape(base_shape + (channels,))
     return _shaped(out if d.base is d else cube_to_view(out, d.name), squeeze)
 
