@@ -32,7 +32,7 @@ ENGINES = {
 }
 WARM_RUNS = 5
 #: fresh processes per engine and case; the table shows each figure's median.
-PROCESSES = 3
+PROCESSES = 5
 
 
 def _source(src: str, size: int):

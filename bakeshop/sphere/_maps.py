@@ -670,6 +670,18 @@ def _image(skind, sh, sw, f, u2, v2, trig, rot, dkind, dh, dw, cf, cx, cy):
 
 
 @_jit
+def _band_centroid(t0, t1):
+    """The colatitude of the centroid of the band t0 <= theta <= t1 (weighted by sin theta:
+    [sin t - t cos t] / [-cos t] over the band) and the band's cos t0 - cos t1; a texel at a
+    pole holds its energy 2/3 of the way out, not halfway."""
+    band = math.cos(t0) - math.cos(t1)
+    if not band > 1e-300:
+        return 0.5 * (t0 + t1), 0.0
+    moment = math.sin(t1) - math.sin(t0) - (t1 * math.cos(t1) - t0 * math.cos(t0))
+    return moment / band, band
+
+
+@_jit
 def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
     """Source texel (f, i, j) in destination coordinates: (face, centre x, centre y, half
     widths of the box bounding its locally affine image (at most 1/2), its narrower width)."""
@@ -680,6 +692,13 @@ def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
     b0, b1 = _image(skind, sh, sw, f, 2 * i + 2, 2 * j + 1, trig, rot, dkind, dh, dw, df, cx, cy)
     d0, d1 = _image(skind, sh, sw, f, 2 * i + 1, 2 * j + 2, trig, rot, dkind, dh, dw, df, cx, cy)
     ex0, ex1, ey0, ey1 = 2 * (b0 - cx), 2 * (b1 - cy), 2 * (d0 - cx), 2 * (d1 - cy)
+    if skind == LATLONG:
+        # centred on the texel's centroid
+        theta, _ = _band_centroid(math.pi * j / sh, math.pi * (j + 1) / sh)
+        st = math.sin(theta)
+        x, y, z = st * trig[0, 2 * i + 1], math.cos(theta), -st * trig[1, 2 * i + 1]
+        x, y, z = _rotate(rot.T, x, y, z)
+        cx, cy = _local(dkind, dh, dw, x, y, z, df, cx, cy)
     hx = 0.5 * (abs(ex0) + abs(ey0))
     hy = 0.5 * (abs(ex1) + abs(ey1))
     hx = hx if hx >= 0 else 0.0  # NaN at a degenerate point: a point
@@ -845,10 +864,11 @@ def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, off
             if skind == LATLONG:
                 # the parts' directions from one sine and cosine per row and column (as
                 # ``direction`` computes them)
-                v = j + (b + 0.5) / ny
-                theta = math.pi * v / sh
+                # each part centred on its centroid, with its exact solid angle
+                theta, band = _band_centroid(math.pi * (j + b / ny) / sh,
+                                             math.pi * (j + (b + 1) / ny) / sh)  # fmt: skip
                 st, ct = math.sin(theta), math.cos(theta)
-                theta = math.pi * (v + 1 / ny / 2) / sh
+                theta += math.pi / ny / 2 / sh
                 st2, ct2 = math.sin(theta), math.cos(theta)
             for a in range(nx):
                 if nx * ny == 1:
@@ -865,9 +885,10 @@ def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, off
                     x, y, z = _latlong_unit(sp, cp, st, ct)
                     ax, ay, az = _latlong_unit(sp2, cp2, st, ct)
                     bx, by, bz = _latlong_unit(sp, cp, st2, ct2)
-                    df, cx, cy, hx, hy, om = _part_of(
+                    df, cx, cy, hx, hy, _ = _part_of(
                         x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw
                     )
+                    om = 2 * math.pi / sw / nx * band
                 else:
                     df, cx, cy, hx, hy, om = _part_footprint(
                         skind, sh, sw, f, i + (a + 0.5) / nx, j + (b + 0.5) / ny, 1 / nx, 1 / ny,
@@ -1088,11 +1109,10 @@ def balance_rows(indptr, indices, values, omega_out, col, sums):
     """One pass of the area filter's balancing of M = diag(r) K diag(col) (K: ``values``):
     the row scales r making every nonempty row sum 1, and the energy each column then sends,
     sum_q omega_out[q] r[q] K[q, p] (x col[p] to come), as partial sums per chunk of rows in
-    ``sums``."""
+    ``sums`` (zero on entry: :func:`balance_columns` clears them as it reads them)."""
     m = indptr.shape[0] - 1
     chunks = sums.shape[0]
     for t in numba.prange(chunks):
-        sums[t, :] = 0.0
         for q in range(t * m // chunks, (t + 1) * m // chunks):
             total = 0.0
             for e in range(indptr[q], indptr[q + 1]):
@@ -1104,20 +1124,23 @@ def balance_rows(indptr, indices, values, omega_out, col, sums):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def balance_columns(sums, omega_in, col):
-    """The column step, over-relaxed: col[p] *= (omega_in[p] / sent)^1.5 where source texel p
-    sends ``sent`` = col[p] x (sum of its partial sums) > 0. Returns the largest
-    |omega_in / sent - 1|."""
+def balance_columns(sums, omega_in, col, step):
+    """The column step, over-relaxed with momentum: where source texel p sends ``sent`` =
+    col[p] x (sum of its partial sums) > 0, log col[p] moves by ``step[p]`` = 1.5 log(omega_in
+    / sent) + 0.5 x its previous step (kept as the factor exp(step), so no logarithms).
+    Returns the largest |omega_in / sent - 1|."""
     err = 0.0
     for p in numba.prange(omega_in.shape[0]):
         sent = 0.0
         for t in range(sums.shape[0]):
             sent += sums[t, p]
+            sums[t, p] = 0.0
         sent *= col[p]
         if sent > 0:
             r = omega_in[p] / sent
             err = max(err, abs(r - 1))
-            col[p] *= r * math.sqrt(r)
+            step[p] = r * math.sqrt(r * step[p])
+            col[p] *= step[p]
     return err
 
 

@@ -45,7 +45,7 @@ AREA_PLAN_CACHE_BYTES = 1 << 29
 
 #: the area filter's balancing (see ``_balance``): iterations at most, and the relative
 #: error of every column's energy at which it stops.
-AREA_BALANCE_ITERATIONS = 20
+AREA_BALANCE_ITERATIONS = 30
 AREA_BALANCE_RTOL = 1e-4
 
 _NO_FRAC = np.empty((0, 2), np.float32)
@@ -383,7 +383,7 @@ def _build_area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes |
                      True, *rows)  # fmt: skip
     del anchor, wq, scale, offsets, taps, weights, cursor
     _maps.bilinear_rows(alpha, sw, *bilinear, indptr, counts, True, *rows)
-    sums = np.empty((numba.get_num_threads(), n))
+    sums = np.zeros((numba.get_num_threads(), n))
     _balance(indptr, *rows, omega_out, omega, sums)
     plan = (indptr, *rows)
     for a in plan:
@@ -396,16 +396,18 @@ def _balance(indptr, indices, values, omega_out, omega_in, sums):
     in place) towards every nonempty row summing to 1 (a constant stays constant) and every
     column p carrying its source texel's solid angle, sum_q omega_out[q] M[q, p] = omega_in[p]
     (radiance x solid angle is preserved): Sinkhorn's alternating normalisation (Sinkhorn &
-    Knopp 1967) of the energy transport omega_out[q] M[q, p], over-relaxed (column factors
-    raised to the power 1.5, Thibault et al. 2017), on the scale vectors (one pass
-    over M per iteration), ending on the rows (exact). Stops when every column is within
-    AREA_BALANCE_RTOL or after AREA_BALANCE_ITERATIONS; returns the largest relative column
-    error left. ``sums``: scratch, (chunks, n)."""
+    Knopp 1967) of the energy transport omega_out[q] M[q, p], on the scale vectors (one pass
+    over M per iteration), its column steps over-relaxed (Thibault et al. 2017) and with
+    momentum (the slow, smooth imbalances around a latlong's poles converge ~3x sooner),
+    ending on the rows (exact). Stops when every column is within AREA_BALANCE_RTOL or after
+    AREA_BALANCE_ITERATIONS; returns the largest relative column error left. ``sums``:
+    zeroed scratch, (chunks, n)."""
     col = np.ones(len(omega_in))
+    step = np.ones(len(omega_in))
     err = np.inf
     for _ in range(AREA_BALANCE_ITERATIONS):
         _maps.balance_rows(indptr, indices, values, omega_out, col, sums)
-        err = _maps.balance_columns(sums, omega_in, col)
+        err = _maps.balance_columns(sums, omega_in, col, step)
         if err <= AREA_BALANCE_RTOL:
             break
     _maps.scale_rows(indptr, indices, values, col)

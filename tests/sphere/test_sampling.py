@@ -341,6 +341,20 @@ def test_area_filter_is_the_area_average_of_a_brute_force_supersampling(probe, d
     assert area < SPHERE_AREA_VS_BRUTE_FORCE_RRMS and area < bilinear / 2.5
 
 
+@pytest.mark.parametrize("row", [0, 1, 3])
+def test_area_filter_preserves_the_energy_of_a_sun_at_the_zenith(row):
+    """A one-texel sun in a latlong's top rows (noon in the tropics), where the texels are thin
+    wedges meeting at the pole and where the balancing converges slowest."""
+    img = np.full((512, 1024, 1), 0.1, np.float32)
+    omega = layout("latlong").solid_angles(img.shape[:2])
+    img[row, 100] = 1e5 * omega[256, 0] / omega[row, 100]
+    for dst, size in [("cube", 256), ("octahedral", 256), ("angular", 300), ("mirrorball", 256)]:
+        out = remap(img, "latlong", dst, size, filter="area")
+        np.testing.assert_allclose(
+            energy(out, dst), energy(img, "latlong"), rtol=SPHERE_AREA_ENERGY_RTOL
+        )
+
+
 @pytest.mark.parametrize("src", ["latlong", "cube", "octahedral", "angular"])
 def test_area_filter_preserves_energy_of_noise_with_rotation(src):
     rng = np.random.default_rng(4)
@@ -428,7 +442,7 @@ def test_area_balancing_makes_rows_means_and_columns_carry_their_solid_angle():
     rows, cols = np.nonzero(dense)
     indptr = np.searchsorted(rows, np.arange(m + 1)).astype(np.int64)
     values = dense[rows, cols].astype(np.float32)
-    sums = np.empty((numba.get_num_threads(), n))
+    sums = np.zeros((numba.get_num_threads(), n))
     err = sampling._balance(indptr, cols.astype(np.int32), values, omega_out, omega_in, sums)
     balanced = np.zeros((m, n))
     balanced[rows, cols] = values
