@@ -12,6 +12,7 @@ from bakeshop.sphere import LAYOUT_NAMES, cube_to_view, layout, remap, rotation_
 from tests.tolerances import (
     FLOAT32_WEIGHTS,
     SPHERE_AREA_ENERGY_RTOL,
+    SPHERE_AREA_LINEAR_ATOL,
     SPHERE_AREA_VS_BRUTE_FORCE_RRMS,
     SPHERE_BILINEAR_SMOOTH_ATOL,
     SPHERE_LATLONG_CUBE_ROUND_TRIP_ATOL,
@@ -339,6 +340,20 @@ def test_area_filter_is_the_area_average_of_a_brute_force_supersampling(probe, d
     area = rrms(remap(img, "latlong", dst, size, filter="area"))
     bilinear = rrms(remap(img, "latlong", dst, size, filter="bilinear"))
     assert area < SPHERE_AREA_VS_BRUTE_FORCE_RRMS and area < bilinear / 2.5
+
+
+@pytest.mark.parametrize(("dst", "size"), [("cube", 256), ("cube", 128), ("octahedral", 512)])
+def test_area_filter_keeps_a_linear_function_where_it_is(dst, size):
+    """The balanced weights stay centred: a linear function of direction comes out as its
+    value at the output texel centres (to a fraction of its change across a texel)."""
+
+    def f(d):
+        return 1 + 0.5 * d[..., 0] + 0.3 * d[..., 1] - 0.2 * d[..., 2]
+
+    src_dirs, _ = layout("latlong").directions((512, 1024))
+    out = remap(f(src_dirs)[..., None].astype(np.float32), "latlong", dst, size, filter="area")
+    dirs, valid = layout(dst).directions(out.shape[:-1])
+    np.testing.assert_allclose(out[..., 0][valid], f(dirs)[valid], atol=SPHERE_AREA_LINEAR_ATOL)
 
 
 @pytest.mark.parametrize("row", [0, 1, 3])
