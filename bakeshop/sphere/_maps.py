@@ -1055,6 +1055,22 @@ def area_alpha(acc, omega, alpha, inverse):
         inverse[p] = 1 / wsum if wsum > 0 else 0.0
 
 
+@numba.njit(cache=True, error_model="numpy")
+def row_starts(cursor, extra, indptr):
+    """Row q holds sum_t cursor[t, q] + extra[q] entries: ``indptr`` their running sum, and
+    ``cursor[t, q]`` becomes where chunk t's entries of row q start (after the earlier
+    chunks')."""
+    total = 0
+    for q in range(extra.shape[0]):
+        indptr[q] = total
+        for t in range(cursor.shape[0]):
+            count = cursor[t, q]
+            cursor[t, q] = total
+            total += count
+        total += extra[q]
+    indptr[extra.shape[0]] = total
+
+
 @numba.njit(parallel=True, cache=True, error_model="numpy")
 def bilinear_rows(alpha, row, base, frac, taps, indptr, counts, fill, indices, values):
     """Append to row q (at ``indptr[q + 1] - counts[q]``) the bilinear taps of the plan

@@ -307,7 +307,7 @@ def _build_area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes |
     acc = _accumulators(m, 2)
     _maps.splat_plan(s.kind, sh, sw, sfaces, omega, d.kind, dh, dw, rot, anchor, wq, scale,
                      width, parts, acc)  # fmt: skip
-    if np.all(parts[omega > 0] > 2):
+    if not np.any((parts.min(axis=1) <= 2) & (omega > 0)):
         # magnifying everywhere (every source texel over 4/3 destination texels long along both
         # of its axes): the area filter is bilinear (an empty plan)
         return np.empty(0, np.int64), np.empty(0, np.int32), np.empty(0, np.float32)
@@ -319,7 +319,9 @@ def _build_area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes |
     if len(where):
         # in chunks, so that the unmerged taps (9 per part, 8 bytes each) stay within
         # AREA_BUFFER_BYTES / 16 (or one texel's)
-        room = 9 * parts[where, 0].astype(np.int64) * parts[where, 1]
+        cut = np.take(parts, where, axis=0)
+        room = 9 * cut[:, 0].astype(np.int64) * cut[:, 1]
+        del cut
         ends = np.cumsum(room)
         start = 0
         # one pair of buffers for every chunk: fresh pages cost more than the copying
@@ -375,9 +377,7 @@ def _build_area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes |
     counts = np.zeros(m, np.int64)
     _maps.bilinear_rows(alpha, sw, *bilinear, counts, counts, False, *none)
     indptr = np.zeros(m + 1, np.int64)
-    np.cumsum(cursor.sum(axis=0) + counts, out=indptr[1:])
-    # chunk t starts where the earlier chunks' entries of the row end
-    cursor = np.cumsum(cursor, axis=0) - cursor + indptr[:-1]
+    _maps.row_starts(cursor, counts, indptr)
     rows = (np.empty(indptr[-1], np.int32), np.empty(indptr[-1], np.float32))
     _maps.splat_rows(anchor, wq, scale, dw, offsets, taps, weights, alpha, inverse, cursor,
                      True, *rows)  # fmt: skip
@@ -499,10 +499,11 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
     The resulting matrix of weights is then balanced (Sinkhorn & Knopp 1967): rows are scaled
     to sum 1, so a constant stays exactly constant, and columns so that each source texel
     sends out its solid angle, so radiance x solid angle is preserved (to 5e-5 on the default
-    probe with its one-texel sun, 4.4e-4 for a sun at a latlong's zenith; docs/panoramas.md). Only when every source texel is over 4/3
-    output texels long along both its axes (magnifying everywhere) is the filter plain
-    bilinear. Its geometry is cached too: 8 bytes per weight, about 5 per output texel, and 8
-    for its row's start, and a cached call is one parallel gather over the output.
+    probe with its one-texel sun, 4.4e-4 for a sun at a latlong's zenith; docs/panoramas.md).
+    Only when every source texel is over 4/3 output texels long along both its axes
+    (magnifying everywhere) is the filter plain bilinear. Its geometry is cached too: 8 bytes
+    per weight, about 5 per output texel, and 8 for its row's start; a cached call is one
+    parallel gather over the output.
     """
     validate_choice(filter, FILTERS, "filter")
     s, d = layout(src), layout(dst)
