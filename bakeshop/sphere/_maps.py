@@ -844,7 +844,7 @@ def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, sca
 def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, offsets, taps,
                      weights, counts):  # fmt: skip
     """The explicit taps and weights (summing to omega) of the splat plan's EXCEPTION texels
-    ``where``: texel k's entries are ``offsets[k]:offsets[k] + counts[k]`` (room for 9 per
+    ``where``: texel k's entries are ``offsets[k]:offsets[k] + counts[k]`` (room for 4 per
     part). A texel whose 3 x 3 destination texels cross a seam deposits into them (-1: a cube
     corner, left out); a texel cut into nx x ny parts (``parts``) deposits each part's solid
     angle into the texels the part's box overlaps (within the 3 x 3 around its centre), so
@@ -921,7 +921,7 @@ def _merge_taps(taps, weights, o, e, om):
     for m in range(o, e):
         lo, hi = min(lo, taps[m]), max(hi, taps[m])
     n = 0
-    if e - o > 4 * 9 * 4 and hi - lo < 64 * (e - o):
+    if e - o > 144 and hi - lo < 64 * (e - o):
         dense = np.zeros(hi - lo + 1)
         for m in range(o, e):
             dense[taps[m] - lo] += weights[m]
@@ -931,7 +931,7 @@ def _merge_taps(taps, weights, o, e, om):
                 weights[o + n] = dense[c]
                 n += 1
     else:
-        if e - o <= 4 * 9 * 4:
+        if e - o <= 144:
             for m in range(o, e):
                 tq, tw = taps[m], weights[m]
                 c = m

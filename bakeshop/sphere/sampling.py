@@ -317,15 +317,16 @@ def _build_area_plan(src: str, src_shape, dst: str, dst_shape, rotation: bytes |
     # costs here: nothing is allocated twice); the spare end is never touched
     kept, filled = (np.empty(0, np.int32), np.empty(0, np.float32)), 0
     if len(where):
-        # in chunks, so that the unmerged taps (9 per part, 8 bytes each) stay within
-        # AREA_BUFFER_BYTES / 16 (or one texel's)
+        # in chunks, so that the unmerged taps (at most 4 per part: a part's box is at most one
+        # destination texel wide; 8 bytes each) stay within AREA_BUFFER_BYTES / 16 (or one
+        # texel's)
         cut = np.take(parts, where, axis=0)
-        room = 9 * cut[:, 0].astype(np.int64) * cut[:, 1]
+        room = 4 * cut[:, 0].astype(np.int64) * cut[:, 1]
         del cut
         ends = np.cumsum(room)
         start = 0
         # one pair of buffers for every chunk: fresh pages cost more than the copying
-        room_bytes = AREA_BUFFER_BYTES // 4
+        room_bytes = AREA_BUFFER_BYTES // 16
         buffers = (
             np.empty(room_bytes // 8 + int(room.max()), np.int32),
             np.empty(room_bytes // 8 + int(room.max()), np.float32),
@@ -441,16 +442,12 @@ _area_plan = _ByteBoundedCache(_area_plan, AREA_PLAN_CACHE_BYTES)
 
 
 def _area(flat, s: Layout, src_shape, d: Layout, dst_shape, key):
-    """The area filter into ``d`` (a cube picture: gathered straight into it)."""
+    """The area filter into ``d`` (a cube picture: gathered straight into it); None where it
+    is bilinear (magnifying everywhere)."""
     with progress.step(f"area filter {s.name} -> {d.name}"):
         indptr, indices, values = _area_plan(s.name, src_shape, d.name, dst_shape, key)
         if len(indptr) == 0:
-            # magnifying everywhere: bilinear
-            base_shape = dst_shape if d.base is d else d.base.shape(d.face_size(dst_shape))
-            plan = _plan(s.name, src_shape, d.base.name, base_shape, "bilinear", key)
-            out = _apply_plan(flat, plan, s._hw(src_shape)[1])
-            out = out.reshape(base_shape + flat.shape[1:])
-            return out if d.base is d else cube_to_view(out, d.name)
+            return None
         out = np.empty(dst_shape + (flat.shape[1],), flat.dtype)
         _maps.area_gather(flat, indptr, indices, values, out.reshape(-1, flat.shape[1]))
     return out
@@ -519,7 +516,10 @@ def remap(image, src, dst, size=None, *, filter: str = "bilinear", rotation=None
     flat = np.ascontiguousarray(img.reshape(-1, img.shape[-1]))
     channels = img.shape[-1]
     if filter == "area":
-        return _shaped(_area(flat, s.base, src_shape, d, dst_shape, key), squeeze)
+        out = _area(flat, s.base, src_shape, d, dst_shape, key)
+        if out is not None:
+            return _shaped(out, squeeze)
+        filter = "bilinear"
     # a cube picture (cross, strip) gets a plan of its own, the cube's reordered, the first
     # time the cube's plan is reused: a cached call then gathers straight into the picture
     key_of = (s.base.name, src_shape, d.base.name, base_shape, filter, key)
