@@ -28,16 +28,16 @@ import numpy as np
 import OpenImageIO as oiio
 
 from bakeshop import sphere
-from bakeshop.light import fresnel
+from bakeshop.image import exposure, to_srgb8
 from bakeshop.light.fresnel import WATER_IOR, bake_fresnel
-from bakeshop.light.tonemap import exposure, to_srgb8
+from bakeshop.sphere import clear_caches
 
 H, W = 2048, 4096
 
 
 def first_bake(image):
     """The bake of a shape not seen before: texel cosines computed, not taken from the cache."""
-    fresnel._cached_cosines.cache_clear()
+    clear_caches()
     return bake_fresnel(image, "latlong")
 
 

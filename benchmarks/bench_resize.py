@@ -1,4 +1,4 @@
-"""Time energy-preserving downsampling: bakeshop.resample vs OpenCV INTER_AREA and Pillow BOX.
+"""Time energy-preserving downsampling: bakeshop.image vs OpenCV INTER_AREA and Pillow BOX.
 
 An 8192x4096 float32 RGB image (384 MiB) is reduced to an integer factor (2048x1024) and to a
 non-integer one (1000x500). Prints seconds (best of 3, warm), ratios to bakeshop, the mean's
@@ -14,7 +14,7 @@ import cv2
 import numpy as np
 from PIL import Image
 
-from bakeshop.resample import resize_area
+from bakeshop.image import resize_area
 
 
 def pillow_box(image, size):

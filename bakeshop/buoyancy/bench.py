@@ -10,7 +10,7 @@ from bakeshop.buoyancy.forces import ForceModel
 from bakeshop.buoyancy.hydrostatics import waterplane_area
 from bakeshop.buoyancy.mass import make_body, pack
 from bakeshop.buoyancy.metrics import clearance, summarize
-from bakeshop.buoyancy.shapes import load_mesh, make_shape, resize
+from bakeshop.buoyancy.shapes import closed_mesh, make_shape, resize
 from bakeshop.buoyancy.state import axis_angle_quaternion, quaternion_to_matrix
 from bakeshop.buoyancy.stepping import release, simulate
 from bakeshop.buoyancy.water import Water
@@ -30,13 +30,12 @@ class BenchResult:
 
 
 def float_body(
-    mesh_path=None,
+    mesh=None,
     *,
     shape: str | None = None,
     size=None,
     density: float,
     resolution: int = 10,
-    repair: bool = False,
     model: ForceModel | None = None,
     water: Water | None = None,
     fps: float = 60.0,
@@ -48,20 +47,20 @@ def float_body(
     backend: str = "builtin",
     **backend_options,
 ) -> BenchResult:
-    """Float a mesh file or built-in shape once and measure it.
+    """Float a mesh or built-in shape once and measure it.
+
+    ``mesh`` is a closed body (:func:`~bakeshop.buoyancy.shapes.closed_mesh` of what
+    :func:`bakeshop.io.load_mesh` reads), in metres; ``size`` rescales it (see
+    :func:`~bakeshop.buoyancy.shapes.resize`).
 
     ``tilt`` (degrees) turns the body about the X axis before release; ``release_height`` is
     the height (m) of its lowest point above the water then. ``omega_dt`` in the summary is the
     small-oscillation heave frequency ``sqrt(rho g A_wp / m)`` times the time a force is held
     (the solver step, or the frame in per-frame mode): semi-implicit Euler diverges above 2.
     """
-    if (mesh_path is None) == (shape is None):
-        raise ArgumentError("give either a mesh file or a built-in shape, not both or neither")
-    mesh = (
-        make_shape(shape, size=size) if shape is not None else load_mesh(mesh_path, repair=repair)
-    )
-    if shape is None:
-        resize(mesh, size)
+    if (mesh is None) == (shape is None):
+        raise ArgumentError("give either a mesh or a built-in shape, not both or neither")
+    mesh = make_shape(shape, size=size) if shape is not None else resize(closed_mesh(mesh), size)
     if not np.isfinite(tilt):
         raise ArgumentError(f"tilt must be a finite number of degrees, got {tilt}")
     model = ForceModel() if model is None else model

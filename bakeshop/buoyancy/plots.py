@@ -1,29 +1,19 @@
-"""Pictures of floating runs (matplotlib, drawn off-screen): a trace and the matrix grid."""
+"""Pictures of floating runs (matplotlib, drawn off-screen): a trace and the matrix grid, as
+``(H, W, 3)`` uint8 pictures (:func:`bakeshop.io.write_image` saves them)."""
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
 
-from bakeshop.io._files import atomic_path
+from bakeshop.figures import new_figure, to_rgb
 
 
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def plot_trace(path: str | os.PathLike, time, clear, *, labels, title: str, draft=None) -> None:
-    """Draw the clearance (height of the lowest point above the water, m) of each body over
-    time (s) into a PNG at ``path``; ``draft`` (optional, m per body) is drawn as the expected
-    settled clearance ``-draft``."""
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(8, 3.6), dpi=90)
+def plot_trace(time, clear, *, labels, title: str, draft=None) -> np.ndarray:
+    """The clearance (height of the lowest point above the water, m) of each body over time
+    (s); ``draft`` (optional, m per body) is drawn as the expected settled clearance
+    ``-draft``. Returns the picture, ``(H, W, 3)`` uint8."""
+    fig = new_figure(8, 3.6, dpi=90)
+    ax = fig.subplots()
     for b, label in enumerate(labels):
         (line,) = ax.plot(time, clear[:, b], lw=1.2, label=label)
         if draft is not None and draft[b] is not None:
@@ -36,20 +26,17 @@ def plot_trace(path: str | os.PathLike, time, clear, *, labels, title: str, draf
     if len(labels) > 1:
         ax.legend(fontsize=7, loc="lower left", ncol=2 if len(labels) > 2 else 1)
     fig.tight_layout()
-    _save(fig, path)
+    return to_rgb(fig)
 
 
-def plot_grid(path: str | os.PathLike, matrix, *, forces: str = "per-frame") -> None:
+def plot_grid(matrix, *, forces: str = "per-frame") -> np.ndarray:
     """The matrix as a grid of clearance traces: treatments down, frame rates across, one line
-    per shape, for one force mode."""
-    plt = _pyplot()
+    per shape, for one force mode. Returns the picture, ``(H, W, 3)`` uint8."""
     keys = [k for k in matrix.clearances if k[0] == forces]
     treatments = list(dict.fromkeys(k[1] for k in keys))
     rates = sorted({k[2] for k in keys})
-    fig, axes = plt.subplots(
-        len(treatments), len(rates), figsize=(2.6 * len(rates), 1.7 * len(treatments)),
-        dpi=80, sharex=True, sharey=True, squeeze=False,
-    )  # fmt: skip
+    fig = new_figure(2.6 * len(rates), 1.7 * len(treatments), dpi=80)
+    axes = fig.subplots(len(treatments), len(rates), sharex=True, sharey=True, squeeze=False)
     for i, treatment in enumerate(treatments):
         for j, fps in enumerate(rates):
             ax = axes[i, j]
@@ -66,11 +53,4 @@ def plot_grid(path: str | os.PathLike, matrix, *, forces: str = "per-frame") -> 
     axes[0, -1].legend(fontsize=6, loc="upper right")
     fig.suptitle(f"lowest point above water (m) vs time (s), forces {forces}", fontsize=9)
     fig.tight_layout()
-    _save(fig, path)
-
-
-def _save(fig, path) -> None:
-    plt = _pyplot()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png")
-    plt.close(fig)
+    return to_rgb(fig)

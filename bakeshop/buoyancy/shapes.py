@@ -7,9 +7,6 @@ rescales them (a number sets the longest side, three numbers set the bounding bo
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
-
 import numpy as np
 import trimesh
 
@@ -17,9 +14,6 @@ from bakeshop.errors import ArgumentError, FormatError, validate_choice
 
 #: Names of the built-in shapes, in the order the test bench lists them.
 SHAPES = ("box", "sphere", "capsule", "cylinder", "torus", "peep", "hull")
-
-#: File extensions :func:`load_mesh` reads (through trimesh).
-MESH_EXTENSIONS = (".obj", ".stl", ".ply", ".glb", ".gltf", ".off")
 
 
 def make_shape(name: str, *, size: float | tuple[float, float, float] | None = None):
@@ -78,60 +72,54 @@ def resize(mesh, size: float | tuple[float, float, float] | None):
     return mesh
 
 
-def load_mesh(path: str | os.PathLike, *, repair: bool = False):
-    """Read a closed mesh (OBJ, STL, PLY, OFF, glTF/GLB) for floating.
+def closed_mesh(mesh, *, repair: bool = False, path=None):
+    """A mesh as a closed body for floating: welded and checked.
 
-    Vertices that are duplicated only for texture or normal seams are welded, scenes are merged
-    into one mesh, and the mesh must then be watertight with a positive volume.
+    Vertices that are duplicated only for texture or normal seams are welded, and the mesh
+    must then be watertight with a positive volume.
 
     Parameters
     ----------
-    path : path-like
-        Mesh file, in metres, +Y up.
+    mesh : bakeshop.io.mesh.Mesh or trimesh.Trimesh
+        As :func:`bakeshop.io.load_mesh` reads it, in metres, +Y up.
     repair : bool
         Try to close the mesh (fill holes, fix winding) instead of refusing it. A mesh that is
         still open afterwards is refused anyway.
+    path : path-like, optional
+        The file it came from, named in errors.
 
     Returns
     -------
     trimesh.Trimesh
+        Watertight, outward normals.
 
     Raises
     ------
     FormatError
-        Unreadable file, no triangles, or not watertight (without a successful repair).
+        Not watertight (without a successful repair), or no volume.
     """
-    path = Path(path)
-    if path.suffix.lower() not in MESH_EXTENSIONS:
-        raise FormatError(
-            f"unsupported mesh extension {path.suffix!r}; use one of {', '.join(MESH_EXTENSIONS)}",
-            path,
-        )
-    try:
-        loaded = trimesh.load(path, force="mesh", process=True)
-    except Exception as e:  # trimesh raises many types for corrupt files
-        raise FormatError(f"cannot read mesh: {e}", path) from e
-    if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
-        raise FormatError("the file holds no triangles", path)
-    mesh = loaded
-    if not np.all(np.isfinite(mesh.vertices)):
+    vertices = getattr(mesh, "positions", None)
+    if vertices is None:
+        vertices = mesh.vertices
+    body = trimesh.Trimesh(np.asarray(vertices), np.asarray(mesh.faces), process=True)
+    if not np.all(np.isfinite(body.vertices)):
         raise FormatError("the mesh has non-finite vertex coordinates", path)
-    mesh.merge_vertices(merge_tex=True, merge_norm=True)
-    mesh.remove_unreferenced_vertices()
-    if not mesh.is_watertight and repair:
-        trimesh.repair.fill_holes(mesh)
-        mesh.merge_vertices(merge_tex=True, merge_norm=True)
-    if not mesh.is_watertight:
+    body.merge_vertices(merge_tex=True, merge_norm=True)
+    body.remove_unreferenced_vertices()
+    if not body.is_watertight and repair:
+        trimesh.repair.fill_holes(body)
+        body.merge_vertices(merge_tex=True, merge_norm=True)
+    if not body.is_watertight:
         hint = "" if repair else " (repair=True / --repair tries to close it)"
         raise FormatError(
-            f"the mesh is not watertight: {_open_edges(mesh)} open edges, so it has no "
+            f"the mesh is not watertight: {_open_edges(body)} open edges, so it has no "
             f"inside to float{hint}",
             path,
         )
-    trimesh.repair.fix_normals(mesh)
-    if not mesh.volume > 0:
+    trimesh.repair.fix_normals(body)
+    if not body.volume > 0:
         raise FormatError("the mesh encloses no volume", path)
-    return mesh
+    return body
 
 
 def _open_edges(mesh) -> int:

@@ -7,6 +7,7 @@ import os
 from pathlib import Path
 
 import click
+import numpy as np
 
 from bakeshop.errors import ArgumentError
 
@@ -101,25 +102,6 @@ def convention_option(help: str):
     )
 
 
-def input_layout(image, given: str | None, path) -> str:
-    """The layout of an input panorama: ``given`` (from ``--from``), else the one layout its
-    shape allows (:func:`bakeshop.sphere.guess_layout`); :class:`ArgumentError` when the shape
-    fits several (a square image may be angular, mirrorball or octahedral) or none."""
-    from bakeshop import sphere
-
-    if given is not None:
-        return given
-    h, w = image.shape[:2]
-    candidates = sphere.guess_layout(h, w)
-    if len(candidates) != 1:
-        which = ", ".join(candidates) if candidates else "none"
-        raise ArgumentError(
-            f"cannot tell the layout of a {w}x{h} image (candidates: {which}); name it with --from",
-            path,
-        )
-    return candidates[0]
-
-
 def is_ldr(path) -> bool:
     """True when ``path``'s format stores 8-bit display-encoded pictures (PNG, JPEG, TGA)."""
     from bakeshop.io import HDR_CODECS, codec_for
@@ -135,3 +117,16 @@ def require_hdr(path) -> None:
             "display-encoded values (decode with 'bakeshop convert --srgb-decode' first)",
             path,
         )
+
+
+def parse_exposure(text: str | None) -> float | str | None:
+    """``None``, ``'auto'`` or a number of stops."""
+    if text is None or text.strip().lower() == "auto":
+        return None if text is None else "auto"
+    try:
+        ev = float(text)
+    except ValueError:
+        ev = float("nan")
+    if not np.isfinite(ev):
+        raise ArgumentError(f"invalid exposure {text!r}: a number of stops (EV) or 'auto'")
+    return ev

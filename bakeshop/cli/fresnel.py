@@ -1,11 +1,8 @@
-"""``bakeshop fresnel`` (fresnel-baked reflections for flat water) and ``bakeshop tonemap``."""
+"""``bakeshop fresnel``: fresnel-baked reflections for flat water."""
 
 from __future__ import annotations
 
-import glob
-import os
 import re
-import string
 from pathlib import Path
 
 import click
@@ -16,18 +13,18 @@ from bakeshop.cli._common import (
     OUTPUT,
     convention_option,
     is_ldr,
+    parse_exposure,
     parse_size,
     refuse_overwriting_inputs,
     require_hdr,
 )
-from bakeshop.cli._environment import (
-    auto_filter,
+from bakeshop.errors import ArgumentError
+from bakeshop.io.environment import (
     describe,
     is_container,
     read_environment,
     write_environment,
 )
-from bakeshop.errors import ArgumentError
 
 _AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 
@@ -46,19 +43,6 @@ def parse_axis(text: str) -> tuple[float, float, float]:
     if len(v) != 3 or not np.all(np.isfinite(v)) or not any(v):
         raise ArgumentError(f"invalid axis {text!r}: use +X, -X, +Y, -Y, +Z, -Z or x,y,z")
     return v
-
-
-def parse_exposure(text: str | None) -> float | str | None:
-    """``None``, ``'auto'`` or a number of stops."""
-    if text is None or text.strip().lower() == "auto":
-        return None if text is None else "auto"
-    try:
-        ev = float(text)
-    except ValueError:
-        ev = float("nan")
-    if not np.isfinite(ev):
-        raise ArgumentError(f"invalid exposure {text!r}: a number of stops (EV) or 'auto'")
-    return ev
 
 
 def _check_output(target: Path, layout: str, ldr: bool) -> None:
@@ -220,6 +204,8 @@ def fresnel(
       bakeshop fresnel sky.exr water.dds --layout cube --size 512 --below mirror
     """
     from bakeshop import progress, sphere
+    from bakeshop.image import exposure as apply_exposure
+    from bakeshop.image import to_srgb8
     from bakeshop.light.fresnel import (
         RMS_SLOPES,
         bake_fresnel,
@@ -228,8 +214,6 @@ def fresnel(
         normal_mapped_error,
         schlick_error,
     )
-    from bakeshop.light.tonemap import exposure as apply_exposure
-    from bakeshop.light.tonemap import to_srgb8
 
     refuse_overwriting_inputs(target, source)
     if not is_container(source):  # a container holds floats
@@ -239,12 +223,12 @@ def fresnel(
     if dither and not ldr:
         raise ArgumentError("--dither applies to --ldr output only")
 
-    image, src, _ = read_environment(source, src_layout, convention)
+    image, src, _ = read_environment(source, src_layout, convention=convention)
     dst = dst_layout or src
     _check_output(target, dst, ldr)
     if dst != src or size is not None:
         wanted = parse_size(size) if size else None
-        image = sphere.remap(image, src, dst, wanted, filter=auto_filter(image, src, dst, wanted))
+        image = sphere.remap(image, src, dst, wanted, filter="auto")
     baked = bake_fresnel(image, dst, ior=ior, up=up_axis, below=below)
     if ev == "auto" or (ev is None and ldr):
         ev = ldr_exposure(baked, dst, up=up_axis)
@@ -252,7 +236,7 @@ def fresnel(
     out = apply_exposure(baked, ev)
     if ldr:
         out = to_srgb8(out, dither="triangular" if dither else "none", seed=seed)
-    written = write_environment(target, out, dst, convention)
+    written = write_environment(target, out, dst, convention=convention)
 
     encoding = "8-bit sRGB" + (", dithered" if dither else "") if ldr else "float"
     where = str(written[0]) if len(written) == 1 else f"{len(written)} faces ({target})"
@@ -277,185 +261,6 @@ def fresnel(
             click.echo(line)
 
 
-def _natural_key(path: str):
-    """Sort key that orders frame_2 before frame_10."""
-    return [(0, int(t), "") if t.isdigit() else (1, 0, t) for t in re.split(r"(\d+)", path)]
-
-
-def expand_inputs(patterns) -> list[Path]:
-    """Input frames in order: each argument is a file or a glob pattern, whose matches are
-    sorted by name with numbers in numeric order (frame_2 before frame_10)."""
-    frames: list[Path] = []
-    for p in patterns:
-        if glob.has_magic(p):
-            matches = sorted(glob.glob(p), key=_natural_key)
-            if not matches:
-                raise ArgumentError("no file matches this pattern", p)
-            frames.extend(Path(m) for m in matches)
-        elif os.path.isfile(p):
-            frames.append(Path(p))
-        else:
-            raise ArgumentError("no such file", p)
-    return frames
-
-
-def frame_paths(target: str, count: int) -> list[Path]:
-    """Output names: ``target`` for one frame; ``target.format(frame=i)`` for a sequence."""
-    fields = {f for _, f, _, _ in string.Formatter().parse(target) if f is not None}
-    if count > 1 and "frame" not in fields:
-        raise ArgumentError(
-            "several input frames need a {frame} pattern in the output name "
-            "(for example out_{frame:04d}.png)",
-            target,
-        )
-    if fields - {"frame"}:
-        raise ArgumentError("only {frame} may appear in braces in the output name", target)
-    try:
-        return [Path(target.format(frame=i)) for i in range(count)]
-    except (ValueError, IndexError) as e:
-        raise ArgumentError(f"bad output pattern: {e}", target) from None
-
-
-@click.command(context_settings={"max_content_width": 100})
-@click.argument("inputs", nargs=-1, required=True, metavar="IN...")
-@click.argument("target", metavar="OUT")
-@click.option(
-    "--operator",
-    type=click.Choice(["none", "reinhard", "aces"]),
-    default="aces",
-    show_default=True,
-    help="Tone curve after exposure: none (clamp), reinhard (Reinhard 2002 eq. 4 on "
-    "luminance, hue kept), aces (Hill's fit of the ACES RRT+ODT).",
-)
-@click.option(
-    "--exposure",
-    "exposure_text",
-    default="auto",
-    show_default=True,
-    metavar="EV|auto",
-    help="Exposure in stops, or auto: centre-weighted log-average luminance mapped "
-    "to --key, adapting over a sequence.",
-)
-@click.option(
-    "--center-weight",
-    type=click.FloatRange(0, 1),
-    default=0.75,
-    show_default=True,
-    help="Auto exposure: fraction of the metering weight in the centre spot (0 is "
-    "the plain frame average).",
-)
-@click.option(
-    "--key",
-    type=click.FloatRange(min=0, min_open=True),
-    default=0.18,
-    show_default=True,
-    help="Auto exposure: target log-average (middle grey).",
-)
-@click.option(
-    "--white",
-    type=click.FloatRange(min=0, min_open=True),
-    help="Reinhard: luminance (after exposure) that maps to white; default infinite.",
-)
-@click.option(
-    "--fps",
-    type=click.FloatRange(min=0, min_open=True),
-    default=30.0,
-    show_default=True,
-    help="Sequence: frames per second (for the adaptation).",
-)
-@click.option(
-    "--tau-brighter",
-    type=click.FloatRange(min=0, min_open=True),
-    default=0.5,
-    show_default=True,
-    help="Sequence: adaptation time constant (s) when the scene gets brighter.",
-)
-@click.option(
-    "--tau-darker",
-    type=click.FloatRange(min=0, min_open=True),
-    default=2.0,
-    show_default=True,
-    help="Sequence: adaptation time constant (s) when the scene gets darker.",
-)
-@click.option("--dither", is_flag=True, help="Triangular dither of +-1 code value (seeded).")
-def tonemap(
-    inputs,
-    target,
-    operator,
-    exposure_text,
-    center_weight,
-    key,
-    white,
-    fps,
-    tau_brighter,
-    tau_darker,
-    dither,
-):
-    """Tone-map HDR images (one or a sequence of frames) to 8-bit sRGB pictures.
-
-    Each frame: exposure (a fixed EV, or auto), the tone operator, clamp to [0, 1], sRGB
-    encoding (IEC 61966-2-1) and rounding to 8 bits; OUT is .png, .tga or .jpg. Auto exposure
-    meters the centre-weighted log-average luminance (Reinhard 2002 eq. 1, weights favouring
-    the centre of the frame) and maps it to --key; over a sequence the exposure adapts
-    exponentially, with time constant --tau-brighter when the scene gets brighter and
-    --tau-darker when it gets darker (63% of a step after one time constant). IN may be
-    several files or a quoted glob (matches in name order, numbers numerically); a sequence
-    needs {frame} in OUT (frame 0, 1, ...).
-
-    \b
-    Example:
-      bakeshop tonemap probe.hdr preview.png --operator reinhard --white 8
-      bakeshop tonemap 'shots/frame_*.exr' out/frame_{frame:04d}.png --operator aces
-      bakeshop tonemap probe.hdr dark.png --operator none --exposure -3
-    """
-    from bakeshop import progress
-    from bakeshop.io import read_image, write_image
-    from bakeshop.light.tonemap import (
-        adapt_exposure,
-        auto_exposure,
-        to_srgb8,
-    )
-    from bakeshop.light.tonemap import tonemap as apply_tonemap
-
-    frames = expand_inputs(inputs)
-    for frame in frames:
-        require_hdr(frame)
-    outputs = frame_paths(target, len(frames))
-    for out in outputs:
-        if not is_ldr(out):
-            raise ArgumentError("tonemap writes 8-bit sRGB pictures: use .png, .tga or .jpg", out)
-        refuse_overwriting_inputs(out, *frames)
-    if len(set(outputs)) != len(outputs):
-        raise ArgumentError("the output pattern gives several frames the same name", target)
-    ev_fixed = parse_exposure(exposure_text)
-    adapted = None
-    evs = []
-    for path, out in progress.track(
-        list(zip(frames, outputs, strict=True)), "tone mapping", total=len(frames)
-    ):
-        image = read_image(path)
-        if ev_fixed == "auto":
-            target_ev = auto_exposure(image, center_weight=center_weight, key=key)
-            adapted = adapt_exposure(
-                [target_ev],
-                frame_time=1.0 / fps,
-                tau_brighter=tau_brighter,
-                tau_darker=tau_darker,
-                start=adapted,
-            )[0]
-            ev = float(adapted)
-        else:
-            ev = ev_fixed
-        display = apply_tonemap(image, ev=ev, operator=operator, white=white)
-        write_image(out, to_srgb8(display, dither="triangular" if dither else "none"))
-        evs.append(ev)
-    how = "auto" if ev_fixed == "auto" else "fixed"
-    span = f"{evs[0]:+.2f} EV" if len(evs) == 1 else f"{min(evs):+.2f} to {max(evs):+.2f} EV"
-    dest = outputs[0] if len(outputs) == 1 else f"{len(outputs)} frames ({target})"
-    click.echo(f"wrote {dest}: {operator}, {how} exposure {span}, 8-bit sRGB")
-
-
 def register(group: click.Group) -> None:
-    """Add ``fresnel`` and ``tonemap`` to the ``bakeshop`` command."""
+    """Add the command to the root group."""
     group.add_command(fresnel)
-    group.add_command(tonemap)

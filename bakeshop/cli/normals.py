@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
+import numpy as np
 
 from bakeshop.cli._common import (
     INPUT,
@@ -128,7 +129,6 @@ def _parse_layer(spec: str) -> dict:
 def _build_layers(shape, settings, method_convention, encoding):
     """Read each layer's detail map and mask into DetailLayer objects."""
     from bakeshop.io import read_image
-    from bakeshop.normals.encoding import read_normal_map
     from bakeshop.normals.tiling import DetailLayer, mask_weights
 
     layers = []
@@ -159,6 +159,33 @@ def _build_layers(shape, settings, method_convention, encoding):
             )
         )
     return layers
+
+
+def read_normal_map(
+    path, *, convention: str = "gl", encoding: str = "packed", channels: str = "xyz"
+) -> np.ndarray:
+    """A normal-map file as ``(H, W, 3)`` float32 unit vectors in the OpenGL frame
+    (:func:`bakeshop.normals.decode_normals` of :func:`bakeshop.io.read_image`)."""
+    from bakeshop.io import read_image
+    from bakeshop.normals.encoding import decode_normals
+
+    image = read_image(path)
+    try:
+        return decode_normals(image, convention=convention, encoding=encoding, channels=channels)
+    except ArgumentError as e:
+        raise ArgumentError(e.reason, path) from None
+
+
+def write_normal_map(
+    path, normals, *, convention: str = "gl", encoding: str = "packed", channels: str = "xyz",
+    **options,
+) -> None:  # fmt: skip
+    """Write unit normals (OpenGL frame) in an encoding; ``options`` go to the codec."""
+    from bakeshop.io import write_image
+    from bakeshop.normals.encoding import encode_normals
+
+    values = encode_normals(normals, convention=convention, encoding=encoding, channels=channels)
+    write_image(path, values.astype(np.float32, copy=False), **options)
 
 
 @click.group(context_settings=CONTEXT)
@@ -249,7 +276,6 @@ def combine(
           --layer 'grit_n.png,tile=24,rotate=30,strength=0.6,mask=ids.png,id=#9090a0'
       bakeshop normals combine macro.tga detail.tga out.tga --method rnm --convention dx
     """
-    from bakeshop.normals.encoding import read_normal_map, write_normal_map
     from bakeshop.normals.tiling import apply_layers
 
     settings = [
@@ -369,9 +395,9 @@ def transfer(
       bakeshop normals transfer rifle.obj grit_n.png rifle_final.png --projection triplanar \\
           --tile 30 --macro rifle_n.png
     """
+    from bakeshop.io import load_mesh
     from bakeshop.normals.blend import blend
-    from bakeshop.normals.encoding import read_normal_map, write_normal_map
-    from bakeshop.normals.transfer import load_mesh, transfer_detail
+    from bakeshop.normals.transfer import transfer_detail
 
     refuse_overwriting_inputs(out, mesh, detail, *([macro] if macro else []))
     base = None
@@ -451,7 +477,6 @@ def from_height(height, out, strength, derivative, no_wrap, channel, convention,
       bakeshop normals from-height rock_h.exr rock_n.png --derivative sobel --convention dx
     """
     from bakeshop.io import read_image
-    from bakeshop.normals.encoding import write_normal_map
     from bakeshop.normals.height import height_to_normal
 
     refuse_overwriting_inputs(out, height)

@@ -1,4 +1,4 @@
-"""Image files to arrays and back.
+"""Every byte that enters or leaves bakeshop: image files, environments, containers, meshes.
 
 ``read_image(path)`` returns a float32 ``(H, W, C)`` array, C in {1, 3, 4}, linear values, row 0 at
 the top of the picture; ``write_image(path, image, **options)`` writes one, atomically. The codec
@@ -9,6 +9,11 @@ refused with an error naming what it really is.
 Each codec is one module of this package exposing ``NAME``, ``sniff(head) -> bool``,
 ``read(path, *, ...) -> (image, metadata)`` and ``write(path, image, *, ...)``, whose options are
 keyword-only parameters (an option a codec does not take is refused with the list it does).
+
+Beside the codecs: :func:`read_environment`/:func:`write_environment` (any layout, six
+``{face}`` files, DDS/KTX/KTX2 cube maps; :mod:`bakeshop.io.environment`), the texture
+containers (:data:`CONTAINERS`), :func:`load_mesh` (:mod:`bakeshop.io.mesh`), JSON and text
+documents, and :func:`atomic_path`, the one way a file is written.
 """
 
 from __future__ import annotations
@@ -22,6 +27,16 @@ import numpy as np
 
 from bakeshop.errors import BakeshopError, FormatError, UnsupportedError
 from bakeshop.io._files import atomic_path
+from bakeshop.io.containers import CONTAINERS, read_container, write_container
+from bakeshop.io.documents import read_json, write_json, write_text
+from bakeshop.io.environment import (
+    EnvironmentFile,
+    read_environment,
+    write_chain,
+    write_environment,
+    write_table,
+)
+from bakeshop.io.mesh import load_mesh
 
 #: codec module -> the file extensions it owns.
 CODECS: dict[str, tuple[str, ...]] = {
@@ -43,13 +58,26 @@ ALPHA_EXTENSIONS = frozenset({".tga", ".exr", ".png"})
 SNIFF_BYTES = 64
 
 __all__ = [
-    "CODECS",
-    "HDR_CODECS",
     "ALPHA_EXTENSIONS",
-    "read_image",
-    "write_image",
+    "CODECS",
+    "CONTAINERS",
+    "HDR_CODECS",
+    "EnvironmentFile",
+    "atomic_path",
     "codec_for",
+    "load_mesh",
+    "read_container",
+    "read_environment",
+    "read_image",
+    "read_json",
     "sniff_format",
+    "write_chain",
+    "write_container",
+    "write_environment",
+    "write_image",
+    "write_json",
+    "write_table",
+    "write_text",
 ]
 
 

@@ -3,7 +3,7 @@
 An 8-bit sample v reads as v / 255 and a 16-bit one as v / 65535, whatever the file says about
 its colour space: sRGB-encoded data stays encoded (the ``srgb``, ``gamma`` and ``icc_profile``
 metadata say what the file declares). Decode to linear yourself when the data is colour, with
-:func:`bakeshop.light.tonemap.srgb_decode` (``bakeshop convert --srgb-decode``); normal maps,
+:func:`bakeshop.image.srgb_decode` (``bakeshop convert --srgb-decode``); normal maps,
 masks and height maps are data and must not be decoded. Commands that make display images say in
 their ``--help`` when they sRGB-encode.
 

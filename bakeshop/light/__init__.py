@@ -1,5 +1,43 @@
-"""What is computed from an environment: spherical harmonics, diffuse irradiance and the sun,
-specular prefiltering, fresnel baking, exposure and tone mapping.
+"""What is computed from an environment: spherical harmonics, diffuse irradiance (DIMs and the
+DIM pair), the sun, specular prefiltering and the DFG table, fresnel bakes, and the whole
+probe bake.
 
-Import from the submodules, each named for what it holds.
+>>> from bakeshop.light import bake_probe, dim_pair, irradiance
+>>> dim = irradiance(probe, "latlong")                 # E / pi, latlong 360x180
+>>> pair = dim_pair(probe, "latlong")                  # sun DIM, shadow DIM, shadow probe, sun
+
+Modules: :mod:`~bakeshop.light.sh`, :mod:`~bakeshop.light.diffuse` (the cosine convolution),
+:mod:`~bakeshop.light.sun`, :mod:`~bakeshop.light.dims`, :mod:`~bakeshop.light.specular`,
+:mod:`~bakeshop.light.dfg`, :mod:`~bakeshop.light.fresnel`, :mod:`~bakeshop.light.probe`.
 """
+
+from bakeshop.light.dfg import dfg_table
+from bakeshop.light.diffuse import METHODS, cosine_sum, irradiance, sh_coefficients
+from bakeshop.light.dims import DimPair, dim_pair
+from bakeshop.light.fresnel import WATER_IOR, bake_fresnel, fresnel_dielectric
+from bakeshop.light.probe import ProbeBake, bake_probe, contact_sheet
+from bakeshop.light.specular import prefilter_ggx, prefilter_phong, source_cube
+from bakeshop.light.sun import Sun, find_sun, remove_sun, sun_document
+
+__all__ = [
+    "METHODS",
+    "WATER_IOR",
+    "DimPair",
+    "ProbeBake",
+    "Sun",
+    "bake_fresnel",
+    "bake_probe",
+    "contact_sheet",
+    "cosine_sum",
+    "dfg_table",
+    "dim_pair",
+    "find_sun",
+    "fresnel_dielectric",
+    "irradiance",
+    "prefilter_ggx",
+    "prefilter_phong",
+    "remove_sun",
+    "sh_coefficients",
+    "source_cube",
+    "sun_document",
+]

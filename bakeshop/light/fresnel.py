@@ -16,15 +16,13 @@ C. Schlick, "An Inexpensive BRDF Model for Physically-based Rendering", Computer
 
 from __future__ import annotations
 
-import functools
-
 import numba
 import numpy as np
 
 from bakeshop import progress, sphere
 from bakeshop.errors import ArgumentError, validate_choice
-from bakeshop.light.tonemap import exposure, srgb_decode, to_srgb8
-from bakeshop.sphere import _maps
+from bakeshop.image import exposure, srgb_decode, to_srgb8
+from bakeshop.sphere import check_environment, texel_cosines
 
 #: Index of refraction of water at visible wavelengths (about 20 C, 589 nm).
 WATER_IOR = 1.333
@@ -165,24 +163,6 @@ def _unit_axis(up) -> np.ndarray:
     return u / norm
 
 
-def _as_environment(image, lay) -> tuple[np.ndarray, bool]:
-    """``image`` as float (spatial..., C) for layout ``lay``; True if a channel axis was added."""
-    a = np.asarray(image)
-    if a.dtype not in (np.float32, np.float64):
-        a = a.astype(np.float32)
-    rank = 3 if lay.cubic else 2
-    grey = a.ndim == rank
-    if grey:
-        a = a[..., None]
-    if a.ndim != rank + 1 or a.shape[-1] not in (1, 3, 4):
-        raise ArgumentError(
-            f"a {lay.name} environment must have {rank} spatial axes and 1, 3 or 4 channels; "
-            f"got shape {np.shape(image)}"
-        )
-    lay.check_shape(a.shape[:-1])
-    return a, grey
-
-
 def bake_fresnel(
     image,
     layout: str,
@@ -227,10 +207,10 @@ def bake_fresnel(
     validate_choice(below, BELOW_MODES, "below-horizon mode")
     n = _check_ior(ior)
     up = _unit_axis(up)
-    lay = sphere.layout(layout)
-    a, grey = _as_environment(image, lay)
+    env = check_environment(image, layout)
+    a, lay = env.image, env.layout
     shape = a.shape[:-1]
-    cos = texel_cosines(layout, shape, up)
+    cos = texel_cosines(lay, shape, up)
     out = np.empty_like(a)
     _apply_reflectance(
         cos.reshape(-1),
@@ -249,56 +229,7 @@ def bake_fresnel(
         fetched = sphere.sample(a, layout, dirs - 2.0 * c[:, None] * up, filter="bilinear")
         colour = min(a.shape[-1], 3)
         out[(*lower, slice(0, colour))] = fetched[:, :colour] * fresnel_dielectric(-c, n)[:, None]
-    return out[..., 0] if grey else out
-
-
-def texel_cosines(layout: str, shape, up=(0.0, 1.0, 0.0)) -> np.ndarray:
-    """Cosine between each texel centre's direction and ``up``: the fresnel bake's cos(theta_i).
-
-    Computed from the layout's own scalar maps (:mod:`bakeshop.sphere._maps`) in one kernel,
-    without building a direction array (a cross or strip is computed as its cube), and cached
-    for the last two (layout, shape, up): a bake and its exposure or report share it.
-
-    Parameters
-    ----------
-    layout : str
-    shape : tuple of int
-        Spatial shape of the layout's image (``(H, W)``, or ``(6, S, S)`` for "cube").
-    up : 3-vector
-
-    Returns
-    -------
-    float64 array of ``shape``, read-only
-        d . up in [-1, 1]; NaN where the texel is invalid (outside a disk, unused cross squares).
-    """
-    lay = sphere.layout(layout)
-    return _cached_cosines(lay.name, lay.check_shape(shape), tuple(_unit_axis(up)))
-
-
-@functools.lru_cache(maxsize=2)
-def _cached_cosines(name: str, shape: tuple, up: tuple) -> np.ndarray:
-    lay = sphere.layout(name)
-    if lay.base is not lay:
-        s = lay.face_size(shape)
-        out = sphere.cube_to_view(_cached_cosines(lay.base.name, (6, s, s), up), name, fill=np.nan)
-    else:
-        faces, h, w = shape if lay.cubic else (1, *shape)
-        out = np.empty(shape)
-        _texel_cosines(lay.kind, faces, h, w, np.array(up), out.reshape(-1))
-    out.setflags(write=False)
-    return out
-
-
-@numba.njit(cache=True, parallel=True)
-def _texel_cosines(kind, faces, h, w, up, out):
-    for row in numba.prange(faces * h):
-        f, j = divmod(row, h)
-        for i in range(w):
-            if _maps.valid(kind, h, w, f, i, j):
-                dx, dy, dz = _maps.direction(kind, h, w, f, i + 0.5, j + 0.5)
-                out[row * w + i] = dx * up[0] + dy * up[1] + dz * up[2]
-            else:
-                out[row * w + i] = np.nan
+    return env.shaped(out)
 
 
 @numba.njit(cache=True, parallel=True)
@@ -341,14 +272,12 @@ def ldr_exposure(
     """
     if not 0.0 < clip_fraction < 1.0:
         raise ArgumentError(f"clip fraction must be in (0, 1), got {clip_fraction}")
-    lay = sphere.layout(layout)
-    a, _ = _as_environment(baked, lay)
+    env = check_environment(baked, layout)
+    a, lay = env.image, env.layout
     weight = lay.solid_angles(a.shape[:-1])
-    keep = texel_cosines(layout, a.shape[:-1], up) > 0
+    keep = texel_cosines(lay, a.shape[:-1], up) > 0
     peak = np.max(a[..., : min(a.shape[-1], 3)], axis=-1)[keep].astype(np.float64)
     w = weight[keep]
-    ok = np.isfinite(peak)
-    peak, w = peak[ok], w[ok]
     if peak.size == 0 or not np.any(peak > 0):
         raise ArgumentError("the environment is black above the plane: no exposure fits it")
     order = np.argsort(peak)
@@ -405,7 +334,7 @@ def flat_water_error(
 
     - runtime: ``E = lookup(image, r) * R(r . up) * 2**ev``, clamped, sRGB-encoded, rounded;
     - baked: the bake of ``image`` (:func:`bake_fresnel`), exposed and stored as 8-bit sRGB
-      (:func:`~bakeshop.light.tonemap.to_srgb8`, with ``dither``), decoded to linear as an
+      (:func:`~bakeshop.image.to_srgb8`, with ``dither``), decoded to linear as an
       sRGB texture is by the GPU before filtering, looked up at r, then encoded and rounded.
 
     ``filter`` is the texture filter of both lookups. With "nearest" a lookup returns one
@@ -441,8 +370,7 @@ def flat_water_error(
 
 
 def _flat_water_error(image, layout, ev, ior, up, below, filter, dither, seed, samples) -> dict:
-    lay = sphere.layout(layout)
-    a, _ = _as_environment(image, lay)
+    a = check_environment(image, layout).image
     a = a[..., : min(a.shape[-1], 3)]
     up = _unit_axis(up)
     r = hemisphere_directions(samples, up)

@@ -3,7 +3,7 @@
 :func:`bake_probe` computes, from one environment in any layout:
 
 - the environment as an OpenGL cube map (area-filtered),
-- the DIM pair of :func:`bakeshop.light.irradiance.dim_pair`: the sun DIM, the shadow DIM, the
+- the DIM pair of :func:`bakeshop.light.dim_pair`: the sun DIM, the shadow DIM, the
   probe with its sun painted out, and the sun (direction, size, colour, irradiance),
 - the environment's spherical-harmonic radiance coefficients (order 2 by default),
 - the GGX prefiltered specular mip chain (:func:`bakeshop.light.specular.prefilter_ggx`),
@@ -21,9 +21,11 @@ from typing import NamedTuple
 import numpy as np
 
 from bakeshop import progress
-from bakeshop.light import dfg as dfg_module
-from bakeshop.light import irradiance, specular
+from bakeshop.light import diffuse, specular
+from bakeshop.light.dfg import dfg_table
+from bakeshop.light.dims import dim_pair
 from bakeshop.light.sun import Sun
+from bakeshop.sphere import check_environment
 
 __all__ = ["ProbeBake", "bake_probe", "contact_sheet"]
 
@@ -69,8 +71,8 @@ def bake_probe(
     Parameters
     ----------
     image : array
-        The probe (linear radiance) in ``layout``: ``(H, W, C)``, or ``(6, S, S, C)`` for a cube.
-        Alpha (C = 4) is dropped and grey (C = 1) repeated to RGB: every output is RGB.
+        The probe (linear radiance) in ``layout``: ``(H, W, C)``, or ``(6, S, S, C)`` for a cube
+        (see :func:`bakeshop.sphere.check_environment`: every output has the probe's channels).
     layout : str
         Its layout name (:data:`bakeshop.sphere.LAYOUT_NAMES`).
     cube_size : int, optional
@@ -89,8 +91,6 @@ def bake_probe(
     -------
     ProbeBake
     """
-    from bakeshop.sphere import layout as get_layout
-
     timings = {}
 
     def timed(name, fn, *args, **kwargs):
@@ -99,45 +99,44 @@ def bake_probe(
         timings[name] = time.perf_counter() - started
         return result
 
-    lay = get_layout(layout)
-    image = np.asarray(image)
-    spatial = 3 if lay.cubic else 2
-    if image.ndim == spatial + 1 and image.shape[-1] == 4:
-        image = image[..., :3]
-    elif image.ndim == spatial + 1 and image.shape[-1] == 1:
-        image = np.repeat(image, 3, axis=-1)
+    env = check_environment(image, layout)
+    lay, image = env.layout, env.image
     if cube_size is None:
-        texels = int(np.count_nonzero(lay.solid_angles(np.shape(image)[: 3 if lay.cubic else 2])))
+        texels = int(np.count_nonzero(lay.solid_angles(image.shape[:-1])))
         cube_size = int(min(2048, 2 ** round(np.log2(max(1.0, np.sqrt(texels / 6))))))
     with progress.step("environment cube map"):
-        cube = timed("cube", specular.source_cube, image, layout=layout, size=cube_size)
-    pair = timed("dims", irradiance.dim_pair, image, layout, to="latlong", size=dim_size)
-    coeffs = timed("sh", irradiance.sh_coefficients, image, layout, order=sh_order)
-    chain = timed(
-        "specular", specular.prefilter_ggx, image, layout=layout, size=specular_size, mips=mips
-    )
+        cube = timed("cube", specular.source_cube, image, layout, size=cube_size)
+    pair = timed("dims", dim_pair, image, layout, to="latlong", size=dim_size)
+    coeffs = timed("sh", diffuse.sh_coefficients, image, layout, order=sh_order)
+    chain = timed("specular", specular.prefilter_ggx, image, layout, size=specular_size, mips=mips)
     with progress.step("DFG table"):
-        table = timed("dfg", dfg_module.dfg_table, dfg_size)
+        table = timed("dfg", dfg_table, dfg_size)
     return ProbeBake(
-        cube=cube,
-        sun_dim=pair.sun_dim,
-        shadow_dim=pair.shadow_dim,
-        shadow_probe=pair.shadow_probe,
+        cube=env.shaped(cube),
+        sun_dim=env.shaped(pair.sun_dim),
+        shadow_dim=env.shaped(pair.shadow_dim),
+        shadow_probe=env.shaped(pair.shadow_probe),
         sun=pair.sun,
         sh=coeffs,
-        specular=chain,
+        specular=[env.shaped(level) for level in chain],
         dfg=table,
         layout=layout,
         timings=timings,
     )
 
 
+def _rgb(picture) -> np.ndarray:
+    """A picture's colour for display: ``(H, W, 3)`` (alpha dropped, grey repeated)."""
+    a = np.asarray(picture)
+    a = a[..., None] if a.ndim == 2 else a
+    return np.ascontiguousarray(np.repeat(a, 3, axis=-1) if a.shape[-1] == 1 else a[..., :3])
+
+
 def _to_latlong(image, layout: str, height: int) -> np.ndarray:
-    """An RGB latlong thumbnail of an environment (alpha dropped, grey repeated)."""
+    """An RGB latlong thumbnail of an environment."""
     from bakeshop.sphere import remap
 
-    rgb = remap(image, layout, "latlong", height, filter="area")[..., :3]
-    return np.repeat(rgb, 3, axis=-1) if rgb.shape[-1] == 1 else rgb
+    return _rgb(remap(image, layout, "latlong", height, filter="area"))
 
 
 def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndarray:
@@ -157,20 +156,16 @@ def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndar
     thumb_height : int
         Height of each latlong thumbnail in pixels.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    from bakeshop.figures import new_figure, to_rgb
+    from bakeshop.image import auto_exposure, to_srgb8, tonemap
     from bakeshop.light import sh
-    from bakeshop.light.tonemap import auto_exposure, to_srgb8, tonemap
     from bakeshop.sphere import cube_to_view, layout
 
     env = _to_latlong(probe, bake.layout, thumb_height)
     ev = auto_exposure(env)
 
     def show(img):
-        return to_srgb8(tonemap(np.ascontiguousarray(img[..., :3]), ev=ev, operator="aces"))
+        return to_srgb8(tonemap(_rgb(img), ev=ev, operator="aces"))
 
     dirs, _ = layout("latlong").directions(layout("latlong").shape(thumb_height))
     sh_dim = sh.evaluate(sh.irradiance_coefficients(bake.sh), dirs)
@@ -198,7 +193,8 @@ def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndar
     panels.append(("DFG: scale (R), bias (G)", to_srgb8(np.clip(rg, 0, 1))))
     cols = 4
     rows = -(-len(panels) // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(cols * 3.2, rows * 1.9), dpi=100)
+    fig = new_figure(cols * 3.2, rows * 1.9, dpi=100)
+    axes = fig.subplots(rows, cols)
     for ax in axes.flat:
         ax.axis("off")
     for ax, (title, img) in zip(axes.flat, panels, strict=False):
@@ -206,7 +202,4 @@ def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndar
         ax.set_title(title, fontsize=8)
     fig.suptitle(f"bakeshop bake-probe (exposure {ev:+.2f} EV, ACES)", fontsize=10)
     fig.tight_layout()
-    fig.canvas.draw()
-    sheet = np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
-    plt.close(fig)
-    return sheet
+    return to_rgb(fig)

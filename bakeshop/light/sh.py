@@ -25,15 +25,12 @@ P.-P. Sloan, "Stupid spherical harmonics (SH) tricks", GDC 2008.
 
 from __future__ import annotations
 
-import json
 import math
-import os
 
 import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError, FormatError, validate_choice
-from bakeshop.io._files import atomic_path
 
 #: the highest order the module accepts (a guard against absurd allocations).
 MAX_ORDER = 256
@@ -416,8 +413,9 @@ def irradiance_matrices(coeffs) -> np.ndarray:
     return np.moveaxis(m, -1, 0) / math.pi
 
 
-def to_json(coeffs, *, kind: str = "radiance") -> str:
-    """Serialise SH coefficients as JSON text (order, convention and ``[[r, g, b], ...]``).
+def to_document(coeffs, *, kind: str = "radiance") -> dict:
+    """SH coefficients as a JSON document (order, convention and ``[[r, g, b], ...]``), as
+    ``sh.json`` holds them (:func:`bakeshop.io.write_json` writes it).
 
     ``kind`` says what the coefficients expand: ``"radiance"`` (the environment) or
     ``"irradiance"`` (the DIM, E / pi).
@@ -436,13 +434,13 @@ def to_json(coeffs, *, kind: str = "radiance") -> str:
         ),
         "coefficients": [[float(v) for v in row] for row in c],
     }
-    return json.dumps(doc, indent=1)
+    return doc
 
 
-def from_json(text: str, path=None) -> np.ndarray:
-    """Parse :func:`to_json` output back into a ``(N, C)`` float64 array."""
+def from_document(doc, path=None) -> np.ndarray:
+    """The ``(N, C)`` float64 coefficients of a :func:`to_document` document (as
+    :func:`bakeshop.io.read_json` reads it); ``path`` is named in errors."""
     try:
-        doc = json.loads(text)
         c = np.asarray(doc["coefficients"], dtype=np.float64)
     except (ValueError, KeyError, TypeError) as e:
         raise FormatError(f"not a bakeshop SH JSON document ({e})", path) from None
@@ -450,14 +448,6 @@ def from_json(text: str, path=None) -> np.ndarray:
         raise FormatError("SH coefficients must be a finite list of [r, g, b] rows", path)
     order_of(c.shape[0])
     return c
-
-
-def write_json(path: str | os.PathLike, coeffs, *, kind: str = "radiance") -> None:
-    """Write :func:`to_json` to ``path`` atomically."""
-    text = to_json(coeffs, kind=kind)
-    with atomic_path(path) as tmp:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(text + "\n")
 
 
 def shader_snippet(coeffs, *, language: str = "glsl") -> str:

@@ -67,9 +67,9 @@ import numpy as np
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError
+from bakeshop.sphere import check_environment, remap, sample
 from bakeshop.sphere import layout as get_layout
-from bakeshop.sphere import remap, sample, view_to_cube
-from bakeshop.sphere.cube import FACE_BASES
+from bakeshop.sphere.kernels import cube_face
 
 #: Largest cube face accepted (a 6x4096 RGBA float32 pyramid is already 1.6 GB).
 MAX_FACE = 4096
@@ -229,24 +229,6 @@ del _q
 
 
 @numba.njit(cache=True, inline="always", fastmath=True)
-def _face_coordinates(bases, x, y, z):
-    """OpenGL's cube face of direction (x, y, z) and its face coordinates (sc, tc) in [-1, 1]."""
-    ax, ay, az = abs(x), abs(y), abs(z)
-    if ax >= ay and ax >= az:
-        face = 0 if x >= 0 else 1
-        ma = ax
-    elif ay >= az:
-        face = 2 if y >= 0 else 3
-        ma = ay
-    else:
-        face = 4 if z >= 0 else 5
-        ma = az
-    sc = (x * bases[face, 1, 0] + y * bases[face, 1, 1] + z * bases[face, 1, 2]) / ma
-    tc = (x * bases[face, 2, 0] + y * bases[face, 2, 1] + z * bases[face, 2, 2]) / ma
-    return face, sc, tc
-
-
-@numba.njit(cache=True, inline="always", fastmath=True)
 def _bilinear(pyramid, offsets, sizes, level, face, sc, tc):
     """The bilinear RGBA value of pyramid ``level`` at face coordinates (sc, tc)."""
     s = sizes[level]
@@ -287,7 +269,7 @@ def _bilinear(pyramid, offsets, sizes, level, face, sc, tc):
 
 
 @numba.njit(cache=True, parallel=True, fastmath=True)
-def _filter_kernel(dirs, samples, pyramid, offsets, sizes, bases, lod_bias, log2_fit, out):
+def _filter_kernel(dirs, samples, pyramid, offsets, sizes, lod_bias, log2_fit, out):
     """out[p] = sum_k w_k L(l_k(p)) / sum_k w_k, each L read at its filtered-importance level.
 
     ``log2_fit`` holds polynomial coefficients of log2(q) on [1, 3] (highest power first).
@@ -313,7 +295,7 @@ def _filter_kernel(dirs, samples, pyramid, offsets, sizes, bases, lod_bias, log2
             x = lx * tx + ly * bx + lz * nx
             y = lx * ty + ly * by + lz * ny
             z = lx * tz + ly * bz + lz * nz
-            face, sc, tc = _face_coordinates(bases, x, y, z)
+            face, sc, tc = cube_face(x, y, z)
             # the texel solid angle where l lands is (2 / s0)^2 / (1 + sc^2 + tc^2)^1.5
             q = 1.0 + sc * sc + tc * tc
             log2_q = log2_fit[0]
@@ -480,7 +462,7 @@ def _convolve(source: _Source, size: int, lobe: _Lobe) -> np.ndarray:
         out = np.divide(acc, total[:, None], out=np.zeros_like(acc), where=total[:, None] > 0)
     else:
         rgba = np.empty((n, 4))
-        _filter_kernel(dirs, lobe.samples, *source.pyramid, FACE_BASES, LOD_BIAS, _LOG2_FIT, rgba)
+        _filter_kernel(dirs, lobe.samples, *source.pyramid, LOD_BIAS, _LOG2_FIT, rgba)
         out = rgba[:, :channels]
     if len(source.bright_dirs):
         acc, total = np.zeros((n, channels)), np.zeros(n)
@@ -502,33 +484,18 @@ def _convolve(source: _Source, size: int, lobe: _Lobe) -> np.ndarray:
 # --- public API ----------------------------------------------------------------------------------
 
 
-def source_cube(image, *, layout: str = "cube", size: int = 256) -> np.ndarray:
+def source_cube(image, layout: str, *, size: int = 256) -> np.ndarray:
     """The environment as a ``(6, size, size, C)`` float32 cube: level 0 of every chain.
 
     A cube of the requested size is returned unchanged (as float32); anything else is remapped
     with the area filter (an average over each output texel's footprint, so a large probe's sun
-    keeps its energy), or bilinear when upsampling.
+    keeps its energy), or bilinear when upsampling. Always with a channel axis (this is the
+    chains' working form; :func:`prefilter_ggx` returns 2-D levels for a 2-D input).
     """
-    lay = get_layout(layout)
-    img = np.asarray(image)
-    if img.dtype.kind not in "fiu":
-        raise ArgumentError(f"cannot filter {img.dtype} pixels")
-    spatial = 3 if lay.cubic else 2
-    if img.ndim == spatial:
-        img = img[..., None]
-    if img.ndim != spatial + 1 or not 1 <= img.shape[-1] <= 4:
-        raise ArgumentError(
-            f"a {layout} environment has {spatial} spatial axes and 1 to 4 channels; "
-            f"got shape {img.shape}"
-        )
-    if not np.all(np.isfinite(img)):
-        raise ArgumentError("the environment holds NaN or infinite values")
+    env = check_environment(image, layout)
     if not 1 <= size <= MAX_FACE:
         raise ArgumentError(f"cube face size must be in 1..{MAX_FACE}, got {size}")
-    img = img.astype(np.float32, copy=False)
-    if lay.base is not lay and lay.base.name == "cube":
-        # a cross or strip is the cube's faces rearranged: take them out exactly
-        img, lay = view_to_cube(img, lay.name), lay.base
+    img, lay = env.layout.prepare(env.image).astype(np.float32, copy=False), env.layout.base
     if lay.name == "cube" and img.shape[1] == size:
         return img
     valid_texels = int(np.count_nonzero(lay.solid_angles(img.shape[:-1])))
@@ -540,7 +507,7 @@ def _source(image, layout, size, samples) -> _Source:
     if not 1 <= samples <= MAX_SAMPLES:
         raise ArgumentError(f"samples must be in 1..{MAX_SAMPLES}, got {samples}")
     with progress.step("preparing the source cube map"):
-        return _Source(source_cube(image, layout=layout, size=size))
+        return _Source(source_cube(image, layout, size=size))
 
 
 def _check_mips(mips: int, size: int) -> int:
@@ -564,8 +531,8 @@ def phong_exponents(mips: int, *, gloss_scale: float = 10.0, gloss_bias: float =
 
 def prefilter_ggx(
     image,
+    layout: str,
     *,
-    layout: str = "cube",
     size: int = 256,
     mips: int = 9,
     roughness=None,
@@ -616,13 +583,13 @@ def prefilter_ggx(
             # alpha >= 1e-4: a smoother lobe is narrower than any texel
             lobe = _Lobe(True, max(rough[m], 0.01) ** 4, samples)
             out.append(_convolve(source, s, lobe))
-    return out
+    return _shaped(out, image, layout)
 
 
 def prefilter_phong(
     image,
+    layout: str,
     *,
-    layout: str = "cube",
     size: int = 256,
     mips: int = 9,
     exponents=None,
@@ -657,4 +624,11 @@ def prefilter_phong(
         else:
             # e <= 1e8: a narrower lobe is smaller than any texel
             out.append(_convolve(source, s, _Lobe(False, min(exps[m], 1e8), samples)))
-    return out
+    return _shaped(out, image, layout)
+
+
+def _shaped(chain: list[np.ndarray], image, layout) -> list[np.ndarray]:
+    """The chain's levels without their channel axis when the input had none."""
+    if np.ndim(image) == (3 if get_layout(layout).cubic else 2):
+        return [level[..., 0] for level in chain]
+    return chain

@@ -23,16 +23,14 @@ Measurements (all from the excess, per channel where a colour is meant):
 
 from __future__ import annotations
 
-import json
 import math
-import os
 from dataclasses import dataclass
 
 import numba
 import numpy as np
 
-from bakeshop.io._files import atomic_path
-from bakeshop.statistics import luminance
+from bakeshop.image import luminance
+from bakeshop.sphere import Texels, texels
 
 #: the sun's peak must exceed the sky around it (median of a ring) by this factor.
 CONTRAST = 20.0
@@ -87,12 +85,9 @@ class Sun:
         }
 
 
-def write_json(path: str | os.PathLike, sun: Sun | None) -> None:
-    """Write ``sun.json`` atomically: :meth:`Sun.to_dict`, or ``{"sun": null}`` when none."""
-    doc = {"sun": None} if sun is None else sun.to_dict()
-    with atomic_path(path) as tmp:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(json.dumps(doc, indent=1) + "\n")
+def sun_document(sun: Sun | None) -> dict:
+    """The ``sun.json`` document: :meth:`Sun.to_dict`, or ``{"sun": null}`` when none."""
+    return {"sun": None} if sun is None else sun.to_dict()
 
 
 @dataclass(frozen=True)
@@ -324,14 +319,15 @@ class Removal:
     filled: np.ndarray
 
 
-def split_texels(image, layout, values, dirs, omega) -> Removal | None:
-    """Find the sun among an environment's texels and compute its fill.
-
-    The texel-level form of :func:`remove_sun`, for callers that already hold the texels
-    (``bakeshop.light.irradiance.texels``): ``values`` (N, C), ``dirs`` (N, 3), ``omega`` (N,).
-    ``image`` and ``layout`` are sampled around the sun for the fill. None when there is no sun.
-    """
-    image = np.asarray(image)[..., : values.shape[1]]  # the fill ignores alpha
+def split_texels(t: Texels) -> Removal | None:
+    """Find the sun among an environment's texels (:func:`bakeshop.sphere.texels`) and compute
+    its fill: the texel-level form of :func:`remove_sun`, for callers that already hold the
+    texels. Only the colour channels (the first three, or the one) are looked at and filled;
+    alpha is left alone. None when there is no sun."""
+    colour = min(3, t.values.shape[1])
+    values, dirs, omega = t.values[:, :colour], t.dirs, t.omega
+    env = t.environment
+    image, layout = env.image[..., :colour], env.layout
     cand = _detect(luminance(values), dirs, omega)
     if cand is None:
         return None
@@ -378,10 +374,7 @@ def find_sun(image, layout: str) -> Sun | None:
         None when the probe has no sun (no compact light CONTRAST times brighter than the sky
         around it and DOMINANCE times stronger than any other).
     """
-    from bakeshop.light.irradiance import texels
-
-    values, dirs, omega, _ = texels(image, layout)
-    found = split_texels(image, layout, values, dirs, omega)
+    found = split_texels(texels(image, layout))
     return None if found is None else found.sun
 
 
@@ -402,12 +395,10 @@ def remove_sun(image, layout: str):
         no sun.
     sun : Sun or None
     """
-    from bakeshop.light.irradiance import texels
-
-    values, dirs, omega, _ = texels(image, layout)
-    found = split_texels(image, layout, values, dirs, omega)
-    out = np.array(image, dtype=values.dtype)  # a float copy (the fill is fractional)
+    t = texels(image, layout)
+    found = split_texels(t)
+    out = t.environment.image.copy()  # the fill is fractional: a float copy
     if found is not None:
-        flat = out.reshape(-1, out.shape[-1])
-        flat[found.index, : values.shape[1]] = found.filled
-    return out, None if found is None else found.sun
+        flat = out.reshape(len(t.omega), -1)
+        flat[found.index, : found.filled.shape[1]] = found.filled
+    return t.environment.shaped(out), None if found is None else found.sun

@@ -27,7 +27,6 @@ z = sqrt(1 - x^2 - y^2), as a shader does.
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -53,8 +52,6 @@ __all__ = [
     "convert_normal_map",
     "check_normals",
     "NormalCheck",
-    "read_normal_map",
-    "write_normal_map",
 ]
 
 
@@ -336,46 +333,3 @@ def check_normals(
         length_tolerance=float(length_tolerance),
         worst=worst,
     )
-
-
-def read_normal_map(
-    path: str | os.PathLike,
-    *,
-    convention: str = "gl",
-    encoding: str = "packed",
-    channels: str = "xyz",
-) -> np.ndarray:
-    """Read a normal-map file (PNG/TGA 8 or 16 bits, EXR, ...) as unit vectors, OpenGL frame.
-
-    Parameters are those of :func:`decode_normals`; the file is read with
-    :func:`bakeshop.io.read_image`. Returns ``(H, W, 3)`` float32.
-    """
-    from bakeshop.io import read_image
-
-    image = read_image(path)
-    try:
-        return decode_normals(image, convention=convention, encoding=encoding, channels=channels)
-    except ArgumentError as e:
-        e.path = os.fspath(path)
-        raise
-
-
-def write_normal_map(
-    path: str | os.PathLike,
-    normals,
-    *,
-    convention: str = "gl",
-    encoding: str = "packed",
-    channels: str = "xyz",
-    **options,
-) -> None:
-    """Write unit normals (OpenGL frame) to a file, atomically, in the given encoding.
-
-    ``options`` go to the codec through :func:`bakeshop.io.write_image` (for example the bit
-    depth of a PNG, or ``pixel_type="float"`` for EXR). Packed values are quantised by the codec
-    with round-to-nearest, so decoding an 8-bit file gives each component within 1/255.
-    """
-    from bakeshop.io import write_image
-
-    values = encode_normals(normals, convention=convention, encoding=encoding, channels=channels)
-    write_image(path, values.astype(np.float32, copy=False), **options)

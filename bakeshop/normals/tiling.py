@@ -31,9 +31,9 @@ import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError
+from bakeshop.image import resize_area
 from bakeshop.normals.blend import DEFAULT_METHOD, blend
 from bakeshop.normals.encoding import normalize
-from bakeshop.resample import resize_area
 
 __all__ = [
     "MipChain",

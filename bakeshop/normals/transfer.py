@@ -20,7 +20,7 @@ texel (:mod:`bakeshop.normals.blend`):
 5. **Dilate** UV islands (:func:`dilate`) so mip levels do not bleed background into seams.
 
 Texture coordinates have v up (OBJ, trimesh, OpenGL): (u, v) lies at column u W and row
-(1 - v) H of a W x H map. glTF files store v down; :func:`load_mesh` converts.
+(1 - v) H of a W x H map (:func:`bakeshop.io.load_mesh` converts glTF's v-down ones).
 
 References
 ----------
@@ -34,15 +34,13 @@ https://jcgt.org/published/0009/03/04/.
 from __future__ import annotations
 
 import math
-import os
-from dataclasses import dataclass
-from pathlib import Path
 
 import numba
 import numpy as np
 
 from bakeshop import progress
-from bakeshop.errors import ArgumentError, FormatError, validate_choice
+from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.io.mesh import Mesh
 from bakeshop.normals.encoding import normalize
 from bakeshop.normals.tiling import as_pair, mip_chain, trilinear_add
 
@@ -59,168 +57,12 @@ PROJECTION_AXES = {
 
 __all__ = [
     "PROJECTIONS",
-    "UVMesh",
-    "load_mesh",
     "corner_tangents",
     "rasterize_uv",
     "world_to_tangent",
     "dilate",
     "transfer_detail",
 ]
-
-
-@dataclass
-class UVMesh:
-    """A triangle mesh with its UV sets, as the transfer needs it.
-
-    Attributes
-    ----------
-    positions : (V, 3) float64
-        Object-space positions.
-    faces : (F, 3) int64
-        Counter-clockwise triangles (vertex indices).
-    normals : (V, 3) float64
-        Vertex normals as the engine shades with them (unit length).
-    uv : (V, 2) float64
-        The macro UV set, v up.
-    uv2 : (V, 2) float64 or None
-        A second UV set for the detail, v up.
-    """
-
-    positions: np.ndarray
-    faces: np.ndarray
-    normals: np.ndarray
-    uv: np.ndarray
-    uv2: np.ndarray | None = None
-
-    def __post_init__(self):
-        self.positions = np.asarray(self.positions, np.float64)
-        self.faces = np.asarray(self.faces, np.int64)
-        self.uv = np.asarray(self.uv, np.float64)
-        v = len(self.positions)
-        if self.positions.ndim != 2 or self.positions.shape[1] != 3:
-            raise ArgumentError(f"positions must be (V, 3); got {self.positions.shape}")
-        if self.faces.ndim != 2 or self.faces.shape[1] != 3 or len(self.faces) == 0:
-            raise ArgumentError(f"faces must be (F, 3) with F > 0; got {self.faces.shape}")
-        if self.faces.min() < 0 or self.faces.max() >= v:
-            raise ArgumentError("faces index vertices that do not exist")
-        if self.normals is None:
-            self.normals = _angle_weighted_normals(self.positions, self.faces)
-        self.normals = np.asarray(self.normals, np.float64)
-        for name in ("normals", "uv", "uv2"):
-            a = getattr(self, name)
-            if a is None:
-                continue
-            a = np.asarray(a, np.float64)
-            width = 3 if name == "normals" else 2
-            if a.shape != (v, width):
-                raise ArgumentError(f"{name} must be ({v}, {width}); got {a.shape}")
-            if not np.isfinite(a).all():
-                raise ArgumentError(f"{name} contain NaN or infinite values")
-            setattr(self, name, a)
-        if not np.isfinite(self.positions).all():
-            raise ArgumentError("positions contain NaN or infinite values")
-
-
-def _angle_weighted_normals(positions, faces):
-    p = positions[faces]
-    normals = np.zeros_like(positions)
-    face_n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-    face_n /= np.maximum(np.linalg.norm(face_n, axis=1, keepdims=True), 1e-300)
-    for k in range(3):
-        a = p[:, (k + 1) % 3] - p[:, k]
-        b = p[:, (k + 2) % 3] - p[:, k]
-        cos = np.einsum("ij,ij->i", a, b) / np.maximum(
-            np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300
-        )
-        np.add.at(normals, faces[:, k], face_n * np.arccos(np.clip(cos, -1, 1))[:, None])
-    length = np.linalg.norm(normals, axis=1, keepdims=True)
-    return np.where(length > 0, normals / np.where(length > 0, length, 1), (0.0, 0.0, 1.0))
-
-
-# --- loading -------------------------------------------------------------------------------
-
-
-def _gltf_with_named_texcoords(path: Path):
-    """The glTF's JSON (and GLB binary chunk) with TEXCOORD_n renamed to _TEXCOORD_n, which
-    trimesh keeps as plain vertex attributes (its own UV handling keeps only TEXCOORD_0 and
-    only on primitives with a material)."""
-    import json
-    import struct
-
-    data = path.read_bytes()
-    binary = None
-    if path.suffix.lower() == ".glb":
-        if len(data) < 20 or data[:4] != b"glTF":
-            raise FormatError("not a binary glTF file (bad magic bytes)", path)
-        length = struct.unpack_from("<I", data, 12)[0]
-        header = json.loads(data[20 : 20 + length])
-        rest = data[20 + length :]
-        if len(rest) >= 8:
-            size = struct.unpack_from("<I", rest, 0)[0]
-            binary = rest[8 : 8 + size]
-    else:
-        header = json.loads(data)
-    for mesh in header.get("meshes", []):
-        for prim in mesh.get("primitives", []):
-            attrs = prim.get("attributes", {})
-            for key in [k for k in attrs if k.startswith("TEXCOORD_")]:
-                attrs["_" + key] = attrs.pop(key)
-    payload = json.dumps(header).encode()
-    if binary is not None:
-        payload += b" " * (-len(payload) % 4)
-        binary += b"\0" * (-len(binary) % 4)
-        chunks = struct.pack("<I4s", len(payload), b"JSON") + payload
-        chunks += struct.pack("<I4s", len(binary), b"BIN\0") + binary
-        return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks, "glb"
-    return payload, "gltf"
-
-
-def load_mesh(path: str | os.PathLike) -> UVMesh:
-    """Load a triangle mesh with its UV sets from OBJ or glTF (.gltf, .glb) through trimesh.
-
-    All meshes of a glTF scene are merged with their node transforms applied. The macro UV set
-    is ``vt`` (OBJ) or ``TEXCOORD_0``; ``uv2`` is glTF's ``TEXCOORD_1`` when present (OBJ has
-    one UV set). Normals are the file's (``vn``, ``NORMAL``), else trimesh's vertex normals.
-    glTF's v-down texture coordinates are turned to v up.
-    """
-    import trimesh
-
-    path = Path(path)
-    ext = path.suffix.lower()
-    if ext not in (".obj", ".gltf", ".glb"):
-        raise ArgumentError(f"unsupported mesh format {ext!r}: use .obj, .gltf or .glb", path)
-    try:
-        if ext == ".obj":
-            mesh = trimesh.load(path, force="mesh", process=False, maintain_order=True)
-        else:
-            import io
-
-            data, kind = _gltf_with_named_texcoords(path)
-            resolver = trimesh.resolvers.FilePathResolver(str(path))
-            mesh = trimesh.load(
-                io.BytesIO(data), file_type=kind, force="mesh", process=False, resolver=resolver
-            )
-    except (OSError, ValueError, KeyError, IndexError) as e:
-        raise FormatError(f"cannot read the mesh: {e}", path) from None
-    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
-        raise FormatError("the file holds no triangles", path)
-    if ext == ".obj":
-        uv = getattr(mesh.visual, "uv", None)
-        uv2 = None
-    else:
-        attrs = mesh.vertex_attributes
-        uv = attrs.get("_TEXCOORD_0")
-        uv2 = attrs.get("_TEXCOORD_1")
-        uv = None if uv is None else np.asarray(uv, np.float64) * (1, -1) + (0, 1)
-        uv2 = None if uv2 is None else np.asarray(uv2, np.float64) * (1, -1) + (0, 1)
-    if uv is None or len(uv) != len(mesh.vertices):
-        raise FormatError("the mesh has no texture coordinates (a macro UV set is needed)", path)
-    try:
-        return UVMesh(mesh.vertices, mesh.faces, np.asarray(mesh.vertex_normals), uv, uv2)
-    except ArgumentError as e:
-        e.path = os.fspath(path)
-        raise
 
 
 # --- tangents ------------------------------------------------------------------------------
@@ -624,7 +466,7 @@ def _face_lod(detail_texels, macro_texels, faces):
 
 
 def transfer_detail(
-    mesh: UVMesh,
+    mesh: Mesh,
     detail,
     shape,
     *,
@@ -641,7 +483,7 @@ def transfer_detail(
 
     Parameters
     ----------
-    mesh : UVMesh
+    mesh : bakeshop.io.mesh.Mesh
         The low-poly mesh; ``mesh.uv`` is the macro layout.
     detail : (h, w, 3) float array
         Unit normals of one tile of the detail (OpenGL tangent frame).
@@ -685,6 +527,8 @@ def transfer_detail(
     """
     validate_choice(projection, PROJECTIONS, "projection")
     validate_choice(axis, AXES, "projection axis")
+    if mesh.uv is None:
+        raise ArgumentError("the mesh has no texture coordinates (a macro UV set is needed)")
     if projection == "uv2" and mesh.uv2 is None:
         raise ArgumentError(
             "the mesh has no second UV set (glTF TEXCOORD_1); use a planar, box or "

@@ -8,11 +8,15 @@
 Layouts: ``latlong``, ``angular`` (Debevec light probe), ``mirrorball``, ``cube`` (internal
 ``(6, S, S, C)``, OpenGL order and orientation), the cube's pictures ``cross-vertical``,
 ``cross-horizontal``, ``strip-horizontal``, ``strip-vertical``, ``octahedral`` and
-``dual-paraboloid``. See docs/panoramas.md for pictures and conventions.
+``dual-paraboloid``. Every spherical function takes ``(image, layout)`` and checks it with
+:func:`check_environment` (one rule for shapes, channels and values). See docs/panoramas.md
+for pictures and docs/conventions.md for the conventions.
 """
 
+from bakeshop.sphere._cache import cache_info, clear_caches
 from bakeshop.sphere.cube import (
     CONVENTIONS,
+    FACE_LABELS,
     FACE_NAMES,
     FACE_NAMES_SHORT,
     cube_to_faces,
@@ -21,23 +25,43 @@ from bakeshop.sphere.cube import (
     view_to_cube,
 )
 from bakeshop.sphere.layouts import LAYOUT_NAMES, Layout, guess_layout, layout
-from bakeshop.sphere.sampling import FILTERS, as_rotation, remap, rotation_matrix, sample
+from bakeshop.sphere.rotation import as_rotation, rotation_matrix
+from bakeshop.sphere.sampling import FILTERS, auto_filter, remap, remap_shape, sample
+from bakeshop.sphere.texels import (
+    Environment,
+    Texels,
+    check_environment,
+    texel_cosines,
+    texel_geometry,
+    texels,
+)
 
 __all__ = [
     "CONVENTIONS",
+    "FACE_LABELS",
     "FACE_NAMES",
     "FACE_NAMES_SHORT",
     "FILTERS",
     "LAYOUT_NAMES",
+    "Environment",
     "Layout",
+    "Texels",
     "as_rotation",
+    "auto_filter",
+    "cache_info",
+    "check_environment",
+    "clear_caches",
     "cube_to_faces",
     "cube_to_view",
     "faces_to_cube",
     "guess_layout",
     "layout",
     "remap",
+    "remap_shape",
     "rotation_matrix",
     "sample",
+    "texel_cosines",
+    "texel_geometry",
+    "texels",
     "view_to_cube",
 ]

@@ -81,11 +81,13 @@ class Layout:
 
     # -- the three operations --------------------------------------------------------------------
 
-    #: kind number of the layout's maps in :mod:`bakeshop.sphere._maps`.
+    #: kind number of the layout in the scalar maps (:mod:`bakeshop.sphere.kernels`).
     kind = -1
 
-    def _hw(self, shape) -> tuple[int, int, int]:
-        """(h, w, faces) of a checked shape, as the maps take them."""
+    def grid(self, shape) -> tuple[int, int, int]:
+        """``(h, w, faces)`` of a spatial shape, as the scalar maps take them
+        (:mod:`bakeshop.sphere.kernels`): a flat layout's ``(H, W, 1)``, the cube's
+        ``(S, S, 6)``."""
         h, w = self.check_shape(shape)
         return h, w, 1
 
@@ -117,7 +119,7 @@ class Layout:
         returns ``(..., 3)`` float64. Points outside a disk give the direction of the disk's
         nearest point.
         """
-        h, w, _ = self._hw(shape)
+        h, w, _ = self.grid(shape)
         c = np.asarray(coords, dtype=np.float64)
         if c.shape[-1] != (3 if self.cubic else 2):
             raise ArgumentError(f"{self.name} coordinates must be (..., {3 if self.cubic else 2})")
@@ -160,7 +162,7 @@ class Layout:
             ``(x, y)``: column and row coordinates, texel ``i``'s centre at ``i + 0.5``, in
             ``[0, W] x [0, H]``. Cube layouts return ``(..., 3)``: ``(face, x, y)``.
         """
-        h, w, _ = self._hw(shape)
+        h, w, _ = self.grid(shape)
         d = _dirs_array(dirs)
         out = np.empty((d.size // 3, 3))
         _maps.coordinates_of(self.kind, h, w, np.ascontiguousarray(d.reshape(-1, 3)), out)
@@ -229,7 +231,7 @@ def _latlong_directions(out):
     """Fill ``out`` (H, W, 3) with the latlong texel-centre directions
     ``(sin theta_j sin phi_i, cos theta_j, -sin theta_j cos phi_i)``."""
     h, w = out.shape[0], out.shape[1]
-    trig = _maps._plan_trig(_maps.LATLONG, h, w)
+    trig = _maps.latlong_trig(h, w)
     for j in numba.prange(h):
         st, ct = trig[2, j], trig[3, j]
         for i in range(w):
@@ -489,7 +491,7 @@ class Cube(Layout):
         _, s, _ = self.check_shape(shape)
         return np.broadcast_to(_cube_face_solid_angles(s), shape).copy()
 
-    def _hw(self, shape):
+    def grid(self, shape):
         _, s, _ = self.check_shape(shape)
         return s, s, 6
 

@@ -28,6 +28,7 @@ from bakeshop.buoyancy.plots import plot_grid, plot_trace
 from bakeshop.buoyancy.shapes import SHAPES, make_shape
 from bakeshop.buoyancy.stepping import release, simulate
 from bakeshop.buoyancy.water import Water
+from bakeshop.io import write_image
 
 HERE = Path(__file__).resolve().parent
 WATER = Water()
@@ -65,11 +66,11 @@ def trampoline_figure():
         model = ForceModel(damping=damping, stabilize=stabilize)
         trace = simulate(fleet, start, WATER, model, seconds=8, fps=fps, forces=mode)
         curves.append(clearance(fleet, trace, WATER)[:, 0])
-    plot_trace(
-        HERE / "buoyancy_trampoline.png", trace.time, np.stack(curves, 1),
+    write_image(HERE / "buoyancy_trampoline.png", plot_trace(
+        trace.time, np.stack(curves, 1),
         labels=[r[0] for r in runs],
         title="peep, 500 kg/m3, released with its lowest point 2 m deep",
-    )  # fmt: skip
+    ))  # fmt: skip
 
 
 def causes_figure():
@@ -130,7 +131,7 @@ def waves_figure():
 def matrix_outputs():
     matrix = run_matrix()
     (HERE.parent / "buoyancy_matrix.csv").write_text(to_csv(matrix))
-    plot_grid(HERE / "buoyancy_matrix.png", matrix)
+    write_image(HERE / "buoyancy_matrix.png", plot_grid(matrix))
     print(to_markdown(matrix))  # noqa: T201
 
 

@@ -19,9 +19,8 @@ import numpy as np
 import OpenImageIO as oiio
 
 import bakeshop
+from bakeshop.image import resize_area, srgb_encode
 from bakeshop.io import read_image
-from bakeshop.light.tonemap import srgb_encode
-from bakeshop.resample import resize_area
 
 ORIENTATIONS = ["-Y +X", "-Y -X", "+Y +X", "+Y -X", "+X -Y", "+X +Y", "-X -Y", "-X +Y"]
 HERE = Path(__file__).resolve().parent

@@ -21,6 +21,15 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from bakeshop import sphere
+from bakeshop.image import (
+    adapt_exposure,
+    auto_exposure,
+    exposure,
+    metering_weights,
+    srgb_decode,
+    to_srgb8,
+    tonemap,
+)
 from bakeshop.io import read_image
 from bakeshop.light.fresnel import (
     RMS_SLOPES,
@@ -30,15 +39,6 @@ from bakeshop.light.fresnel import (
     fresnel_schlick,
     ldr_exposure,
     normal_mapped_error,
-)
-from bakeshop.light.tonemap import (
-    adapt_exposure,
-    auto_exposure,
-    exposure,
-    metering_weights,
-    srgb_decode,
-    to_srgb8,
-    tonemap,
 )
 
 HERE = Path(__file__).resolve().parent

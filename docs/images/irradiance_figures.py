@@ -23,10 +23,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 from PIL import Image
 
+import bakeshop.light as ir
+from bakeshop.image import auto_exposure, exposure, to_srgb8
 from bakeshop.io import read_image
-from bakeshop.light import irradiance as ir
 from bakeshop.light.sun import find_sun
-from bakeshop.light.tonemap import auto_exposure, exposure, to_srgb8
 from bakeshop.sphere import layout
 
 HERE = Path(__file__).resolve().parent

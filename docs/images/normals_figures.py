@@ -23,8 +23,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # tests.normals.groundtruth and benchmarks/bench_normals
 
+from bakeshop.cli.normals import read_normal_map  # noqa: E402
 from bakeshop.normals.blend import METHODS, blend  # noqa: E402
-from bakeshop.normals.encoding import encode_normals, read_normal_map  # noqa: E402
+from bakeshop.normals.encoding import encode_normals  # noqa: E402
 from bakeshop.normals.height import height_to_normal  # noqa: E402
 from bakeshop.normals.tiling import place_detail  # noqa: E402
 from bakeshop.normals.transfer import transfer_detail  # noqa: E402

@@ -20,8 +20,8 @@ import numpy as np
 from PIL import Image
 
 from bakeshop import sphere
+from bakeshop.image import exposure, to_srgb8
 from bakeshop.io import read_image
-from bakeshop.light.tonemap import exposure, to_srgb8
 
 HERE = Path(__file__).resolve().parent
 PROBE = HERE.parents[1] / "bakeshop" / "data" / "default_probe.hdr"

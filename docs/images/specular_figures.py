@@ -16,9 +16,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from PIL import Image  # noqa: E402
 
+from bakeshop.image import auto_exposure, to_srgb8, tonemap  # noqa: E402
 from bakeshop.io import read_image  # noqa: E402
 from bakeshop.light import dfg, probe, specular  # noqa: E402
-from bakeshop.light.tonemap import auto_exposure, to_srgb8, tonemap  # noqa: E402
 from bakeshop.sphere import remap  # noqa: E402
 
 HERE = Path(__file__).resolve().parent

@@ -61,3 +61,11 @@ def assert_energy_bounded(fleet, trace):
     assert e.max() - e.min() < 1.5 * omega * h * oscillation
     second = len(e) // 60
     assert abs(e[-10 * second :].mean() - e[: 10 * second].mean()) < 0.01 * oscillation
+
+
+def body(path, *, repair: bool = False):
+    """A mesh file as a closed floating body, as ``bakeshop float MESH`` loads it."""
+    from bakeshop.buoyancy.shapes import closed_mesh
+    from bakeshop.io import load_mesh
+
+    return closed_mesh(load_mesh(path), repair=repair, path=path)

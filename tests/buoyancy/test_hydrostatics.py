@@ -47,10 +47,9 @@ def test_too_dense_to_float():
 
 
 def test_submerged_volume_matches_manifold3d_on_a_real_mesh(shared_data):
-    from bakeshop.buoyancy.shapes import load_mesh
-    from tests.buoyancy.helpers import clipped_below
+    from tests.buoyancy.helpers import body, clipped_below
 
-    mesh = load_mesh(shared_data / "meshes" / "spot.obj")
+    mesh = body(shared_data / "meshes" / "spot.obj")
     mesh.apply_transform(trimesh.transformations.rotation_matrix(0.5, (1, 0, 1)))
     for level in np.linspace(*mesh.bounds[:, 1], 7)[1:-1]:
         reference = clipped_below(mesh, level).volume

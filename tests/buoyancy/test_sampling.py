@@ -6,8 +6,9 @@ import trimesh
 
 from bakeshop.buoyancy.mass import make_body
 from bakeshop.buoyancy.sampling import sample_points
-from bakeshop.buoyancy.shapes import SHAPES, load_mesh, make_shape
+from bakeshop.buoyancy.shapes import SHAPES, make_shape
 from bakeshop.errors import ArgumentError
+from tests.buoyancy.helpers import body
 from tests.tolerances import BUOYANCY_VOLUME_RTOL
 
 
@@ -24,7 +25,7 @@ def test_point_volumes_sum_to_mesh_volume(name, resolution):
 
 @pytest.mark.parametrize("name", ["cube", "spot", "fish_low_resolution", "torus"])
 def test_shared_meshes(shared_data, name):
-    mesh = load_mesh(shared_data / "meshes" / f"{name}.obj")
+    mesh = body(shared_data / "meshes" / f"{name}.obj")
     points = sample_points(mesh, resolution=10)
     assert points.volumes.sum() == pytest.approx(mesh.volume, rel=BUOYANCY_VOLUME_RTOL)
 

@@ -4,8 +4,10 @@ import numpy as np
 import pytest
 import trimesh
 
-from bakeshop.buoyancy.shapes import SHAPES, load_mesh, make_shape
+from bakeshop.buoyancy.shapes import SHAPES, make_shape
 from bakeshop.errors import ArgumentError, BakeshopError, FormatError
+from bakeshop.io import load_mesh
+from tests.buoyancy.helpers import body
 
 
 @pytest.mark.parametrize("name", SHAPES)
@@ -42,7 +44,7 @@ def test_bad_shape_and_size():
     ],
 )
 def test_shared_meshes_weld_into_closed_solids(shared_data, name, volume):
-    mesh = load_mesh(shared_data / "meshes" / f"{name}.obj")
+    mesh = body(shared_data / "meshes" / f"{name}.obj")
     assert mesh.is_watertight
     assert mesh.volume == pytest.approx(volume, rel=1e-3)
 
@@ -53,8 +55,8 @@ def test_open_mesh_is_refused_or_repaired(tmp_path):
     path = tmp_path / "open.stl"
     open_box.export(path)
     with pytest.raises(FormatError, match="not watertight"):
-        load_mesh(path)
-    repaired = load_mesh(path, repair=True)
+        body(path)
+    repaired = body(path, repair=True)
     assert repaired.is_watertight and repaired.volume == pytest.approx(1.0)
 
 
@@ -77,6 +79,6 @@ def test_mesh_formats_round_trip(tmp_path, suffix):
     peep = make_shape("peep")
     path = tmp_path / f"peep{suffix}"
     peep.export(path)
-    mesh = load_mesh(path)
+    mesh = body(path)
     assert mesh.volume == pytest.approx(peep.volume, rel=1e-6)
     np.testing.assert_allclose(mesh.center_mass, peep.center_mass, atol=1e-6)

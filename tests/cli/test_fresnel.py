@@ -7,9 +7,7 @@ from PIL import Image
 
 from bakeshop import sphere
 from bakeshop.cli.main import main
-from bakeshop.io import read_image, write_image
-from bakeshop.light.fresnel import bake_fresnel, ldr_exposure
-from bakeshop.light.tonemap import (
+from bakeshop.image import (
     adapt_exposure,
     auto_exposure,
     exposure,
@@ -17,6 +15,8 @@ from bakeshop.light.tonemap import (
     to_srgb8,
     tonemap,
 )
+from bakeshop.io import read_image, write_image
+from bakeshop.light.fresnel import bake_fresnel, ldr_exposure
 from tests.tolerances import HALF_FLOAT_RTOL
 
 
@@ -186,7 +186,7 @@ def test_tonemap_bad_arguments(sky, tmp_path, capsys):
 
 
 def test_sequence_inputs_in_numeric_order(tmp_path):
-    from bakeshop.cli.fresnel import expand_inputs
+    from bakeshop.cli.tonemap import expand_inputs
 
     for i in (10, 2, 1):
         (tmp_path / f"f_{i}.exr").touch()

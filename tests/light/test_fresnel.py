@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 from bakeshop import sphere
 from bakeshop.errors import ArgumentError
+from bakeshop.image import exposure, srgb_decode, to_srgb8
 from bakeshop.light import fresnel as fresnel_module
 from bakeshop.light.fresnel import (
     RMS_SLOPES,
@@ -25,7 +26,6 @@ from bakeshop.light.fresnel import (
     slope_normals,
     texel_cosines,
 )
-from bakeshop.light.tonemap import exposure, srgb_decode, to_srgb8
 from tests.tolerances import (
     FLAT_WATER_MAX_STEPS,
     FLAT_WATER_NEAREST_MAX_STEPS,
@@ -209,7 +209,7 @@ def test_bake_channels_dtypes_and_errors():
     with pytest.raises(ArgumentError):
         bake_fresnel(env, "latlong", up=(0, 0, 0))
     with pytest.raises(ArgumentError):
-        bake_fresnel(np.ones((4, 8, 2)), "latlong")
+        bake_fresnel(np.ones((4, 8, 5)), "latlong")
     with pytest.raises(ArgumentError):
         bake_fresnel(env, "no-such-layout")
 

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from bakeshop.io import read_image
+from bakeshop.io import read_image, write_json
 from bakeshop.light import sun as sunlib
 from bakeshop.sphere import layout
 from tests.tolerances import SUN_DIRECTION_DEG, SUN_SOLID_ANGLE
@@ -157,11 +157,11 @@ def test_sun_json(tmp_path):
     img, _ = _render("latlong", 256, _unit([0.3, 0.8, -0.5]), 3.0, [2e3, 2e3, 2e3])
     sun = sunlib.find_sun(img, "latlong")
     path = tmp_path / "sun.json"
-    sunlib.write_json(path, sun)
+    write_json(path, sunlib.sun_document(sun))
     doc = json.loads(path.read_text())
     assert set(doc) >= {"direction", "angular_radius_deg", "solid_angle_sr", "color", "irradiance"}
     assert np.linalg.norm(doc["direction"]) == pytest.approx(1)
-    sunlib.write_json(path, None)
+    write_json(path, sunlib.sun_document(None))
     assert json.loads(path.read_text()) == {"sun": None}
 
 

@@ -13,7 +13,8 @@ import moderngl
 import numpy as np
 import pytest
 
-from bakeshop.normals.transfer import UVMesh, corner_tangents, transfer_detail
+from bakeshop.io.mesh import Mesh
+from bakeshop.normals.transfer import corner_tangents, transfer_detail
 from tests.normals.test_transfer import cylinder, wave_detail
 from tests.tolerances import TRANSFER_GL_DEG
 
@@ -78,7 +79,7 @@ def curved_mesh():
     th = np.radians(30)
     uv2 = c.uv * (3, 2) @ np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
     uv2 += np.random.default_rng(0).normal(scale=0.01, size=uv2.shape)
-    return UVMesh(c.positions, c.faces, c.normals, c.uv, uv2)
+    return Mesh(c.positions, c.faces, c.normals, c.uv, uv2)
 
 
 def test_transferred_map_decodes_in_opengl_to_the_detail_through_uv2(ctx):

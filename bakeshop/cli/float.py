@@ -1,4 +1,4 @@
-"""``bakeshop float``: the buoyancy test bench (one body, or the whole matrix)."""
+"""``bakeshop float``: the buoyancy test bench."""
 
 from __future__ import annotations
 
@@ -173,6 +173,8 @@ def float_command(
         )
     from bakeshop.buoyancy.bench import float_body
     from bakeshop.buoyancy.plots import plot_trace
+    from bakeshop.buoyancy.shapes import closed_mesh
+    from bakeshop.io import load_mesh, write_image
 
     model = ForceModel(
         damping=damping,
@@ -186,14 +188,16 @@ def float_command(
     )
     options = {"floor": floor, "shore": shore} if backend == "mujoco" else {}
     seconds = 10.0 if seconds is None else seconds
+    if (mesh is None) == (shape is None):
+        raise ArgumentError("give either a mesh file or a built-in shape, not both or neither")
+    body = None if mesh is None else closed_mesh(load_mesh(mesh), repair=repair, path=mesh)
     with progress.step(f"floating for {seconds:g} s of simulated time"):
         result = float_body(
-            mesh,
+            body,
             shape=shape,
             size=_size(size),
             density=density,
             resolution=10 if resolution is None else resolution,
-            repair=repair,
             model=model,
             water=water,
             fps=fps,
@@ -208,8 +212,7 @@ def float_command(
     summary = result.summary
     if plot is not None:
         label = shape or Path(mesh).name
-        plot_trace(
-            plot,
+        picture = plot_trace(
             result.trace.time,
             result.clearance[:, None],
             labels=[label],
@@ -217,6 +220,7 @@ def float_command(
             title=f"{label}, {density:g} kg/m3, {fps:g} fps, forces {forces}, "
             f"damping {damping}, stabilise {stabilize}",
         )
+        write_image(plot, picture)
     if as_json:
         click.echo(json.dumps(summary))
         return 0
@@ -229,7 +233,7 @@ def float_command(
 def _matrix(out, density, seconds, resolution, solver_hz, water, release_height):
     from bakeshop.buoyancy.matrix import run_matrix, to_csv, to_markdown
     from bakeshop.buoyancy.plots import plot_grid
-    from bakeshop.io._files import atomic_path
+    from bakeshop.io import write_image, write_text
 
     result = run_matrix(
         density=density,
@@ -239,14 +243,14 @@ def _matrix(out, density, seconds, resolution, solver_hz, water, release_height)
         water=water,
         release_height=release_height,
     )
-    for suffix, text in ((".md", to_markdown(result)), (".csv", to_csv(result))):
-        with atomic_path(f"{out}{suffix}") as tmp:
-            tmp.write_text(text)
-    plot_grid(f"{out}.png", result)
+    write_text(f"{out}.md", to_markdown(result))
+    write_text(f"{out}.csv", to_csv(result))
+    write_image(f"{out}.png", plot_grid(result))
     click.echo(to_markdown(result), nl=False)
     click.echo(f"wrote {out}.md, {out}.csv, {out}.png")
     return 0
 
 
 def register(group: click.Group) -> None:
+    """Add the command to the root group."""
     group.add_command(float_command)

@@ -13,16 +13,15 @@ from bakeshop.cli._common import (
     parse_size,
     refuse_overwriting_inputs,
 )
-from bakeshop.cli._environment import (
+from bakeshop.errors import ArgumentError
+from bakeshop.io.environment import (
     FACES,
-    auto_filter,
     describe,
     is_container,
     is_cube,
     read_environment,
     write_environment,
 )
-from bakeshop.errors import ArgumentError
 
 
 def _layouts() -> list[str]:
@@ -119,15 +118,19 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
         if len(rotation) != 3:
             raise ArgumentError(f"--rotate takes YAW,PITCH,ROLL in degrees; got {rotate!r}")
     with progress.step(f"reading {source}"):
-        image, src, how = read_environment(source, src, convention, short_face_names)
+        image, src, how = read_environment(
+            source, src, convention=convention, short=short_face_names
+        )
     dst_name = "cube" if dst == FACES else dst
     size = None if size_text is None else parse_size(size_text)
     if filter_name == "auto":
-        filter_name = auto_filter(image, src, dst_name, size)
+        src_shape = image.shape[: 3 if src == "cube" else 2]
+        dst_shape = sphere.remap_shape(src, src_shape, dst_name, size)
+        filter_name = sphere.auto_filter(src, src_shape, dst_name, dst_shape)
     with progress.step(f"remapping {src} -> {dst_name} ({filter_name})"):
         out = sphere.remap(image, src, dst_name, size, filter=filter_name, rotation=rotation)
     with progress.step(f"writing {target}"):
-        written = write_environment(target, out, dst, convention, short_face_names)
+        written = write_environment(target, out, dst, convention=convention, short=short_face_names)
     where = written[0] if len(written) == 1 else f"{written[0]} ... {written[-1].name}"
     click.echo(
         f"wrote {where}: {describe(out, dst_name)} from {describe(image, src)} "
@@ -136,4 +139,5 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
 
 
 def register(group: click.Group) -> None:
+    """Add the command to the root group."""
     group.add_command(remap)

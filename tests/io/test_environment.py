@@ -1,17 +1,12 @@
-"""bakeshop.cli._environment: environments in any layout, incl. .dds/.ktx/.ktx2 cube maps."""
+"""bakeshop.io.environment: environments in any layout, incl. .dds/.ktx/.ktx2 cube maps."""
 
 import numpy as np
 import pytest
 
-from bakeshop.cli._environment import (
-    auto_filter,
-    read_environment,
-    write_container,
-    write_environment,
-)
 from bakeshop.errors import ArgumentError
+from bakeshop.io import read_environment, write_container, write_environment
 from bakeshop.io.ktx2 import read_ktx2, write_ktx2
-from bakeshop.sphere import cube_to_faces
+from bakeshop.sphere import auto_filter, cube_to_faces, layout
 
 
 def test_containers_are_half_float_unless_a_value_overflows(tmp_path):
@@ -31,10 +26,10 @@ def test_cube_round_trip_through_ktx2_in_every_convention(tmp_path):
     cube = rng.uniform(0, 4, (6, 8, 8, 3)).astype(np.float32)
     for convention in ("opengl", "vulkan", "directx"):
         path = tmp_path / f"{convention}.ktx2"
-        assert write_environment(path, cube, "cube", convention) == [path]
+        assert write_environment(path, cube, "cube", convention=convention) == [path]
         stored = read_ktx2(path)[0][0][..., :3]  # the faces as the engine loads them
         np.testing.assert_allclose(stored, cube_to_faces(cube, convention=convention), rtol=1e-3)
-        back, layout, how = read_environment(path, None, convention)
+        back, layout, how = read_environment(path, convention=convention)
         assert layout == "cube" and how == "a cube map file"
         np.testing.assert_allclose(back[..., :3], cube, rtol=1e-3)
 
@@ -47,13 +42,16 @@ def test_a_2d_texture_is_not_an_environment(tmp_path):
 
 
 def test_auto_filter_averages_only_when_the_output_holds_at_most_half_the_directions():
-    latlong = np.zeros((64, 128, 3), np.float32)  # 8192 directions
-    assert auto_filter(latlong, "latlong", "cube", 16) == "area"  # 6 x 256 = 1536
-    assert auto_filter(latlong, "latlong", "cube", 26) == "area"  # 4056 <= 4096
-    assert auto_filter(latlong, "latlong", "cube", 27) == "bilinear"  # 4374 > 4096
-    assert auto_filter(latlong, "latlong", "cube", 64) == "bilinear"  # 24576
-    assert auto_filter(latlong, "latlong", "latlong", (128, 64)) == "bilinear"  # as many
+    def auto(src, shape, dst, size):
+        return auto_filter(src, shape, dst, layout(dst).shape(size))
+
+    latlong = (64, 128)  # 8192 directions
+    assert auto("latlong", latlong, "cube", 16) == "area"  # 6 x 256 = 1536
+    assert auto("latlong", latlong, "cube", 26) == "area"  # 4056 <= 4096
+    assert auto("latlong", latlong, "cube", 27) == "bilinear"  # 4374 > 4096
+    assert auto("latlong", latlong, "cube", 64) == "bilinear"  # 24576
+    assert auto("latlong", latlong, "latlong", (128, 64)) == "bilinear"  # as many
     # a mirror ball holds directions in its disk only (pi/4 of the square: 804 of 1024)
-    ball = np.zeros((32, 32, 3), np.float32)
-    assert auto_filter(ball, "mirrorball", "latlong", (28, 14)) == "area"  # 392 <= 402
-    assert auto_filter(ball, "mirrorball", "latlong", (30, 15)) == "bilinear"  # 450
+    ball = (32, 32)
+    assert auto("mirrorball", ball, "latlong", (28, 14)) == "area"  # 392 <= 402
+    assert auto("mirrorball", ball, "latlong", (30, 15)) == "bilinear"  # 450

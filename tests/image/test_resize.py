@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from bakeshop.errors import ArgumentError
-from bakeshop.resample import area_weights, resize_area
+from bakeshop.image import area_weights, resize_area
 from tests.tolerances import FLOAT32_MEAN, FLOAT32_VALUE
 
 

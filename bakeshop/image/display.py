@@ -16,7 +16,7 @@ import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError, validate_choice
-from bakeshop.statistics import luminance
+from bakeshop.image.statistics import luminance
 
 #: IEC 61966-2-1 sRGB transfer function constants: the linear segment's end in linear light,
 #: its slope, and the power segment's offset and exponent.

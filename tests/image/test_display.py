@@ -7,10 +7,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from bakeshop.errors import ArgumentError
-from bakeshop.light.tonemap import (
+from bakeshop.image import (
     ACES_FITS,
-    HILL_INPUT,
-    HILL_OUTPUT,
     aces_filmic,
     adapt_exposure,
     auto_exposure,
@@ -23,6 +21,7 @@ from bakeshop.light.tonemap import (
     to_srgb8,
     tonemap,
 )
+from bakeshop.image.display import HILL_INPUT, HILL_OUTPUT
 from tests.tolerances import FLOAT32_CURVE_RTOL, OIIO_SRGB_ATOL
 
 # Published reference values of the IEC 61966-2-1 curve (linear -> encoded), float64.

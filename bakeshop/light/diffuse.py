@@ -44,7 +44,6 @@ and real environments", SIGGRAPH 1984 course notes (the diffuse convolution).
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, NamedTuple
 
 import numba
 import numpy as np
@@ -52,9 +51,7 @@ import numpy as np
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.light import sh
-
-if TYPE_CHECKING:
-    from bakeshop.light.sun import Sun
+from bakeshop.sphere import texels
 
 #: the irradiance methods, the default first.
 METHODS = ("auto", "exact", "sh")
@@ -197,7 +194,8 @@ def cosine_sum(normals, directions, energy, *, description: str = "irradiance") 
     directions : (N, 3) array_like
         Unit directions towards the sources.
     energy : (N, C) array_like
-        Radiance times solid angle of each source (W m^-2 for radiance in W m^-2 sr^-1), C <= 3.
+        Radiance times solid angle of each source (W m^-2 for radiance in W m^-2 sr^-1); any
+        number of channels (the kernel sums three at a time).
 
     Returns
     -------
@@ -209,8 +207,13 @@ def cosine_sum(normals, directions, energy, *, description: str = "irradiance") 
     e = np.asarray(energy, dtype=np.float64)
     e = e.reshape(e.shape[0], -1) if e.size else e.reshape(e.shape[0], e.shape[-1])
     channels = e.shape[1]
-    if e.shape[0] != w.shape[0] or channels > 3:
+    if e.shape[0] != w.shape[0]:
         raise ArgumentError(f"energy {e.shape} does not match {w.shape[0]} source directions")
+    if channels > 3:
+        parts = [e[:, c : c + 3] for c in range(0, channels, 3)]
+        return np.concatenate(
+            [cosine_sum(n, w, part, description=description) for part in parts], 1
+        )
     out = np.zeros((n.shape[0], 3))
     if w.shape[0] == 0:
         return out[:, :channels]
@@ -225,64 +228,6 @@ def cosine_sum(normals, directions, energy, *, description: str = "irradiance") 
     for start in blocks:
         _cosine_sum(n[start : start + _BLOCK], *grouped, out[start : start + _BLOCK])
     return out[:, :channels]
-
-
-def texels(image, layout):
-    """An environment's texels as flat arrays, for everything that integrates over it.
-
-    Parameters
-    ----------
-    image : (..., C) array_like
-        The environment in ``layout`` (C in {1, 3, 4}; alpha is dropped).
-    layout : str or Layout
-
-    Returns
-    -------
-    values : (N, C') float32 or float64
-        Radiance of each texel (a view when possible).
-    dirs : (N, 3) float64, read-only
-        Unit direction of each texel centre.
-    omega : (N,) float64, read-only
-        Solid angle of each texel; 0 where the layout has no texel (outside a disk). Both are
-        computed once per layout and shape and kept for the next call (one entry).
-    shape : tuple
-        The spatial shape, to put results back in the layout.
-    """
-    from bakeshop.sphere import layout as get_layout
-
-    lay = get_layout(layout)
-    img = np.asarray(image)
-    if img.dtype.kind not in "fiu" or img.ndim < 3:
-        raise ArgumentError(f"an environment must be a numeric (..., C) array; got {img.shape}")
-    if img.shape[-1] not in (1, 3, 4):
-        raise ArgumentError(f"an environment needs 1, 3 or 4 channels, got {img.shape[-1]}")
-    spatial = lay.check_shape(img.shape[:-1])
-    img = img[..., :3] if img.shape[-1] == 4 else img
-    if img.dtype not in (np.float32, np.float64):
-        img = img.astype(np.float32)
-    if not np.isfinite(img).all():
-        raise ArgumentError("the environment has NaN or infinite values; fix or clamp them first")
-    dirs, omega = _geometry(lay, spatial)
-    return img.reshape(len(omega), -1), dirs, omega, spatial
-
-
-#: the texel geometry of the last layout and shape used (one entry: a 12.6 MP probe's is
-#: 400 MB), so that the several passes of a probe bake compute it once.
-_GEOMETRY: dict = {}
-
-
-def _geometry(lay, spatial):
-    """Read-only flat texel directions (N, 3) and solid angles (N,) (0 where invalid)."""
-    key = (lay.name, spatial)
-    if key not in _GEOMETRY:
-        dirs, valid = lay.directions(spatial)
-        omega = np.where(valid, lay.solid_angles(spatial), 0.0).reshape(-1)
-        dirs = dirs.reshape(-1, 3)
-        dirs.setflags(write=False)
-        omega.setflags(write=False)
-        _GEOMETRY.clear()
-        _GEOMETRY[key] = dirs, omega
-    return _GEOMETRY[key]
 
 
 @numba.njit(cache=True)
@@ -314,9 +259,12 @@ def _bins(dirs, subset, size):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _accumulate(values, dirs, omega, subset, index, n_bins, chunks, size):  # pragma: no cover
+def _accumulate(
+    values, dirs, omega, subset, index, n_bins, chunks, size, colour
+):  # pragma: no cover
     # Row b of the result sums, over texel k (of all texels, or of those listed in subset)
-    # with index[k] == b: its energy per channel, its weight (sum over channels of |energy|),
+    # with index[k] == b: its energy per channel, its weight (sum over the first ``colour``
+    # channels of |energy|: alpha is carried, but it is no light),
     # weight * direction, and a count. Chunks of texels run in parallel into partial sums.
     # With size > 0, index[k] is first set to the texel's bin at that size.
     channels = values.shape[1]
@@ -337,7 +285,8 @@ def _accumulate(values, dirs, omega, subset, index, n_bins, chunks, size):  # pr
             for ch in range(channels):
                 e = values[t, ch] * w
                 partial[c, b, ch] += e
-                total += abs(e)
+                if ch < colour:
+                    total += abs(e)
             partial[c, b, channels] += total
             for a in range(3):
                 partial[c, b, channels + 1 + a] += total * dirs[t, a]
@@ -367,7 +316,8 @@ def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float 
     """Group an environment's texels into moment-preserving bins, finer where energy gathers.
 
     Each bin becomes one source with the bin's energy ``sum L omega`` per channel, at the
-    weighted centroid of its texels' directions (weight: the energy summed over channels), so
+    weighted centroid of its texels' directions (weight: the energy summed over the colour
+    channels), so
     every bin keeps its zeroth and first moments and replacing it by a point source errs only
     to second order in its angular size (first order, times its energy, at a normal whose
     horizon crosses it). Bins whose energy times angular size (relative to the coarsest bins)
@@ -394,6 +344,7 @@ def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float 
         The sources; ``energy`` sums to the environment's ``sum L omega``.
     """
     channels = values.shape[1]
+    colour = min(channels, 3)
     size = base
     subset = np.empty(0, np.int64)  # empty: every texel
     index = parent = None
@@ -410,7 +361,7 @@ def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float 
             index = 4 * parent + 2 * (bins // size % 2) + bins % 2
             n_bins, fused = 4 * n_parents, 0
         chunks = min(4 * numba.get_num_threads(), max(1, len(index) // 65536))
-        sums = _accumulate(values, dirs, omega, subset, index, n_bins, chunks, fused)
+        sums = _accumulate(values, dirs, omega, subset, index, n_bins, chunks, fused, colour)
         weight = sums[:, channels]
         if threshold is None:
             threshold = hot_fraction * weight.sum()
@@ -432,7 +383,9 @@ def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float 
     return np.concatenate(out_dirs), np.concatenate(out_energy)
 
 
-def _normals(to: str, size):
+def dim_normals(to: str, size) -> tuple[tuple, np.ndarray, np.ndarray]:
+    """The output layout's ``(shape, texel normals, valid mask)`` for a DIM, checked against
+    :data:`MAX_OUTPUT_TEXELS`."""
     from bakeshop.sphere import layout
 
     lay = layout(to)
@@ -455,9 +408,9 @@ def sh_coefficients(image, layout, *, order: int = 2) -> np.ndarray:
         Radiance coefficients (see :mod:`bakeshop.light.sh`; ``sh.irradiance_coefficients``
         turns them into the DIM's).
     """
-    values, dirs, omega, _ = texels(image, layout)
+    t = texels(image, layout)
     with progress.step(f"projecting on spherical harmonics to order {order}"):
-        return sh.project(values, dirs, omega, order=order)
+        return sh.project(t.values, t.dirs, t.omega, order=order)
 
 
 def irradiance(
@@ -493,18 +446,18 @@ def irradiance(
         ``E / pi`` per output texel (0 outside a disk layout's disk); C' = 3 for RGBA input.
     """
     validate_choice(method, METHODS, "irradiance method")
-    shape, normals, valid = _normals(to, size)
+    t = texels(image, layout)
+    shape, normals, valid = dim_normals(to, size)
     if method == "sh":
-        coeffs = sh_coefficients(image, layout, order=order)
+        coeffs = sh.project(t.values, t.dirs, t.omega, order=order)
         dim = sh.evaluate(sh.irradiance_coefficients(coeffs), normals)
     else:
-        values, dirs, omega, _ = texels(image, layout)
-        dim = _dim(values, dirs, omega, normals, method)
+        dim = dim_of(t.values, t.dirs, t.omega, normals, method)
     dim[~valid] = 0
-    return dim.astype(np.float32)
+    return t.environment.shaped(dim.astype(np.float32))
 
 
-def _dim(values, dirs, omega, normals, method):
+def dim_of(values, dirs, omega, normals, method: str) -> np.ndarray:
     """E / pi at ``normals`` (..., 3) from texels, by ``exact`` or ``auto``."""
     if method == "auto":
         with progress.step("grouping the environment's texels"):
@@ -513,80 +466,3 @@ def _dim(values, dirs, omega, normals, method):
         energy = values * omega[:, None]
     e = cosine_sum(normals.reshape(-1, 3), dirs, energy)
     return e.reshape(normals.shape[:-1] + (-1,)) / math.pi
-
-
-class DimPair(NamedTuple):
-    """What :func:`dim_pair` returns."""
-
-    #: (..., C) float32: the DIM of the probe as photographed (lit surfaces).
-    sun_dim: np.ndarray
-    #: (..., C) float32: the DIM of the probe without its sun (surfaces in shadow).
-    shadow_dim: np.ndarray
-    #: the probe with its sun painted out, in the input's layout and shape (float32, or
-    #: float64 for float64 input; alpha kept).
-    shadow_probe: np.ndarray
-    #: the sun's measurements, or None when the probe has none (then both DIMs are equal).
-    sun: Sun | None
-
-
-def dim_pair(
-    image,
-    layout: str,
-    *,
-    to: str = "latlong",
-    size=(360, 180),
-    method: str = "auto",
-    order: int = 2,
-) -> DimPair:
-    """The sun DIM, the shadow DIM, the sun-removed probe and the sun, from one probe.
-
-    The sun is found and painted out (:mod:`bakeshop.light.sun`); the shadow DIM is the DIM of
-    the painted probe (by ``method``), and the sun DIM adds the exact irradiance of what was
-    painted out, so ``sun_dim - shadow_dim`` is the sun's own contribution, close to
-    ``E_sun max(0, n . s) / pi``.
-
-    Parameters
-    ----------
-    image : (..., C) array_like
-        The probe in ``layout``.
-    layout : str
-    to, size, method, order
-        As for :func:`irradiance`.
-
-    Returns
-    -------
-    DimPair
-        ``(sun_dim, shadow_dim, shadow_probe, sun)``.
-    """
-    from bakeshop.light import sun as sun_module
-
-    validate_choice(method, METHODS, "irradiance method")
-    shape, normals, valid = _normals(to, size)
-    values, dirs, omega, _ = texels(image, layout)
-    with progress.step("finding the sun"):
-        removal = sun_module.split_texels(image, layout, values, dirs, omega)
-    probe = np.array(image, dtype=values.dtype)  # a float copy (the fill is fractional)
-    if removal is not None:
-        flat = probe.reshape(-1, probe.shape[-1])
-        flat[removal.index, : values.shape[1]] = removal.filled
-        values = flat[:, : values.shape[1]]
-    if method == "sh":
-        coeffs = sh.project(values, dirs, omega, order=order)
-        shadow = sh.evaluate(sh.irradiance_coefficients(coeffs), normals)
-    else:
-        shadow = _dim(values, dirs, omega, normals, method)
-    lit = shadow
-    if removal is not None:
-        i = removal.index
-        original = np.asarray(image).reshape(-1, probe.shape[-1])[i, : values.shape[1]]
-        excess = original.astype(np.float64) - removal.filled
-        e = cosine_sum(normals.reshape(-1, 3), dirs[i], excess * omega[i, None])
-        lit = shadow + e.reshape(shadow.shape) / math.pi
-    shadow[~valid] = 0
-    lit[~valid] = 0
-    return DimPair(
-        lit.astype(np.float32),
-        shadow.astype(np.float32),
-        probe,
-        None if removal is None else removal.sun,
-    )

@@ -1,0 +1,129 @@
+"""Options and helpers shared by the commands that read a probe (``irradiance``, ``sun``,
+``dims``, ``prefilter``, ``bake-probe``, ``fresnel``)."""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import click
+
+from bakeshop.cli._common import parse_size
+from bakeshop.io.environment import read_environment
+
+#: layouts a single image file can hold (the cube is written as a cross or a strip).
+FILE_LAYOUTS = (
+    "latlong",
+    "angular",
+    "mirrorball",
+    "octahedral",
+    "dual-paraboloid",
+    "cross-vertical",
+    "cross-horizontal",
+    "strip-horizontal",
+    "strip-vertical",
+)
+
+
+#: output texels of a DIM when no --size is given (360x180, the pipeline's latlong).
+DEFAULT_TEXELS = 360 * 180
+
+
+from_option = click.option(
+    "--from",
+    "src_layout",
+    type=click.Choice(FILE_LAYOUTS),
+    help="Layout of IN; guessed from its shape when only one fits (2:1 is latlong). IN may "
+    "also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
+)
+
+
+to_option = click.option(
+    "--to",
+    "dst_layout",
+    type=click.Choice(FILE_LAYOUTS),
+    default="latlong",
+    show_default=True,
+    help="Layout of the DIM.",
+)
+
+
+size_option = click.option(
+    "--size",
+    metavar="N|WxH",
+    help="Size of the DIM as its layout reads it (latlong WxH or height N; face edge for "
+    "crosses and strips; edge for square layouts). Default: 360x180, or as many texels.",
+)
+
+
+method_option = click.option(
+    "--method",
+    type=click.Choice(("auto", "exact", "sh")),
+    default="auto",
+    show_default=True,
+    help="auto: exact to 0.1% RMS / 0.5% max in seconds; exact: every texel for every "
+    "output texel (slow: the reference); sh: spherical harmonics to --order.",
+)
+
+
+order_option = click.option(
+    "--order",
+    type=click.IntRange(0, 64),
+    default=2,
+    show_default=True,
+    help="SH order for --method sh, --sh-json and --shader (2: 9 coefficients per channel).",
+)
+
+
+def timed(compute, image, layout, dst_layout, size, method, order):
+    """``(compute(image, layout, to=..., ...), seconds)``: the DIM or the DIM pair, timed."""
+    started = time.perf_counter()
+    result = compute(
+        image,
+        layout,
+        to=dst_layout,
+        size=output_size(dst_layout, size),
+        method=method,
+        order=order,
+    )
+    return result, time.perf_counter() - started
+
+
+def output_size(layout: str, size: str | None):
+    from bakeshop.sphere import layout as get_layout
+
+    if size is not None:
+        return parse_size(size)
+    if layout == "latlong":
+        return (360, 180)
+    return get_layout(layout).default_size(DEFAULT_TEXELS)
+
+
+def sun_lines(sun) -> list[str]:
+    x, y, z = sun.direction
+    elevation = math.degrees(math.asin(max(-1.0, min(1.0, y))))
+    azimuth = math.degrees(math.atan2(x, -z))  # 0 forward (-Z), 90 right (+X)
+    rgb = ", ".join(f"{v:.4g}" for v in sun.color)
+    irr = ", ".join(f"{v:.4g}" for v in sun.irradiance)
+    return [
+        f"direction          [{x:.5f}, {y:.5f}, {z:.5f}]  "
+        f"(elevation {elevation:.2f} deg, azimuth {azimuth:.2f} deg from -Z towards +X)",
+        f"angular radius     {sun.angular_radius_deg:.3f} deg",
+        f"solid angle        {sun.solid_angle_sr:.4g} sr",
+        f"colour             [{rgb}] (mean radiance above the sky)",
+        f"irradiance         [{irr}] at normal incidence",
+        f"removed region     {sun.mask_radius_deg:.2f} deg radius",
+    ]
+
+
+def read_probe(source: Path | None, layout: str | None, *, convention: str = "opengl"):
+    """``(image, layout, path)`` of the input probe; the embedded default when ``source`` is
+    None (see :func:`bakeshop.io.read_environment`)."""
+    from bakeshop import progress
+    from bakeshop.data import default_probe_path
+
+    source = default_probe_path() if source is None else source
+    with progress.step(f"reading {source.name}"):
+        image, layout, _ = read_environment(source, layout, convention=convention)
+    return image, layout, source

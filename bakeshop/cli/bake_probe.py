@@ -1,0 +1,151 @@
+"""``bakeshop bake-probe``: everything the renderer needs from one probe."""
+
+from __future__ import annotations
+
+import time
+
+import click
+
+from bakeshop.cli._common import (
+    ENVIRONMENT,
+    float_format_option,
+    out_dir_option,
+    refuse_overwriting_inputs,
+)
+from bakeshop.cli._probe import read_probe
+from bakeshop.io.environment import (
+    as_picture,
+    describe,
+    write_chain,
+    write_environment,
+    write_table,
+)
+
+_from = click.option(
+    "--from",
+    "src_layout",
+    metavar="LAYOUT",
+    help="Layout of IN (latlong, angular, mirrorball, cross-vertical, ...); guessed from its "
+    "shape when only one fits. IN may also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
+)
+
+
+@click.command("bake-probe", context_settings={"max_content_width": 100})
+@click.argument("source", metavar="[IN]", required=False, type=ENVIRONMENT)
+@out_dir_option("Directory for everything (created if missing).")
+@_from
+@float_format_option("File format of the cube faces, DIMs and shadow probe.")
+@click.option(
+    "--container",
+    type=click.Choice(("dds", "ktx", "ktx2")),
+    default="dds",
+    show_default=True,
+    help="Container of the specular mip chain and the DFG table.",
+)
+@click.option("--cube-size", type=click.IntRange(1, 4096), help="Face size of the environment "
+              "cube (default: as many texels as the probe, a power of two).")  # fmt: skip
+@click.option("--specular-size", type=click.IntRange(1, 4096), default=256, show_default=True,
+              help="Face size of level 0 of the GGX chain.")  # fmt: skip
+@click.option("--mips", type=click.IntRange(1, 14), default=9, show_default=True,
+              help="Levels of the GGX chain (roughness m / (mips - 1)).")  # fmt: skip
+def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_size, mips):
+    """Bake everything the renderer needs from one probe IN (default: the embedded probe).
+
+    \b
+    Writes to DIR:
+      env_posx ... env_negz   the environment as OpenGL cube faces
+      sun_dim, shadow_dim     the DIM pair (E/pi, latlong 360x180): lit and shadowed surfaces
+      shadow_probe            the probe with its sun painted out (input layout; a cube
+                              input gives a vertical cross)
+      sun.json                the sun's direction, size, colour and irradiance ({"sun": null}
+                              when there is none)
+      sh.json                 order-2 SH radiance coefficients (9 per channel)
+      specular.dds            the GGX mip chain (roughness m/(mips-1)), OpenGL faces
+      dfg.dds                 the split-sum DFG table (RG: scale, bias on F0)
+      contact_sheet.png       all of it side by side, tone-mapped
+
+    \b
+    Example:
+      bakeshop bake-probe -o baked/
+      bakeshop bake-probe probe.exr -o baked/ --format exr --container ktx
+    """
+    from bakeshop.io import ALPHA_EXTENSIONS, write_image, write_json
+    from bakeshop.light import bake_probe as bake
+    from bakeshop.light import contact_sheet, sh, sun_document
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    image, layout, source = read_probe(source, src_layout)
+    dropped = image.shape[-1] == 4 and f".{fmt}" not in ALPHA_EXTENSIONS
+    if dropped:  # alpha is carried by every step, but .hdr and .pfm store none
+        image = image[..., :3]
+    paths = {
+        "cube": out_dir / f"env_{{face}}.{fmt}",
+        "sun_dim": out_dir / f"sun_dim.{fmt}",
+        "shadow_dim": out_dir / f"shadow_dim.{fmt}",
+        "shadow_probe": out_dir / f"shadow_probe.{fmt}",
+        "sun": out_dir / "sun.json",
+        "sh": out_dir / "sh.json",
+        "specular": out_dir / f"specular.{container}",
+        "dfg": out_dir / f"dfg.{container}",
+        "sheet": out_dir / "contact_sheet.png",
+    }
+    for path in paths.values():
+        refuse_overwriting_inputs(path, source)
+    started = time.perf_counter()
+    baked = bake(image, layout, cube_size=cube_size, specular_size=specular_size, mips=mips)
+    from bakeshop import progress
+
+    with progress.step("writing files"):
+        faces = write_environment(paths["cube"], baked.cube, "cube")
+        write_image(paths["sun_dim"], baked.sun_dim)
+        write_image(paths["shadow_dim"], baked.shadow_dim)
+        # a cube probe (faces or a container) is painted as a cube: one picture, a cross
+        write_image(paths["shadow_probe"], as_picture(baked.shadow_probe, layout))
+        write_json(paths["sun"], sun_document(baked.sun))
+        write_json(paths["sh"], sh.to_document(baked.sh))
+        write_chain(paths["specular"], baked.specular, convention="opengl")
+        write_table(paths["dfg"], baked.dfg)
+    with progress.step("contact sheet"):
+        write_image(paths["sheet"], contact_sheet(baked, image))
+    elapsed = time.perf_counter() - started
+    t = baked.timings
+    s = baked.cube.shape[1]
+    click.echo(
+        f"baked {source.name} ({describe(image, layout)}) into {out_dir}/ in {elapsed:.1f} s"
+    )
+    if dropped:
+        click.echo(f"  alpha dropped: .{fmt} stores none (--format exr keeps it)")
+    rows = [
+        (f"{faces[0].name} ...", f"environment, 6 OpenGL faces of {s}x{s}", t["cube"]),
+        (paths["sun_dim"].name, "DIM of the probe (E/pi), latlong 360x180", t["dims"]),
+        (paths["shadow_dim"].name, "DIM without the sun", None),
+        (
+            paths["shadow_probe"].name,
+            "probe without the sun "
+            + ("(vertical cross)" if layout == "cube" else f"({describe(image, layout)})"),
+            None,
+        ),
+        (paths["sun"].name, "the sun" if baked.sun is not None else "no sun found", None),
+        (paths["sh"].name, f"SH radiance, {baked.sh.shape[0]} coefficients per channel", t["sh"]),
+        (
+            paths["specular"].name,
+            f"GGX chain, {len(baked.specular)} levels from 6x{baked.specular[0].shape[1]}",
+            t["specular"],
+        ),
+        (paths["dfg"].name, f"DFG table {baked.dfg.shape[1]}x{baked.dfg.shape[0]}", t["dfg"]),
+        (paths["sheet"].name, "contact sheet", None),
+    ]
+    for name, what, seconds in rows:
+        took = f"{seconds:6.2f} s" if seconds is not None else ""
+        click.echo(f"  {name:<22} {what:<52} {took}".rstrip())
+    if baked.sun is not None:
+        x, y, z = baked.sun.direction
+        click.echo(
+            f"  sun: direction [{x:.4f}, {y:.4f}, {z:.4f}], "
+            f"radius {baked.sun.angular_radius_deg:.2f} deg"
+        )
+
+
+def register(group: click.Group) -> None:
+    """Add the command to the root group."""
+    group.add_command(bake_probe)

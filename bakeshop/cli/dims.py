@@ -1,0 +1,83 @@
+"""``bakeshop dims``: the DIM pair of a probe (sun DIM, shadow DIM, shadow probe, sun)."""
+
+from __future__ import annotations
+
+import click
+import numpy as np
+
+from bakeshop.cli._common import (
+    ENVIRONMENT,
+    float_format_option,
+    out_dir_option,
+    refuse_overwriting_inputs,
+)
+from bakeshop.cli._probe import (
+    from_option,
+    method_option,
+    order_option,
+    read_probe,
+    size_option,
+    sun_lines,
+    timed,
+    to_option,
+)
+from bakeshop.io.environment import as_picture, describe
+
+
+@click.command(context_settings={"max_content_width": 100})
+@click.argument("source", metavar="IN", type=ENVIRONMENT)
+@out_dir_option("Directory for the outputs (created if missing).")
+@from_option
+@float_format_option("File format of the three images.")
+@method_option
+@order_option
+@to_option
+@size_option
+def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
+    """Make the DIM pair of the probe IN: sun_dim, shadow_dim, shadow_probe and sun.json.
+
+    The sun is found and painted out of the probe (shadow_probe, same layout and size as IN,
+    a vertical cross for a cube);
+    shadow_dim is the DIM of the painted probe, for surfaces the shadow pass says are in
+    shadow; sun_dim adds the sun's own light, for lit surfaces. sun.json gives the sun's
+    direction for the shadow pass. A probe without a sun gives two equal DIMs and
+    {"sun": null}.
+
+    \b
+    Example:
+      bakeshop dims probe.hdr --out-dir dims/
+      bakeshop dims probe.exr -o dims/ --format exr --size 512x256
+    """
+    from bakeshop import progress
+    from bakeshop.io import write_image, write_json
+    from bakeshop.light import dim_pair, sun_document
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    names = {key: out_dir / f"{key}.{fmt}" for key in ("sun_dim", "shadow_dim", "shadow_probe")}
+    for path in (*names.values(), out_dir / "sun.json"):
+        refuse_overwriting_inputs(path, source)
+    image, layout, _ = read_probe(source, src_layout)
+    pair, elapsed = timed(dim_pair, image, layout, dst_layout, size, method, order)
+    with progress.step(f"writing {out_dir}"):
+        write_image(names["sun_dim"], pair.sun_dim)
+        write_image(names["shadow_dim"], pair.shadow_dim)
+        write_image(names["shadow_probe"], as_picture(pair.shadow_probe, layout))
+        write_json(out_dir / "sun.json", sun_document(pair.sun))
+    click.echo(
+        f"wrote {out_dir}: sun_dim.{fmt} and shadow_dim.{fmt} "
+        f"({describe(pair.sun_dim, dst_layout)}, method {method}), shadow_probe.{fmt} "
+        f"({describe(image, layout)}), sun.json; {elapsed:.2f} s"
+    )
+    if pair.sun is None:
+        click.echo("  no sun: the two DIMs are equal and the probe is unchanged")
+    else:
+        for line in sun_lines(pair.sun):
+            click.echo(f"  {line}")
+        lit = float(np.mean(pair.sun_dim[..., :3]))
+        shade = float(np.mean(pair.shadow_dim[..., :3]))
+        click.echo(f"  mean DIM            lit {lit:.4g}, shadow {shade:.4g}")
+
+
+def register(group: click.Group) -> None:
+    """Add the command to the root group."""
+    group.add_command(dims)

@@ -1,0 +1,87 @@
+"""``bakeshop info``: what is in an image file."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+
+from bakeshop.cli._common import (
+    INPUT,
+)
+
+
+@click.command(context_settings={"max_content_width": 100})
+@click.argument("files", nargs=-1, type=INPUT)
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object per file instead.")
+def info(files: tuple[Path, ...], as_json: bool):
+    """Describe image files: format, size, channels, stored type, per-channel min/max/mean,
+    NaN/Inf counts, dynamic range in stops, and a guess of the panorama layout from the shape
+    (labelled as a guess). Without FILES, describes the embedded default probe.
+
+    \b
+    Example:
+      bakeshop info probe.hdr normals.png
+      bakeshop info --json probe.exr | jq .dynamic_range_stops
+    """
+    from bakeshop.data import default_probe_path
+    from bakeshop.image import describe
+    from bakeshop.io import read_image
+    from bakeshop.sphere import guess_layout
+
+    for path in files or (default_probe_path(),):
+        image, meta = read_image(path, with_metadata=True)
+        stats = describe(image)
+        h, w, c = image.shape
+        report = {
+            "file": str(path),
+            "format": meta["format"],
+            "width": w,
+            "height": h,
+            "channels": c,
+            "stored": meta.get("stored"),
+            **{k: stats[k] for k in ("channels", "nan", "inf", "dynamic_range_stops")},
+            "layout_guess": guess_layout(h, w),
+            "metadata": {k: v for k, v in meta.items() if k not in ("format", "stored")},
+        }
+        report["channel_stats"] = report.pop("channels")
+        report["channels"] = c
+        if as_json:
+            click.echo(json.dumps(report, default=str))
+        else:
+            _print_info(report)
+
+
+def _print_info(r: dict) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    console = Console(soft_wrap=True)
+    names = {1: "Y", 3: "RGB", 4: "RGBA"}.get(r["channels"], "?" * r["channels"])
+    stops = r["dynamic_range_stops"]
+    guess = ", ".join(r["layout_guess"]) or "none (not a panorama shape)"
+    console.print(
+        f"[bold]{r['file']}[/bold]: {r['format']}, {r['width']}x{r['height']}, {names}, "
+        f"stored as {r['stored']}"
+    )
+    table = Table(box=None, padding=(0, 2), show_edge=False)
+    for col in ("channel", "min", "max", "mean"):
+        table.add_column(col, justify="right")
+    for name, s in zip(names, r["channel_stats"], strict=True):
+        table.add_row(
+            name, *(f"{s[k]:.6g}" if s[k] is not None else "-" for k in ("min", "max", "mean"))
+        )
+    console.print(table)
+    console.print(
+        f"  NaN: {r['nan']}  Inf: {r['inf']}  dynamic range: "
+        + (f"{stops:.1f} stops" if stops is not None else "n/a")
+    )
+    console.print(f"  layout (a guess from the shape): {guess}")
+    for key, value in r["metadata"].items():
+        console.print(f"  {key}: {value}")
+
+
+def register(group: click.Group) -> None:
+    """Add the command to the root group."""
+    group.add_command(info)

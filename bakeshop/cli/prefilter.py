@@ -1,0 +1,110 @@
+"""``bakeshop prefilter``: glossy-reflection cube mip chains (GGX, Phong)."""
+
+from __future__ import annotations
+
+import time
+
+import click
+
+from bakeshop.cli._common import (
+    ENVIRONMENT,
+    OUTPUT,
+    convention_option,
+    refuse_overwriting_inputs,
+)
+from bakeshop.cli._probe import read_probe
+from bakeshop.errors import ArgumentError
+from bakeshop.io.environment import (
+    check_chain_path,
+    describe,
+    write_chain,
+)
+
+_from = click.option(
+    "--from",
+    "src_layout",
+    metavar="LAYOUT",
+    help="Layout of IN (latlong, angular, mirrorball, cross-vertical, ...); guessed from its "
+    "shape when only one fits. IN may also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
+)
+
+
+_convention = convention_option(
+    "Engine whose cube faces to write (directx: the left-handed, z-forward face set)."
+)
+
+
+_float32 = click.option(
+    "--float32", is_flag=True, help="Store 32-bit floats in .dds/.ktx/.ktx2 (default: half floats "
+    "unless a value exceeds 65504)."
+)  # fmt: skip
+
+
+@click.command(context_settings={"max_content_width": 100})
+@click.argument("source", metavar="IN", type=ENVIRONMENT)
+@click.argument("target", metavar="OUT", type=OUTPUT)
+@click.option("--brdf", type=click.Choice(("ggx", "phong")), default="ggx", show_default=True)
+@click.option(
+    "--exponent",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Phong only: one lobe of this exponent, one level (HDRShop's specular convolution). "
+    "Default: a chain with cmft's exponents, 2^(10 (1 - m/(mips-1)) + 1).",
+)
+@click.option("--size", type=click.IntRange(1, 4096), default=256, show_default=True,
+              help="Face size of level 0.")  # fmt: skip
+@click.option("--mips", type=click.IntRange(1, 14), help="Levels (default: 9, or down to 1x1).")
+@_from
+@click.option("--samples", type=click.IntRange(1, 65536), default=256, show_default=True,
+              help="Importance samples per texel (narrow lobes; wide ones are exact).")  # fmt: skip
+@_convention
+@_float32
+def prefilter(source, target, brdf, exponent, size, mips, src_layout, samples, convention, float32):
+    """Prefilter the environment IN into a glossy-reflection cube mip chain OUT.
+
+    GGX (the split-sum approximation of UE4): level m has roughness m / (mips - 1), so level 0
+    is the environment itself and the last level roughness 1; a shader reads it with
+    textureLod(env, R, roughness * (mips - 1)) and multiplies by the DFG table (bakeshop dfg).
+    Phong: cmft's exponent per level, or one lobe with --exponent. OUT is one .dds, .ktx or
+    .ktx2 file holding the whole chain, or a name with {mip} (and {face} for six face files).
+
+    \b
+    Example:
+      bakeshop prefilter probe.hdr specular.dds
+      bakeshop prefilter probe.exr specular.ktx2 --size 128 --mips 8
+      bakeshop prefilter probe.hdr "spec_{mip}_{face}.hdr" --convention directx
+      bakeshop prefilter probe.hdr glossy.dds --brdf phong --exponent 64 --size 64
+    """
+    from bakeshop.light import specular
+
+    check_chain_path(target)
+    refuse_overwriting_inputs(target, source)
+    if exponent is not None and brdf != "phong":
+        raise ArgumentError("--exponent is the exponent of a Phong lobe: add --brdf phong")
+    if exponent is not None and mips not in (None, 1):
+        raise ArgumentError("--exponent makes one level (one lobe); leave out --mips")
+    if mips is None:
+        mips = 1 if exponent is not None else min(9, size.bit_length())
+    image, layout, _ = read_probe(source, src_layout)
+    started = time.perf_counter()
+    if brdf == "ggx":
+        chain = specular.prefilter_ggx(image, layout, size=size, mips=mips, samples=samples)
+        what = f"GGX, roughness m/{mips - 1} per level" if mips > 1 else "GGX, roughness 0"
+    else:
+        exponents = None if exponent is None else [exponent]
+        chain = specular.prefilter_phong(
+            image, layout, size=size, mips=mips, exponents=exponents, samples=samples
+        )
+        what = f"Phong exponent {exponent:g}" if exponent else "Phong, cmft's exponents"
+    elapsed = time.perf_counter() - started
+    paths = write_chain(target, chain, convention=convention, float32=float32)
+    where = target if len(paths) == 1 else f"{len(paths)} files ({paths[0].name} ...)"
+    click.echo(
+        f"wrote {where}: {len(chain)} levels of 6x{size} down to 6x{chain[-1].shape[1]} "
+        f"({what}; {convention} faces) from {source.name} ({describe(image, layout)}), "
+        f"{elapsed:.2f} s"
+    )
+
+
+def register(group: click.Group) -> None:
+    """Add the command to the root group."""
+    group.add_command(prefilter)

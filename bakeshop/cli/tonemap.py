@@ -1,0 +1,202 @@
+"""``bakeshop tonemap``: exposure, tone mapping and adaptation of HDR frames to 8-bit pictures."""
+
+from __future__ import annotations
+
+import glob
+import os
+import re
+import string
+from pathlib import Path
+
+import click
+
+from bakeshop.cli._common import (
+    is_ldr,
+    parse_exposure,
+    refuse_overwriting_inputs,
+    require_hdr,
+)
+from bakeshop.errors import ArgumentError
+
+
+def _natural_key(path: str):
+    """Sort key that orders frame_2 before frame_10."""
+    return [(0, int(t), "") if t.isdigit() else (1, 0, t) for t in re.split(r"(\d+)", path)]
+
+
+def expand_inputs(patterns) -> list[Path]:
+    """Input frames in order: each argument is a file or a glob pattern, whose matches are
+    sorted by name with numbers in numeric order (frame_2 before frame_10)."""
+    frames: list[Path] = []
+    for p in patterns:
+        if glob.has_magic(p):
+            matches = sorted(glob.glob(p), key=_natural_key)
+            if not matches:
+                raise ArgumentError("no file matches this pattern", p)
+            frames.extend(Path(m) for m in matches)
+        elif os.path.isfile(p):
+            frames.append(Path(p))
+        else:
+            raise ArgumentError("no such file", p)
+    return frames
+
+
+def frame_paths(target: str, count: int) -> list[Path]:
+    """Output names: ``target`` for one frame; ``target.format(frame=i)`` for a sequence."""
+    fields = {f for _, f, _, _ in string.Formatter().parse(target) if f is not None}
+    if count > 1 and "frame" not in fields:
+        raise ArgumentError(
+            "several input frames need a {frame} pattern in the output name "
+            "(for example out_{frame:04d}.png)",
+            target,
+        )
+    if fields - {"frame"}:
+        raise ArgumentError("only {frame} may appear in braces in the output name", target)
+    try:
+        return [Path(target.format(frame=i)) for i in range(count)]
+    except (ValueError, IndexError) as e:
+        raise ArgumentError(f"bad output pattern: {e}", target) from None
+
+
+@click.command(context_settings={"max_content_width": 100})
+@click.argument("inputs", nargs=-1, required=True, metavar="IN...")
+@click.argument("target", metavar="OUT")
+@click.option(
+    "--operator",
+    type=click.Choice(["none", "reinhard", "aces"]),
+    default="aces",
+    show_default=True,
+    help="Tone curve after exposure: none (clamp), reinhard (Reinhard 2002 eq. 4 on "
+    "luminance, hue kept), aces (Hill's fit of the ACES RRT+ODT).",
+)
+@click.option(
+    "--exposure",
+    "exposure_text",
+    default="auto",
+    show_default=True,
+    metavar="EV|auto",
+    help="Exposure in stops, or auto: centre-weighted log-average luminance mapped "
+    "to --key, adapting over a sequence.",
+)
+@click.option(
+    "--center-weight",
+    type=click.FloatRange(0, 1),
+    default=0.75,
+    show_default=True,
+    help="Auto exposure: fraction of the metering weight in the centre spot (0 is "
+    "the plain frame average).",
+)
+@click.option(
+    "--key",
+    type=click.FloatRange(min=0, min_open=True),
+    default=0.18,
+    show_default=True,
+    help="Auto exposure: target log-average (middle grey).",
+)
+@click.option(
+    "--white",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Reinhard: luminance (after exposure) that maps to white; default infinite.",
+)
+@click.option(
+    "--fps",
+    type=click.FloatRange(min=0, min_open=True),
+    default=30.0,
+    show_default=True,
+    help="Sequence: frames per second (for the adaptation).",
+)
+@click.option(
+    "--tau-brighter",
+    type=click.FloatRange(min=0, min_open=True),
+    default=0.5,
+    show_default=True,
+    help="Sequence: adaptation time constant (s) when the scene gets brighter.",
+)
+@click.option(
+    "--tau-darker",
+    type=click.FloatRange(min=0, min_open=True),
+    default=2.0,
+    show_default=True,
+    help="Sequence: adaptation time constant (s) when the scene gets darker.",
+)
+@click.option("--dither", is_flag=True, help="Triangular dither of +-1 code value (seeded).")
+def tonemap(
+    inputs,
+    target,
+    operator,
+    exposure_text,
+    center_weight,
+    key,
+    white,
+    fps,
+    tau_brighter,
+    tau_darker,
+    dither,
+):
+    """Tone-map HDR images (one or a sequence of frames) to 8-bit sRGB pictures.
+
+    Each frame: exposure (a fixed EV, or auto), the tone operator, clamp to [0, 1], sRGB
+    encoding (IEC 61966-2-1) and rounding to 8 bits; OUT is .png, .tga or .jpg. Auto exposure
+    meters the centre-weighted log-average luminance (Reinhard 2002 eq. 1, weights favouring
+    the centre of the frame) and maps it to --key; over a sequence the exposure adapts
+    exponentially, with time constant --tau-brighter when the scene gets brighter and
+    --tau-darker when it gets darker (63% of a step after one time constant). IN may be
+    several files or a quoted glob (matches in name order, numbers numerically); a sequence
+    needs {frame} in OUT (frame 0, 1, ...).
+
+    \b
+    Example:
+      bakeshop tonemap probe.hdr preview.png --operator reinhard --white 8
+      bakeshop tonemap 'shots/frame_*.exr' out/frame_{frame:04d}.png --operator aces
+      bakeshop tonemap probe.hdr dark.png --operator none --exposure -3
+    """
+    from bakeshop import progress
+    from bakeshop.image import (
+        adapt_exposure,
+        auto_exposure,
+        to_srgb8,
+    )
+    from bakeshop.image import tonemap as apply_tonemap
+    from bakeshop.io import read_image, write_image
+
+    frames = expand_inputs(inputs)
+    for frame in frames:
+        require_hdr(frame)
+    outputs = frame_paths(target, len(frames))
+    for out in outputs:
+        if not is_ldr(out):
+            raise ArgumentError("tonemap writes 8-bit sRGB pictures: use .png, .tga or .jpg", out)
+        refuse_overwriting_inputs(out, *frames)
+    if len(set(outputs)) != len(outputs):
+        raise ArgumentError("the output pattern gives several frames the same name", target)
+    ev_fixed = parse_exposure(exposure_text)
+    adapted = None
+    evs = []
+    for path, out in progress.track(
+        list(zip(frames, outputs, strict=True)), "tone mapping", total=len(frames)
+    ):
+        image = read_image(path)
+        if ev_fixed == "auto":
+            target_ev = auto_exposure(image, center_weight=center_weight, key=key)
+            adapted = adapt_exposure(
+                [target_ev],
+                frame_time=1.0 / fps,
+                tau_brighter=tau_brighter,
+                tau_darker=tau_darker,
+                start=adapted,
+            )[0]
+            ev = float(adapted)
+        else:
+            ev = ev_fixed
+        display = apply_tonemap(image, ev=ev, operator=operator, white=white)
+        write_image(out, to_srgb8(display, dither="triangular" if dither else "none"))
+        evs.append(ev)
+    how = "auto" if ev_fixed == "auto" else "fixed"
+    span = f"{evs[0]:+.2f} EV" if len(evs) == 1 else f"{min(evs):+.2f} to {max(evs):+.2f} EV"
+    dest = outputs[0] if len(outputs) == 1 else f"{len(outputs)} frames ({target})"
+    click.echo(f"wrote {dest}: {operator}, {how} exposure {span}, 8-bit sRGB")
+
+
+def register(group: click.Group) -> None:
+    """Add the command to the root group."""
+    group.add_command(tonemap)

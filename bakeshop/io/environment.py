@@ -1,0 +1,276 @@
+"""Environments in files: any layout as one image, six ``{face}`` files, or a DDS/KTX/KTX2 cube
+map; cube mip chains; and 2-D lookup tables.
+
+>>> from bakeshop.io import read_environment, write_environment
+>>> env = read_environment("probe.hdr")                 # layout guessed from the 2:1 shape
+>>> env.image.shape, env.layout                         # ((512, 1024, 3), 'latlong')
+>>> write_environment("env_{face}.exr", cube, "cube")   # six OpenGL faces
+
+A cube in memory is bakeshop's ``(6, S, S, C)`` in OpenGL order and orientation; in files it
+is the face set of an engine ``convention`` (:func:`bakeshop.sphere.cube_to_faces`).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from bakeshop.errors import ArgumentError
+from bakeshop.io.containers import is_container, read_container, write_container
+
+#: the placeholder a file name uses for the six faces of a cube (``env_{face}.hdr``).
+FACE_FIELD = "{face}"
+#: the layout name of a cube stored as six files (``{face}`` in the name) or one container.
+FACES = "faces"
+#: the placeholder for the level of a mip chain written as one file per level.
+MIP_FIELD = "{mip}"
+
+
+class EnvironmentFile(NamedTuple):
+    """What :func:`read_environment` returns."""
+
+    #: ``(H, W, C)`` float32, or ``(6, S, S, C)`` for a cube.
+    image: np.ndarray
+    #: its layout name (``"cube"`` for face files and containers).
+    layout: str
+    #: how the layout was known: ``"given"``, ``"guessed from its 1024x512 shape"``, ...
+    how: str
+
+
+def is_cube(layout: str) -> bool:
+    """True for the cube layouts: ``cube`` (in memory) and ``faces`` (in files)."""
+    return layout in ("cube", FACES)
+
+
+def face_paths(pattern: str | os.PathLike, *, short: bool = False) -> list[Path]:
+    """The six file names of ``pattern`` with ``{face}`` replaced (posx ... negz, or px ... nz
+    with ``short``), in OpenGL face order."""
+    from bakeshop.sphere import FACE_NAMES, FACE_NAMES_SHORT
+
+    names = FACE_NAMES_SHORT if short else FACE_NAMES
+    return [Path(str(pattern).replace(FACE_FIELD, name)) for name in names]
+
+
+def describe(image, layout: str) -> str:
+    """``'latlong 1024x512'`` or ``'cube (6 faces of 256x256)'``: for summaries."""
+    if is_cube(layout):
+        return f"cube (6 faces of {image.shape[2]}x{image.shape[1]})"
+    return f"{layout} {image.shape[1]}x{image.shape[0]}"
+
+
+def as_picture(image, layout: str) -> np.ndarray:
+    """``image`` as one picture: a cube becomes a vertical cross, other layouts are pictures."""
+    from bakeshop.sphere import cube_to_view
+
+    return cube_to_view(image, "cross-vertical") if is_cube(layout) else image
+
+
+def guess_input_layout(image, path=None) -> str:
+    """The one layout whose pictures have ``image``'s shape
+    (:func:`bakeshop.sphere.guess_layout`); :class:`ArgumentError` naming the candidates when
+    the shape fits several (a square may be angular, mirror ball or octahedral) or none."""
+    from bakeshop.sphere import guess_layout
+
+    h, w = image.shape[:2]
+    candidates = guess_layout(h, w)
+    if len(candidates) != 1:
+        which = ", ".join(candidates) if candidates else "none"
+        raise ArgumentError(
+            f"cannot tell the layout of a {w}x{h} image (candidates: {which}); name it "
+            "(--from LAYOUT, or layout=)",
+            path,
+        )
+    return candidates[0]
+
+
+def read_environment(
+    path: str | os.PathLike,
+    layout: str | None = None,
+    *,
+    convention: str = "opengl",
+    short: bool = False,
+) -> EnvironmentFile:
+    """Read an environment: one image file, six ``{face}`` files, or a .dds/.ktx/.ktx2 cube.
+
+    Parameters
+    ----------
+    path : path-like
+        One image (any layout), a name with ``{face}`` (six files, see :func:`face_paths`), or
+        a cube map container (its level 0 is read).
+    layout : str, optional
+        The layout of a single image (:data:`bakeshop.sphere.LAYOUT_NAMES`); guessed from its
+        shape when None (:func:`guess_input_layout`). Face files and containers are cubes
+        (``"cube"`` or ``"faces"``).
+    convention : {"opengl", "vulkan", "directx"}
+        The engine face set of face files and containers (:func:`bakeshop.sphere.faces_to_cube`).
+    short : bool
+        ``{face}`` stands for px ... nz instead of posx ... negz.
+
+    Returns
+    -------
+    EnvironmentFile
+        ``(image, layout, how)``; a cube is bakeshop's internal ``(6, S, S, C)``.
+    """
+    from bakeshop import sphere
+    from bakeshop.io import read_image
+
+    path = Path(path)
+    if FACE_FIELD in str(path):
+        if layout is not None and not is_cube(layout):
+            raise ArgumentError(f"a {{face}} input is six cube faces, not {layout}", path)
+        faces = []
+        for face_path in face_paths(path, short=short):
+            if not face_path.is_file():
+                raise ArgumentError("missing cube face file", face_path)
+            faces.append(read_image(face_path))
+        shapes = {f.shape for f in faces}
+        if len(shapes) != 1 or faces[0].shape[0] != faces[0].shape[1]:
+            raise ArgumentError(
+                f"the six faces must be square and equal; got {sorted(shapes)}", path
+            )
+        cube = sphere.faces_to_cube(np.stack(faces), convention=convention)
+        return EnvironmentFile(cube, "cube", "six face files")
+    if not path.is_file():
+        raise ArgumentError("no such file", path)
+    if is_container(path):
+        mips, meta = read_container(path)
+        if not meta.get("cube"):
+            raise ArgumentError("this texture is not a cube map", path)
+        faces = _without_padding(mips[0])
+        cube = sphere.faces_to_cube(faces, convention=convention)
+        return EnvironmentFile(cube, "cube", "a cube map file")
+    image = read_image(path)
+    if layout is not None and is_cube(layout):
+        raise ArgumentError(
+            "a cube input is six files (put {face} in the name), a .dds, .ktx or .ktx2 file, "
+            "or a cross or strip picture (cross-vertical, ...)",
+            path,
+        )
+    if layout is not None:
+        try:
+            sphere.layout(layout).check_shape(image.shape[:2])
+        except ArgumentError as e:
+            raise ArgumentError(e.reason, path) from None
+        return EnvironmentFile(image, layout, "given")
+    guessed = guess_input_layout(image, path)
+    h, w = image.shape[:2]
+    return EnvironmentFile(image, guessed, f"guessed from its {w}x{h} shape")
+
+
+def _without_padding(faces: np.ndarray) -> np.ndarray:
+    """DDS and KTX have no RGB half-float format: the writers pad RGB with an opaque alpha,
+    which an environment does not carry (and .hdr output cannot store)."""
+    if faces.shape[-1] == 4 and np.all(faces[..., 3] == 1):
+        return faces[..., :3]
+    return faces
+
+
+def write_environment(
+    path: str | os.PathLike,
+    image,
+    layout: str,
+    *,
+    convention: str = "opengl",
+    short: bool = False,
+    float32: bool = False,
+) -> list[Path]:
+    """Write an environment; a cube to six ``{face}`` files or one .dds/.ktx/.ktx2 file, as the
+    engine ``convention`` loads it.
+
+    Parameters
+    ----------
+    path : path-like
+        One image file, or for a cube a name with ``{face}`` or a container.
+    image : array
+        In ``layout``: ``(H, W, C)``, or ``(6, S, S, C)`` for the cube.
+    layout : str
+        Any of :data:`bakeshop.sphere.LAYOUT_NAMES`, or ``"faces"`` (a cube).
+    convention : {"opengl", "vulkan", "directx"}
+    short : bool
+        ``{face}`` becomes px ... nz.
+    float32 : bool
+        Containers: store 32-bit floats (default: half floats unless a value overflows them).
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    from bakeshop import sphere
+    from bakeshop.io import write_image
+
+    path = Path(path)
+    if not is_cube(layout):
+        write_image(path, image)
+        return [path]
+    faces = sphere.cube_to_faces(image, convention=convention)
+    if is_container(path):
+        write_container(path, [faces], float32=float32)
+        return [path]
+    if FACE_FIELD not in str(path):
+        raise ArgumentError(
+            "a cube is written as six files (put {face} in the name) or one .dds, .ktx or "
+            ".ktx2 file; for one picture, write a cross (cross-vertical, ...)",
+            path,
+        )
+    paths = face_paths(path, short=short)
+    for face_path, face in zip(paths, faces, strict=True):
+        write_image(face_path, face)
+    return paths
+
+
+def check_chain_path(path: str | os.PathLike) -> None:
+    """Refuse a mip chain target that is neither a container nor a ``{mip}`` pattern."""
+    if not is_container(path) and MIP_FIELD not in str(path):
+        raise ArgumentError(
+            "a mip chain is one .dds, .ktx or .ktx2 file, or a name with {mip} (and {face} for "
+            "six face files per level, else one vertical cross per level): "
+            "spec_{mip}_{face}.hdr",
+            path,
+        )
+
+
+def write_chain(
+    path: str | os.PathLike, chain, *, convention: str = "opengl", float32: bool = False
+) -> list[Path]:
+    """Write a cube mip chain (a list of ``(6, S, S, C)`` levels, level 0 first): one
+    .dds/.ktx/.ktx2 file, or files per level (``{mip}`` in the name) with six faces each
+    (``{face}``) or one vertical cross each. Returns the paths written; a container holds
+    float16 unless ``float32`` or a value would overflow it."""
+    from bakeshop import sphere
+    from bakeshop.io import write_image
+
+    path = Path(path)
+    check_chain_path(path)
+    if is_container(path):
+        faces = [sphere.cube_to_faces(level, convention=convention) for level in chain]
+        write_container(path, faces, float32=float32)
+        return [path]
+    paths = []
+    for m, level in enumerate(chain):
+        name = Path(str(path).replace(MIP_FIELD, str(m)))
+        if FACE_FIELD in str(name):
+            paths += write_environment(name, level, "cube", convention=convention)
+        else:
+            write_image(name, sphere.cube_to_view(level, "cross-vertical"))
+            paths.append(name)
+    return paths
+
+
+def write_table(path: str | os.PathLike, table, *, float32: bool = False) -> None:
+    """Write a 2-D lookup table of linear data (``(H, W, C)``, C <= 4), such as the split-sum
+    DFG table: a .dds/.ktx/.ktx2 2-D texture holds its channels; an image file holds them
+    padded to RGB with zeros (16-bit for PNG: the table is data, not a picture)."""
+    from bakeshop.io import write_image
+
+    table = np.asarray(table)
+    if is_container(path):
+        write_container(path, [table], float32=float32)
+        return
+    if table.shape[-1] == 2:
+        table = np.concatenate([table, np.zeros_like(table[..., :1])], axis=-1)
+    options = {"bits": 16} if Path(path).suffix.lower() == ".png" else {}
+    write_image(path, table, **options)

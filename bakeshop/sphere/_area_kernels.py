@@ -1,0 +1,659 @@
+"""The area filter's kernels: source texels' footprints in the destination, their deposits
+(box overlaps), the transposed rows, the bilinear fill-in and the balancing passes (see
+:mod:`bakeshop.sphere.area`, which drives them)."""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from bakeshop.sphere._gather import EXCEPTION, block
+from bakeshop.sphere._maps import (
+    ANGULAR,
+    CUBE,
+    DUAL_PARABOLOID,
+    LATLONG,
+    OCTAHEDRAL,
+    coordinates,
+    direction,
+    resolve,
+    rotate,
+)
+from bakeshop.sphere.cube import FACE_BASES
+
+#: the area filter averages (splats) where a destination texel is at least this many source
+#: texels across, interpolates bilinearly where it is at most one, and blends between.
+AREA_SPLAT_RATIO = 1.5
+#: the area filter averages only where the deposits cover at least this fraction of a
+#: destination texel's solid angle (blending towards bilinear below): the deposits of boxes
+#: that do not tile exactly cover each texel to within a few percent.
+AREA_COVERAGE = 0.75
+#: most parts a source texel is cut into along each of its axes by the area filter.
+AREA_MAX_PARTS = 2048
+
+_BASES = np.ascontiguousarray(FACE_BASES)
+_jit = numba.njit(cache=True, error_model="numpy")
+
+
+@_jit
+def _box_weights(c, half, lo, out):
+    """Overlaps of [c - half, c + half] with texels lo..lo+2 (texel q spans [q, q + 1]) as
+    fractions of its length; for a point (half ~ 0), 1 for the texel containing it."""
+    for k in range(3):
+        a, b = lo + k, lo + k + 1
+        if half < 1e-9:
+            out[k] = 1.0 if a <= c < b else 0.0
+        else:
+            out[k] = max(0.0, min(b, c + half) - max(a, c - half)) / (2 * half)
+
+
+@_jit
+def _local(kind, h, w, x, y, z, cf, cx, cy):
+    """Coordinates of (x, y, z) continued across the seams around the centre (cf, cx, cy), for
+    differences: a cube's face plane extended, a latlong's longitude unwrapped, an octahedral
+    map unfolded over its edges, a paraboloid continued into the other hemisphere and an
+    angular map through its rim."""
+    if kind == CUBE:
+        fi = int(cf)
+        n = x * _BASES[fi, 0, 0] + y * _BASES[fi, 0, 1] + z * _BASES[fi, 0, 2]
+        sc = (x * _BASES[fi, 1, 0] + y * _BASES[fi, 1, 1] + z * _BASES[fi, 1, 2]) / n
+        tc = (x * _BASES[fi, 2, 0] + y * _BASES[fi, 2, 1] + z * _BASES[fi, 2, 2]) / n
+        return (sc + 1) / 2 * w, (tc + 1) / 2 * h
+    if kind == DUAL_PARABOLOID:
+        n = h
+        disk = min(max(math.floor(cx / n), 0), 1)
+        norm = math.sqrt(x * x + y * y + z * z)
+        right = x / norm if disk == 0 else -x / norm
+        fwd = -z / norm if disk == 0 else z / norm
+        a, b = right / (1 + fwd), y / norm / (1 + fwd)
+        return (a + 1) / 2 * n + disk * n, (1 - b) / 2 * n
+    _, u, v = coordinates(kind, h, w, x, y, z)
+    if kind == LATLONG:
+        return u - w * math.floor((u - cx) / w + 0.5), v
+    best_u, best_v = u, v
+    if kind == OCTAHEDRAL:
+        n = w
+        for du in (-1, 0, 1):
+            for dv in (-1, 0, 1):
+                # beyond an edge the map continues mirrored: (u, v) -> (2n - u, n - v), ...
+                cu = u if du == 0 else (1 + du) * n - u
+                cv = v if dv == 0 else (1 + dv) * n - v
+                if du != 0 and dv == 0:
+                    cv = n - v
+                if dv != 0 and du == 0:
+                    cu = n - u
+                if (cu - cx) ** 2 + (cv - cy) ** 2 < (best_u - cx) ** 2 + (best_v - cy) ** 2:
+                    best_u, best_v = cu, cv
+    elif kind == ANGULAR:
+        n = h
+        a, b = 2 * u / n - 1, 1 - 2 * v / n
+        r = math.hypot(a, b)
+        if r > 0:
+            # through the rim (-Z) the map continues at radius 2 - r on the opposite side
+            k = (r - 2) / r
+            cu, cv = (a * k + 1) / 2 * n, (1 - b * k) / 2 * n
+            if (cu - cx) ** 2 + (cv - cy) ** 2 < (u - cx) ** 2 + (v - cy) ** 2:
+                best_u, best_v = cu, cv
+    return best_u, best_v
+
+
+@_jit
+def _half_texel_trig(h, w):
+    """sin and cos of a latlong's longitude at every half texel (row 0, 1) and of its
+    colatitude (rows 2, 3): ``direction`` at (k/2, l/2) without trigonometry."""
+    trig = np.empty((4, 2 * max(h, w) + 1))
+    for k in range(2 * w + 1):
+        phi = 2 * math.pi * (k / (2 * w) - 0.5)
+        trig[0, k], trig[1, k] = math.sin(phi), math.cos(phi)
+    for k in range(2 * h + 1):
+        theta = math.pi * k / (2 * h)
+        trig[2, k], trig[3, k] = math.sin(theta), math.cos(theta)
+    return trig
+
+
+@_jit
+def _source_direction(kind, h, w, f, u2, v2, trig):
+    """``direction`` at the half-texel position (u2 / 2, v2 / 2)."""
+    if kind == LATLONG:
+        return trig[2, v2] * trig[0, u2], trig[3, v2], -trig[2, v2] * trig[1, u2]
+    return direction(kind, h, w, f, u2 / 2, v2 / 2)
+
+
+@_jit
+def _image(skind, sh, sw, f, u2, v2, trig, rot, dkind, dh, dw, cf, cx, cy):
+    x, y, z = _source_direction(skind, sh, sw, f, u2, v2, trig)
+    x, y, z = rotate(rot.T, x, y, z)
+    return _local(dkind, dh, dw, x, y, z, cf, cx, cy)
+
+
+@_jit
+def _band_centroid(t0, t1):
+    """The colatitude of the centroid of the band t0 <= theta <= t1 (weighted by sin theta:
+    [sin t - t cos t] / [-cos t] over the band) and the band's cos t0 - cos t1; a texel at a
+    pole holds its energy 2/3 of the way out, not halfway."""
+    band = math.cos(t0) - math.cos(t1)
+    if not band > 1e-300:
+        return 0.5 * (t0 + t1), 0.0
+    moment = math.sin(t1) - math.sin(t0) - (t1 * math.cos(t1) - t0 * math.cos(t0))
+    return moment / band, band
+
+
+@_jit
+def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
+    """Source texel (f, i, j) in destination coordinates: (face, centre x, centre y, half
+    widths of the box bounding its locally affine image (at most 1/2), its narrower width)."""
+    x, y, z = _source_direction(skind, sh, sw, f, 2 * i + 1, 2 * j + 1, trig)
+    x, y, z = rotate(rot.T, x, y, z)
+    df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
+    # the footprint: twice the images of the centre-to-edge-midpoint steps
+    b0, b1 = _image(skind, sh, sw, f, 2 * i + 2, 2 * j + 1, trig, rot, dkind, dh, dw, df, cx, cy)
+    d0, d1 = _image(skind, sh, sw, f, 2 * i + 1, 2 * j + 2, trig, rot, dkind, dh, dw, df, cx, cy)
+    ex0, ex1, ey0, ey1 = 2 * (b0 - cx), 2 * (b1 - cy), 2 * (d0 - cx), 2 * (d1 - cy)
+    if skind == LATLONG:
+        # centred on the texel's centroid
+        theta, _ = _band_centroid(math.pi * j / sh, math.pi * (j + 1) / sh)
+        st = math.sin(theta)
+        x, y, z = st * trig[0, 2 * i + 1], math.cos(theta), -st * trig[1, 2 * i + 1]
+        x, y, z = rotate(rot.T, x, y, z)
+        cx, cy = _local(dkind, dh, dw, x, y, z, df, cx, cy)
+    hx = 0.5 * (abs(ex0) + abs(ey0))
+    hy = 0.5 * (abs(ex1) + abs(ey1))
+    hx = hx if hx >= 0 else 0.0  # NaN at a degenerate point: a point
+    hy = hy if hy >= 0 else 0.0
+    # the narrower width (area over length): an upsampled texel is wider than a destination
+    # texel across every direction
+    length = math.sqrt(max(ex0 * ex0 + ex1 * ex1, ey0 * ey0 + ey1 * ey1))
+    width = abs(ex0 * ey1 - ex1 * ey0) / length if length > 0 else 0.0
+    nx = _parts(max(abs(ex0), abs(ex1)))
+    ny = _parts(max(abs(ey0), abs(ey1)))
+    return df, cx, cy, min(0.5, hx), min(0.5, hy), width, nx, ny
+
+
+@_jit
+def _parts(extent):
+    """Into how many parts a source texel ``extent`` destination texels long is cut so that
+    each is at most 1 / AREA_SPLAT_RATIO long (1 for NaN; at most AREA_MAX_PARTS)."""
+    if not extent * AREA_SPLAT_RATIO > 1:
+        return 1
+    return int(min(AREA_MAX_PARTS, math.ceil(extent * AREA_SPLAT_RATIO)))
+
+
+@_jit
+def _part_footprint(skind, sh, sw, f, u, v, du, dv, rot, dkind, dh, dw):
+    """The part of a source texel centred at (f, u, v), du x dv source texels large, in
+    destination coordinates: (face, centre x, centre y, half widths of its bounding box (at
+    most 1/2), its solid angle (the tangent parallelogram's area))."""
+    x, y, z = direction(skind, sh, sw, f, u, v)
+    ax, ay, az = direction(skind, sh, sw, f, u + du / 2, v)
+    bx, by, bz = direction(skind, sh, sw, f, u, v + dv / 2)
+    return _part_of(x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw)
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _latlong_unit(sp, cp, st, ct):
+    """``direction`` of a latlong from the sines and cosines of longitude and colatitude."""
+    x, y, z = st * sp, ct, -st * cp
+    norm = math.sqrt(x * x + y * y + z * z)
+    return x / norm, y / norm, z / norm
+
+
+@_jit
+def _part_of(x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw):
+    """:func:`_part_footprint` from the source directions at the part's centre (x, y, z) and
+    at the midpoints of its right (a) and lower (b) edges."""
+    x, y, z = rotate(rot.T, x, y, z)
+    df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
+    om = 4 * math.sqrt(
+        ((ay - y) * (bz - z) - (az - z) * (by - y)) ** 2
+        + ((az - z) * (bx - x) - (ax - x) * (bz - z)) ** 2
+        + ((ax - x) * (by - y) - (ay - y) * (bx - x)) ** 2
+    )
+    ax, ay, az = rotate(rot.T, ax, ay, az)
+    bx, by, bz = rotate(rot.T, bx, by, bz)
+    b0, b1 = _local(dkind, dh, dw, ax, ay, az, df, cx, cy)
+    d0, d1 = _local(dkind, dh, dw, bx, by, bz, df, cx, cy)
+    hx = abs(b0 - cx) + abs(d0 - cx)
+    hy = abs(b1 - cy) + abs(d1 - cy)
+    hx = hx if hx >= 0 else 0.0
+    hy = hy if hy >= 0 else 0.0
+    return df, cx, cy, min(0.5, hx), min(0.5, hy), om if om >= 0 else 0.0
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _deposit(acc, t, b, row, wq, p, om, values):
+    """acc[t, q] += w values for the 3 x 3 destination texels from flat index b (rows ``row``
+    apart), weights w = om x (x weight) x (y weight) from the splat plan's ``wq[p]``."""
+    wx0, wx1, wy0, wy1 = float(wq[p, 0]), float(wq[p, 1]), float(wq[p, 2]), float(wq[p, 3])
+    wx2 = max(0.0, 1.0 - wx0 - wx1)
+    for yb in range(3):
+        wy = wy0 if yb == 0 else (wy1 if yb == 1 else max(0.0, 1.0 - wy0 - wy1))
+        if wy == 0:
+            continue
+        wy *= om
+        q0 = b + yb * row
+        for c in range(values.shape[0]):
+            v = wy * values[c]
+            acc[t, q0, c] += wx0 * v
+            acc[t, q0 + 1, c] += wx1 * v
+            acc[t, q0 + 2, c] += wx2 * v
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, scale, width, parts,
+               acc):  # fmt: skip
+    """The area filter's geometry, per source texel ``p`` (transposed by :func:`splat_rows`).
+
+    A source texel's footprint in destination coordinates is the box bounding its (locally
+    affine) image, at most one destination texel wide; it deposits into the destination texels
+    that box overlaps (within the 3 x 3 around it) in proportion to the overlap, so that its
+    whole energy is deposited.
+    ``anchor[p]``: flat index of the upper-left of the 3 x 3 destination texels when they are
+    one ordinary block (deposit into anchor + b dw + a), ``EXCEPTION`` across a seam or where
+    the texel is more than 1 / AREA_SPLAT_RATIO destination texels long (see
+    :func:`splat_exceptions`; ``parts[p]``: into how many parts it is cut along x and y), -1
+    for none; ``wq[p]``: the first two overlap fractions along x and along y, float32 (the
+    third is the rest, so they sum to 1);
+    ``scale[p]``: omega; ``width[p]``: the footprint's narrower width in destination texels.
+    The ordinary texels' weights and weighted widths are summed into ``acc[t, q, :2]``, one
+    partial sum per chunk ``t``. The rotation ``rot`` moves what the source shows at ``d`` to
+    ``R d``.
+    """
+    trig = _half_texel_trig(sh, sw)
+    rows = sfaces * sh
+    chunks = acc.shape[0]
+    for t in numba.prange(chunks):
+        wx = np.empty(3)
+        wy = np.empty(3)
+        values = np.ones(2)
+        for row in range(t * rows // chunks, (t + 1) * rows // chunks):
+            f = row // sh
+            j = row - f * sh
+            for i in range(sw):
+                p = row * sw + i
+                om = omega[p]
+                anchor[p] = -1
+                if om <= 0:
+                    continue
+                df, cx, cy, hx, hy, wd, nx, ny = _footprint(
+                    skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw
+                )
+                parts[p, 0], parts[p, 1] = nx, ny
+                scale[p] = om
+                if nx * ny > 1:
+                    # wider than a destination texel: deposited in parts (splat_exceptions)
+                    anchor[p] = EXCEPTION
+                    width[p] = min(wd, 0.5)
+                    continue
+                lx = int(math.floor(cx - 0.5 - hx))
+                ly = int(math.floor(cy - 0.5 - hy))
+                _box_weights(cx, hx, lx, wx)
+                _box_weights(cy, hy, ly, wy)
+                width[p] = wd
+                wq[p, 0], wq[p, 1], wq[p, 2], wq[p, 3] = wx[0], wx[1], wy[0], wy[1]
+                b = block(dkind, dh, dw, df, lx, ly, 3)
+                anchor[p] = b if b >= 0 else EXCEPTION
+                if b >= 0:
+                    values[1] = width[p]
+                    _deposit(acc, t, b, dw, wq, p, scale[p], values)
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, offsets, taps,
+                     weights, counts):  # fmt: skip
+    """The explicit taps and weights (summing to omega) of the splat plan's EXCEPTION texels
+    ``where``: texel k's entries are ``offsets[k]:offsets[k] + counts[k]`` (room for 4 per
+    part). A texel whose 3 x 3 destination texels cross a seam deposits into them (-1: a cube
+    corner, left out); a texel cut into nx x ny parts (``parts``) deposits each part's solid
+    angle into the texels the part's box overlaps (within the 3 x 3 around its centre), so
+    that a texel wider than the destination's texels is shared among all the texels it
+    overlaps. Repeated taps are merged, in increasing order."""
+    trig = _half_texel_trig(sh, sw)
+    for k in numba.prange(where.shape[0]):
+        wx = np.empty(3)
+        wy = np.empty(3)
+        p = where[k]
+        f, r = divmod(p, sh * sw)
+        j, i = divmod(r, sw)
+        nx, ny = parts[p, 0], parts[p, 1]
+        o = offsets[k]
+        e = o
+        for b in range(ny):
+            if skind == LATLONG:
+                # the parts' directions from one sine and cosine per row and column (as
+                # ``direction`` computes them)
+                # each part centred on its centroid, with its exact solid angle
+                theta, band = _band_centroid(math.pi * (j + b / ny) / sh,
+                                             math.pi * (j + (b + 1) / ny) / sh)  # fmt: skip
+                st, ct = math.sin(theta), math.cos(theta)
+                theta += math.pi / ny / 2 / sh
+                st2, ct2 = math.sin(theta), math.cos(theta)
+            for a in range(nx):
+                if nx * ny == 1:
+                    df, cx, cy, hx, hy, _, _, _ = _footprint(
+                        skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw
+                    )
+                    om = 1.0
+                elif skind == LATLONG:
+                    u = i + (a + 0.5) / nx
+                    phi = 2 * math.pi * (u / sw - 0.5)
+                    sp, cp = math.sin(phi), math.cos(phi)
+                    phi = 2 * math.pi * ((u + 1 / nx / 2) / sw - 0.5)
+                    sp2, cp2 = math.sin(phi), math.cos(phi)
+                    x, y, z = _latlong_unit(sp, cp, st, ct)
+                    ax, ay, az = _latlong_unit(sp2, cp2, st, ct)
+                    bx, by, bz = _latlong_unit(sp, cp, st2, ct2)
+                    df, cx, cy, hx, hy, _ = _part_of(
+                        x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw
+                    )
+                    om = 2 * math.pi / sw / nx * band
+                else:
+                    df, cx, cy, hx, hy, om = _part_footprint(
+                        skind, sh, sw, f, i + (a + 0.5) / nx, j + (b + 0.5) / ny, 1 / nx, 1 / ny,
+                        rot, dkind, dh, dw,
+                    )  # fmt: skip
+                lx = int(math.floor(cx - 0.5 - hx))
+                ly = int(math.floor(cy - 0.5 - hy))
+                _box_weights(cx, hx, lx, wx)
+                _box_weights(cy, hy, ly, wy)
+                for yb in range(3):
+                    for xa in range(3):
+                        wt = om * wx[xa] * wy[yb]
+                        if wt > 0:
+                            q = resolve(dkind, dh, dw, df, lx + xa, ly + yb, cx)
+                            if q >= 0:
+                                taps[e] = q
+                                weights[e] = wt
+                                e += 1
+        counts[k] = _merge_taps(taps, weights, o, e, omega[p])
+
+
+@_jit
+def _merge_taps(taps, weights, o, e, om):
+    """Merge the repeated taps of entries o..e-1 (in increasing tap order) and scale their
+    weights to sum ``om``; returns how many remain (at o onwards). In place by insertion sort
+    for the few taps of most texels (no allocation); through a dense scratch array over the
+    taps' range for the many of a texel cut into many parts (the range of a few destination
+    rows), else by sorting."""
+    lo, hi = taps[o], taps[o]
+    for m in range(o, e):
+        lo, hi = min(lo, taps[m]), max(hi, taps[m])
+    n = 0
+    if e - o > 144 and hi - lo < 64 * (e - o):
+        dense = np.zeros(hi - lo + 1)
+        for m in range(o, e):
+            dense[taps[m] - lo] += weights[m]
+        for c in range(hi - lo + 1):
+            if dense[c] > 0:
+                taps[o + n] = lo + c
+                weights[o + n] = dense[c]
+                n += 1
+    else:
+        if e - o <= 144:
+            for m in range(o, e):
+                tq, tw = taps[m], weights[m]
+                c = m
+                while c > o and taps[c - 1] > tq:
+                    taps[c], weights[c] = taps[c - 1], weights[c - 1]
+                    c -= 1
+                taps[c], weights[c] = tq, tw
+        else:
+            order = np.argsort(taps[o:e], kind="mergesort")
+            ts = taps[o:e][order]
+            ws = weights[o:e][order]
+            taps[o:e] = ts
+            weights[o:e] = ws
+        for m in range(o, e):
+            if n > 0 and taps[o + n - 1] == taps[m]:
+                weights[o + n - 1] += weights[m]
+            else:
+                taps[o + n] = taps[m]
+                weights[o + n] = weights[m]
+                n += 1
+    total = 0.0
+    for m in range(o, o + n):
+        total += weights[m]
+    for m in range(o, o + n):
+        weights[m] = om * weights[m] / total if total > 0 else 0.0
+    return n
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def compact_exceptions(at, counts, taps, weights, ends, out_taps, out_weights):
+    """Copy texel k's ``counts[k]`` merged entries from ``at[k]`` in ``taps``/``weights`` (the
+    buffers :func:`splat_exceptions` filled) to ``ends[k] - counts[k]`` in the outputs."""
+    for k in numba.prange(counts.shape[0]):
+        src = at[k]
+        dst = ends[k] - counts[k]
+        for m in range(counts[k]):
+            out_taps[dst + m] = taps[src + m]
+            out_weights[dst + m] = weights[src + m]
+
+
+@_jit
+def _deposit_exception(acc, t, offsets, taps, weights, k, values):
+    for m in range(offsets[k], offsets[k + 1]):
+        q = taps[m]
+        w = weights[m]
+        for c in range(values.shape[0]):
+            acc[t, q, c] += w * values[c]
+
+
+@_jit
+def deposit_exceptions(where, offsets, taps, weights, width, acc):
+    """Add the EXCEPTION texels' weights and weighted widths to ``acc[0, q, :2]``."""
+    values = np.ones(2)
+    for k in range(where.shape[0]):
+        values[1] = width[where[k]]
+        _deposit_exception(acc, 0, offsets, taps, weights, k, values)
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def splat_rows(anchor, wq, scale, row, offsets, taps, weights, alpha, inverse, cursor, fill,
+               indices, values):  # fmt: skip
+    """The splat plan (:func:`splat_plan`, :func:`splat_exceptions`) transposed into rows, one
+    per destination texel q with alpha > 0: source texel p's weight w into q becomes the entry
+    (p, w alpha[q] inverse[q]) of row q. Chunk t of the source texels counts its entries per
+    row into ``cursor[t, q]`` (``fill`` False), or writes them at ``cursor[t, q]`` onwards
+    (``fill`` True; the chunks' starts in each row), so that each row lists p in order."""
+    n = anchor.shape[0]
+    chunks = cursor.shape[0]
+    for t in numba.prange(chunks):
+        for p in range(t * n // chunks, (t + 1) * n // chunks):
+            b = anchor[p]
+            if b >= 0:
+                wx0, wx1 = float(wq[p, 0]), float(wq[p, 1])
+                wy0, wy1 = float(wq[p, 2]), float(wq[p, 3])
+                wx2, wy2 = max(0.0, 1.0 - wx0 - wx1), max(0.0, 1.0 - wy0 - wy1)
+                for yb in range(3):
+                    wy = wy0 if yb == 0 else (wy1 if yb == 1 else wy2)
+                    for xa in range(3):
+                        w = scale[p] * wy * (wx0 if xa == 0 else (wx1 if xa == 1 else wx2))
+                        q = b + yb * row + xa
+                        if w > 0 and alpha[q] > 0:
+                            if fill:
+                                e = cursor[t, q]
+                                indices[e] = p
+                                values[e] = w * alpha[q] * inverse[q]
+                            cursor[t, q] += 1
+            elif b != -1:
+                k = EXCEPTION - b
+                for m in range(offsets[k], offsets[k + 1]):
+                    q = taps[m]
+                    if weights[m] > 0 and alpha[q] > 0:
+                        if fill:
+                            e = cursor[t, q]
+                            indices[e] = p
+                            values[e] = weights[m] * alpha[q] * inverse[q]
+                        cursor[t, q] += 1
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def area_alpha(acc, omega, alpha, inverse):
+    """The area filter's blend per destination texel from the splat of ones and of the
+    source footprints' widths (``acc[t, q] = (sum w, sum w width)``): alpha = 1 (the splat's
+    mean) where the source texels (or their parts) landing there are at most
+    1/AREA_SPLAT_RATIO of it across (in their narrower direction) and cover it, which
+    splat_plan's cutting of wide texels into parts ensures wherever it is covered; 0
+    (bilinear) where nothing lands, linear between; ``inverse`` = 1 / sum w."""
+    for p in numba.prange(alpha.shape[0]):
+        wsum = 0.0
+        width = 0.0
+        for t in range(acc.shape[0]):
+            wsum += acc[t, p, 0]
+            width += acc[t, p, 1]
+        a = 0.0
+        if wsum > 0:
+            width /= wsum
+            ratio = 1 / width if width > 0 else AREA_SPLAT_RATIO
+            a = min(1.0, max(0.0, (ratio - 1) / (AREA_SPLAT_RATIO - 1)))
+            if omega[p] > 0:
+                a *= min(1.0, wsum / (AREA_COVERAGE * omega[p]))
+        alpha[p] = a
+        inverse[p] = 1 / wsum if wsum > 0 else 0.0
+
+
+@numba.njit(cache=True, error_model="numpy")
+def row_starts(cursor, extra, indptr):
+    """Row q holds sum_t cursor[t, q] + extra[q] entries: ``indptr`` their running sum, and
+    ``cursor[t, q]`` becomes where chunk t's entries of row q start (after the earlier
+    chunks')."""
+    total = 0
+    for q in range(extra.shape[0]):
+        indptr[q] = total
+        for t in range(cursor.shape[0]):
+            count = cursor[t, q]
+            cursor[t, q] = total
+            total += count
+        total += extra[q]
+    indptr[extra.shape[0]] = total
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def bilinear_rows(alpha, row, base, frac, taps, indptr, counts, fill, indices, values):
+    """Append to row q (at ``indptr[q + 1] - counts[q]``) the bilinear taps of the plan
+    (:func:`plan`) weighted by 1 - alpha[q], where alpha[q] < 1 (``fill``); else count them
+    into ``counts[q]``. A cube corner's missing tap (the mean of the other three) gives a third
+    of its weight to each of them."""
+    for q in numba.prange(alpha.shape[0]):
+        b = base[q]
+        if alpha[q] >= 1 or b == -1:
+            continue
+        if b >= 0:
+            i0, i1, i2, i3 = b, b + 1, b + row, b + row + 1
+        else:
+            x = EXCEPTION - b
+            i0, i1, i2, i3 = taps[x, 0], taps[x, 1], taps[x, 2], taps[x, 3]
+        if not fill:
+            counts[q] = (i0 >= 0) + (i1 >= 0) + (i2 >= 0) + (i3 >= 0)
+            continue
+        fx, fy = float(frac[q, 0]), float(frac[q, 1])
+        w0, w1, w2, w3 = (1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy
+        lost = (w0 if i0 < 0 else 0.0) + (w1 if i1 < 0 else 0.0)
+        lost += (w2 if i2 < 0 else 0.0) + (w3 if i3 < 0 else 0.0)
+        scale = 1.0 - alpha[q]
+        e = indptr[q + 1] - counts[q]
+        for k in range(4):
+            i = i0 if k == 0 else (i1 if k == 1 else (i2 if k == 2 else i3))
+            w = w0 if k == 0 else (w1 if k == 1 else (w2 if k == 2 else w3))
+            if i >= 0:
+                indices[e] = i
+                values[e] = scale * (w + lost / 3)
+                e += 1
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def scale_rows(indptr, indices, values, factor):
+    """Multiply each entry by ``factor`` of its column (none: all 1), then scale each nonempty
+    row to sum 1."""
+    scaled = factor.shape[0] > 0
+    for q in numba.prange(indptr.shape[0] - 1):
+        total = 0.0
+        for e in range(indptr[q], indptr[q + 1]):
+            if scaled:
+                values[e] = values[e] * factor[indices[e]]
+            total += values[e]
+        if total > 0:
+            for e in range(indptr[q], indptr[q + 1]):
+                values[e] = values[e] / total
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def balance_rows(indptr, indices, values, omega_out, col, sums):
+    """One pass of the area filter's balancing of M = diag(r) K diag(col) (K: ``values``):
+    the row scales r making every nonempty row sum 1, and the energy each column then sends,
+    sum_q omega_out[q] r[q] K[q, p] (x col[p] to come), as partial sums per chunk of rows in
+    ``sums`` (zero on entry: :func:`balance_columns` clears them as it reads them)."""
+    m = indptr.shape[0] - 1
+    chunks = sums.shape[0]
+    for t in numba.prange(chunks):
+        for q in range(t * m // chunks, (t + 1) * m // chunks):
+            total = 0.0
+            for e in range(indptr[q], indptr[q + 1]):
+                total += values[e] * col[indices[e]]
+            if total > 0:
+                scale = omega_out[q] / total
+                for e in range(indptr[q], indptr[q + 1]):
+                    sums[t, indices[e]] += scale * values[e]
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def balance_columns(sums, omega_in, col, step):
+    """The column step, over-relaxed with momentum: where source texel p sends ``sent`` =
+    col[p] x (sum of its partial sums) > 0, log col[p] moves by ``step[p]`` = 1.5 log(omega_in
+    / sent) + 0.5 x its previous step (kept as the factor exp(step), so no logarithms).
+    Returns the largest |omega_in / sent - 1|."""
+    err = 0.0
+    for p in numba.prange(omega_in.shape[0]):
+        sent = 0.0
+        for t in range(sums.shape[0]):
+            sent += sums[t, p]
+            sums[t, p] = 0.0
+        sent *= col[p]
+        if sent > 0:
+            r = omega_in[p] / sent
+            err = max(err, abs(r - 1))
+            step[p] = r * math.sqrt(r * step[p])
+            col[p] *= step[p]
+    return err
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def reorder_rows(indptr, indices, values, order, out_indptr, out_indices, out_values):
+    """Row p of the output matrix = row order[p] of the input (empty where -1)."""
+    for p in numba.prange(order.shape[0]):
+        q = order[p]
+        if q >= 0:
+            o = out_indptr[p]
+            for e in range(indptr[q], indptr[q + 1]):
+                out_indices[o] = indices[e]
+                out_values[o] = values[e]
+                o += 1
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def area_gather(src, indptr, indices, values, out):
+    """The area filter applied: out[q] = sum over row q of weight x src[p], in float64, four
+    channels at a time in registers."""
+    nc = out.shape[1]
+    for q in numba.prange(out.shape[0]):
+        for c in range(0, nc, 4):
+            k = min(4, nc - c)
+            s0 = s1 = s2 = s3 = 0.0
+            for e in range(indptr[q], indptr[q + 1]):
+                p, w = indices[e], float(values[e])
+                s0 += w * src[p, c]
+                if k > 1:
+                    s1 += w * src[p, c + 1]
+                if k > 2:
+                    s2 += w * src[p, c + 2]
+                if k > 3:
+                    s3 += w * src[p, c + 3]
+            out[q, c] = s0
+            if k > 1:
+                out[q, c + 1] = s1
+            if k > 2:
+                out[q, c + 2] = s2
+            if k > 3:
+                out[q, c + 3] = s3

@@ -1,0 +1,92 @@
+"""Nearest and bilinear remap plans: which source texels, with which weights, make each output
+texel. Built by the kernels of :mod:`bakeshop.sphere._gather`, cached per (source layout and
+shape, destination layout and shape, filter, rotation), applied as one parallel gather."""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from bakeshop.sphere import _gather
+from bakeshop.sphere._cache import ByteBoundedCache
+from bakeshop.sphere.cube import cube_to_view
+from bakeshop.sphere.layouts import layout
+from bakeshop.sphere.rotation import key_matrix
+
+#: memory for cached remap plans (12 bytes per output texel: six of 6 x 1024^2 faces).
+PLAN_BYTES = 1 << 29
+
+_NO_IMAGE = np.empty((0, 1), np.float32)
+
+#: cached plans, by (source, source shape, destination, shape, filter, rotation key).
+plans = ByteBoundedCache("remap plans", PLAN_BYTES)
+
+
+def build(src: str, src_shape, dst: str, dst_shape, filter: str, rotation: bytes | None,
+          image=None, out=None):  # fmt: skip
+    """The remap plan of every output texel (read-only arrays), see ``_gather.plan``:
+    ``(base, frac, taps)``. Nearest: int32 (m,) source texels, no fractions or taps. Bilinear:
+    int32 (m,) base indices of 2x2 blocks, float32 (m, 2) fractions and int32 (k, 4) explicit
+    taps of the k output texels whose taps cross a seam: 12 bytes per output texel plus 16 per
+    seam texel. With a flat ``image`` and an ``out`` (m, C), the plan is applied on the way."""
+    s, d = layout(src), layout(dst)
+    sh, sw, _ = s.grid(src_shape)
+    dh, dw, faces = d.grid(dst_shape)
+    m = faces * dh * dw
+    nearest = filter == "nearest"
+    rot = key_matrix(rotation)
+    if out is None:
+        image = out = _NO_IMAGE
+    base = np.empty(m, np.int32)
+    frac = np.empty((0, 2) if nearest else (m, 2), np.float32)
+    _gather.plan(s.kind, sh, sw, d.kind, dh, dw, faces, rot, nearest, base, frac, image, out)
+    where = np.flatnonzero(base == _gather.EXCEPTION)
+    taps = np.empty((len(where), 4), np.int32)
+    if len(where):
+        _gather.plan_exceptions(s.kind, sh, sw, d.kind, dh, dw, rot, where, taps)
+        base[where] = _gather.EXCEPTION - np.arange(len(where), dtype=np.int32)
+        if len(out):
+            _gather.gather_at(image, sw, base, frac, taps, where, out)
+    for a in (base, frac, taps):
+        a.setflags(write=False)
+    return base, frac, taps
+
+
+def cached(src: str, src_shape, dst: str, dst_shape, filter: str, rotation: bytes | None):
+    """The cached plan of a conversion (built when missing)."""
+    key = (src, src_shape, dst, dst_shape, filter, rotation)
+    return plans.cached(key, lambda: build(*key))
+
+
+def apply(flat_src, plan, row: int) -> np.ndarray:
+    """A plan applied to a flat (n, C) source whose rows are ``row`` texels long: (m, C)."""
+    base, frac, taps = plan
+    out = np.empty((base.shape[0], flat_src.shape[1]), flat_src.dtype)
+    if len(frac) == 0:
+        _gather.gather_nearest(flat_src, base[:, None], out)
+    else:
+        _gather.gather_plan(flat_src, row, base, frac, taps, out)
+    return out
+
+
+@functools.lru_cache(maxsize=4)
+def view_order(view: str, cube_shape) -> np.ndarray:
+    """Per texel of the picture ``view`` of a cube of ``cube_shape``: the flat index of the
+    cube texel it shows, -1 in the unused squares (int32, read-only)."""
+    order = np.arange(int(np.prod(cube_shape)), dtype=np.int32).reshape(cube_shape)
+    order = cube_to_view(order, view, fill=-1).reshape(-1)
+    order.setflags(write=False)
+    return order
+
+
+def view_plan(plan, view: str, cube_shape):
+    """A cube's plan rearranged for its picture ``view``: the unused squares get -1 (zero)."""
+    base, frac, taps = plan
+    order = view_order(view, cube_shape)
+    view_base = np.empty(order.size, np.int32)
+    view_frac = np.empty((order.size if len(frac) else 0, 2), np.float32)
+    _gather.reorder_plan(base, frac, order, view_base, view_frac)
+    for a in (view_base, view_frac):
+        a.setflags(write=False)
+    return view_base, view_frac, taps
