@@ -2,13 +2,14 @@
 rigid-body backends (a built-in integrator and MuJoCo) and the test bench's metrics.
 
 The public API is here (MuJoCo's backend is imported from
-:mod:`~bakeshop.buoyancy.mujoco_backend` when used); the submodules, each named for what it
-holds: :mod:`~bakeshop.buoyancy.shapes` (meshes), :mod:`~bakeshop.buoyancy.sampling` (voxelisation), :mod:`~bakeshop.buoyancy.mass`
-(bodies and fleets), :mod:`~bakeshop.buoyancy.hydrostatics` (exact displaced volume and draft),
+:mod:`~bakeshop.buoyancy.mujoco_backend` when used). The submodules, each named for what it
+holds: :mod:`~bakeshop.buoyancy.shapes` (meshes), :mod:`~bakeshop.buoyancy.sampling`
+(voxelisation), :mod:`~bakeshop.buoyancy.mass` (bodies and fleets),
+:mod:`~bakeshop.buoyancy.hydrostatics` (exact displaced volume and draft),
 :mod:`~bakeshop.buoyancy.water`, :mod:`~bakeshop.buoyancy.forces`,
 :mod:`~bakeshop.buoyancy.stepping`, :mod:`~bakeshop.buoyancy.builtin`,
-:mod:`~bakeshop.buoyancy.mujoco_backend`, :mod:`~bakeshop.buoyancy.metrics` and
-:mod:`~bakeshop.buoyancy.matrix`. SI units, +Y up, water 1000 kg/m^3, g = 9.81 m/s^2.
+:mod:`~bakeshop.buoyancy.metrics` and :mod:`~bakeshop.buoyancy.matrix`. SI units, +Y up,
+water 1000 kg/m^3, g = 9.81 m/s^2.
 """
 
 from bakeshop.buoyancy.bench import BenchResult, float_body

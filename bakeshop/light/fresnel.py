@@ -234,7 +234,7 @@ def bake_fresnel(
 
 @numba.njit(cache=True, parallel=True)
 def _apply_reflectance(cos, n, image, out, colour):
-    """out = image * R(cos) where cos >= 0, 0 below the plane; alpha kept; NaN cos: all 0."""
+    """Out = image * R(cos) where cos >= 0, 0 below the plane; alpha kept; NaN cos: all 0."""
     for p in numba.prange(cos.size):
         c = cos[p]
         r = _reflectance(c, n) if c >= 0.0 else 0.0

@@ -101,7 +101,7 @@ def _local(kind, h, w, x, y, z, cf, cx, cy):
 
 @_jit
 def _half_texel_trig(h, w):
-    """sin and cos of a latlong's longitude at every half texel (row 0, 1) and of its
+    """Sin and cos of a latlong's longitude at every half texel (row 0, 1) and of its
     colatitude (rows 2, 3): ``direction`` at (k/2, l/2) without trigonometry."""
     trig = np.empty((4, 2 * max(h, w) + 1))
     for k in range(2 * w + 1):

@@ -318,7 +318,7 @@ def rotate(rot, x, y, z):
 
 @_jit
 def latlong_trig(h, w):
-    """sin and cos of a latlong's longitude at every column centre (rows 0, 1) and of its
+    """Sin and cos of a latlong's longitude at every column centre (rows 0, 1) and of its
     colatitude at every row centre (rows 2, 3): its directions are their products."""
     trig = np.empty((4, max(h, w)))
     for i in range(w):
