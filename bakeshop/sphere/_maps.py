@@ -48,8 +48,8 @@ _SQRT3 = math.sqrt(3.0)
 def atan2(y, x):
     """``math.atan2(y, x)`` within 2e-14 rad (signed zeros as libm; NaN or infinite input: NaN).
 
-    Branch-free (selects only), so that loops over it vectorise: ~2 ns per call in a loop
-    against ~15 ns for libm's. Reduction to ``t = min / max`` in [0, 1], then to
+    Branch-free (selects only), so that loops over it vectorise (its speed against libm's is in
+    docs/BENCHMARKS.md, remap). Reduction to ``t = min / max`` in [0, 1], then to
     ``|t| <= tan(pi/12)`` by ``atan(t) = pi/6 + atan((sqrt(3) t - 1) / (t + sqrt(3)))``, then a
     degree-13 odd polynomial.
     """

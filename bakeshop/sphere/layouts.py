@@ -210,9 +210,8 @@ class LatLong(Layout):
         return max(1, round(np.sqrt(texels / 2)))
 
     def directions(self, shape):
-        # separable: W + H sines and cosines, then products (0.03-0.08 s at 12.6 Mtexels where
-        # the general path takes 0.4-2 s; bit-identical to it: the same trigonometry as remap's
-        # plans)
+        # separable: W + H sines and cosines, then products (docs/BENCHMARKS.md, irradiance;
+        # bit-identical to the general path: the same trigonometry as remap's plans)
         shape = self.check_shape(shape)
         dirs = np.empty(shape + (3,))
         _latlong_directions(dirs)
