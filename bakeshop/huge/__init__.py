@@ -5,6 +5,7 @@ dask.distributed cluster).
 
 from bakeshop.huge.engine import Engine
 from bakeshop.huge.memory import MemoryBoundError, default_memory, parse_memory
+from bakeshop.huge.remap import remap
 from bakeshop.huge.resize import as_reader, latlong_row_weights, resize, resize_to_file
 
 __all__ = [
@@ -14,6 +15,7 @@ __all__ = [
     "default_memory",
     "latlong_row_weights",
     "parse_memory",
+    "remap",
     "resize",
     "resize_to_file",
 ]

@@ -13,7 +13,7 @@ from bakeshop.errors import ArgumentError, BakeshopError
 #: starts (other programs, and other developers' jobs, keep the rest).
 DEFAULT_FRACTION = 0.5
 #: the smallest bound accepted.
-MIN_MEMORY = 16 << 20
+MIN_MEMORY = 4 << 20
 
 _UNITS = {
     "": 1,
