@@ -66,7 +66,10 @@ def _block(region, reader: Reader, size, weighting: str):
     top, bottom, left, right = region
     h, w, _ = reader.shape
     width, height = size
-    (ly, hy), (lx, hx) = area_footprint(h, height, top, bottom), area_footprint(w, width, left, right)
+    (ly, hy), (lx, hx) = (
+        area_footprint(h, height, top, bottom),
+        area_footprint(w, width, left, right),
+    )
     window = reader.read((ly, hy), (lx, hx))
     if weighting == "planar":
         return resize_area_part(window, (h, w), size, rows=(top, bottom), cols=(left, right),

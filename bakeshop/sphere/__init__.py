@@ -8,10 +8,11 @@
 Layouts: ``latlong``, ``angular`` (Debevec light probe), ``mirrorball``, ``cube`` (internal
 ``(6, S, S, C)``, OpenGL order and orientation), the cube's pictures ``cross-vertical``,
 ``cross-horizontal``, ``strip-horizontal``, ``strip-vertical``, ``octahedral`` and
-``dual-paraboloid``. :mod:`bakeshop.sphere.windows` computes a part of a remap from a window of
-its source (for images larger than memory, :mod:`bakeshop.huge`). Every spherical function takes ``(image, layout)`` and checks it with
+``dual-paraboloid``. Every spherical function takes ``(image, layout)`` and checks it with
 :func:`check_environment` (one rule for shapes, channels and values). See docs/panoramas.md
-for pictures and docs/conventions.md for the conventions.
+for pictures and docs/conventions.md for the conventions. :mod:`bakeshop.sphere.windows`
+computes a part of a remap from a window of its source (images larger than memory,
+:mod:`bakeshop.huge`).
 """
 
 from bakeshop.sphere._cache import cache_info, clear_caches

@@ -25,7 +25,14 @@ from bakeshop.sphere._maps import LATLONG, coordinates, latlong_trig, latlong_xy
 from bakeshop.sphere.layouts import Layout, layout
 from bakeshop.sphere.rotation import key_matrix, rotation_key
 
-__all__ = ["gather_taps", "localise_taps", "remap_part_taps", "taps_window"]
+__all__ = [
+    "gather_taps",
+    "latlong_window_geometry",
+    "localise_taps",
+    "remap_part_taps",
+    "sample_taps",
+    "taps_window",
+]
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
@@ -48,7 +55,8 @@ def _part_taps(skind, sh, sw, dkind, dh, dw, rot, f, j0, j1, i0, i1, nearest, ta
                 for k in range(taps.shape[1]):
                     taps[p, k] = -1
             elif nearest:
-                taps[p, 0] = resolve(skind, sh, sw, sf, int(math.floor(sx)), int(math.floor(sy)), sx)  # fmt: skip
+                a, b = int(math.floor(sx)), int(math.floor(sy))
+                taps[p, 0] = resolve(skind, sh, sw, sf, a, b, sx)
             else:
                 xf, yf = sx - 0.5, sy - 0.5
                 x0, y0 = math.floor(xf), math.floor(yf)
@@ -153,3 +161,51 @@ def gather_taps(window_flat: np.ndarray, taps: np.ndarray, frac: np.ndarray) -> 
     else:
         _gather.gather_bilinear(src, taps, frac, out)
     return out
+
+
+@numba.njit(parallel=True, cache=True)
+def _latlong_window(h, w, top, bottom, left, right, dirs):  # pragma: no cover - compiled
+    trig = latlong_trig(h, w)
+    nw = right - left
+    for r in numba.prange(bottom - top):
+        st, ct = trig[2, top + r], trig[3, top + r]
+        for c in range(nw):
+            p = r * nw + c
+            dirs[p, 0] = st * trig[0, left + c]
+            dirs[p, 1] = ct
+            dirs[p, 2] = -st * trig[1, left + c]
+
+
+def latlong_window_geometry(shape, rows, cols=None) -> tuple[np.ndarray, np.ndarray]:
+    """Flat directions ``(n, 3)`` and solid angles ``(n,)`` (float64) of the texels
+    ``rows x cols`` of a latlong of ``shape`` (H, W), row-major: the same numbers as the same
+    texels of :func:`bakeshop.sphere.texel_geometry`, without building the whole layout's."""
+    h, w = layout("latlong").check_shape(shape)
+    top, bottom = rows
+    left, right = (0, w) if cols is None else cols
+    if not (0 <= top < bottom <= h and 0 <= left < right <= w):
+        raise ArgumentError(f"window {rows} x {cols} is outside a latlong of shape {shape}")
+    n = (bottom - top) * (right - left)
+    dirs = np.empty((n, 3))
+    _latlong_window(h, w, top, bottom, left, right, dirs)
+    c = np.cos(np.pi * np.arange(top, bottom + 1) / h)
+    band = (c[:-1] - c[1:]) * (2 * np.pi / w)
+    return dirs, np.repeat(band, right - left)
+
+
+def sample_taps(layout_name: str | Layout, shape, dirs, *, filter: str = "bilinear"):
+    """Taps and fractions of :func:`bakeshop.sphere.sample` at directions ``dirs`` (n, 3) in a
+    base layout of spatial ``shape`` (flat indices into the whole image; see
+    :func:`remap_part_taps`), to be read from a window with :func:`taps_window`,
+    :func:`localise_taps` and :func:`gather_taps`."""
+    validate_choice(filter, ("nearest", "bilinear"), "sampling filter")
+    lay = layout(layout_name)
+    if lay.base is not lay:
+        raise ArgumentError("taps are computed in base layouts (a cross is its cube)")
+    h, w, _ = lay.grid(shape)
+    flat = np.ascontiguousarray(np.asarray(dirs, dtype=np.float64).reshape(-1, 3))
+    nearest = filter == "nearest"
+    taps = np.empty((len(flat), 1 if nearest else 4), np.int32)
+    frac = np.empty((0 if nearest else len(flat), 2), np.float32)
+    _gather.taps_of(lay.kind, h, w, flat, nearest, taps, frac)
+    return taps, frac

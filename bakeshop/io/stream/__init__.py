@@ -109,9 +109,7 @@ def open_image(path: str | os.PathLike, **options) -> Reader:
         raise
 
 
-def write_strips(
-    path: str | os.PathLike, shape, strips: Iterable[np.ndarray], **options
-) -> None:
+def write_strips(path: str | os.PathLike, shape, strips: Iterable[np.ndarray], **options) -> None:
     """Write an image of ``shape`` (H, W, C) from strips of rows, top to bottom, atomically.
 
     Parameters

@@ -197,4 +197,3 @@ def write_strips(path, shape, strips, *, rle: bool = True) -> None:
         for strip in strips:
             encoded, length = rgbe._encode(np.ascontiguousarray(strip, dtype=np.float32), rle)
             f.write(encoded[:length].data)
-
