@@ -182,8 +182,15 @@ class Engine:
             return results
         return list(self._compute(items, description))
 
-    def assemble(self, fn: Callable, regions: Sequence[tuple], out: np.ndarray, args: tuple,
-                 description: str, origin=(0, 0)) -> np.ndarray:  # fmt: skip
+    def assemble(
+        self,
+        fn: Callable,
+        regions: Sequence[tuple],
+        out: np.ndarray,
+        args: tuple,
+        description: str,
+        origin=(0, 0),
+    ) -> np.ndarray:
         """Fill ``out[top:bottom, left:right]`` with ``fn(region, *args)`` for each region
         ``(top, bottom, left, right)`` (less ``origin``, where ``out`` starts); blocks are
         written as they complete (nothing beyond ``out`` and the blocks in flight is held)."""
@@ -202,8 +209,10 @@ class Engine:
                     future.release()
                     t.advance()
             return out
-        items = [delayed(_fill, pure=False)(out, r, delayed(task, pure=False)(r, *args), origin)
-                 for r in regions]  # fmt: skip
+        items = [
+            delayed(_fill, pure=False)(out, r, delayed(task, pure=False)(r, *args), origin)
+            for r in regions
+        ]
         self._compute(items, description)
         return out
 

@@ -204,8 +204,16 @@ def _find_sun(reader: Reader, brightest: int, rivals: list[int]):
     return removal.sun, index[removal.index], removal.filled, (values, dirs, omega, removal.index)
 
 
-def dim_pair(source, layout: str = "latlong", *, to: str = "latlong", size=(360, 180),
-             method: str = "auto", order: int = 2, engine: Engine | None = None) -> HugeDimPair:  # fmt: skip
+def dim_pair(
+    source,
+    layout: str = "latlong",
+    *,
+    to: str = "latlong",
+    size=(360, 180),
+    method: str = "auto",
+    order: int = 2,
+    engine: Engine | None = None,
+) -> HugeDimPair:
     """The DIM pair, the sun and the SH coefficients of a panorama of any size, in two passes
     over it within the engine's memory bound (see the module docstring).
 
@@ -236,14 +244,16 @@ def dim_pair(source, layout: str = "latlong", *, to: str = "latlong", size=(360,
     out_bytes = 4 * flat_normals.shape[0] * c * 8
     what = f"DIM pair of latlong {w}x{h}"
     strips = _strips(reader, engine, out_bytes, what)
-    parts = engine.gather(_strip, [(r, reader, order, method, flat_normals) for r in strips],
-                          f"{what}: pass 1 of 2")  # fmt: skip
+    parts = engine.gather(
+        _strip, [(r, reader, order, method, flat_normals) for r in strips], f"{what}: pass 1 of 2"
+    )
     lum, brightest = max(p[0] for p in parts)
     coeffs = sum(p[1] for p in parts)
     j, i = divmod(brightest, w)
     centre = latlong_window_geometry((h, w), (j, j + 1), (i, i + 1))[0][0]
-    rival_parts = engine.gather(_rivals, [(r, reader, centre) for r in strips],
-                                f"{what}: pass 2 of 2")  # fmt: skip
+    rival_parts = engine.gather(
+        _rivals, [(r, reader, centre) for r in strips], f"{what}: pass 2 of 2"
+    )
     rivals = sorted({max(p[k] for p in rival_parts)[1] for k in range(len(RIVAL_RADII))} - {-1})
     sun, fill_index, found = None, np.empty(0, np.int64), None
     fill_values = np.empty((0, min(3, c)), np.float32)
@@ -275,12 +285,14 @@ def dim_pair(source, layout: str = "latlong", *, to: str = "latlong", size=(360,
             shadow = lit - removed
     lit[~valid] = 0
     shadow[~valid] = 0
-    return HugeDimPair(lit.astype(np.float32), shadow.astype(np.float32), sun, coeffs,
-                       fill_index, fill_values)  # fmt: skip
+    return HugeDimPair(
+        lit.astype(np.float32), shadow.astype(np.float32), sun, coeffs, fill_index, fill_values
+    )
 
 
-def sh_coefficients(source, layout: str = "latlong", *, order: int = 2,
-                    engine: Engine | None = None) -> np.ndarray:  # fmt: skip
+def sh_coefficients(
+    source, layout: str = "latlong", *, order: int = 2, engine: Engine | None = None
+) -> np.ndarray:
     """SH radiance coefficients of a panorama of any size: per-strip projections summed
     (equal to :func:`bakeshop.light.sh_coefficients` to rounding); ((order+1)^2, C) float64."""
     engine = Engine() if engine is None else engine
@@ -288,8 +300,9 @@ def sh_coefficients(source, layout: str = "latlong", *, order: int = 2,
     engine.check_source(reader)
     h, w, c = _check(reader, layout)
     strips = _strips(reader, engine, 0, f"SH projection of latlong {w}x{h}")
-    return engine.reduce(_project, [(r, reader, order) for r in strips],
-                         f"SH projection of latlong {w}x{h}")  # fmt: skip
+    return engine.reduce(
+        _project, [(r, reader, order) for r in strips], f"SH projection of latlong {w}x{h}"
+    )
 
 
 def _project(rows, reader: Reader, order: int):
@@ -304,8 +317,9 @@ def find_sun(source, layout: str = "latlong", *, engine: Engine | None = None) -
     return dim_pair(source, layout, size=(4, 2), method="sh", order=0, engine=engine).sun
 
 
-def write_shadow_probe(source, target, pair: HugeDimPair, *, engine: Engine | None = None,
-                       **options) -> None:  # fmt: skip
+def write_shadow_probe(
+    source, target, pair: HugeDimPair, *, engine: Engine | None = None, **options
+) -> None:
     """Write the probe with its sun painted out (``pair``'s fill) to ``target`` by strips."""
     from bakeshop.io.stream import write_strips
 

@@ -117,8 +117,17 @@ def refuse(what: str, needed: int, memory: int) -> MemoryBoundError:
     )
 
 
-def plan_blocks(shape, block_bytes, per_task: int, *, at_least: int = 1, what: str = "the job",
-                memory: int = 0, fixed: int = 0, workers: int = 1):  # fmt: skip
+def plan_blocks(
+    shape,
+    block_bytes,
+    per_task: int,
+    *,
+    at_least: int = 1,
+    what: str = "the job",
+    memory: int = 0,
+    fixed: int = 0,
+    workers: int = 1,
+):
     """Choose a block of ``(rows, columns)`` of an output of ``shape`` (h, w) whose task costs
     at most ``per_task`` bytes by ``block_bytes(rows, columns)``: rows are halved first, then
     columns; then rows are cut further until there are ``at_least`` blocks (parallelism and

@@ -24,8 +24,16 @@ def band_rows(shape, engine: Engine, cost: Callable[[int, int], int], what: str)
     return rows
 
 
-def write_bands(target, shape, fn: Callable, args: tuple, cost: Callable[[int, int], int],
-                engine: Engine, what: str, **options) -> None:  # fmt: skip
+def write_bands(
+    target,
+    shape,
+    fn: Callable,
+    args: tuple,
+    cost: Callable[[int, int], int],
+    engine: Engine,
+    what: str,
+    **options,
+) -> None:
     """Write ``target`` (any :func:`bakeshop.io.stream.write_strips` format) of ``shape``
     (h, w, C), each block ``(top, bottom, left, right)`` being ``fn(region, *args)``."""
     h, w, c = shape
@@ -37,14 +45,23 @@ def write_bands(target, shape, fn: Callable, args: tuple, cost: Callable[[int, i
         with progress.task(what, len(bands)) as t:
             for top in bands:
                 bottom = min(top + rows, h)
-                block = plan_blocks((bottom - top, w), cost, per_task,
-                                    at_least=4 * engine.total_workers, what=what,
-                                    memory=engine.memory, workers=engine.workers)  # fmt: skip
-                regions = [(a + top, b + top, left, right)
-                           for a, b, left, right in blocks((bottom - top, w), block)]  # fmt: skip
+                block = plan_blocks(
+                    (bottom - top, w),
+                    cost,
+                    per_task,
+                    at_least=4 * engine.total_workers,
+                    what=what,
+                    memory=engine.memory,
+                    workers=engine.workers,
+                )
+                regions = [
+                    (a + top, b + top, left, right)
+                    for a, b, left, right in blocks((bottom - top, w), block)
+                ]
                 out = np.empty((bottom - top, w, c), np.float32)
-                yield engine.assemble(fn, regions, out, args, f"rows {top}..{bottom}",
-                                      origin=(top, 0))  # fmt: skip
+                yield engine.assemble(
+                    fn, regions, out, args, f"rows {top}..{bottom}", origin=(top, 0)
+                )
                 t.advance()
 
     write_strips(target, shape, strips(), **options)

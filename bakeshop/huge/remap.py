@@ -84,12 +84,32 @@ def _intermediate(h: int, w: int, texels: int) -> tuple[int, int]:
     return hi, wi
 
 
-def _part(reader: Reader, src: str, src_shape, dst: str, dst_shape, face, rows, cols, filter,
-          rotation, per_task):  # fmt: skip
+def _part(
+    reader: Reader,
+    src: str,
+    src_shape,
+    dst: str,
+    dst_shape,
+    face,
+    rows,
+    cols,
+    filter,
+    rotation,
+    per_task,
+):
     """The texels ``rows x cols`` of ``face`` of the output, from their window of the source."""
     c = reader.shape[2]
-    taps, frac = remap_part_taps(src, src_shape, dst, dst_shape, face=face, rows=rows, cols=cols,
-                                 filter=filter, rotation=rotation)  # fmt: skip
+    taps, frac = remap_part_taps(
+        src,
+        src_shape,
+        dst,
+        dst_shape,
+        face=face,
+        rows=rows,
+        cols=cols,
+        filter=filter,
+        rotation=rotation,
+    )
     width = src_shape[1]
     window_rows, ranges = taps_window(taps, width)
     shape = (rows[1] - rows[0], cols[1] - cols[0], c)
@@ -108,8 +128,14 @@ def _part(reader: Reader, src: str, src_shape, dst: str, dst_shape, face, rows, 
             halves = [(rows, (cols[0], mid)), (rows, (mid, cols[1]))]
             axis = 1
         return np.concatenate(
-            [_part(reader, src, src_shape, dst, dst_shape, face, r, k, filter, rotation, per_task)
-             for r, k in halves], axis=axis)  # fmt: skip
+            [
+                _part(
+                    reader, src, src_shape, dst, dst_shape, face, r, k, filter, rotation, per_task
+                )
+                for r, k in halves
+            ],
+            axis=axis,
+        )
     pieces = [reader.read(window_rows, r) for r in ranges]
     window = pieces[0] if len(pieces) == 1 else np.concatenate(pieces, axis=1)
     local = localise_taps(taps, width, window_rows, ranges)
@@ -121,12 +147,32 @@ def _block(region, reader, src, src_shape, dst, dst_shape, side, filter, rotatio
     top, bottom, left, right = region
     face = top // side
     rows = (top - face * side, bottom - face * side)
-    return _part(reader, src, src_shape, dst, dst_shape, face, rows, (left, right), filter,
-                 rotation, per_task)  # fmt: skip
+    return _part(
+        reader,
+        src,
+        src_shape,
+        dst,
+        dst_shape,
+        face,
+        rows,
+        (left, right),
+        filter,
+        rotation,
+        per_task,
+    )
 
 
-def remap_tiles(reader: Reader, src: str, dst: str, dst_shape, *, filter: str, rotation,
-                engine: Engine, what: str) -> np.ndarray:  # fmt: skip
+def remap_tiles(
+    reader: Reader,
+    src: str,
+    dst: str,
+    dst_shape,
+    *,
+    filter: str,
+    rotation,
+    engine: Engine,
+    what: str,
+) -> np.ndarray:
     """``nearest`` or ``bilinear`` remap of ``reader`` (a flat layout ``src``) into the base
     layout ``dst`` of spatial ``dst_shape``, tile by tile; ``dst_shape + (C,)`` float32."""
     d = layout(dst)
@@ -141,19 +187,37 @@ def remap_tiles(reader: Reader, src: str, dst: str, dst_shape, *, filter: str, r
     def cost(rows: int, cols: int) -> int:
         return rows * cols * (_TEXEL_BYTES + 8 * c + int(2 * texels_per * c * 4))
 
-    block = plan_blocks((dh, dw), cost, min(per_task, 64 << 20),
-                        at_least=max(1, 4 * engine.total_workers // faces), what=what,
-                        memory=engine.memory, fixed=out_bytes, workers=engine.workers)  # fmt: skip
-    regions = [(top + f * dh, bottom + f * dh, left, right)
-               for f in range(faces) for top, bottom, left, right in blocks((dh, dw), block)]  # fmt: skip
+    block = plan_blocks(
+        (dh, dw),
+        cost,
+        min(per_task, 64 << 20),
+        at_least=max(1, 4 * engine.total_workers // faces),
+        what=what,
+        memory=engine.memory,
+        fixed=out_bytes,
+        workers=engine.workers,
+    )
+    regions = [
+        (top + f * dh, bottom + f * dh, left, right)
+        for f in range(faces)
+        for top, bottom, left, right in blocks((dh, dw), block)
+    ]
     out = np.empty((faces * dh, dw, c), np.float32)
     args = (reader, src, (h, w), dst, tuple(dst_shape), dh, filter, rotation, per_task)
     engine.assemble(_block, regions, out, args, what)
     return out.reshape(tuple(dst_shape) + (c,))
 
 
-def remap(source, src: str, dst: str, size=None, *, filter: str = "auto", rotation=None,
-          engine: Engine | None = None) -> np.ndarray:  # fmt: skip
+def remap(
+    source,
+    src: str,
+    dst: str,
+    size=None,
+    *,
+    filter: str = "auto",
+    rotation=None,
+    engine: Engine | None = None,
+) -> np.ndarray:
     """Convert a panorama of any size between layouts within the engine's memory bound.
 
     Parameters
@@ -219,13 +283,22 @@ def remap(source, src: str, dst: str, size=None, *, filter: str = "auto", rotati
             from bakeshop import progress, sphere
 
             with progress.step(f"area filter {wi}x{hi} -> {d.name}"):
-                out = sphere.remap(reader.image, "latlong", d.name, size, filter="area",
-                                   rotation=rotation)  # fmt: skip
+                out = sphere.remap(
+                    reader.image, "latlong", d.name, size, filter="area", rotation=rotation
+                )
                 sphere.clear_caches()  # its plan would outlive the job, beyond the bound
             return out
         if engine.distributed:  # the intermediate is in this process's memory
             engine = Engine("threads", memory=engine.memory)
         filter = "bilinear"
-    out = remap_tiles(reader, s.name, d.base.name, base_shape, filter=filter, rotation=rotation,
-                      engine=engine, what=what)  # fmt: skip
+    out = remap_tiles(
+        reader,
+        s.name,
+        d.base.name,
+        base_shape,
+        filter=filter,
+        rotation=rotation,
+        engine=engine,
+        what=what,
+    )
     return out if d.base is d else cube_to_view(out, d.name)

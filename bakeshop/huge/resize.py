@@ -72,13 +72,15 @@ def _block(region, reader: Reader, size, weighting: str):
     )
     window = reader.read((ly, hy), (lx, hx))
     if weighting == "planar":
-        return resize_area_part(window, (h, w), size, rows=(top, bottom), cols=(left, right),
-                                origin=(ly, lx))  # fmt: skip
+        return resize_area_part(
+            window, (h, w), size, rows=(top, bottom), cols=(left, right), origin=(ly, lx)
+        )
     ay = latlong_row_weights(h, height)[top:bottom]
     ax = area_weights(w, width)[left:right]
     out = np.empty((bottom - top, right - left, window.shape[2]), np.float32)
-    return resample_separable(window, (ay.indptr, ay.indices - ly, ay.data),
-                              (ax.indptr, ax.indices - lx, ax.data), out)  # fmt: skip
+    return resample_separable(
+        window, (ay.indptr, ay.indices - ly, ay.data), (ax.indptr, ax.indices - lx, ax.data), out
+    )
 
 
 def _block_bytes(reader: Reader, size):
@@ -102,8 +104,16 @@ def plan(reader: Reader, size, engine: Engine, *, fixed: int, what: str):
     cost = _block_bytes(reader, size)
     if fixed + engine.workers * cost(1, 1) > engine.memory:
         raise refuse(what, fixed + engine.workers * cost(1, 1), engine.memory)
-    block = plan_blocks((height, width), cost, per_task, at_least=4 * engine.total_workers,
-                        what=what, memory=engine.memory, fixed=fixed, workers=engine.workers)  # fmt: skip
+    block = plan_blocks(
+        (height, width),
+        cost,
+        per_task,
+        at_least=4 * engine.total_workers,
+        what=what,
+        memory=engine.memory,
+        fixed=fixed,
+        workers=engine.workers,
+    )
     return blocks((height, width), block)
 
 
@@ -164,7 +174,13 @@ def resize_to_file(source, target, size, *, engine: Engine | None = None, **opti
     engine.check_source(reader)
     width, height = _check_size(size)
     c = reader.shape[2]
-    write_bands(target, (height, width, c), _block, (reader, (width, height), "planar"),
-                _block_bytes(reader, (width, height)), engine,
-                f"resizing {reader.shape[1]}x{reader.shape[0]} to {width}x{height}",
-                **options)  # fmt: skip
+    write_bands(
+        target,
+        (height, width, c),
+        _block,
+        (reader, (width, height), "planar"),
+        _block_bytes(reader, (width, height)),
+        engine,
+        f"resizing {reader.shape[1]}x{reader.shape[0]} to {width}x{height}",
+        **options,
+    )

@@ -68,8 +68,18 @@ def _part_taps(skind, sh, sw, dkind, dh, dw, rot, f, j0, j1, i0, i1, nearest, ta
                 taps[p, 3] = resolve(skind, sh, sw, sf, a + 1, b + 1, sx)
 
 
-def remap_part_taps(src: str | Layout, src_shape, dst: str | Layout, dst_shape, *, face: int = 0,
-                    rows, cols, filter: str = "bilinear", rotation=None):  # fmt: skip
+def remap_part_taps(
+    src: str | Layout,
+    src_shape,
+    dst: str | Layout,
+    dst_shape,
+    *,
+    face: int = 0,
+    rows,
+    cols,
+    filter: str = "bilinear",
+    rotation=None,
+):
     """Source taps of destination texels ``rows x cols`` of ``face`` (0 for flat layouts).
 
     Parameters

@@ -40,7 +40,13 @@ def _scan(data, pos, scanlen, count, starts, first):  # pragma: no cover - compi
     done = 0
     while done < count:
         start = pos
-        if 8 <= scanlen <= 0x7FFF and pos + 4 <= n and data[pos] == 2 and data[pos + 1] == 2 and data[pos + 2] < 128:  # fmt: skip
+        if (
+            8 <= scanlen <= 0x7FFF
+            and pos + 4 <= n
+            and data[pos] == 2
+            and data[pos + 1] == 2
+            and data[pos + 2] < 128
+        ):
             if (np.int64(data[pos + 2]) << 8) + data[pos + 3] != scanlen:
                 return done, start, 1
             pos += 4

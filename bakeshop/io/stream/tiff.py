@@ -79,8 +79,15 @@ def open(path) -> TiffReader:  # noqa: A001 - the codec interface's name
     return TiffReader(path)
 
 
-def write_strips(path, shape, strips, *, tile: int = 256, compression: str | None = None,
-                 pixel_type: str = "float"):  # fmt: skip
+def write_strips(
+    path,
+    shape,
+    strips,
+    *,
+    tile: int = 256,
+    compression: str | None = None,
+    pixel_type: str = "float",
+):
     """Write a tiled BigTIFF of float samples from strips (``tile`` x ``tile`` tiles;
     ``compression`` as tifffile names it: None, ``"zlib"``, ``"zstd"`` ...)."""
     tifffile = _tifffile()

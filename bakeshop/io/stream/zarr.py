@@ -117,8 +117,7 @@ def create(path, shape, *, chunks=None, pixel_type: str = "float", attributes=No
     return a
 
 
-def write_strips(path, shape, strips, *, chunks=None, pixel_type: str = "float",
-                 attributes=None):  # fmt: skip
+def write_strips(path, shape, strips, *, chunks=None, pixel_type: str = "float", attributes=None):
     """Write a zarr store from strips top to bottom (chunks of ``chunks`` = (rows, columns),
     default 256 x 256); strips are buffered into whole rows of chunks before writing."""
     with atomic_directory(path) as tmp:
