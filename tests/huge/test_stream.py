@@ -38,7 +38,9 @@ def test_radiance_windows_of_a_file_written_by_the_in_memory_codec(tmp_path):
     a = _image(64, 96)
     write_image(tmp_path / "x.hdr", a)
     reader = open_image(tmp_path / "x.hdr")
-    assert np.array_equal(reader.read((10, 50), (3, 90)), read_image(tmp_path / "x.hdr")[10:50, 3:90])
+    assert np.array_equal(
+        reader.read((10, 50), (3, 90)), read_image(tmp_path / "x.hdr")[10:50, 3:90]
+    )
 
 
 def test_headers_are_checked_before_anything_is_read(tmp_path):
