@@ -13,6 +13,7 @@ from bakeshop.cli._common import (
     parse_size,
     refuse_overwriting_inputs,
 )
+from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import (
     FACES,
@@ -86,7 +87,21 @@ def _check_target(target: Path, layout: str) -> None:
     is_flag=True,
     help="{face} is px, nx, py, ny, pz, nz instead of posx, negx, posy, negy, posz, negz.",
 )
-def remap(source, target, src, dst, size_text, filter_name, rotate, convention, short_face_names):
+@memory_option
+@scheduler_option
+def remap(
+    source,
+    target,
+    src,
+    dst,
+    size_text,
+    filter_name,
+    rotate,
+    convention,
+    short_face_names,
+    memory,
+    scheduler,
+):
     """Convert the panorama SOURCE from one layout to another and write TARGET.
 
     Layouts: latlong (equirectangular), angular (Debevec light probe), mirrorball, octahedral,
@@ -104,6 +119,11 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
       bakeshop remap sky.exr sky_{face}.exr --to faces --size 1024 --convention directx
       bakeshop remap sky_{face}.hdr sky.exr --from faces --to latlong --rotate 90,0,0
       bakeshop remap sky.ktx2 sky.hdr --to latlong
+      bakeshop remap pano_32k.pfm sky_{face}.exr --to faces --size 2048 --memory 2GB
+
+    A panorama larger than memory (a flat layout in .pfm, .hdr, .exr, .tif or .zarr) is
+    remapped tile by tile within --memory, each tile reading only its window of the source
+    (docs/huge-images.md); nearest and bilinear give the in-memory result bit for bit.
     """
     from bakeshop import progress, sphere
 
@@ -117,6 +137,10 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
             rotation = []
         if len(rotation) != 3:
             raise ArgumentError(f"--rotate takes YAW,PITCH,ROLL in degrees; got {rotate!r}")
+    if "{face}" not in str(source) and chunked(source, memory, scheduler):
+        _remap_chunked(source, target, src, dst, size_text, filter_name, rotation, convention,
+                       short_face_names, memory, scheduler)  # fmt: skip
+        return
     with progress.step(f"reading {source}"):
         image, src, how = read_environment(
             source, src, convention=convention, short=short_face_names
@@ -135,6 +159,35 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
     click.echo(
         f"wrote {where}: {describe(out, dst_name)} from {describe(image, src)} "
         f"({how}), {filter_name}" + (f", rotated {rotate}" if rotate else "")
+    )
+
+
+def _remap_chunked(source, target, src, dst, size_text, filter_name, rotation, convention,
+                   short, memory, scheduler) -> None:  # fmt: skip
+    from bakeshop import sphere
+    from bakeshop.huge import remap as remap_chunked
+    from bakeshop.io.stream import open_image
+
+    reader = open_image(source)
+    h, w, _ = reader.shape
+    how = "given"
+    if src is None:
+        guesses = sphere.guess_layout(h, w)
+        if len(guesses) != 1:
+            raise ArgumentError(
+                f"cannot tell the layout of a {w}x{h} image; name it with --from", source
+            )
+        src, how = guesses[0], f"guessed from its {w}x{h} shape"
+    dst_name = "cube" if dst == FACES else dst
+    size = None if size_text is None else parse_size(size_text)
+    with engine(memory, scheduler) as eng:
+        out = remap_chunked(reader, src, dst_name, size, filter=filter_name, rotation=rotation,
+                            engine=eng)  # fmt: skip
+    written = write_environment(target, out, dst, convention=convention, short=short)
+    where = written[0] if len(written) == 1 else f"{written[0]} ... {written[-1].name}"
+    click.echo(
+        f"wrote {where}: {describe(out, dst_name)} from {src} {w}x{h} ({how}), "
+        f"{filter_name}, chunked"
     )
 
 

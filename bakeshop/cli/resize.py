@@ -2,18 +2,23 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from bakeshop.cli._common import (
-    INPUT,
     OUTPUT,
     parse_size,
     refuse_overwriting_inputs,
 )
+from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
+
+#: an input file, or a .zarr store (a directory).
+SOURCE = click.Path(exists=True, readable=True, path_type=Path)
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("source", type=INPUT)
+@click.argument("source", type=SOURCE)
 @click.argument("target", type=OUTPUT)
 @click.option(
     "--size",
@@ -21,7 +26,9 @@ from bakeshop.cli._common import (
     metavar="WxH",
     help="Output size; a single W keeps the aspect ratio (height rounded).",
 )
-def resize(source, target, size):
+@memory_option
+@scheduler_option
+def resize(source, target, size, memory, scheduler):
     """Resize SOURCE to TARGET with energy-preserving area resampling.
 
     Each output texel is the exact mean of the input over its footprint (the exact box filter
@@ -29,16 +36,24 @@ def resize(source, target, size):
     rounding: the way to bring huge artist images down to real-time sizes without losing or
     gaining light. Values are resampled as stored: resize linear (HDR) data, not sRGB pictures.
 
+    Images larger than memory (.pfm, .hdr, .exr, .tif, .zarr) are resized block by block within
+    --memory, bit-identical to the in-memory result; a .zarr, .tif, .pfm, .hdr or .exr output is
+    written by strips, so it may be larger than memory too (docs/huge-images.md).
+
     \b
     Example:
       bakeshop resize probe_12k.exr probe_4k.exr --size 4096x2048
       bakeshop resize probe.hdr small.hdr --size 360
+      bakeshop resize pano_64k.zarr pano_8k.exr --size 8192 --memory 2GB
     """
     from bakeshop.image import resize_area
     from bakeshop.io import read_image, write_image
 
     refuse_overwriting_inputs(target, source)
     wanted = parse_size(size)
+    if chunked(source, memory, scheduler):
+        _resize_chunked(source, target, wanted, memory, scheduler)
+        return
     image = read_image(source)
     h, w = image.shape[:2]
     if isinstance(wanted, int):
@@ -46,6 +61,25 @@ def resize(source, target, size):
     out = resize_area(image, wanted)
     write_image(target, out)
     click.echo(f"wrote {target}: {w}x{h} -> {wanted[0]}x{wanted[1]} (mean preserved)")
+
+
+def _resize_chunked(source, target, wanted, memory, scheduler) -> None:
+    from bakeshop.huge import resize_to_file
+    from bakeshop.io.stream import open_image
+
+    reader = open_image(source)
+    h, w, _ = reader.shape
+    if isinstance(wanted, int):
+        wanted = (wanted, max(1, round(h * wanted / w)))
+    with engine(memory, scheduler) as eng:
+        if target.suffix.lower() in (".zarr", ".tif", ".tiff", ".pfm", ".hdr", ".exr"):
+            resize_to_file(reader, target, wanted, engine=eng)
+        else:
+            from bakeshop.huge import resize as resize_chunked
+            from bakeshop.io import write_image
+
+            write_image(target, resize_chunked(reader, wanted, engine=eng))
+    click.echo(f"wrote {target}: {w}x{h} -> {wanted[0]}x{wanted[1]} (mean preserved, chunked)")
 
 
 def register(group: click.Group) -> None:

@@ -23,7 +23,13 @@ from bakeshop.image.display import (
     to_srgb8,
     tonemap,
 )
-from bakeshop.image.resize import area_weights, resize_area
+from bakeshop.image.resize import (
+    area_footprint,
+    area_weights,
+    resample_separable,
+    resize_area,
+    resize_area_part,
+)
 from bakeshop.image.statistics import LUMINANCE_WEIGHTS, describe, luminance
 
 __all__ = [
@@ -34,6 +40,7 @@ __all__ = [
     "TONE_OPERATORS",
     "aces_filmic",
     "adapt_exposure",
+    "area_footprint",
     "area_weights",
     "auto_exposure",
     "describe",
@@ -42,7 +49,9 @@ __all__ = [
     "luminance",
     "metering_weights",
     "reinhard",
+    "resample_separable",
     "resize_area",
+    "resize_area_part",
     "srgb_decode",
     "srgb_encode",
     "to_srgb8",

@@ -10,7 +10,9 @@ Layouts: ``latlong``, ``angular`` (Debevec light probe), ``mirrorball``, ``cube`
 ``cross-horizontal``, ``strip-horizontal``, ``strip-vertical``, ``octahedral`` and
 ``dual-paraboloid``. Every spherical function takes ``(image, layout)`` and checks it with
 :func:`check_environment` (one rule for shapes, channels and values). See docs/panoramas.md
-for pictures and docs/conventions.md for the conventions.
+for pictures and docs/conventions.md for the conventions. :mod:`bakeshop.sphere.windows`
+computes a part of a remap from a window of its source (images larger than memory,
+:mod:`bakeshop.huge`).
 """
 
 from bakeshop.sphere._cache import cache_info, clear_caches
