@@ -72,12 +72,13 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
     from bakeshop.io import ALPHA_EXTENSIONS, write_image, write_json
     from bakeshop.light import bake_probe as bake
     from bakeshop.light import contact_sheet, sh, sun_document
+    from bakeshop.sphere import check_environment
 
     out_dir.mkdir(parents=True, exist_ok=True)
     image, layout, source = read_probe(source, src_layout)
     dropped = image.shape[-1] == 4 and f".{fmt}" not in ALPHA_EXTENSIONS
     if dropped:  # alpha is carried by every step, but .hdr and .pfm store none
-        image = image[..., :3]
+        image = image[..., :3].copy()  # the RGBA probe is not kept
     paths = {
         "cube": out_dir / f"env_{{face}}.{fmt}",
         "sun_dim": out_dir / f"sun_dim.{fmt}",
@@ -92,21 +93,28 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
     for path in paths.values():
         refuse_overwriting_inputs(path, source)
     started = time.perf_counter()
-    baked = bake(image, layout, cube_size=cube_size, specular_size=specular_size, mips=mips)
+    # the shadow probe is painted into the probe itself once nothing else reads it: a 16k
+    # probe is never held twice
+    baked = bake(image, layout, cube_size=cube_size, specular_size=specular_size, mips=mips,
+                 shadow_probe=False)  # fmt: skip
     from bakeshop import progress
 
+    with progress.step("contact sheet"):
+        sheet = contact_sheet(baked, image)
     with progress.step("writing files"):
         faces = write_environment(paths["cube"], baked.cube, "cube")
         write_image(paths["sun_dim"], baked.sun_dim)
         write_image(paths["shadow_dim"], baked.shadow_dim)
-        # a cube probe (faces or a container) is painted as a cube: one picture, a cross
-        write_image(paths["shadow_probe"], as_picture(baked.shadow_probe, layout))
         write_json(paths["sun"], sun_document(baked.sun))
         write_json(paths["sh"], sh.to_document(baked.sh))
         write_chain(paths["specular"], baked.specular, convention="opengl")
         write_table(paths["dfg"], baked.dfg)
-    with progress.step("contact sheet"):
-        write_image(paths["sheet"], contact_sheet(baked, image))
+        write_image(paths["sheet"], sheet)
+        env = check_environment(image, layout)  # the probe itself, with a channel axis
+        if baked.fill is not None:
+            baked.fill.paint(env.image)
+        # a cube probe (faces or a container) is painted as a cube: one picture, a cross
+        write_image(paths["shadow_probe"], as_picture(env.shaped(env.image), layout))
     elapsed = time.perf_counter() - started
     t = baked.timings
     s = baked.cube.shape[1]

@@ -51,7 +51,7 @@ import numpy as np
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.light import sh
-from bakeshop.sphere import texels
+from bakeshop.sphere import Environment, check_environment, texel_strips
 
 #: the irradiance methods, the default first.
 METHODS = ("auto", "exact", "sh")
@@ -312,7 +312,15 @@ def _select(index, subset, rank):  # pragma: no cover - compiled
     return chosen, parent
 
 
-def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float = HOT_FRACTION):
+def compress(
+    values,
+    dirs,
+    omega,
+    *,
+    base: int = BASE_BINS,
+    hot_fraction: float = HOT_FRACTION,
+    total: float | None = None,
+):
     """Group an environment's texels into moment-preserving bins, finer where energy gathers.
 
     Each bin becomes one source with the bin's energy ``sum L omega`` per channel, at the
@@ -336,6 +344,12 @@ def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float 
         Edge of the coarsest bin grid: ``6 * base**2`` cube-face bins.
     hot_fraction : float
         Split threshold as a fraction of the total energy.
+    total : float, optional
+        The total energy that ``hot_fraction`` is a fraction of (summed over the colour
+        channels of ``|L| omega``). Default: these texels'. An environment compressed in parts
+        (strips of rows) passes the whole environment's, so that each part's bins are split
+        as the whole's would be: a bin that a strip boundary cuts is two sources, each
+        moment-preserving.
 
     Returns
     -------
@@ -364,7 +378,7 @@ def compress(values, dirs, omega, *, base: int = BASE_BINS, hot_fraction: float 
         sums = _accumulate(values, dirs, omega, subset, index, n_bins, chunks, fused, colour)
         weight = sums[:, channels]
         if threshold is None:
-            threshold = hot_fraction * weight.sum()
+            threshold = hot_fraction * (weight.sum() if total is None else total)
         # split a bin that holds too much energy, unless it is a single texel
         hot = (weight * (base / size) > threshold) & (sums[:, channels + 4] > 1)
         if size >= _MAX_BINS:
@@ -408,9 +422,9 @@ def sh_coefficients(image, layout, *, order: int = 2) -> np.ndarray:
         Radiance coefficients (see :mod:`bakeshop.light.sh`; ``sh.irradiance_coefficients``
         turns them into the DIM's).
     """
-    t = texels(image, layout)
+    env = check_environment(image, layout)
     with progress.step(f"projecting on spherical harmonics to order {order}"):
-        return sh.project(t.values, t.dirs, t.omega, order=order)
+        return integrate(env, "sh", order=order)
 
 
 def irradiance(
@@ -446,23 +460,73 @@ def irradiance(
         ``E / pi`` per output texel (0 outside a disk layout's disk); C' = 3 for RGBA input.
     """
     validate_choice(method, METHODS, "irradiance method")
-    t = texels(image, layout)
+    env = check_environment(image, layout)
     shape, normals, valid = dim_normals(to, size)
-    if method == "sh":
-        coeffs = sh.project(t.values, t.dirs, t.omega, order=order)
-        dim = sh.evaluate(sh.irradiance_coefficients(coeffs), normals)
-    else:
-        dim = dim_of(t.values, t.dirs, t.omega, normals, method)
+    dim = dim_of_environment(env, normals, method, order=order)
     dim[~valid] = 0
-    return t.environment.shaped(dim.astype(np.float32))
+    return env.shaped(dim.astype(np.float32))
 
 
-def dim_of(values, dirs, omega, normals, method: str) -> np.ndarray:
-    """E / pi at ``normals`` (..., 3) from texels, by ``exact`` or ``auto``."""
-    if method == "auto":
-        with progress.step("grouping the environment's texels"):
-            dirs, energy = compress(values, dirs, omega)
-    else:
-        energy = values * omega[:, None]
-    e = cosine_sum(normals.reshape(-1, 3), dirs, energy)
+def dim_of_environment(env: Environment, normals, method: str, *, order: int = 2, fill=None):
+    """E / pi at ``normals`` (..., 3) of a checked environment by ``method``, in one pass over
+    its texels (:func:`integrate`); ``fill`` (a :class:`bakeshop.light.sun.Removal`) paints
+    the sun out first."""
+    if method == "sh":
+        coeffs = integrate(env, "sh", order=order, fill=fill)
+        return sh.evaluate(sh.irradiance_coefficients(coeffs), normals)
+    e = integrate(env, method, normals=normals.reshape(-1, 3), fill=fill)
     return e.reshape(normals.shape[:-1] + (-1,)) / math.pi
+
+
+def integrate(env: Environment, method: str, *, order: int = 2, normals=None, fill=None):
+    """One pass over an environment's texels in strips of rows
+    (:func:`bakeshop.sphere.texel_strips`): the directions and solid angles of one strip at a
+    time, never the whole layout's.
+
+    Parameters
+    ----------
+    env : Environment
+        A checked environment (:func:`bakeshop.sphere.check_environment`).
+    method : {"sh", "exact", "auto"}
+        ``sh``: the SH projection to ``order`` (sums of each strip's). ``exact``: the
+        irradiance (not over pi) at ``normals`` (M, 3), sums of each strip's
+        :func:`cosine_sum`. ``auto``: each strip compressed (:func:`compress`, split against
+        the whole environment's energy), then one :func:`cosine_sum` of all the sources.
+    fill : Removal, optional
+        Texels to read with other values (a sun painted out), without copying the image.
+
+    Returns
+    -------
+    ((order + 1)**2, C) float64 for ``sh``; (M, C) float64 irradiance otherwise.
+    """
+    flat = env.image.reshape(-1, env.image.shape[-1])
+    shape = env.image.shape[:-1]
+
+    def strips(directions=True):
+        for start, stop, dirs, omega in texel_strips(env.layout, shape, directions=directions):
+            yield _painted(flat, start, stop, fill), dirs, omega
+
+    if method == "sh":
+        return sum(sh.project(v, d, w, order=order) for v, d, w in strips())
+    if method == "exact":
+        return sum(cosine_sum(normals, d, v * w[:, None]) for v, d, w in strips())
+    colour = min(3, flat.shape[1])
+    total = sum(float(np.abs(v[:, :colour] * w[:, None]).sum()) for v, _, w in strips(False))
+    with progress.step("grouping the environment's texels"):
+        sources = [compress(v, d, w, total=total) for v, d, w in strips()]
+    dirs = np.concatenate([d for d, _ in sources])
+    energy = np.concatenate([e for _, e in sources])
+    return cosine_sum(normals, dirs, energy)
+
+
+def _painted(flat, start: int, stop: int, fill):
+    """Texels ``[start, stop)`` of the flat image, with the fill's values where it has any (a
+    copy of the strip then)."""
+    values = flat[start:stop]
+    if fill is None:
+        return values
+    lo, hi = np.searchsorted(fill.index, (start, stop))
+    if hi > lo:
+        values = values.copy()
+        values[fill.index[lo:hi] - start, : fill.filled.shape[1]] = fill.filled[lo:hi]
+    return values

@@ -16,12 +16,11 @@ import numpy as np
 
 from bakeshop import progress
 from bakeshop.errors import validate_choice
-from bakeshop.light import sh
-from bakeshop.light.diffuse import METHODS, cosine_sum, dim_normals, dim_of
-from bakeshop.light.sun import Sun, split_texels
-from bakeshop.sphere import texels
+from bakeshop.light.diffuse import METHODS, cosine_sum, dim_normals, dim_of_environment
+from bakeshop.light.sun import Removal, Sun, split_sun
+from bakeshop.sphere import check_environment, texels_at
 
-__all__ = ["DimPair", "dim_pair"]
+__all__ = ["DimPair", "dim_pair", "dim_pair_of"]
 
 
 class DimPair(NamedTuple):
@@ -68,34 +67,46 @@ def dim_pair(
         ``(sun_dim, shadow_dim, shadow_probe, sun)``; 2-D results for a 2-D probe.
     """
     validate_choice(method, METHODS, "irradiance method")
-    t = texels(image, layout)
-    env = t.environment
+    env = check_environment(image, layout)
+    lit, shadow, removal = dim_pair_of(env, to=to, size=size, method=method, order=order)
+    probe = env.image.copy()  # the fill is fractional: a float copy
+    if removal is not None:
+        removal.paint(probe)
+    return DimPair(
+        env.shaped(lit),
+        env.shaped(shadow),
+        env.shaped(probe),
+        None if removal is None else removal.sun,
+    )
+
+
+def dim_pair_of(
+    env, *, to: str = "latlong", size=(360, 180), method: str = "auto", order: int = 2
+) -> tuple[np.ndarray, np.ndarray, Removal | None]:
+    """The DIM pair of a checked environment (:func:`bakeshop.sphere.check_environment`)
+    without painting a copy of it: ``(sun DIM, shadow DIM, removal)``, float32 with a channel
+    axis, and the sun's :class:`~bakeshop.light.sun.Removal` (None without a sun), whose
+    :meth:`~bakeshop.light.sun.Removal.paint` paints the shadow probe into any copy.
+
+    The probe's texels are read in strips with their geometry (no per-texel array of the whole
+    layout, no copy of the image): the shadow DIM is the DIM of the texels with the fill read
+    in place of the sun's, and the sun DIM adds the exact irradiance of what the fill removes.
+    """
+    validate_choice(method, METHODS, "irradiance method")
     shape, normals, valid = dim_normals(to, size)
     with progress.step("finding the sun"):
-        removal = split_texels(t)
-    probe = env.image.copy()  # the fill is fractional: a float copy
-    values = t.values
-    if removal is not None:
-        values = probe.reshape(len(t.omega), -1)
-        values[removal.index, : removal.filled.shape[1]] = removal.filled
-    if method == "sh":
-        coeffs = sh.project(values, t.dirs, t.omega, order=order)
-        shadow = sh.evaluate(sh.irradiance_coefficients(coeffs), normals)
-    else:
-        shadow = dim_of(values, t.dirs, t.omega, normals, method)
+        removal = split_sun(env.image, env.layout)
+    shadow = dim_of_environment(env, normals, method, order=order, fill=removal)
     lit = shadow
     if removal is not None:
         i = removal.index
         colour = removal.filled.shape[1]
-        excess = np.zeros((len(i), values.shape[1]))
-        excess[:, :colour] = t.values[i, :colour].astype(np.float64) - removal.filled
-        e = cosine_sum(normals.reshape(-1, 3), t.dirs[i], excess * t.omega[i, None])
+        flat = env.image.reshape(-1, env.image.shape[-1])
+        dirs, omega = texels_at(env.layout, env.image.shape[:-1], i)
+        excess = np.zeros((len(i), flat.shape[1]))
+        excess[:, :colour] = flat[i, :colour].astype(np.float64) - removal.filled
+        e = cosine_sum(normals.reshape(-1, 3), dirs, excess * omega[:, None])
         lit = shadow + e.reshape(shadow.shape) / math.pi
     shadow[~valid] = 0
     lit[~valid] = 0
-    return DimPair(
-        env.shaped(lit.astype(np.float32)),
-        env.shaped(shadow.astype(np.float32)),
-        env.shaped(probe),
-        None if removal is None else removal.sun,
-    )
+    return lit.astype(np.float32), shadow.astype(np.float32), removal

@@ -23,9 +23,10 @@ import numpy as np
 from bakeshop import progress
 from bakeshop.light import diffuse, specular
 from bakeshop.light.dfg import dfg_table
-from bakeshop.light.dims import dim_pair
-from bakeshop.light.sun import Sun
-from bakeshop.sphere import check_environment
+from bakeshop.light.dims import dim_pair_of
+from bakeshop.light.sun import Removal, Sun
+from bakeshop.sphere import check_environment, remap
+from bakeshop.sphere.area import valid_texels
 
 __all__ = ["ProbeBake", "bake_probe", "contact_sheet"]
 
@@ -39,8 +40,9 @@ class ProbeBake(NamedTuple):
     sun_dim: np.ndarray
     #: DIM of the probe without its sun.
     shadow_dim: np.ndarray
-    #: the probe with the sun painted out, in the input's layout and shape.
-    shadow_probe: np.ndarray
+    #: the probe with the sun painted out, in the input's layout and shape (None when
+    #: ``bake_probe(..., shadow_probe=False)``: then ``fill.paint`` paints it into any copy).
+    shadow_probe: np.ndarray | None
     #: the sun, or None when the probe has none.
     sun: Sun | None
     #: ((order + 1)^2, C) float64: SH radiance coefficients.
@@ -53,6 +55,9 @@ class ProbeBake(NamedTuple):
     layout: str
     #: seconds spent in each step, by name.
     timings: dict
+    #: how the sun is painted out of the probe (flat texel indices and their new colour
+    #: values), or None when the probe has none.
+    fill: Removal | None = None
 
 
 def bake_probe(
@@ -65,8 +70,15 @@ def bake_probe(
     mips: int = 9,
     sh_order: int = 2,
     dfg_size: int = 128,
+    shadow_probe: bool = True,
 ) -> ProbeBake:
     """Bake everything the renderer needs from one probe.
+
+    The probe is read, never copied: its integrals run over strips of texels with their
+    geometry computed per strip, the sun's fill is a list of texels, and the cubes of a large
+    probe are area-filtered by supersampling, part by part (:func:`bakeshop.sphere.remap`).
+    Beyond the probe, a bake holds its outputs (the environment cube, 12 bytes a texel in
+    RGB, is the largest) and tens of megabytes of work.
 
     Parameters
     ----------
@@ -86,6 +98,10 @@ def bake_probe(
         Order of the SH coefficients.
     dfg_size : int
         Side of the DFG table.
+    shadow_probe : bool
+        Return the probe with its sun painted out as an array (a copy of the probe); False:
+        ``shadow_probe`` is None and ``fill`` paints it where the caller wants it (a command
+        writing a 16k probe paints its own copy, after everything else has read it).
 
     Returns
     -------
@@ -102,26 +118,34 @@ def bake_probe(
     env = check_environment(image, layout)
     lay, image = env.layout, env.image
     if cube_size is None:
-        texels = int(np.count_nonzero(lay.solid_angles(image.shape[:-1])))
+        texels = valid_texels(lay, image.shape[:-1])
         cube_size = int(min(2048, 2 ** round(np.log2(max(1.0, np.sqrt(texels / 6))))))
-    with progress.step("environment cube map"):
-        cube = timed("cube", specular.source_cube, image, layout, size=cube_size)
-    pair = timed("dims", dim_pair, image, layout, to="latlong", size=dim_size)
+    lit, shadow, removal = timed("dims", dim_pair_of, env, to="latlong", size=dim_size)
     coeffs = timed("sh", diffuse.sh_coefficients, image, layout, order=sh_order)
     chain = timed("specular", specular.prefilter_ggx, image, layout, size=specular_size, mips=mips)
     with progress.step("DFG table"):
         table = timed("dfg", dfg_table, dfg_size)
+    # last: the largest output, so that no other step's work adds to it
+    with progress.step("environment cube map"):
+        cube = timed("cube", specular.source_cube, image, layout, size=cube_size)
+    painted = None
+    if shadow_probe:
+        painted = image.copy()  # the fill is fractional: a float copy
+        if removal is not None:
+            removal.paint(painted)
+        painted = env.shaped(painted)
     return ProbeBake(
         cube=env.shaped(cube),
-        sun_dim=env.shaped(pair.sun_dim),
-        shadow_dim=env.shaped(pair.shadow_dim),
-        shadow_probe=env.shaped(pair.shadow_probe),
-        sun=pair.sun,
+        sun_dim=env.shaped(lit),
+        shadow_dim=env.shaped(shadow),
+        shadow_probe=painted,
+        sun=None if removal is None else removal.sun,
         sh=coeffs,
         specular=[env.shaped(level) for level in chain],
         dfg=table,
         layout=layout,
         timings=timings,
+        fill=removal,
     )
 
 
@@ -137,6 +161,30 @@ def _to_latlong(image, layout: str, height: int) -> np.ndarray:
     from bakeshop.sphere import remap
 
     return _rgb(remap(image, layout, "latlong", height, filter="area"))
+
+
+def _shadow_thumbnail(thumbnail: np.ndarray, bake: ProbeBake, probe) -> np.ndarray:
+    """The latlong thumbnail of the probe without its sun, from the probe's own: each texel the
+    fill changed gives up its removed energy (radiance x solid angle) in the thumbnail texel
+    its direction falls in (exact for a latlong reduced by an integer factor)."""
+    from bakeshop.sphere import layout, texels_at
+
+    if bake.fill is None:
+        return thumbnail
+    env = check_environment(probe, bake.layout)
+    fill = bake.fill
+    flat = env.image.reshape(-1, env.image.shape[-1])
+    dirs, omega = texels_at(env.layout, env.image.shape[:-1], fill.index)
+    removed = (flat[fill.index, : fill.filled.shape[1]] - fill.filled) * omega[:, None]
+    lat = layout("latlong")
+    shape = thumbnail.shape[:2]
+    x, y = lat.coordinates(dirs, shape).T
+    j = np.clip(y.astype(np.int64), 0, shape[0] - 1)
+    i = np.clip(x.astype(np.int64), 0, shape[1] - 1)
+    removed = removed / lat.solid_angles(shape)[j, i][:, None]
+    out = thumbnail.astype(np.float64)
+    np.subtract.at(out, (j, i), removed if removed.shape[1] == out.shape[2] else removed[:, :1])
+    return np.maximum(out, 0).astype(np.float32)
 
 
 def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndarray:
@@ -159,10 +207,12 @@ def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndar
     from bakeshop.figures import new_figure, to_rgb
     from bakeshop.image import auto_exposure, to_srgb8, tonemap
     from bakeshop.light import sh
-    from bakeshop.sphere import cube_to_view, layout
+    from bakeshop.sphere import layout
 
     env = _to_latlong(probe, bake.layout, thumb_height)
     ev = auto_exposure(env)
+    cube_face = min(bake.cube.shape[1], max(1, thumb_height // 2))
+    cross = remap(bake.cube, "cube", "cross-vertical", cube_face, filter="area")
 
     def show(img):
         return to_srgb8(tonemap(_rgb(img), ev=ev, operator="aces"))
@@ -175,11 +225,8 @@ def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndar
     )
     panels = [
         (f"probe ({bake.layout})", show(env)),
-        ("cube faces (vertical cross)", show(cube_to_view(bake.cube, "cross-vertical"))),
-        (
-            f"shadow probe ({sun_text})",
-            show(_to_latlong(bake.shadow_probe, bake.layout, thumb_height)),
-        ),
+        ("cube faces (vertical cross)", show(cross)),
+        (f"shadow probe ({sun_text})", show(_shadow_thumbnail(env, bake, probe))),
         ("sun DIM (E/pi)", show(bake.sun_dim)),
         ("shadow DIM (E/pi)", show(bake.shadow_dim)),
         (f"SH irradiance (order {sh.order_of(bake.sh.shape[0])})", show(sh_dim)),

@@ -69,6 +69,7 @@ from bakeshop import progress
 from bakeshop.errors import ArgumentError
 from bakeshop.sphere import check_environment, remap, sample
 from bakeshop.sphere import layout as get_layout
+from bakeshop.sphere.area import valid_texels
 from bakeshop.sphere.kernels import cube_face
 
 #: Largest cube face accepted (a 6x4096 RGBA float32 pyramid is already 1.6 GB).
@@ -498,8 +499,7 @@ def source_cube(image, layout: str, *, size: int = 256) -> np.ndarray:
     img, lay = env.layout.prepare(env.image).astype(np.float32, copy=False), env.layout.base
     if lay.name == "cube" and img.shape[1] == size:
         return img
-    valid_texels = int(np.count_nonzero(lay.solid_angles(img.shape[:-1])))
-    down = valid_texels >= 6 * size * size
+    down = valid_texels(lay, img.shape[:-1]) >= 6 * size * size
     return remap(img, lay.name, "cube", size, filter="area" if down else "bilinear")
 
 

@@ -29,8 +29,15 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from bakeshop.image import luminance
-from bakeshop.sphere import Texels, texels
+from bakeshop.image import LUMINANCE_WEIGHTS
+from bakeshop.sphere import (
+    Environment,
+    Texels,
+    check_environment,
+    texel_rows,
+    texel_strips,
+    texels_at,
+)
 
 #: the sun's peak must exceed the sky around it (median of a ring) by this factor.
 CONTRAST = 20.0
@@ -100,6 +107,83 @@ class _Candidate:
     excess: float  # sum of (luminance - sky)+ * omega within the mask
     pitch: float  # angular size of the brightest texel (radians)
     near: np.ndarray  # the texels examined around it (a cap well beyond the mask)
+    values: np.ndarray  # their colour values, directions and solid angles
+    dirs: np.ndarray
+    omega: np.ndarray
+
+
+def _luminance(values: np.ndarray) -> np.ndarray:
+    """BT.709 luminance of (n, colour) values (:func:`bakeshop.image.luminance`), texel by texel
+    in the values' type, so that it is the same number whichever texels are looked at together."""
+    if values.shape[1] < 3:
+        return values[:, 0]
+    r, g, b = (values.dtype.type(w) for w in LUMINANCE_WEIGHTS)
+    return values[:, 0] * r + values[:, 1] * g + values[:, 2] * b
+
+
+class _Arrays:
+    """Texels held as arrays (an environment's, or the windows of a chunked job's)."""
+
+    def __init__(self, values, dirs, omega):
+        self.values, self.dirs, self.omega = values, dirs, omega
+        self.lum = _luminance(values)
+
+    def brightest(self, centre, cos_limit) -> int:
+        return _brightest(self.lum, self.omega, self.dirs, centre, cos_limit)
+
+    def cap(self, centre, cos_limit) -> np.ndarray:
+        return _cap(self.dirs, self.omega, centre, cos_limit)
+
+    def gather(self, index):
+        return self.values[index], self.dirs[index], self.omega[index]
+
+
+class _Image:
+    """An environment's texels read from its image, their geometry computed strip by strip
+    (:func:`bakeshop.sphere.texel_strips`): no per-texel array of the whole layout."""
+
+    def __init__(self, env: Environment, colour: int):
+        self.values = env.image.reshape(-1, env.image.shape[-1])
+        self.colour, self.layout, self.shape = colour, env.layout, env.image.shape[:-1]
+
+    def brightest(self, centre, cos_limit) -> int:
+        whole = cos_limit > 1.0
+        best, top = -1, 0.0
+        for start, stop, dirs, omega in texel_strips(self.layout, self.shape, directions=not whole):
+            lum = _luminance(self.values[start:stop, : self.colour])
+            k = _brightest(lum, omega, _NO_DIRS if whole else dirs, centre, cos_limit)
+            if k >= 0 and lum[k] > top:
+                best, top = start + k, lum[k]
+        return best
+
+    def cap(self, centre, cos_limit) -> np.ndarray:
+        parts = [
+            start + _cap(dirs, omega, centre, cos_limit)
+            for start, _, dirs, omega in texel_strips(
+                self.layout, self.shape, rows=self._rows(centre, cos_limit)
+            )
+        ]
+        return np.concatenate(parts) if parts else np.empty(0, np.int64)
+
+    def _rows(self, centre, cos_limit):
+        """Rows that may hold texels within the cap: a latlong's band of colatitudes."""
+        n_rows, _ = texel_rows(self.layout, self.shape)
+        if self.layout.name != "latlong" or cos_limit <= -1.0:
+            return 0, n_rows
+        theta = math.acos(min(1.0, max(-1.0, float(centre[1]))))
+        reach = math.acos(min(1.0, cos_limit))
+        pitch = math.pi / n_rows
+        return (
+            max(0, math.floor((theta - reach) / pitch) - 1),
+            min(n_rows, math.ceil((theta + reach) / pitch) + 1),
+        )
+
+    def gather(self, index):
+        dirs, omega = texels_at(self.layout, self.shape, index)
+        return self.values[index, : self.colour], dirs, omega
+
+
+_NO_DIRS = np.zeros((0, 3))
 
 
 @numba.njit(parallel=True, cache=True)
@@ -171,17 +255,19 @@ def _profile(lum, ang, pitch, peak):
     return sky, core, mask, half, 2 * inner
 
 
-def _candidate(lum, dirs, omega, k, max_core) -> _Candidate | None:
-    """Measure the compact light whose brightest texel is ``k``; None if it is not compact:
-    its core is wider than ``max_core`` (radians) or not CONTRAST times brighter than the sky
-    around it."""
-    pitch = max(math.sqrt(omega[k]), 1e-6)
-    peak = float(lum[k])
+def _candidate(texels, k, max_core) -> _Candidate | None:
+    """Measure the compact light whose brightest texel is ``k`` (of ``texels``, an
+    :class:`_Arrays` or :class:`_Image`); None if it is not compact: its core is wider than
+    ``max_core`` (radians) or not CONTRAST times brighter than the sky around it."""
+    values_k, dirs_k, omega_k = texels.gather(np.array([k]))
+    pitch = max(math.sqrt(omega_k[0]), 1e-6)
+    peak = float(_luminance(values_k)[0])
     reach = math.radians(8.0)
     while True:  # examine the texels within reach of the peak, further if the light needs it
-        near = _cap(dirs, omega, dirs[k], math.cos(reach))
-        lum_n, dirs_n, omega_n = lum[near], dirs[near], omega[near]
-        centre = dirs[k]
+        near = texels.cap(dirs_k[0], math.cos(reach))
+        values_n, dirs_n, omega_n = texels.gather(near)
+        lum_n = _luminance(values_n)
+        centre = dirs_k[0]
         # the brightest texel may lie anywhere in a uniform disk: measure again around the
         # luminance-weighted centroid of the core found around it
         for _ in range(2):
@@ -201,7 +287,7 @@ def _candidate(lum, dirs, omega, k, max_core) -> _Candidate | None:
         return None
     inside = ang < mask
     excess = float((np.clip(lum_n[inside] - sky, 0, None) * omega_n[inside]).sum())
-    return _Candidate(centre, peak, sky, core, mask, excess, pitch, near)
+    return _Candidate(centre, peak, sky, core, mask, excess, pitch, near, values_n, dirs_n, omega_n)
 
 
 @numba.njit(parallel=True, cache=True)
@@ -216,7 +302,8 @@ def _brightest(lum, omega, dirs, centre, cos_limit):  # pragma: no cover - compi
         for i in range(c * step, min(lum.shape[0], (c + 1) * step)):
             if lum[i] > top and omega[i] > 0:
                 if (
-                    dirs[i, 0] * centre[0] + dirs[i, 1] * centre[1] + dirs[i, 2] * centre[2]
+                    cos_limit > 1.0
+                    or dirs[i, 0] * centre[0] + dirs[i, 1] * centre[1] + dirs[i, 2] * centre[2]
                     < cos_limit
                 ):
                     top = lum[i]
@@ -228,20 +315,20 @@ def _brightest(lum, omega, dirs, centre, cos_limit):  # pragma: no cover - compi
     return k
 
 
-def _detect(lum, dirs, omega) -> _Candidate | None:
-    k = _brightest(lum, omega, dirs, np.zeros(3), 2.0)
+def _detect(texels) -> _Candidate | None:
+    k = texels.brightest(np.zeros(3), 2.0)
     if k < 0:
         return None
-    sun = _candidate(lum, dirs, omega, k, math.radians(MAX_RADIUS_DEG))
+    sun = _candidate(texels, k, math.radians(MAX_RADIUS_DEG))
     if sun is None:
         return None
     # the next brightest light away from this one, if it is about as compact (not a broad
     # patch of bright sky), must be much weaker
     exclude = max(3 * sun.mask_radius, math.radians(4.0))
-    k2 = _brightest(lum, omega, dirs, sun.centre, math.cos(exclude))
+    k2 = texels.brightest(sun.centre, math.cos(exclude))
     if k2 >= 0:
         limit = min(math.radians(MAX_RADIUS_DEG), max(4 * sun.core_radius, math.radians(2.0)))
-        rival = _candidate(lum, dirs, omega, k2, limit)
+        rival = _candidate(texels, k2, limit)
         if rival is not None and sun.excess < DOMINANCE * rival.excess:
             return None
     return sun
@@ -317,6 +404,12 @@ class Removal:
     #: (n, C): their new values (never above the old ones).
     filled: np.ndarray
 
+    def paint(self, image: np.ndarray) -> None:
+        """Paint the sun out of ``image`` (the environment it was found in, with its channel
+        axis), in place."""
+        flat = image.reshape(-1, image.shape[-1])
+        flat[self.index, : self.filled.shape[1]] = self.filled
+
 
 def split_texels(t: Texels, *, sampler=None) -> Removal | None:
     """Find the sun among an environment's texels (:func:`bakeshop.sphere.texels`) and compute
@@ -330,35 +423,67 @@ def split_texels(t: Texels, *, sampler=None) -> Removal | None:
     function of directions (..., 3) giving the environment's bilinear samples of its colour
     channels, (..., colour)) stands in for ``t.environment``, which may be None."""
     colour = min(3, t.values.shape[1])
-    values, dirs, omega = t.values[:, :colour], t.dirs, t.omega
     if sampler is None:
-        from bakeshop.sphere import sample
+        sampler = _image_sampler(t.environment, colour)
+    return _split(_Arrays(t.values[:, :colour], t.dirs, t.omega), sampler)
 
-        env = t.environment
-        image, layout = env.image[..., :colour], env.layout
 
-        def sampler(d):
-            return sample(image, layout, d, filter="bilinear")
+def split_sun(image, layout: str) -> Removal | None:
+    """Find the sun of a probe and compute its fill (:func:`split_texels`) from the image
+    itself: its texels' directions are computed strip by strip where they are looked at, so
+    a 16k probe costs no per-texel geometry (the whole layout's would be 32 bytes a texel).
 
-    cand = _detect(luminance(values), dirs, omega)
+    Parameters
+    ----------
+    image : (..., C) array_like
+        The probe in ``layout`` (:func:`bakeshop.sphere.check_environment`).
+    layout : str
+
+    Returns
+    -------
+    Removal or None
+        The sun and its fill (flat texel indices of the image and their new colour values).
+    """
+    env = check_environment(image, layout)
+    colour = min(3, env.image.shape[-1])
+    return _split(_Image(env, colour), _image_sampler(env, colour))
+
+
+def _image_sampler(env: Environment, colour: int):
+    from bakeshop.sphere import sample
+
+    image, layout = env.image[..., :colour], env.layout
+
+    def sampler(d):
+        return sample(image, layout, d, filter="bilinear")
+
+    return sampler
+
+
+def _split(texels, sampler) -> Removal | None:
+    cand = _detect(texels)
     if cand is None:
         return None
     centre = cand.centre
-    index = cand.near[dirs[cand.near] @ centre > math.cos(cand.mask_radius)]
+    inside = cand.dirs @ centre > math.cos(cand.mask_radius)
+    index = cand.near[inside]
+    dirs, values, omega = cand.dirs[inside], cand.values[inside], cand.omega[inside]
     fill = _harmonic_fill(sampler, centre, cand.mask_radius, cand.pitch)
-    filled = np.minimum(fill(dirs[index]), values[index])  # removing light never adds any
-    excess = values[index].astype(np.float64) - filled
-    energy = excess * omega[index, None]
-    ex_lum = luminance(excess)
-    weight = np.clip(ex_lum, 0, None) * omega[index]
-    centroid = (weight[:, None] * dirs[index]).sum(0)
+    filled = np.minimum(fill(dirs), values)  # removing light never adds any
+    excess = values.astype(np.float64) - filled
+    energy = excess * omega[:, None]
+    ex_lum = _luminance(excess)
+    weight = np.clip(ex_lum, 0, None) * omega
+    centroid = (weight[:, None] * dirs).sum(0)
     direction = centroid / np.linalg.norm(centroid) if weight.sum() > 0 else centre
     plateau_set = ex_lum >= PLATEAU * ex_lum.max()
     plateau = float(ex_lum[plateau_set].mean())
     total = energy.sum(0)
-    solid_angle = float(min(luminance(total) / plateau, 4 * math.pi)) if plateau > 0 else 0.0
+    solid_angle = (
+        float(min(_luminance(total[None])[0] / plateau, 4 * math.pi)) if plateau > 0 else 0.0
+    )
     radius = math.degrees(math.acos(max(1 - solid_angle / (2 * math.pi), -1.0)))
-    cosine = np.clip(dirs[index] @ direction, 0, None)
+    cosine = np.clip(dirs @ direction, 0, None)
     sun = Sun(
         direction=direction,
         angular_radius_deg=radius,
@@ -386,7 +511,7 @@ def find_sun(image, layout: str) -> Sun | None:
         None when the probe has no sun (no compact light CONTRAST times brighter than the sky
         around it and DOMINANCE times stronger than any other).
     """
-    found = split_texels(texels(image, layout))
+    found = split_sun(image, layout)
     return None if found is None else found.sun
 
 
@@ -407,10 +532,9 @@ def remove_sun(image, layout: str):
         no sun.
     sun : Sun or None
     """
-    t = texels(image, layout)
-    found = split_texels(t)
-    out = t.environment.image.copy()  # the fill is fractional: a float copy
+    env = check_environment(image, layout)
+    found = split_sun(env.image, env.layout)
+    out = env.image.copy()  # the fill is fractional: a float copy
     if found is not None:
-        flat = out.reshape(len(t.omega), -1)
-        flat[found.index, : found.filled.shape[1]] = found.filled
-    return t.environment.shaped(out), None if found is None else found.sun
+        found.paint(out)
+    return env.shaped(out), None if found is None else found.sun

@@ -35,7 +35,10 @@ from bakeshop.sphere.texels import (
     check_environment,
     texel_cosines,
     texel_geometry,
+    texel_rows,
+    texel_strips,
     texels,
+    texels_at,
 )
 
 __all__ = [
@@ -64,6 +67,9 @@ __all__ = [
     "sample",
     "texel_cosines",
     "texel_geometry",
+    "texel_rows",
+    "texel_strips",
     "texels",
+    "texels_at",
     "view_to_cube",
 ]

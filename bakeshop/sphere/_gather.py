@@ -99,8 +99,10 @@ def _latlong_row(h, w, xs, ys, zs, us, vs):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, base, frac, src, out):
-    """The remap plan of every destination texel centre, one destination row at a time.
+def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, base, frac, src, out, first_row):
+    """The remap plan of destination texel centres, one destination row at a time: the rows
+    ``first_row`` onwards (of the faces stacked, ``faces * dh`` rows in all), as many as
+    ``base`` holds (``p`` below counts from the first of them).
 
     Nearest: ``base[p]`` is the source texel (-1: invalid destination texel). Bilinear:
     ``base[p]`` is the flat index of the upper-left tap of an ordinary 2x2 block (the taps are
@@ -113,7 +115,8 @@ def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, base, frac, src, out
     apply = out.shape[0] > 0
     no_taps = np.empty((0, 4), np.int32)
     trig = latlong_trig(dh, dw)
-    for row in numba.prange(faces * dh):
+    for local in numba.prange(base.shape[0] // dw):
+        row = first_row + local
         f = row // dh
         j = row - f * dh
         xs, ys, zs = np.empty(dw), np.empty(dw), np.empty(dw)
@@ -127,7 +130,7 @@ def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, base, frac, src, out
             for i in range(dw):
                 sf[i], us[i], vs[i] = coordinates(skind, sh, sw, xs[i], ys[i], zs[i])
         for i in range(dw):
-            p = row * dw + i
+            p = local * dw + i
             sx, sy = us[i], vs[i]
             if not valid(dkind, dh, dw, f, i, j) or not (abs(sx) < 1e18 and abs(sy) < 1e18):
                 base[p] = -1
@@ -266,3 +269,37 @@ def gather_bilinear(src, index, frac, out):
         else:
             for c in range(nc):
                 out[p, c] = _bilinear(src, i0, i1, i2, i3, fx, fy, c)
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def gather_plan_clamped(src, row, base, frac, taps, clamp, out):
+    """:func:`gather_plan` of the source with every value clamped to at most ``clamp`` (the
+    supersampled area filter samples the part of an image below its bright texels)."""
+    nc = src.shape[1]
+    for p in numba.prange(base.shape[0]):
+        b = base[p]
+        if b == -1:
+            for c in range(nc):
+                out[p, c] = 0
+            continue
+        fx, fy = frac[p, 0], frac[p, 1]
+        if b >= 0:
+            i0, i1, i2, i3 = b, b + 1, b + row, b + row + 1
+        else:
+            k = EXCEPTION - b
+            i0, i1, i2, i3 = taps[k, 0], taps[k, 1], taps[k, 2], taps[k, 3]
+        w0, w1 = (1 - fx) * (1 - fy), fx * (1 - fy)
+        w2, w3 = (1 - fx) * fy, fx * fy
+        for c in range(nc):
+            v0 = min(src[i0, c], clamp) if i0 >= 0 else 0.0
+            v1 = min(src[i1, c], clamp) if i1 >= 0 else 0.0
+            v2 = min(src[i2, c], clamp) if i2 >= 0 else 0.0
+            v3 = min(src[i3, c], clamp) if i3 >= 0 else 0.0
+            if i0 < 0 or i1 < 0 or i2 < 0 or i3 < 0:
+                # a cube corner: the missing texel is the mean of the other three (OpenGL)
+                m = (v0 + v1 + v2 + v3) / 3
+                v0 = v0 if i0 >= 0 else m
+                v1 = v1 if i1 >= 0 else m
+                v2 = v2 if i2 >= 0 else m
+                v3 = v3 if i3 >= 0 else m
+            out[p, c] = w0 * v0 + w1 * v1 + w2 * v2 + w3 * v3

@@ -16,6 +16,10 @@ from bakeshop.sphere.rotation import key_matrix
 
 #: memory for cached remap plans (12 bytes per output texel: six of 6 x 1024^2 faces).
 PLAN_BYTES = 1 << 29
+#: a plan larger than this (a 6 x 2048^2 cube's takes 300 MB) is applied as it is built, in
+#: parts of :data:`PART_BYTES`, and not kept: the output alone is then the remap's memory.
+KEEP_PLAN_BYTES = 1 << 27
+PART_BYTES = 1 << 24
 
 _NO_IMAGE = np.empty((0, 1), np.float32)
 
@@ -24,33 +28,55 @@ plans = ByteBoundedCache("remap plans", PLAN_BYTES)
 
 
 def build(src: str, src_shape, dst: str, dst_shape, filter: str, rotation: bytes | None,
-          image=None, out=None):  # fmt: skip
+          image=None, out=None, rows=None):  # fmt: skip
     """The remap plan of every output texel (read-only arrays), see ``_gather.plan``:
     ``(base, frac, taps)``. Nearest: int32 (m,) source texels, no fractions or taps. Bilinear:
     int32 (m,) base indices of 2x2 blocks, float32 (m, 2) fractions and int32 (k, 4) explicit
     taps of the k output texels whose taps cross a seam: 12 bytes per output texel plus 16 per
-    seam texel. With a flat ``image`` and an ``out`` (m, C), the plan is applied on the way."""
+    seam texel. With a flat ``image`` and an ``out`` (m, C), the plan is applied on the way.
+    ``rows`` (first, stop): the plan of those output rows only (faces stacked), ``out`` theirs."""
     s, d = layout(src), layout(dst)
     sh, sw, _ = s.grid(src_shape)
     dh, dw, faces = d.grid(dst_shape)
-    m = faces * dh * dw
+    first, stop = (0, faces * dh) if rows is None else rows
+    m = (stop - first) * dw
     nearest = filter == "nearest"
     rot = key_matrix(rotation)
     if out is None:
         image = out = _NO_IMAGE
     base = np.empty(m, np.int32)
     frac = np.empty((0, 2) if nearest else (m, 2), np.float32)
-    _gather.plan(s.kind, sh, sw, d.kind, dh, dw, faces, rot, nearest, base, frac, image, out)
+    _gather.plan(s.kind, sh, sw, d.kind, dh, dw, faces, rot, nearest, base, frac, image, out,
+                 first)  # fmt: skip
     where = np.flatnonzero(base == _gather.EXCEPTION)
     taps = np.empty((len(where), 4), np.int32)
     if len(where):
-        _gather.plan_exceptions(s.kind, sh, sw, d.kind, dh, dw, rot, where, taps)
+        _gather.plan_exceptions(s.kind, sh, sw, d.kind, dh, dw, rot, where + first * dw, taps)
         base[where] = _gather.EXCEPTION - np.arange(len(where), dtype=np.int32)
         if len(out):
             _gather.gather_at(image, sw, base, frac, taps, where, out)
     for a in (base, frac, taps):
         a.setflags(write=False)
     return base, frac, taps
+
+
+def plan_bytes(dst: str, dst_shape, filter: str) -> int:
+    """Bytes of a remap plan into ``dst`` (seam texels aside): 12 per output texel for
+    bilinear, 4 for nearest."""
+    dh, dw, faces = layout(dst).grid(dst_shape)
+    return faces * dh * dw * (4 if filter == "nearest" else 12)
+
+
+def apply_in_parts(src: str, src_shape, dst: str, dst_shape, filter: str,
+                   rotation: bytes | None, image, out) -> None:  # fmt: skip
+    """Remap the flat ``image`` into ``out`` (m, C) by building the plan a part of
+    :data:`PART_BYTES` at a time and applying it on the way, keeping none of it."""
+    dh, dw, faces = layout(dst).grid(dst_shape)
+    step = max(1, PART_BYTES // (12 * dw))
+    for first in range(0, faces * dh, step):
+        stop = min(first + step, faces * dh)
+        build(src, src_shape, dst, dst_shape, filter, rotation, image, out[first * dw : stop * dw],
+              (first, stop))  # fmt: skip
 
 
 def cached(src: str, src_shape, dst: str, dst_shape, filter: str, rotation: bytes | None):

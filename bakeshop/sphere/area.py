@@ -20,17 +20,21 @@ The matrix depends only on (layouts, shapes, rotation) and is cached (:data:`ARE
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numba
 import numpy as np
+import scipy.sparse as sp
 
 from bakeshop import progress
+from bakeshop.image import area_weights, resample_separable
 from bakeshop.sphere import _area_kernels as kernels
-from bakeshop.sphere import _plans
+from bakeshop.sphere import _gather, _maps, _plans
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere._gather import EXCEPTION
-from bakeshop.sphere.layouts import Layout, layout
+from bakeshop.sphere.cube import FACE_BASES
+from bakeshop.sphere.layouts import Layout, _cube_face_solid_angles, layout
 from bakeshop.sphere.rotation import key_matrix
 
 #: largest memory for the per-thread accumulation buffers and for one chunk of unmerged
@@ -254,3 +258,439 @@ def area_remap(flat, s: Layout, src_shape, d: Layout, dst_shape, rotation: bytes
         out = np.empty(dst_shape + (flat.shape[1],), flat.dtype)
         kernels.area_gather(flat, indptr, indices, values, out.reshape(-1, flat.shape[1]))
     return out
+
+
+# --- exact reductions and supersampling ---------------------------------------------------
+
+
+def latlong_row_weights(n_in: int, n_out: int) -> sp.csr_matrix:
+    """Row weights of a latlong reduced from ``n_in`` to ``n_out`` rows preserving solid angle.
+
+    Output row ``i`` spans colatitudes ``[theta_i, theta_{i+1}]``; input row ``k``'s overlap
+    with it, ``[a, b]``, weighs ``(cos a - cos b) / (cos theta_i - cos theta_{i+1})``: its share
+    of the output row's solid angle. With the planar column weights of
+    :func:`bakeshop.image.area_weights`, ``sum_out L omega = sum_in L omega`` exactly (the
+    radiance integral over the sphere is kept), where the planar filter keeps the planar mean.
+    Same sparsity as ``area_weights(n_in, n_out)``.
+    """
+    planar = area_weights(n_in, n_out)
+    rows = np.repeat(np.arange(n_out), np.diff(planar.indptr))
+    k = planar.indices.astype(np.float64)
+    lo = np.maximum(k, rows * (n_in / n_out))
+    hi = np.minimum(k + 1, (rows + 1) * (n_in / n_out))
+    share = np.cos(np.pi * lo / n_in) - np.cos(np.pi * hi / n_in)
+    total = np.add.reduceat(share, planar.indptr[:-1]) if len(share) else share
+    weights = share / np.repeat(total, np.diff(planar.indptr))
+    return sp.csr_matrix((weights, planar.indices, planar.indptr), shape=(n_out, n_in))
+
+
+def reduce_latlong(image: np.ndarray, shape) -> np.ndarray:
+    """The exact area average of a latlong ``image`` (H, W, C) on a coarser latlong grid of
+    ``shape`` (h, w), h <= H and w <= W: each output texel is the solid-angle-weighted mean of
+    the input over its footprint (:func:`latlong_row_weights` along rows, the planar overlaps
+    of :func:`bakeshop.image.area_weights` along columns), accumulated in float64 in one pass,
+    so the radiance integral over the sphere is kept (to float rounding) and a one-texel sun
+    keeps its energy. Returns ``(h, w, C)`` in the image's float type."""
+    h_in, w_in, c = image.shape
+    h, w = shape
+    ay, ax = latlong_row_weights(h_in, h), area_weights(w_in, w)
+    out = np.empty((h, w, c), image.dtype)
+    return resample_separable(
+        image, (ay.indptr, ay.indices, ay.data), (ax.indptr, ax.indices, ax.data), out
+    )
+
+
+def reduce_cube(image: np.ndarray, size: int) -> np.ndarray:
+    """The exact area average of a cube ``image`` (6, S, S, C) on faces of ``size`` texels (a
+    divisor of S): each output texel is the solid-angle-weighted mean of the k x k texels it
+    holds (k = S / size), accumulated in float64, so the radiance integral is kept. Returns
+    ``(6, size, size, C)`` in the image's float type."""
+    s, c = image.shape[1], image.shape[-1]
+    out = np.empty((6 * size, size, c), image.dtype)
+    omega = np.broadcast_to(_cube_face_solid_angles(s), (6, s, s)).reshape(6 * s, s)
+    _box_reduce(image.reshape(6 * s, s, c), omega, s // size, out)
+    return out.reshape(6, size, size, c)
+
+
+@numba.njit(parallel=True, cache=True)
+def _box_reduce(fine, omega, k, out):  # pragma: no cover - compiled
+    # out[J, I] = sum(omega L) / sum(omega) over the k x k fine texels of (J, I); 0 where the
+    # block has no solid angle (outside a disk)
+    rows, width, channels = out.shape
+    for r in numba.prange(rows):
+        acc = np.zeros(channels)
+        for i in range(width):
+            acc[:] = 0.0
+            total = 0.0
+            for y in range(r * k, (r + 1) * k):
+                for x in range(i * k, (i + 1) * k):
+                    w = omega[y, x]
+                    total += w
+                    for c in range(channels):
+                        acc[c] += w * fine[y, x, c]
+            for c in range(channels):
+                out[r, i, c] = acc[c] / total if total > 0 else 0.0
+
+
+def valid_texels(lay: Layout | str, shape) -> int:
+    """Texels of a layout's image that see the sphere, without building any per-texel array:
+    exact for latlong, octahedral and cubes (crosses count their six faces), pi/4 of the
+    squares for the disk layouts (within a rim's worth)."""
+    lay = layout(lay)
+    n = int(np.prod(lay.base.shape(lay.face_size(shape)) if lay.base is not lay else shape))
+    return round(n * math.pi / 4) if lay.name in ("angular", "mirrorball", "dual-paraboloid") else n
+
+
+#: the area filter builds its matrix (~100-150 bytes and ~1 us per source texel, balanced over
+#: the whole sphere) for sources of at most this many texels; beyond, it supersamples
+#: (:func:`supersampling`): each output texel the solid-angle-weighted mean of k x k bilinear
+#: samples as dense as the source's texels, computed part by part with no matrix.
+AREA_MATRIX_TEXELS = 1 << 22
+#: the parts of a supersampled remap hold at most this many samples.
+SUPERSAMPLE_PART = 1 << 20
+#: a supersampled remap deposits the energy of its source's bright texels exactly: those whose
+#: brightest channel exceeds BRIGHT_RATIO times the mean (solid-angle weighted), at most
+#: MAX_BRIGHT of them (the threshold rises to keep that many); the rest, clamped there, is
+#: sampled. (Bilinear samples as dense as the texels move a one-texel sun's energy by ~4%.)
+BRIGHT_RATIO = 4.0
+MAX_BRIGHT = 4096
+#: bins per octave of the histogram that finds the threshold.
+_BINS_PER_OCTAVE = 16
+
+
+def supersampling(s: Layout | str, src_shape, d: Layout | str, dst_shape) -> int:
+    """Samples per output texel along each axis when the area filter supersamples a remap
+    (:data:`AREA_MATRIX_TEXELS`), else 0: the ratio of the source's texel pitch to the
+    output's, rounded (1: bilinear where the output is about as fine as the source)."""
+    s, d = layout(s), layout(d)
+    src, dst = valid_texels(s, src_shape), valid_texels(d, dst_shape)
+    if src <= AREA_MATRIX_TEXELS or src < dst:
+        return 0
+    return max(1, round(math.sqrt(src / dst)))
+
+
+def fine_shape(d: Layout, dst_shape, k: int) -> tuple[int, ...]:
+    """The spatial shape of ``d``'s grid k times finer than ``dst_shape`` (a base layout)."""
+    return (
+        (6, k * dst_shape[1], k * dst_shape[2]) if d.cubic else (k * dst_shape[0], k * dst_shape[1])
+    )
+
+
+def supersample(flat, s: Layout, src_shape, d: Layout, dst_shape, rotation, k: int):
+    """The supersampled area filter of a flat source (n, C) of layout ``s`` into the base layout
+    ``d``: ``dst_shape + (C,)``.
+
+    The source is split into its bright texels' excess above a threshold (:data:`MAX_BRIGHT`
+    at most: a sun, lamps) and the rest, clamped there. Output texel q holds
+    ``sum_j omega_j R(d_j) / sum_j omega_j`` over the centres d_j of the k x k texels of
+    ``d``'s k-times finer grid inside q (``omega_j`` their exact solid angles, ``R`` the
+    seam-aware bilinear lookup of :func:`remap` in the clamped rest), plus the excess of the
+    bright texels whose centres fall in q, times their solid angle over q's: their energy is
+    kept exactly. Computed in parts of :data:`SUPERSAMPLE_PART` samples (each: the bilinear
+    plan of its fine rows, applied, then reduced), so nothing beyond a part is held."""
+    from bakeshop.sphere.texels import texel_strips
+
+    dh, dw, faces = d.grid(dst_shape)
+    sh, sw, _ = s.grid(src_shape)
+    fine = fine_shape(d, dst_shape, k)
+    c = flat.shape[1]
+    clamp, bright = _bright_texels(flat, s, src_shape)
+    out = np.empty((faces * dh, dw, c), flat.dtype)
+    step = max(1, SUPERSAMPLE_PART // (k * k * dw))
+    if d.name == "cube":  # one fused pass, the samples' weights from the face's density
+        _supersample_cube(s.kind, sh, sw, flat, clamp, dh, k, key_matrix(rotation), out)
+        step = faces * dh
+    for top in range(faces * dh if d.name == "cube" else 0, faces * dh, step):
+        bottom = min(top + step, faces * dh)
+        rows = (top * k, bottom * k)
+        plan = _plans.build(s.name, src_shape, d.name, fine, "bilinear", rotation, rows=rows)
+        samples = np.empty((len(plan[0]), c), flat.dtype)
+        _gather.gather_plan_clamped(flat, sw, *plan, clamp, samples)
+        _, _, _, omega = next(texel_strips(d, fine, rows=rows, texels=1 << 62, directions=False))
+        _box_reduce(samples.reshape(-1, k * dw, c), omega.reshape(-1, k * dw), k, out[top:bottom])
+    if len(bright):
+        q, values = _bright_deposits(flat, s, src_shape, d, dst_shape, k, rotation, clamp, bright)
+        flat_out = out.reshape(-1, c)
+        np.add.at(flat_out, q, values.astype(flat_out.dtype))
+    return out.reshape(tuple(dst_shape) + (c,))
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _source_xy(skind, sh, sw, rot, f, sc, tc):  # pragma: no cover - compiled
+    # source coordinates (face, x, y) of cube face f's point (sc, tc)
+    x = _BASES[f, 0, 0] + sc * _BASES[f, 1, 0] + tc * _BASES[f, 2, 0]
+    y = _BASES[f, 0, 1] + sc * _BASES[f, 1, 1] + tc * _BASES[f, 2, 1]
+    z = _BASES[f, 0, 2] + sc * _BASES[f, 1, 2] + tc * _BASES[f, 2, 2]
+    x, y, z = _maps.rotate(rot, x, y, z)
+    if skind == _maps.LATLONG:
+        u, v = _maps.latlong_xy(sh, sw, x, y, z)
+        return 0, u, v
+    return _maps.coordinates(skind, sh, sw, x, y, z)
+
+
+#: where the source coordinates of a cube texel's samples are interpolated from its centre's
+#: (k >= 3 samples a side), they may be this far (in source texels) from the exact ones, else
+#: every sample's are computed.
+_LINEAR_TOLERANCE = 0.05
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def _supersample_cube(skind, sh, sw, src, clamp, size, k, rot, out):  # pragma: no cover
+    # out[f, j, i] = sum_s w_s R(p_s) / sum_s w_s over the k x k sample points of cube texel
+    # (f, i, j) (the centres of its finer grid's texels), w_s = (1 + sc^2 + tc^2)^-1.5 (the
+    # face's solid angle density there), R the bilinear lookup of the source clamped at clamp.
+    # With k >= 3 the samples' source coordinates are the texel centre's plus the map's
+    # derivatives times their offsets, where that is within _LINEAR_TOLERANCE of exact.
+    channels = src.shape[1]
+    step = 2.0 / (size * k)
+    half = 0.5 * (k - 1)
+    for row in numba.prange(6 * size):
+        f = row // size
+        j = row - f * size
+        acc = np.zeros(channels)
+        for i in range(size):
+            acc[:] = 0.0
+            total = 0.0
+            sc0 = (i * k + 0.5 + half) * step - 1.0
+            tc0 = (j * k + 0.5 + half) * step - 1.0
+            linear = False
+            if k >= 3:
+                f0, u0, v0 = _source_xy(skind, sh, sw, rot, f, sc0, tc0)
+                f1, u1, v1 = _source_xy(skind, sh, sw, rot, f, sc0 + step, tc0)
+                f2, u2, v2 = _source_xy(skind, sh, sw, rot, f, sc0, tc0 + step)
+                f3, u3, v3 = _source_xy(skind, sh, sw, rot, f, sc0 - half * step, tc0 - half * step)
+                dus, dvs, dut, dvt = u1 - u0, v1 - v0, u2 - u0, v2 - v0
+                pu = u0 - half * (dus + dut)
+                pv = v0 - half * (dvs + dvt)
+                linear = (
+                    f0 == f1 and f0 == f2 and f0 == f3
+                    and abs(pu - u3) < _LINEAR_TOLERANCE and abs(pv - v3) < _LINEAR_TOLERANCE
+                )  # fmt: skip
+            for a in range(k):
+                tc = (j * k + a + 0.5) * step - 1.0
+                for b in range(k):
+                    sc = (i * k + b + 0.5) * step - 1.0
+                    q = 1.0 + sc * sc + tc * tc
+                    w = 1.0 / (q * math.sqrt(q))
+                    if linear:
+                        sf = f0
+                        u = u0 + (b - half) * dus + (a - half) * dut
+                        v = v0 + (b - half) * dvs + (a - half) * dvt
+                    else:
+                        sf, u, v = _source_xy(skind, sh, sw, rot, f, sc, tc)
+                    total += w
+                    _add_bilinear(skind, sh, sw, src, clamp, sf, u, v, w, acc)
+            for c in range(channels):
+                out[row, i, c] = acc[c] / total
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _add_bilinear(kind, h, w, src, clamp, f, x, y, weight, acc):  # pragma: no cover
+    # acc += weight * the seam-aware bilinear value at coordinates (f, x, y), every texel
+    # clamped at clamp (a cube corner's missing texel is the mean of the other three)
+    xs, ys = x - 0.5, y - 0.5
+    x0, y0 = math.floor(xs), math.floor(ys)
+    fx, fy = xs - x0, ys - y0
+    i0, j0 = int(x0), int(y0)
+    base = _gather.block(kind, h, w, f, i0, j0, 2)
+    if base >= 0:
+        t0, t1, t2, t3 = base, base + 1, base + w, base + w + 1
+    else:
+        t0 = _maps.resolve(kind, h, w, f, i0, j0, x)
+        t1 = _maps.resolve(kind, h, w, f, i0 + 1, j0, x)
+        t2 = _maps.resolve(kind, h, w, f, i0, j0 + 1, x)
+        t3 = _maps.resolve(kind, h, w, f, i0 + 1, j0 + 1, x)
+    w0, w1 = (1.0 - fx) * (1.0 - fy) * weight, fx * (1.0 - fy) * weight
+    w2, w3 = (1.0 - fx) * fy * weight, fx * fy * weight
+    for c in range(src.shape[1]):
+        v0 = min(src[t0, c], clamp) if t0 >= 0 else 0.0
+        v1 = min(src[t1, c], clamp) if t1 >= 0 else 0.0
+        v2 = min(src[t2, c], clamp) if t2 >= 0 else 0.0
+        v3 = min(src[t3, c], clamp) if t3 >= 0 else 0.0
+        if t0 < 0 or t1 < 0 or t2 < 0 or t3 < 0:
+            m = (v0 + v1 + v2 + v3) / 3.0
+            v0 = v0 if t0 >= 0 else m
+            v1 = v1 if t1 >= 0 else m
+            v2 = v2 if t2 >= 0 else m
+            v3 = v3 if t3 >= 0 else m
+        acc[c] += w0 * v0 + w1 * v1 + w2 * v2 + w3 * v3
+
+
+_BASES = np.ascontiguousarray(FACE_BASES)
+
+
+def _bright_deposits(flat, s: Layout, src_shape, d: Layout, dst_shape, k: int, rotation,
+                     clamp: float, bright: np.ndarray):  # fmt: skip
+    """Where :func:`supersample` puts the bright texels' excess: ``(q, values)``, flat output
+    texels and what each adds. The samples of the output texels around each bright texel
+    weigh it as the supersampling would (their bilinear weights times their solid angles), and
+    those weights are scaled to give the texel's excess energy exactly."""
+    from bakeshop.sphere.texels import texels_at
+
+    dh, dw, faces = d.grid(dst_shape)
+    fine = fine_shape(d, dst_shape, k)
+    rot = key_matrix(rotation)
+    src_dirs, src_omega = texels_at(s, src_shape, bright)
+    # the output texels the bright texels' bilinear footprints (one texel around) can reach
+    cols, rows = np.meshgrid([-0.99, 0.0, 0.99], [-0.99, 0.0, 0.99])
+    row, col = np.divmod(bright, s.grid(src_shape)[1])
+    x = (col[:, None] + 0.5 + cols.reshape(1, -1)).reshape(-1)
+    y = (row[:, None] + 0.5 + rows.reshape(1, -1)).reshape(-1)
+    if s.cubic:
+        size = src_shape[1]
+        face = np.repeat(row // size, 9)
+        coords = np.stack([face, x, y - face * size], axis=-1)
+    else:
+        coords = np.stack([x, y], axis=-1)
+    reach = s.directions_at(coords, src_shape) @ rot.T
+    q_all = np.unique(_texel_of(d, dst_shape, reach))
+    # each reached output texel's k x k samples, looked up in the source
+    a, b = np.divmod(np.arange(k * k), k)
+    f, r = np.divmod(q_all // dw, dh)
+    fine_rows = (f * fine[-2])[:, None] + (r * k)[:, None] + a[None, :]
+    fine_index = (fine_rows * fine[-1] + (q_all % dw * k)[:, None] + b[None, :]).reshape(-1)
+    dirs, omega = texels_at(d, fine, fine_index)
+    taps, frac = sample_taps_of(s, src_shape, dirs @ rot)
+    fx, fy = frac[:, 0].astype(np.float64), frac[:, 1].astype(np.float64)
+    weights = np.stack([(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy], axis=-1)
+    missing = taps < 0  # a cube corner's fourth texel: the mean of the other three
+    weights += np.where(missing, 0.0, (weights * missing).sum(1, keepdims=True) / 3)
+    weights[missing] = 0.0
+    sample_omega = omega.reshape(-1, k * k)
+    total = sample_omega.sum(1)  # each output texel's solid angle
+    pos = np.searchsorted(bright, taps)
+    hit = (taps >= 0) & (bright[np.minimum(pos, len(bright) - 1)] == taps)
+    j, t = np.nonzero(hit)
+    energy_weight = omega[j] * weights[j, t]
+    p = pos[j, t]
+    reached = np.bincount(p, energy_weight, minlength=len(bright))
+    scale = np.divide(src_omega, reached, out=np.zeros_like(src_omega), where=reached > 0)
+    excess = np.maximum(flat[bright].astype(np.float64) - clamp, 0)
+    q = q_all[j // (k * k)]
+    values = excess[p] * (scale[p] * energy_weight / total[j // (k * k)])[:, None]
+    # a bright texel no sample reached (a sliver) goes whole to the texel its centre is in
+    lost = np.flatnonzero(reached <= 0)
+    if len(lost):
+        q_lost = _texel_of(d, dst_shape, src_dirs[lost] @ rot.T)
+        _, omega_q = texels_at(d, dst_shape, q_lost)
+        share = src_omega[lost] / np.where(omega_q > 0, omega_q, np.inf)
+        q = np.concatenate([q, q_lost])
+        values = np.concatenate([values, excess[lost] * share[:, None]])
+    return q, values
+
+
+def _texel_of(d: Layout, shape, dirs) -> np.ndarray:
+    """Flat index of the texel of base layout ``d`` holding each direction."""
+    dh, dw, _ = d.grid(shape)
+    coords = d.coordinates(dirs, shape)
+    face = coords[:, 0].astype(np.int64) if d.cubic else 0
+    y = np.clip(coords[:, -1].astype(np.int64), 0, dh - 1)
+    x = np.clip(coords[:, -2].astype(np.int64), 0, dw - 1)
+    return (face * dh + y) * dw + x
+
+
+def sample_taps_of(s: Layout, shape, dirs):
+    """Bilinear taps (n, 4) and fractions (n, 2) of directions in base layout ``s``."""
+    h, w, _ = s.grid(shape)
+    taps = np.empty((len(dirs), 4), np.int32)
+    frac = np.empty((len(dirs), 2), np.float32)
+    _gather.taps_of(s.kind, h, w, np.ascontiguousarray(dirs), False, taps, frac)
+    return taps, frac
+
+
+def _bright_texels(flat, s: Layout, src_shape) -> tuple[float, np.ndarray]:
+    """The clamp of :func:`supersample` and the flat indices of the texels whose brightest
+    channel exceeds it (ascending; at most :data:`MAX_BRIGHT`)."""
+    from bakeshop.sphere.texels import texel_strips
+
+    def strips():
+        for start, stop, _, omega in texel_strips(s, src_shape, directions=False):
+            yield flat[start:stop], omega
+
+    stats = np.zeros(3)  # sum of peak x omega, sum of omega, largest peak
+    for values, omega in strips():
+        _peak_stats(values, omega, stats)
+    if not stats[1] > 0 or not stats[2] > 0:
+        return np.inf, np.empty(0, np.int64)
+    low = BRIGHT_RATIO * stats[0] / stats[1]
+    if not stats[2] > low:
+        return np.inf, np.empty(0, np.int64)
+    octaves = max(1, math.ceil(math.log2(stats[2] / low)) + 1)
+    hist = np.zeros(octaves * _BINS_PER_OCTAVE + 1, np.int64)
+    for values, omega in strips():
+        _peak_histogram(values, omega, math.log2(low), _BINS_PER_OCTAVE, hist)
+    # the lowest bin edge above which at most MAX_BRIGHT texels lie (bin 0 holds those below)
+    above = np.cumsum(hist[::-1])[::-1]  # above[b]: texels in bins b and up
+    b = int(np.argmax(above <= MAX_BRIGHT))
+    if above[b] > MAX_BRIGHT:
+        b = len(hist)
+    clamp = low if b <= 1 else 2.0 ** (math.log2(low) + (b - 1) / _BINS_PER_OCTAVE)
+    index = [start + _above(flat[start:stop], omega, clamp)
+             for start, stop, _, omega in texel_strips(s, src_shape, directions=False)]  # fmt: skip
+    return clamp, np.concatenate(index)
+
+
+@numba.njit(cache=True)
+def _peak_stats(values, omega, stats):  # pragma: no cover - compiled
+    for t in range(values.shape[0]):
+        if omega[t] > 0:
+            peak = values[t, 0]
+            for c in range(1, values.shape[1]):
+                peak = max(peak, values[t, c])
+            stats[0] += peak * omega[t]
+            stats[1] += omega[t]
+            stats[2] = max(stats[2], peak)
+
+
+@numba.njit(cache=True)
+def _peak_histogram(values, omega, log_low, per_octave, hist):  # pragma: no cover - compiled
+    # bin 0: peaks at most 2^log_low; bin b >= 1: peaks in (2^(log_low + (b-1)/per_octave), ...]
+    for t in range(values.shape[0]):
+        if omega[t] > 0:
+            peak = values[t, 0]
+            for c in range(1, values.shape[1]):
+                peak = max(peak, values[t, c])
+            if peak > 2.0**log_low:
+                b = 1 + int((math.log2(peak) - log_low) * per_octave)
+                hist[min(b, hist.shape[0] - 1)] += 1
+            else:
+                hist[0] += 1
+
+
+@numba.njit(cache=True)
+def _above(values, omega, clamp):  # pragma: no cover - compiled
+    n = 0
+    for t in range(values.shape[0]):
+        if omega[t] > 0:
+            for c in range(values.shape[1]):
+                if values[t, c] > clamp:
+                    n += 1
+                    break
+    out = np.empty(n, np.int64)
+    n = 0
+    for t in range(values.shape[0]):
+        if omega[t] > 0:
+            for c in range(values.shape[1]):
+                if values[t, c] > clamp:
+                    out[n] = t
+                    n += 1
+                    break
+    return out
+
+
+def area_exact(image: np.ndarray, s: Layout, d: Layout, dst_shape, rotation) -> np.ndarray | None:
+    """The area average of a remap of ``image`` (``s``'s base form, with a channel axis) into
+    ``d`` when it is an exact reduction (None otherwise): a latlong into a latlong no finer
+    along either axis (:func:`reduce_latlong`), a cube into a cube whose face divides the
+    source's (:func:`reduce_cube`), without rotation."""
+    if rotation is not None or d.base is not d:
+        return None
+    if s.name == d.name == "latlong":
+        (h, w), (dh, dw) = image.shape[:2], dst_shape
+        if dh <= h and dw <= w:
+            return reduce_latlong(image, (dh, dw))
+    if s.name == d.name == "cube":
+        n, size = image.shape[1], dst_shape[1]
+        if size <= n and n % size == 0:
+            return reduce_cube(image, size)
+    return None

@@ -27,7 +27,7 @@ import numpy as np
 from bakeshop._typing import Filter
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.sphere import _gather, _plans
-from bakeshop.sphere.area import area_remap
+from bakeshop.sphere.area import area_exact, area_remap, supersample, supersampling
 from bakeshop.sphere.cube import cube_to_view
 from bakeshop.sphere.layouts import Layout, layout
 from bakeshop.sphere.rotation import rotation_key
@@ -174,10 +174,16 @@ def remap(
         filter = auto_filter(s.base, src_shape, d, dst_shape)
     base_shape = dst_shape if d.base is d else d.base.shape(d.face_size(dst_shape))
     key = rotation_key(rotation)
-    flat = np.ascontiguousarray(img.reshape(-1, img.shape[-1]))
     channels = img.shape[-1]
+    flat = np.ascontiguousarray(img.reshape(-1, channels))
     if filter == "area":
-        out = area_remap(flat, s.base, src_shape, d, dst_shape, key)
+        out = area_exact(img, s.base, d, dst_shape, key)
+        k = 0 if out is not None else supersampling(s.base, src_shape, d.base, base_shape)
+        if k:
+            out = supersample(flat, s.base, src_shape, d.base, base_shape, key, k)
+            out = out if d.base is d else cube_to_view(out, d.name)
+        elif out is None:
+            out = area_remap(flat, s.base, src_shape, d, dst_shape, key)
         if out is not None:
             return env.shaped(out)
         filter = "bilinear"
@@ -192,8 +198,11 @@ def remap(
     if plan is not None:
         out = _plans.apply(flat, plan, s.base.grid(src_shape)[1])
         return env.shaped(out.reshape(dst_shape + (channels,)))
-    # a first conversion applies the plan while building it
+    # a first conversion applies the plan while building it; a large one keeps none of it
     out = np.empty((int(np.prod(base_shape)), channels), flat.dtype)
-    plans.put(key_of, _plans.build(*key_of, flat, out))
+    if _plans.plan_bytes(d.base.name, base_shape, filter) > _plans.KEEP_PLAN_BYTES:
+        _plans.apply_in_parts(*key_of, flat, out)
+    else:
+        plans.put(key_of, _plans.build(*key_of, flat, out))
     out = out.reshape(base_shape + (channels,))
     return env.shaped(out if d.base is d else cube_to_view(out, d.name))

@@ -32,7 +32,7 @@ from bakeshop.errors import ArgumentError
 from bakeshop.sphere import _maps
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere.cube import cube_to_view
-from bakeshop.sphere.layouts import Layout, layout
+from bakeshop.sphere.layouts import Layout, _cube_face_solid_angles, layout
 
 #: the most channels an environment may have (RGB and alpha).
 MAX_CHANNELS = 4
@@ -192,6 +192,182 @@ def texel_geometry(layout_name: str | Layout, shape) -> tuple[np.ndarray, np.nda
         return dirs, omega
 
     return _geometry.cached((lay.name, shape), build)
+
+
+#: texels per strip of :func:`texel_strips`: a strip's directions and solid angles take 32 MB
+#: (a whole 8192 x 4096 latlong's would take 1.07 GB).
+STRIP_TEXELS = 1 << 20
+
+
+def texel_rows(layout_name: str | Layout, shape) -> tuple[int, int]:
+    """``(rows, texels per row)`` of a layout's flat texels (the order of :func:`texels`): a
+    flat layout's H rows of W texels, the cube's faces stacked, 6 S rows of S."""
+    lay = layout(layout_name)
+    h, w, faces = lay.grid(lay.check_shape(shape))
+    return faces * h, w
+
+
+def texel_strips(
+    layout_name: str | Layout,
+    shape,
+    *,
+    rows: tuple[int, int] | None = None,
+    texels: int = STRIP_TEXELS,
+    directions: bool = True,
+):
+    """The texel geometry of :func:`texel_geometry` in strips of whole rows, never the whole
+    layout's at once: for everything that sums over an environment's texels.
+
+    Parameters
+    ----------
+    layout_name : str or Layout
+    shape : tuple of int
+        Spatial shape of the layout's image.
+    rows : (int, int), optional
+        ``(top, bottom)``: only these rows (of :func:`texel_rows`; default all).
+    texels : int
+        About as many texels per strip (at least one row).
+    directions : bool
+        False: solid angles only (``dirs`` is None).
+
+    Yields
+    ------
+    start, stop : int
+        The strip's flat texels ``[start, stop)`` (row-major, as :func:`texels` flattens).
+    dirs : (stop - start, 3) float64 or None
+    omega : (stop - start,) float64
+        The same numbers, bit for bit, as those texels of :func:`texel_geometry`.
+    """
+    lay = layout(layout_name)
+    shape = lay.check_shape(shape)
+    n_rows, width = texel_rows(lay, shape)
+    top, bottom = (0, n_rows) if rows is None else (max(0, rows[0]), min(n_rows, rows[1]))
+    geometry = _RowGeometry(lay, shape)
+    step = max(1, int(texels) // width)
+    for r0 in range(top, bottom, step):
+        r1 = min(r0 + step, bottom)
+        dirs = geometry.directions(r0, r1) if directions else None
+        yield r0 * width, r1 * width, dirs, geometry.solid_angles(r0, r1)
+
+
+def texels_at(layout_name: str | Layout, shape, index) -> tuple[np.ndarray, np.ndarray]:
+    """Directions ``(n, 3)`` and solid angles ``(n,)`` (float64) of the flat texels ``index``
+    of a layout's image of spatial ``shape``: the same numbers as ``texel_geometry(...)[k][index]``
+    without building the whole layout's."""
+    lay = layout(layout_name)
+    shape = lay.check_shape(shape)
+    n_rows, width = texel_rows(lay, shape)
+    index = np.asarray(index, dtype=np.int64).reshape(-1)
+    if index.size and (index.min() < 0 or index.max() >= n_rows * width):
+        raise ArgumentError(f"texel indices outside a {lay.name} image of shape {shape}")
+    return _RowGeometry(lay, shape).at(index)
+
+
+class _RowGeometry:
+    """Directions and solid angles of rows (or single texels) of one layout and shape."""
+
+    def __init__(self, lay: Layout, shape: tuple):
+        self.lay, self.shape = lay, shape
+        self.h, self.w, self.faces = lay.grid(shape)
+        self.kind = lay.kind
+        self.trig = _maps.latlong_trig(self.h, self.w) if self.kind == _maps.LATLONG else _NO_TRIG
+        self._full = None
+        if self.kind == _maps.LATLONG:
+            # the bands of LatLong.solid_angles, computed whole so that they are the same numbers
+            c = np.cos(np.pi * np.arange(self.h + 1) / self.h)
+            self._band = (c[:-1] - c[1:]) * (2 * np.pi / self.w)
+        elif self.kind == _maps.CUBE and lay.base is lay:
+            # a face's table is cached (8 bytes a texel): large faces are computed as needed
+            self._face = _cube_face_solid_angles(self.h) if self.h <= 1024 else None
+
+    def _full_omega(self) -> np.ndarray:
+        if self._full is None:
+            self._full = np.asarray(self.lay.solid_angles(self.shape)).reshape(-1)
+        return self._full
+
+    def solid_angles(self, r0: int, r1: int) -> np.ndarray:
+        if self.kind == _maps.LATLONG:
+            return np.repeat(self._band[r0:r1], self.w)
+        if self.kind == _maps.CUBE and self.lay.base is self.lay:
+            rows = np.arange(r0, r1) % self.h
+            if self._face is None:
+                columns = np.arange(self.w)
+                return _cube_texel_solid_angles(self.h, rows[:, None], columns).reshape(-1)
+            return self._face[rows].reshape(-1)
+        return self._full_omega()[r0 * self.w : r1 * self.w].copy()
+
+    def directions(self, r0: int, r1: int) -> np.ndarray:
+        out = np.empty(((r1 - r0) * self.w, 3))
+        if self.lay.base is self.lay:
+            _row_directions(self.kind, self.h, self.w, r0, r1, self.trig, out)
+            return out
+        return self._view_directions(np.arange(r0 * self.w, r1 * self.w))
+
+    def _view_directions(self, index: np.ndarray) -> np.ndarray:
+        j, i = np.divmod(index, self.w)
+        coords = np.stack([i + 0.5, j + 0.5], axis=-1)
+        return self.lay.directions_at(coords, self.shape)
+
+    def at(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if self.lay.base is self.lay:
+            dirs = np.empty((len(index), 3))
+            _index_directions(self.kind, self.h, self.w, index, self.trig, dirs)
+        else:
+            dirs = self._view_directions(index)
+        if self.kind == _maps.LATLONG:
+            omega = self._band[index // self.w]
+        elif self.kind == _maps.CUBE and self.lay.base is self.lay:
+            if self._face is None:
+                j, i = np.divmod(index % (self.h * self.w), self.w)
+                omega = _cube_texel_solid_angles(self.h, j, i)
+            else:
+                omega = self._face.reshape(-1)[index % (self.h * self.w)]
+        else:
+            omega = self._full_omega()[index]
+        return dirs, omega
+
+
+_NO_TRIG = np.zeros((4, 1))
+
+
+def _cube_texel_solid_angles(s: int, j, i) -> np.ndarray:
+    """Solid angles of texels (row j, column i) of a cube face of s texels, broadcast: the
+    corner differences of ``layouts._cube_face_solid_angles`` (the same numbers), per texel."""
+    e = 2 * np.arange(s + 1) / s - 1
+
+    def corner(y, x):
+        return np.arctan2(x * y, np.sqrt(x * x + y * y + 1))
+
+    j, i = np.asarray(j), np.asarray(i)
+    y0, y1, x0, x1 = e[j], e[j + 1], e[i], e[i + 1]
+    return corner(y1, x1) - corner(y0, x1) - corner(y1, x0) + corner(y0, x0)
+
+
+@numba.njit(cache=True, inline="always")
+def _texel_direction(kind, h, w, row, i, trig):  # pragma: no cover - compiled
+    # texel i of flat row ``row`` (face row // h): latlong as the separable products of
+    # LatLong.directions, the others as Layout.directions_at computes them
+    if kind == _maps.LATLONG:
+        st = trig[2, row]
+        return st * trig[0, i], trig[3, row], -st * trig[1, i]
+    f = row // h
+    return _maps.direction(kind, h, w, f, i + 0.5, row - f * h + 0.5)
+
+
+@numba.njit(parallel=True, cache=True)
+def _row_directions(kind, h, w, r0, r1, trig, out):  # pragma: no cover - compiled
+    for r in numba.prange(r1 - r0):
+        for i in range(w):
+            p = r * w + i
+            out[p, 0], out[p, 1], out[p, 2] = _texel_direction(kind, h, w, r0 + r, i, trig)
+
+
+@numba.njit(parallel=True, cache=True)
+def _index_directions(kind, h, w, index, trig, out):  # pragma: no cover - compiled
+    for p in numba.prange(index.shape[0]):
+        row = index[p] // w
+        i = index[p] - row * w
+        out[p, 0], out[p, 1], out[p, 2] = _texel_direction(kind, h, w, row, i, trig)
 
 
 #: cosines of recent (layout, shape, axis): a fresnel bake and its exposure share them.
