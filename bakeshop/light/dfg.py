@@ -94,6 +94,37 @@ def _dfg_kernel(n_dot_v, roughness, xi, schlick, out):
         out[p, 1] = b / count
 
 
+@numba.njit(cache=True, parallel=True)
+def _dfg_grid(n_dot_v, roughness, xi, schlick, out):
+    """:func:`_dfg_kernel` on the grid ``roughness`` (rows) x ``n_dot_v`` (columns): each row's
+    half vectors are drawn once and reused along it (the same numbers, a fraction of the work)."""
+    count = xi.shape[0]
+    width = n_dot_v.size
+    for row in numba.prange(roughness.size):
+        alpha = roughness[row] * roughness[row]
+        h = np.empty((count, 3))
+        for s in range(count):
+            h[s, 0], h[s, 1], h[s, 2] = ggx_half_vector(xi[s, 0], xi[s, 1], alpha)
+        for col in range(width):
+            nv = min(max(n_dot_v[col], 1e-6), 1.0)
+            vx = math.sqrt(max(0.0, 1.0 - nv * nv))
+            vz = nv
+            a = 0.0
+            b = 0.0
+            for s in range(count):
+                hx, hz = h[s, 0], h[s, 2]
+                v_dot_h = vx * hx + vz * hz
+                lz = 2.0 * v_dot_h * hz - vz
+                if lz <= 0.0 or v_dot_h <= 0.0:
+                    continue
+                weight = _visibility(lz, nv, alpha, schlick) * 4.0 * lz * v_dot_h / hz
+                fc = (1.0 - v_dot_h) ** 5
+                a += (1.0 - fc) * weight
+                b += fc * weight
+            out[row * width + col, 0] = a / count
+            out[row * width + col, 1] = b / count
+
+
 def dfg_terms(n_dot_v, roughness, *, samples: int = 4096, visibility: str = "height-correlated"):
     """The split-sum environment BRDF terms (A, B) at given n.v and roughness.
 
@@ -160,9 +191,13 @@ def dfg_table(size: int = 128, *, samples: int = 4096, visibility: str = "height
     """
     if not 1 <= size <= MAX_SIZE:
         raise ArgumentError(f"the DFG table size must be in 1..{MAX_SIZE}, got {size}")
+    validate_choice(visibility, VISIBILITIES, "visibility")
+    if not 1 <= samples <= 1 << 20:
+        raise ArgumentError(f"samples must be in 1..{1 << 20}, got {samples}")
     centres = (np.arange(size) + 0.5) / size
-    nv, r = np.meshgrid(centres, centres)
-    return dfg_terms(nv, r, samples=samples, visibility=visibility).astype(np.float32)
+    out = np.empty((size * size, 2))
+    _dfg_grid(centres, centres, hammersley(samples), visibility == "schlick", out)
+    return out.reshape(size, size, 2).astype(np.float32)
 
 
 def dfg_approximation(n_dot_v, roughness):

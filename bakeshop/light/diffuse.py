@@ -511,12 +511,28 @@ def integrate(env: Environment, method: str, *, order: int = 2, normals=None, fi
     if method == "exact":
         return sum(cosine_sum(normals, d, v * w[:, None]) for v, d, w in strips())
     colour = min(3, flat.shape[1])
-    total = sum(float(np.abs(v[:, :colour] * w[:, None]).sum()) for v, _, w in strips(False))
+    total = sum(_energy(v, w, colour) for v, _, w in strips(False))
     with progress.step("grouping the environment's texels"):
         sources = [compress(v, d, w, total=total) for v, d, w in strips()]
     dirs = np.concatenate([d for d, _ in sources])
     energy = np.concatenate([e for _, e in sources])
     return cosine_sum(normals, dirs, energy)
+
+
+@numba.njit(parallel=True, cache=True)
+def _energy(values, omega, colour):  # pragma: no cover - compiled
+    # sum over texels and the colour channels of |L omega|: compress's measure of energy
+    chunks = 16
+    n = values.shape[0]
+    step = (n + chunks - 1) // chunks
+    partial = np.zeros(chunks)
+    for c in numba.prange(chunks):
+        acc = 0.0
+        for t in range(c * step, min(n, (c + 1) * step)):
+            for ch in range(colour):
+                acc += abs(values[t, ch] * omega[t])
+        partial[c] = acc
+    return partial.sum()
 
 
 def _painted(flat, start: int, stop: int, fill):

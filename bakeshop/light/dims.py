@@ -17,7 +17,7 @@ import numpy as np
 from bakeshop import progress
 from bakeshop.errors import validate_choice
 from bakeshop.light.diffuse import METHODS, cosine_sum, dim_normals, dim_of_environment
-from bakeshop.light.sun import Removal, Sun, split_sun
+from bakeshop.light.sun import Removal, Sun, split_environment
 from bakeshop.sphere import check_environment, texels_at
 
 __all__ = ["DimPair", "dim_pair", "dim_pair_of"]
@@ -95,7 +95,7 @@ def dim_pair_of(
     validate_choice(method, METHODS, "irradiance method")
     shape, normals, valid = dim_normals(to, size)
     with progress.step("finding the sun"):
-        removal = split_sun(env.image, env.layout)
+        removal = split_environment(env)
     shadow = dim_of_environment(env, normals, method, order=order, fill=removal)
     lit = shadow
     if removal is not None:

@@ -112,6 +112,11 @@ class _Candidate:
     omega: np.ndarray
 
 
+def _weights(values: np.ndarray) -> np.ndarray:
+    """The luminance weights in the values' type."""
+    return np.asarray(LUMINANCE_WEIGHTS, dtype=values.dtype)
+
+
 def _luminance(values: np.ndarray) -> np.ndarray:
     """BT.709 luminance of (n, colour) values (:func:`bakeshop.image.luminance`), texel by texel
     in the values' type, so that it is the same number whichever texels are looked at together."""
@@ -126,10 +131,10 @@ class _Arrays:
 
     def __init__(self, values, dirs, omega):
         self.values, self.dirs, self.omega = values, dirs, omega
-        self.lum = _luminance(values)
 
     def brightest(self, centre, cos_limit) -> int:
-        return _brightest(self.lum, self.omega, self.dirs, centre, cos_limit)
+        weights = _weights(self.values)
+        return _brightest(self.values, weights, self.omega, self.dirs, centre, cos_limit)
 
     def cap(self, centre, cos_limit) -> np.ndarray:
         return _cap(self.dirs, self.omega, centre, cos_limit)
@@ -150,10 +155,12 @@ class _Image:
         whole = cos_limit > 1.0
         best, top = -1, 0.0
         for start, stop, dirs, omega in texel_strips(self.layout, self.shape, directions=not whole):
-            lum = _luminance(self.values[start:stop, : self.colour])
-            k = _brightest(lum, omega, _NO_DIRS if whole else dirs, centre, cos_limit)
-            if k >= 0 and lum[k] > top:
-                best, top = start + k, lum[k]
+            values = self.values[start:stop, : self.colour]
+            weights = _weights(values)
+            k = _brightest(values, weights, omega, _NO_DIRS if whole else dirs, centre, cos_limit)
+            lum = _luminance(values[k : k + 1])[0] if k >= 0 else 0.0
+            if lum > top:
+                best, top = start + k, lum
         return best
 
     def cap(self, centre, cos_limit) -> np.ndarray:
@@ -290,27 +297,38 @@ def _candidate(texels, k, max_core) -> _Candidate | None:
     return _Candidate(centre, peak, sky, core, mask, excess, pitch, near, values_n, dirs_n, omega_n)
 
 
+@numba.njit(cache=True, inline="always")
+def _lum(values, weights, i):  # pragma: no cover - compiled
+    # _luminance of texel i, the same arithmetic in the values' type
+    if values.shape[1] < 3:
+        return values[i, 0]
+    return values[i, 0] * weights[0] + values[i, 1] * weights[1] + values[i, 2] * weights[2]
+
+
 @numba.njit(parallel=True, cache=True)
-def _brightest(lum, omega, dirs, centre, cos_limit):  # pragma: no cover - compiled
+def _brightest(values, weights, omega, dirs, centre, cos_limit):  # pragma: no cover - compiled
     # The texel of largest luminance among those with a solid angle and at more than
-    # acos(cos_limit) from centre (cos_limit > 1: all of them); -1 if none is positive.
+    # acos(cos_limit) from centre (cos_limit > 1: all of them, dirs unread); -1 if none is
+    # positive. ``weights``: the luminance weights in the values' type.
     chunks = 64
+    n = values.shape[0]
     best = np.full(chunks, -1, np.int64)
-    step = (lum.shape[0] + chunks - 1) // chunks
+    step = (n + chunks - 1) // chunks
     for c in numba.prange(chunks):
         top = 0.0
-        for i in range(c * step, min(lum.shape[0], (c + 1) * step)):
-            if lum[i] > top and omega[i] > 0:
+        for i in range(c * step, min(n, (c + 1) * step)):
+            lum = _lum(values, weights, i)
+            if lum > top and omega[i] > 0:
                 if (
                     cos_limit > 1.0
                     or dirs[i, 0] * centre[0] + dirs[i, 1] * centre[1] + dirs[i, 2] * centre[2]
                     < cos_limit
                 ):
-                    top = lum[i]
+                    top = lum
                     best[c] = i
     k = -1
     for c in range(chunks):
-        if best[c] >= 0 and (k < 0 or lum[best[c]] > lum[k]):
+        if best[c] >= 0 and (k < 0 or _lum(values, weights, best[c]) > _lum(values, weights, k)):
             k = best[c]
     return k
 
@@ -444,18 +462,36 @@ def split_sun(image, layout: str) -> Removal | None:
     Removal or None
         The sun and its fill (flat texel indices of the image and their new colour values).
     """
-    env = check_environment(image, layout)
+    return split_environment(check_environment(image, layout))
+
+
+def split_environment(env: Environment) -> Removal | None:
+    """:func:`split_sun` of an environment already checked
+    (:func:`bakeshop.sphere.check_environment`)."""
     colour = min(3, env.image.shape[-1])
     return _split(_Image(env, colour), _image_sampler(env, colour))
 
 
 def _image_sampler(env: Environment, colour: int):
+    """Bilinear samples of an environment's colour channels at directions (its texels are
+    checked already: a base layout is sampled directly)."""
     from bakeshop.sphere import sample
+    from bakeshop.sphere.windows import gather_taps, sample_taps
 
-    image, layout = env.image[..., :colour], env.layout
+    lay, image = env.layout, env.image
+    if lay.base is not lay:  # a cross or strip: sampled as its cube
+
+        def sampler(d):
+            return sample(image[..., :colour], lay, d, filter="bilinear")
+
+        return sampler
+    flat = image.reshape(-1, image.shape[-1])
 
     def sampler(d):
-        return sample(image, layout, d, filter="bilinear")
+        d = np.asarray(d, dtype=np.float64)
+        taps, frac = sample_taps(lay, image.shape[:-1], d.reshape(-1, 3))
+        values = gather_taps(flat, taps, frac.astype(flat.dtype))[:, :colour]
+        return values.reshape(d.shape[:-1] + (colour,))
 
     return sampler
 

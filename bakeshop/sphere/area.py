@@ -391,9 +391,9 @@ def supersample(flat, s: Layout, src_shape, d: Layout, dst_shape, rotation, k: i
     from bakeshop.sphere.texels import texel_strips
 
     dh, dw, faces = d.grid(dst_shape)
+    c = flat.shape[1]
     sh, sw, _ = s.grid(src_shape)
     fine = fine_shape(d, dst_shape, k)
-    c = flat.shape[1]
     clamp, bright = _bright_texels(flat, s, src_shape)
     out = np.empty((faces * dh, dw, c), flat.dtype)
     step = max(1, SUPERSAMPLE_PART // (k * k * dw))

@@ -15,6 +15,7 @@ prefiltering, fresnel bakes, the probe bake) takes ``(image, layout)`` and check
 - **Values**: finite. NaN or infinite texels are refused, counted, with the first one's place:
   a NaN would spread silently through every filter and integral.
 - **Types**: float32 stays float32, float64 stays float64, anything else becomes float32.
+- **Memory**: a C-contiguous array is used as it is (never copied); any other is copied once.
 
 :func:`texels` flattens an environment into (values, directions, solid angles) for everything
 that integrates over the sphere; the directions and solid angles depend only on the layout and
@@ -90,13 +91,15 @@ def check_environment(image, layout_name: str | Layout) -> Environment:
     lay.check_shape(a.shape[:-1])
     if a.dtype != np.float64:
         a = a.astype(np.float32, copy=False)
+    # every step reads the texels as one flat (N, C) array: a strided view (a PFM's memory map
+    # holds its rows bottom-up) is copied here once, not by each step
+    a = np.ascontiguousarray(a)
     _check_finite(a)
     return Environment(a, lay, squeezed)
 
 
 def _check_finite(a: np.ndarray) -> None:
-    flat = a.reshape(-1)
-    nan, inf, first = _count_nonfinite(flat if flat.flags.c_contiguous else a.ravel())
+    nan, inf, first = _count_nonfinite(a.reshape(-1))
     if nan or inf:
         where = np.unravel_index(first // a.shape[-1], a.shape[:-1])
         place = ", ".join(f"{n} {i}" for n, i in zip(_AXES[-len(where) :], where, strict=True))
