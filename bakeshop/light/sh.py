@@ -158,6 +158,52 @@ def _project(values, dirs, weights, order, chunks):  # pragma: no cover - compil
     return partial.sum(axis=0)
 
 
+#: the real SH of order 2 in closed form (the recurrence's values, to rounding): the constants
+#: of Y(0,0), Y(1,m), Y(2,+-2), Y(2,+-1) xy..., Y(2,0) (3z^2 - 1) and Y(2,2) (x^2 - y^2).
+_C0 = 0.5 / math.sqrt(math.pi)
+_C1 = math.sqrt(3 / (4 * math.pi))
+_C2 = math.sqrt(15 / (4 * math.pi))
+_C20 = math.sqrt(5 / (16 * math.pi))
+_C22 = math.sqrt(15 / (16 * math.pi))
+
+
+@numba.njit(parallel=True, cache=True, fastmath=True)
+def _project_order2(values, dirs, weights, chunks):  # pragma: no cover - compiled
+    # _project for order 2 with the nine polynomials written out: ~3x fewer operations than
+    # the recurrence, the same sums to rounding (fastmath lets the sums vectorise).
+    channels = values.shape[1]
+    partial = np.zeros((chunks, 9, channels))
+    n = dirs.shape[0]
+    step = (n + chunks - 1) // chunks
+    for c in numba.prange(chunks):
+        acc = np.zeros((9, channels))
+        for i in range(c * step, min(n, (c + 1) * step)):
+            w = weights[i]
+            x, y, z = dirs[i, 0], dirs[i, 1], dirs[i, 2]
+            b0 = _C0 * w
+            b1 = _C1 * y * w
+            b2 = _C1 * z * w
+            b3 = _C1 * x * w
+            b4 = _C2 * x * y * w
+            b5 = _C2 * y * z * w
+            b6 = _C20 * (3.0 * z * z - 1.0) * w
+            b7 = _C2 * x * z * w
+            b8 = _C22 * (x * x - y * y) * w
+            for ch in range(channels):
+                v = values[i, ch]
+                acc[0, ch] += b0 * v
+                acc[1, ch] += b1 * v
+                acc[2, ch] += b2 * v
+                acc[3, ch] += b3 * v
+                acc[4, ch] += b4 * v
+                acc[5, ch] += b5 * v
+                acc[6, ch] += b6 * v
+                acc[7, ch] += b7 * v
+                acc[8, ch] += b8 * v
+        partial[c] = acc
+    return partial.sum(axis=0)
+
+
 def project(values, directions, weights, *, order: int = 2) -> np.ndarray:
     """Project samples of a function on the sphere to real SH coefficients.
 
@@ -200,7 +246,10 @@ def project(values, directions, weights, *, order: int = 2) -> np.ndarray:
     if f.dtype not in (np.float32, np.float64):
         f = f.astype(np.float64)
     chunks = min(4 * numba.get_num_threads(), max(1, w.size // 16384))
-    coeffs = _project(f, d, w, order, chunks)
+    if order == 2:
+        coeffs = _project_order2(f, d, w, chunks)
+    else:
+        coeffs = _project(f, d, w, order, chunks)
     return coeffs[:, 0] if scalar else coeffs
 
 

@@ -33,9 +33,10 @@ from bakeshop.sphere import _area_kernels as kernels
 from bakeshop.sphere import _gather, _maps, _plans
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere._gather import EXCEPTION
-from bakeshop.sphere.cube import FACE_BASES
-from bakeshop.sphere.layouts import Layout, _cube_face_solid_angles, layout
+from bakeshop.sphere.cube import FACE_BASES, cube_to_view
+from bakeshop.sphere.layouts import Layout, layout
 from bakeshop.sphere.rotation import key_matrix
+from bakeshop.sphere.texels import cube_face_solid_angles, texel_strips, texels_at
 
 #: largest memory for the per-thread accumulation buffers and for one chunk of unmerged
 #: deposits (fewer threads, smaller chunks above).
@@ -307,16 +308,17 @@ def reduce_cube(image: np.ndarray, size: int) -> np.ndarray:
     ``(6, size, size, C)`` in the image's float type."""
     s, c = image.shape[1], image.shape[-1]
     out = np.empty((6 * size, size, c), image.dtype)
-    omega = np.broadcast_to(_cube_face_solid_angles(s), (6, s, s)).reshape(6 * s, s)
-    _box_reduce(image.reshape(6 * s, s, c), omega, s // size, out)
+    _box_reduce(image.reshape(6 * s, s, c), cube_face_solid_angles(s), s // size, out)
     return out.reshape(6, size, size, c)
 
 
 @numba.njit(parallel=True, cache=True)
 def _box_reduce(fine, omega, k, out):  # pragma: no cover - compiled
     # out[J, I] = sum(omega L) / sum(omega) over the k x k fine texels of (J, I); 0 where the
-    # block has no solid angle (outside a disk)
+    # block has no solid angle (outside a disk). omega's rows repeat (a cube face's table serves
+    # its six faces).
     rows, width, channels = out.shape
+    period = omega.shape[0]
     for r in numba.prange(rows):
         acc = np.zeros(channels)
         for i in range(width):
@@ -324,7 +326,7 @@ def _box_reduce(fine, omega, k, out):  # pragma: no cover - compiled
             total = 0.0
             for y in range(r * k, (r + 1) * k):
                 for x in range(i * k, (i + 1) * k):
-                    w = omega[y, x]
+                    w = omega[y % period, x]
                     total += w
                     for c in range(channels):
                         acc[c] += w * fine[y, x, c]
@@ -388,8 +390,6 @@ def supersample(flat, s: Layout, src_shape, d: Layout, dst_shape, rotation, k: i
     bright texels whose centres fall in q, times their solid angle over q's: their energy is
     kept exactly. Computed in parts of :data:`SUPERSAMPLE_PART` samples (each: the bilinear
     plan of its fine rows, applied, then reduced), so nothing beyond a part is held."""
-    from bakeshop.sphere.texels import texel_strips
-
     dh, dw, faces = d.grid(dst_shape)
     c = flat.shape[1]
     sh, sw, _ = s.grid(src_shape)
@@ -525,8 +525,6 @@ def _bright_deposits(flat, s: Layout, src_shape, d: Layout, dst_shape, k: int, r
     texels and what each adds. The samples of the output texels around each bright texel
     weigh it as the supersampling would (their bilinear weights times their solid angles), and
     those weights are scaled to give the texel's excess energy exactly."""
-    from bakeshop.sphere.texels import texels_at
-
     dh, dw, faces = d.grid(dst_shape)
     fine = fine_shape(d, dst_shape, k)
     rot = key_matrix(rotation)
@@ -601,7 +599,6 @@ def sample_taps_of(s: Layout, shape, dirs):
 def _bright_texels(flat, s: Layout, src_shape) -> tuple[float, np.ndarray]:
     """The clamp of :func:`supersample` and the flat indices of the texels whose brightest
     channel exceeds it (ascending; at most :data:`MAX_BRIGHT`)."""
-    from bakeshop.sphere.texels import texel_strips
 
     def strips():
         for start, stop, _, omega in texel_strips(s, src_shape, directions=False):
@@ -681,16 +678,17 @@ def _above(values, omega, clamp):  # pragma: no cover - compiled
 def area_exact(image: np.ndarray, s: Layout, d: Layout, dst_shape, rotation) -> np.ndarray | None:
     """The area average of a remap of ``image`` (``s``'s base form, with a channel axis) into
     ``d`` when it is an exact reduction (None otherwise): a latlong into a latlong no finer
-    along either axis (:func:`reduce_latlong`), a cube into a cube whose face divides the
-    source's (:func:`reduce_cube`), without rotation."""
-    if rotation is not None or d.base is not d:
+    along either axis (:func:`reduce_latlong`), a cube into a cube (or its cross or strip)
+    whose face divides the source's (:func:`reduce_cube`), without rotation."""
+    if rotation is not None:
         return None
     if s.name == d.name == "latlong":
         (h, w), (dh, dw) = image.shape[:2], dst_shape
         if dh <= h and dw <= w:
             return reduce_latlong(image, (dh, dw))
-    if s.name == d.name == "cube":
-        n, size = image.shape[1], dst_shape[1]
+    if s.name == "cube" and d.base.name == "cube":
+        n, size = image.shape[1], d.face_size(dst_shape) if d.base is not d else dst_shape[1]
         if size <= n and n % size == 0:
-            return reduce_cube(image, size)
+            cube = reduce_cube(image, size)
+            return cube if d.base is d else cube_to_view(cube, d.name)
     return None

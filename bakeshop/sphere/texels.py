@@ -292,11 +292,9 @@ class _RowGeometry:
         if self.kind == _maps.LATLONG:
             return np.repeat(self._band[r0:r1], self.w)
         if self.kind == _maps.CUBE and self.lay.base is self.lay:
-            rows = np.arange(r0, r1) % self.h
             if self._face is None:
-                columns = np.arange(self.w)
-                return _cube_texel_solid_angles(self.h, rows[:, None], columns).reshape(-1)
-            return self._face[rows].reshape(-1)
+                return _cube_rows_solid_angles(self.h, r0, r1).reshape(-1)
+            return self._face[np.arange(r0, r1) % self.h].reshape(-1)
         return self._full_omega()[r0 * self.w : r1 * self.w].copy()
 
     def directions(self, r0: int, r1: int) -> np.ndarray:
@@ -331,6 +329,29 @@ class _RowGeometry:
 
 
 _NO_TRIG = np.zeros((4, 1))
+
+
+def _cube_rows_solid_angles(s: int, r0: int, r1: int) -> np.ndarray:
+    """Solid angles (r1 - r0, s) of rows r0..r1 of a cube's stacked faces (6 s rows): the
+    corner differences of ``layouts._cube_face_solid_angles``, one corner per texel."""
+    e = 2 * np.arange(s + 1) / s - 1
+    out = np.empty((r1 - r0, s))
+    r = r0
+    while r < r1:
+        j0 = r % s
+        j1 = min(s, j0 + r1 - r, j0 + 256)  # blocks of rows: small temporaries
+        y, x = e[j0 : j1 + 1, None], e[None, :]
+        c = np.arctan2(x * y, np.sqrt(x * x + y * y + 1))
+        out[r - r0 : r - r0 + j1 - j0] = c[1:, 1:] - c[:-1, 1:] - c[1:, :-1] + c[:-1, :-1]
+        r += j1 - j0
+    return out
+
+
+def cube_face_solid_angles(s: int) -> np.ndarray:
+    """The (s, s) solid angles of a cube face's texels (the same on every face): cached up to
+    1024 texels a side, computed by blocks of rows beyond (never a temporary of more than a
+    few rows)."""
+    return _cube_face_solid_angles(s) if s <= 1024 else _cube_rows_solid_angles(s, 0, s)
 
 
 def _cube_texel_solid_angles(s: int, j, i) -> np.ndarray:

@@ -173,3 +173,20 @@ def test_bake_probe_from_a_ktx2_cube(probe, tmp_path, capsys):
     assert read_image(out / "env_posx.hdr").shape == (16, 16, 3)
     assert (out / "specular.ktx2").is_file() and (out / "dfg.ktx2").is_file()
     assert "vertical cross" in capsys.readouterr().out
+
+
+def test_bake_probe_paints_its_own_copy_and_never_its_input(probe, tmp_path):
+    """The shadow probe is painted into the probe as read, once nothing else reads it: a PFM
+    input (a copy-on-write memory map) is left as it was, and the shadow probe is the
+    library's."""
+    from bakeshop.light import bake_probe
+
+    before = probe.read_bytes()
+    out = tmp_path / "baked"
+    args = ["bake-probe", str(probe), "-o", str(out), "--specular-size", "8", "--mips", "2"]
+    assert main([*args, "--cube-size", "16", "--format", "pfm"]) == 0
+    assert probe.read_bytes() == before
+    sky = read_image(probe)
+    baked = bake_probe(sky, "latlong", cube_size=16, specular_size=8, mips=2)
+    np.testing.assert_array_equal(read_image(out / "shadow_probe.pfm"), baked.shadow_probe)
+    assert not np.array_equal(baked.shadow_probe, sky)

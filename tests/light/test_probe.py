@@ -75,3 +75,28 @@ def test_the_contact_sheet_is_a_picture():
     sheet = contact_sheet(bake_probe(sky, "latlong", **SMALL), sky, thumb_height=32)
     assert sheet.dtype == np.uint8 and sheet.ndim == 3 and sheet.shape[2] == 3
     assert sheet.shape[0] > 100 and sheet.shape[1] > 100 and sheet.std() > 0
+
+
+def test_a_bake_without_its_shadow_probe_paints_the_same_one_from_its_fill():
+    """bake_probe(shadow_probe=False) holds no copy of the probe: its fill paints the shadow
+    probe into any copy (the command paints the probe it read, last), and the contact sheet's
+    shadow thumbnail (the probe's, less the fill's removed energy) is the thumbnail of the
+    painted probe: exact for a latlong reduced by a whole factor."""
+    h = 128
+    lay = layout("latlong")
+    dirs, _ = lay.directions((h, 2 * h))
+    s = np.array([0.5, 0.6, -0.4]) / np.linalg.norm([0.5, 0.6, -0.4])
+    sky = np.ones((h, 2 * h, 3), np.float32)
+    sky[dirs @ s > math.cos(math.radians(3.0))] += 400.0
+    full = bake_probe(sky, "latlong", **SMALL)
+    lean = bake_probe(sky, "latlong", **SMALL, shadow_probe=False)
+    assert lean.shadow_probe is None and lean.fill is not None
+    painted = sky.copy()
+    lean.fill.paint(painted)
+    np.testing.assert_array_equal(painted, full.shadow_probe)
+    np.testing.assert_array_equal(lean.sun_dim, full.sun_dim)
+    np.testing.assert_array_equal(lean.sh, full.sh)
+    from bakeshop.light.probe import _shadow_thumbnail, _to_latlong
+
+    thumb = _shadow_thumbnail(_to_latlong(sky, "latlong", 32), lean, sky)
+    np.testing.assert_allclose(thumb, _to_latlong(painted, "latlong", 32), rtol=1e-5, atol=1e-5)

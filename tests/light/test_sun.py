@@ -182,3 +182,20 @@ def test_random_suns_anywhere(z, azimuth, radius, radiance):
     assert _angle_deg(sun.direction, s) < SUN_DIRECTION_DEG
     omega = 2 * math.pi * (1 - math.cos(math.radians(radius)))
     assert sun.solid_angle_sr == pytest.approx(omega, rel=SUN_SOLID_ANGLE)
+
+
+@pytest.mark.parametrize("name, size, direction, radius, radiance", CASES)
+def test_the_image_scan_finds_what_the_whole_layouts_texels_give(name, size, direction, radius,
+                                                                 radiance):  # fmt: skip
+    """split_sun reads the image strip by strip and gathers only the caps it measures;
+    split_texels holds the whole layout's geometry (32 bytes a texel): the same sun, the same
+    fill, bit for bit."""
+    from bakeshop.sphere import texels
+
+    img, _ = _render(name, size, _unit(direction), radius, radiance)
+    lean = sunlib.split_sun(img, name)
+    whole = sunlib.split_texels(texels(img, name))
+    np.testing.assert_array_equal(lean.index, whole.index)
+    np.testing.assert_array_equal(lean.filled, whole.filled)
+    np.testing.assert_array_equal(lean.sun.direction, whole.sun.direction)
+    np.testing.assert_array_equal(lean.sun.irradiance, whole.sun.irradiance)

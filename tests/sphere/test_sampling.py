@@ -26,6 +26,7 @@ from tests.tolerances import (
     SPHERE_BILINEAR_SMOOTH_ATOL,
     SPHERE_LATLONG_CUBE_ROUND_TRIP_ATOL,
     SPHERE_NEAREST_SMOOTH_ATOL,
+    SPHERE_SUPERSAMPLE_VS_BRUTE_FORCE_RRMS,
 )
 
 
@@ -517,3 +518,139 @@ def test_area_filter_into_a_cube_picture_is_the_arranged_cube():
         np.testing.assert_array_equal(
             remap(img, "latlong", view, 12, filter="area"), cube_to_view(cube, view)
         )
+
+
+# --- large sources: exact reductions, supersampling, plans applied in parts ------------------
+
+
+@pytest.fixture
+def supersampled(monkeypatch):
+    """The supersampled area filter, which large sources get, forced on small ones."""
+    from bakeshop.sphere import area
+
+    monkeypatch.setattr(area, "AREA_MATRIX_TEXELS", 0)
+    clear_caches()
+    yield
+    clear_caches()
+
+
+@pytest.mark.parametrize(("dst", "size"), [("cube", 64), ("cube", 16), ("angular", 128),
+                                           ("octahedral", 64), ("mirrorball", 64),
+                                           ("cross-vertical", 32)])  # fmt: skip
+def test_supersampling_preserves_the_energy_of_a_real_probe(probe, supersampled, dst, size):
+    """The default probe's sun is one texel 10^5 times the sky: bilinear samples as dense as
+    the texels would move its energy by ~4%; the bright texels' excess is deposited exactly."""
+    out = remap(probe, "latlong", dst, size, filter="area")
+    np.testing.assert_allclose(
+        energy(out, dst), energy(probe, "latlong"), rtol=SPHERE_AREA_ENERGY_RTOL
+    )
+
+
+@pytest.mark.parametrize(("dst", "size"), [("cube", 64), ("angular", 128), ("octahedral", 128)])
+def test_supersampling_is_the_area_average_of_a_brute_force_supersampling(probe, supersampled, dst,
+                                                                          size):  # fmt: skip
+    img = np.minimum(probe[..., :3], 50).astype(np.float32)
+    k = 16
+    lay = layout(dst)
+    dirs, _ = lay.directions(lay.shape(size * k))
+    omega = lay.solid_angles(lay.shape(size * k))
+    weighted = sample(img, "latlong", dirs, filter="nearest") * omega[..., None]
+    blocks = (6, size, k, size, k) if lay.cubic else (size, k, size, k)
+    axes = (2, 4) if lay.cubic else (1, 3)
+    weight = omega.reshape(blocks).sum(axis=axes)
+    valid = weight > 0
+    ref = weighted.reshape(blocks + (3,)).sum(axis=axes)[valid] / weight[valid][:, None]
+
+    def rrms(out):
+        return np.sqrt(np.mean((out[valid] - ref) ** 2) / np.mean(ref**2))
+
+    area = rrms(remap(img, "latlong", dst, size, filter="area"))
+    bilinear = rrms(remap(img, "latlong", dst, size, filter="bilinear"))
+    assert area < SPHERE_SUPERSAMPLE_VS_BRUTE_FORCE_RRMS and area < bilinear / 2.5
+
+
+def test_supersampling_keeps_a_uniform_environment_uniform_and_rotates(probe, supersampled):
+    for dst in ("cube", "angular", "octahedral"):
+        out = remap(np.full((256, 512, 3), 2.5, np.float32), "latlong", dst, 16, filter="area")
+        _, valid = layout(dst).directions(out.shape[:-1])
+        np.testing.assert_allclose(out[valid], 2.5, rtol=1e-6)
+    out = remap(probe, "latlong", "cube", 32, filter="area", rotation=(30, 20, 10))
+    np.testing.assert_allclose(
+        energy(out, "cube"), energy(probe, "latlong"), rtol=SPHERE_AREA_ENERGY_RTOL
+    )
+
+
+@pytest.mark.parametrize("row", [0, 1, 3, 200])
+def test_supersampling_deposits_a_one_texel_sun_exactly(supersampled, row):
+    """Anywhere, the pole's wedges included: the sun's energy lands near its direction."""
+    img = np.full((256, 512, 1), 0.1, np.float32)
+    omega = layout("latlong").solid_angles(img.shape[:2])
+    img[row, 100] = 1e5 * omega[128, 0] / omega[row, 100]
+    for dst, size in [("cube", 32), ("octahedral", 64)]:
+        out = remap(img, "latlong", dst, size, filter="area")
+        np.testing.assert_allclose(
+            energy(out, dst), energy(img, "latlong"), rtol=SPHERE_AREA_ENERGY_RTOL
+        )
+
+
+def test_the_area_filter_supersamples_only_beyond_the_matrix_size():
+    from bakeshop.sphere import area
+
+    assert area.supersampling("latlong", (1024, 2048), "cube", (6, 256, 256)) == 0
+    assert area.supersampling("latlong", (4096, 8192), "cube", (6, 256, 256)) == 9
+    assert area.supersampling("latlong", (4096, 8192), "cube", (6, 2048, 2048)) == 1
+    assert area.supersampling("latlong", (4096, 8192), "cube", (6, 4096, 4096)) == 0  # up
+
+
+def test_latlong_to_latlong_area_is_the_exact_solid_angle_weighted_box():
+    """Reference: each output texel the solid-angle-weighted mean of the source texels its
+    footprint covers, with the covered fractions of the boundary texels (numpy, float64)."""
+    from bakeshop.image import area_weights
+
+    rng = np.random.default_rng(2)
+    img = (rng.random((30, 60, 2)) ** 3).astype(np.float32)
+    img[3, 7] = 1e4
+    out = remap(img, "latlong", "latlong", (25, 12), filter="area")
+    c = np.cos(np.pi * np.arange(13) / 12)
+    rows = np.zeros((12, 30))
+    for i in range(12):  # exact overlap of input rows with output row i, in solid angle
+        for k in range(30):
+            lo, hi = max(k / 30, i / 12), min((k + 1) / 30, (i + 1) / 12)
+            if hi > lo:
+                rows[i, k] = np.cos(np.pi * lo) - np.cos(np.pi * hi)
+        rows[i] /= c[i] - c[i + 1]
+    cols = area_weights(60, 25).toarray()
+    ref = np.einsum("ik,jl,klc->ijc", rows, cols, img.astype(np.float64))
+    np.testing.assert_allclose(out, ref, rtol=1e-6)
+    np.testing.assert_allclose(energy(out, "latlong"), energy(img, "latlong"), rtol=1e-6)
+
+
+def test_cube_to_smaller_cube_and_cross_area_is_the_exact_solid_angle_weighted_block_mean():
+    rng = np.random.default_rng(3)
+    cube = rng.random((6, 12, 12, 3)).astype(np.float32)
+    omega = layout("cube").solid_angles((6, 12, 12))
+    blocks = (cube * omega[..., None]).reshape(6, 4, 3, 4, 3, 3).sum((2, 4))
+    ref = blocks / omega.reshape(6, 4, 3, 4, 3).sum((2, 4))[..., None]
+    np.testing.assert_allclose(remap(cube, "cube", "cube", 4, filter="area"), ref, rtol=1e-6)
+    cross = remap(cube, "cube", "cross-vertical", 4, filter="area")
+    from bakeshop.sphere import cube_to_view
+
+    np.testing.assert_allclose(
+        cross, cube_to_view(ref.astype(np.float32), "cross-vertical"), rtol=1e-6
+    )
+
+
+@pytest.mark.parametrize("filter", ["bilinear", "nearest"])
+def test_a_large_plan_applied_in_parts_equals_the_whole_and_is_not_kept(monkeypatch, filter):
+    from bakeshop.sphere import _plans
+
+    rng = np.random.default_rng(9)
+    img = rng.random((64, 128, 3)).astype(np.float32)
+    clear_caches()
+    whole = remap(img, "latlong", "cube", 40, filter=filter, rotation=(10, 20, 30))
+    clear_caches()
+    monkeypatch.setattr(_plans, "KEEP_PLAN_BYTES", 0)
+    monkeypatch.setattr(_plans, "PART_BYTES", 3000)
+    parts = remap(img, "latlong", "cube", 40, filter=filter, rotation=(10, 20, 30))
+    np.testing.assert_array_equal(parts, whole)
+    assert cache_info()["remap plans"]["entries"] == 0

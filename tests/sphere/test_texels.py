@@ -120,3 +120,56 @@ def test_texel_cosines_are_the_dot_product_of_directions_and_axis():
         expected = dirs @ (axis / np.linalg.norm(axis))
         np.testing.assert_allclose(cos[valid], expected[valid], atol=1e-12)
         assert np.isnan(cos[~valid]).all()
+
+
+# --- geometry per strip: what the integrals of large environments read --------------------------
+
+
+STRIP_LAYOUTS = ["latlong", "angular", "mirrorball", "cube", "octahedral", "dual-paraboloid",
+                 "cross-vertical", "strip-horizontal"]  # fmt: skip
+
+
+@pytest.mark.parametrize("name", STRIP_LAYOUTS)
+def test_strips_and_gathered_texels_are_the_whole_geometry_bit_for_bit(name):
+    """texel_strips (strips of whole rows, any size) and texels_at (any texels) give the same
+    numbers as the whole layout's texel_geometry, without building it."""
+    from bakeshop.sphere import layout, texel_strips, texels_at
+
+    shape = layout(name).shape(20)
+    dirs, omega = texel_geometry(name, shape)
+    for size in (1, 100, 1 << 20):
+        parts = list(texel_strips(name, shape, texels=size))
+        assert parts[0][0] == 0 and parts[-1][1] == len(omega)
+        assert all(a[1] == b[0] for a, b in zip(parts, parts[1:], strict=False))
+        np.testing.assert_array_equal(np.concatenate([p[2] for p in parts]), dirs)
+        np.testing.assert_array_equal(np.concatenate([p[3] for p in parts]), omega)
+    index = np.random.default_rng(5).integers(0, len(omega), 300)
+    got_dirs, got_omega = texels_at(name, shape, index)
+    np.testing.assert_array_equal(got_dirs, dirs[index])
+    np.testing.assert_array_equal(got_omega, omega[index])
+
+
+def test_large_cube_faces_compute_their_solid_angles_by_rows_as_the_cached_table_does():
+    from bakeshop.sphere import texels_at
+    from bakeshop.sphere.layouts import _cube_face_solid_angles
+    from bakeshop.sphere.texels import cube_face_solid_angles, texel_strips
+
+    s = 1100  # beyond the cached tables
+    table = _cube_face_solid_angles(s)
+    np.testing.assert_array_equal(cube_face_solid_angles(s), table)
+    rows = next(texel_strips("cube", (6, s, s), rows=(s - 300, s + 300), texels=1 << 30))[3]
+    np.testing.assert_array_equal(rows, np.concatenate([table[-300:], table[:300]]).reshape(-1))
+    index = np.array([0, 7, s * s - 1, 3 * s * s + 5 * s + 9])
+    np.testing.assert_array_equal(texels_at("cube", (6, s, s), index)[1],
+                                  table.reshape(-1)[index % (s * s)])  # fmt: skip
+
+
+def test_a_strided_image_is_made_contiguous_once_and_a_contiguous_one_is_never_copied():
+    """A PFM's memory map holds its rows bottom-up: the environment is copied once, so that
+    no later step copies it again."""
+    base = np.ones((8, 16, 3), np.float32)
+    flipped = base[::-1]
+    env = check_environment(flipped, "latlong")
+    assert env.image.flags.c_contiguous and not np.shares_memory(env.image, base)
+    np.testing.assert_array_equal(env.image, flipped)
+    assert np.shares_memory(check_environment(base, "latlong").image, base)
