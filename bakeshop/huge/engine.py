@@ -40,6 +40,7 @@ class InTask:
         self.threads = threads
 
     def __call__(self, *args, **kwargs):
+        """``fn(*args, **kwargs)`` with the task's numba threads and progress silenced."""
         before = numba.get_num_threads()
         numba.set_num_threads(max(1, min(self.threads, numba.config.NUMBA_NUM_THREADS)))
         try:

@@ -7,19 +7,17 @@ column ranges; a tile whose window would exceed its share of the bound is split 
 blends them. ``nearest`` and ``bilinear`` are therefore bit-identical to
 :func:`bakeshop.sphere.remap`.
 
-The area filter of :func:`bakeshop.sphere.remap` balances one matrix over every source texel
-(Sinkhorn), which cannot be cut into windows (its plan alone is ~80 bytes per source texel).
-Out of core, ``area`` is instead two steps: the latlong source is reduced with solid-angle row
-weights (:func:`bakeshop.huge.resize.latlong_row_weights`, preserving the radiance integral
-exactly, in float64) to an intermediate latlong, which the in-memory area filter then takes to
-the output when its plan fits the bound (the intermediate has twice the output's texels:
-energy-preserving, within ~1e-3 RMS of the area filter of the whole source); when even that
-does not fit (a 6 x 2048^2 cube under 2 GB), the intermediate has as many texels as the output
-and is remapped tile by tile with ``bilinear`` (a mip level and bilinear, as a GPU samples; a
-one-texel sun's energy then moves by up to ~1 %). A latlong output without rotation is the
-reduction itself (exact).
-Sources are flat layouts (latlong, angular, mirrorball, octahedral, dual-paraboloid), and the
-area filter needs a latlong source.
+The area filter of :func:`bakeshop.sphere.remap` builds and balances one matrix over every
+source texel, which cannot be cut into windows; for large sources it supersamples instead
+(:func:`bakeshop.sphere.area.supersample`), and so does this module, tile by tile: each output
+texel is the solid-angle-weighted mean of k x k bilinear samples (k the ratio of the texel
+pitches: samples about as dense as the source's texels) of the source clamped below its bright
+texels, whose excess (a sun, lamps: a few thousand texels at most, found in one pass of
+strips) is deposited exactly. The energy is kept (to ~1e-5 on the default probe); a tile's
+window is read clamped, and a tile whose window would exceed its share of the bound is split.
+A latlong output without rotation is the exact solid-angle-weighted reduction
+(:func:`bakeshop.huge.resize.resize`).
+Sources are flat layouts (latlong, angular, mirrorball, octahedral, dual-paraboloid).
 """
 
 from __future__ import annotations
@@ -32,17 +30,13 @@ from bakeshop.errors import ArgumentError, UnsupportedError, validate_choice
 from bakeshop.huge.engine import Engine
 from bakeshop.huge.memory import blocks, plan_blocks, refuse
 from bakeshop.huge.resize import as_reader, resize
-from bakeshop.io.stream import ArrayReader, Reader
-from bakeshop.sphere import cube_to_view, layout
+from bakeshop.io.stream import Reader
+from bakeshop.sphere import area, cube_to_view, layout, texel_strips
 from bakeshop.sphere.windows import gather_taps, localise_taps, remap_part_taps, taps_window
 
 #: layouts a chunked remap reads (one image file each, addressed by rows and columns).
 FLAT_SOURCES = ("latlong", "angular", "mirrorball", "octahedral", "dual-paraboloid")
 FILTERS = ("auto", "nearest", "bilinear", "area")
-#: bytes the in-memory area filter needs per output texel, from an intermediate of twice the
-#: output's texels (its splat, 36 bytes per source texel; its rows, ~48 per output texel; the
-#: bilinear plan it starts from, 12; the balancing's sums): measured peak, with a margin.
-AREA_BYTES_PER_TEXEL = 200
 #: bytes per output texel of a tile's task besides its window: taps (16), fractions (8),
 #: local taps (16), the blended texel (4 per channel) and the block (4 per channel).
 _TEXEL_BYTES = 40
@@ -71,17 +65,6 @@ def choose_filter(src: str, src_shape, dst: str, dst_shape) -> str:
     ``"bilinear"`` (the rule of :func:`bakeshop.sphere.auto_filter`)."""
     small = 2 * valid_texels(dst, dst_shape) <= valid_texels(src, src_shape)
     return "area" if small else "bilinear"
-
-
-def _intermediate(h: int, w: int, texels: int) -> tuple[int, int]:
-    """The smallest latlong (rows, columns) of a ``h x w`` latlong's aspect with at least
-    ``texels`` texels (the source's own size at most)."""
-    hi = min(h, max(1, math.ceil(math.sqrt(texels * h / w))))
-    wi = min(w, max(1, round(hi * w / h)))
-    while hi < h and hi * wi < texels:
-        hi += 1
-        wi = min(w, max(1, round(hi * w / h)))
-    return hi, wi
 
 
 def _part(
@@ -160,6 +143,136 @@ def _block(region, reader, src, src_shape, dst, dst_shape, side, filter, rotatio
         rotation,
         per_task,
     )
+
+
+def _peaks(rows, reader: Reader, src: str):
+    """A strip's part of the bright texels' pass (:func:`bakeshop.sphere.area.peak_candidates`)."""
+    values, omega = _strip_texels(rows, reader, src)
+    return area.peak_candidates(values, omega, rows[0] * reader.shape[1])
+
+
+def _strip_texels(rows, reader: Reader, src: str):
+    h, w, c = reader.shape
+    _, _, _, omega = next(texel_strips(src, (h, w), rows=rows, texels=1 << 62, directions=False))
+    return reader.read(rows).reshape(-1, c), omega
+
+
+def _supersampled_part(reader: Reader, src: str, src_shape, dst: str, dst_shape, face, rows,
+                       cols, k: int, rotation, clamp: float, per_task: int):  # fmt: skip
+    """The texels ``rows x cols`` of ``face`` of the supersampled area filter
+    (:func:`bakeshop.sphere.area.supersample`) from their window of the source, clamped:
+    the same samples and weights as in memory, each sample's coordinates computed exactly."""
+    c = reader.shape[2]
+    d = layout(dst)
+    fine = area.fine_shape(d, dst_shape, k)
+    fine_rows, fine_cols = (rows[0] * k, rows[1] * k), (cols[0] * k, cols[1] * k)
+    taps, frac = remap_part_taps(src, src_shape, dst, fine, face=face, rows=fine_rows,
+                                 cols=fine_cols, filter="bilinear", rotation=rotation)  # fmt: skip
+    width = src_shape[1]
+    window_rows, ranges = taps_window(taps, width)
+    shape = (rows[1] - rows[0], cols[1] - cols[0], c)
+    columns = sum(b - a for a, b in ranges)
+    window_bytes = 2 * (window_rows[1] - window_rows[0]) * columns * c * 4
+    if window_bytes > per_task and shape[0] * shape[1] > 1:
+        axis = 0 if shape[0] >= shape[1] else 1
+        span = rows if axis == 0 else cols
+        mid = (span[0] + span[1]) // 2
+        halves = [(span[0], mid), (mid, span[1])]
+        return np.concatenate(
+            [
+                _supersampled_part(
+                    reader,
+                    src,
+                    src_shape,
+                    dst,
+                    dst_shape,
+                    face,
+                    half if axis == 0 else rows,
+                    cols if axis == 0 else half,
+                    k,
+                    rotation,
+                    clamp,
+                    per_task,
+                )  # fmt: skip
+                for half in halves
+            ],
+            axis=axis,
+        )
+    window = np.concatenate([reader.read(window_rows, r) for r in ranges], axis=1)
+    np.minimum(window, np.float32(clamp), out=window)
+    local = localise_taps(taps, width, window_rows, ranges)
+    samples = gather_taps(window.reshape(-1, c), local, frac)
+    weights = area.sample_weights(d, dst_shape, k, face, fine_rows, fine_cols)
+    out = np.empty(shape, np.float32)
+    area.box_reduce(samples.reshape(len(weights), -1, c), weights, k, out)
+    return out
+
+
+def _supersampled_block(region, reader, src, src_shape, dst, dst_shape, side, k, rotation, clamp,
+                        per_task):  # fmt: skip
+    top, bottom, left, right = region
+    face = top // side
+    rows = (top - face * side, bottom - face * side)
+    return _supersampled_part(reader, src, src_shape, dst, dst_shape, face, rows, (left, right),
+                              k, rotation, clamp, per_task)  # fmt: skip
+
+
+def supersample_tiles(
+    reader: Reader,
+    src: str,
+    dst: str,
+    dst_shape,
+    *,
+    k: int,
+    rotation,
+    engine: Engine,
+    what: str,
+) -> np.ndarray:
+    """The supersampled area filter (:func:`bakeshop.sphere.area.supersample`) of ``reader``
+    (a flat layout ``src``) into the base layout ``dst``, tile by tile: one pass of strips
+    finds the bright texels (their clamp, indices and values), then each tile
+    reads its window, clamped, and the bright texels' excess is deposited exactly;
+    ``dst_shape + (C,)`` float32."""
+    from bakeshop.huge.light import _strips
+    from bakeshop.sphere.rotation import rotation_key
+
+    d = layout(dst)
+    h, w, c = reader.shape
+    dh, dw, faces = d.grid(dst_shape)
+    out_bytes = faces * dh * dw * c * 4
+    strips = _strips(reader, engine, out_bytes, what)
+    parts = engine.gather(_peaks, [(r, reader, src) for r in strips], f"{what}: bright texels")
+    clamp, bright, values = area.bright_texels(parts)
+    per_task = engine.per_task(out_bytes)
+    sample_bytes = 64 + 24 * c  # taps, fractions, local taps, weights, the clamped window
+
+    def cost(rows: int, cols: int) -> int:
+        return rows * cols * k * k * sample_bytes
+
+    block = plan_blocks(
+        (dh, dw),
+        cost,
+        min(per_task, 64 << 20),
+        at_least=max(1, 4 * engine.total_workers // faces),
+        what=what,
+        memory=engine.memory,
+        fixed=out_bytes,
+        workers=engine.workers,
+    )
+    regions = [
+        (top + f * dh, bottom + f * dh, left, right)
+        for f in range(faces)
+        for top, bottom, left, right in blocks((dh, dw), block)
+    ]
+    out = np.empty((faces * dh, dw, c), np.float32)
+    args = (reader, src, (h, w), dst, tuple(dst_shape), dh, k, rotation, clamp, per_task)
+    engine.assemble(_supersampled_block, regions, out, args, what)
+    if len(bright):
+        key = rotation_key(rotation)
+        q, add = area.bright_deposits(values, bright, layout(src), (h, w), d, tuple(dst_shape), k,
+                                      key, clamp)  # fmt: skip
+        np.add.at(out.reshape(-1, c), q, add.astype(np.float32))
+    return out.reshape(tuple(dst_shape) + (c,))
 
 
 def remap_tiles(
@@ -259,38 +372,18 @@ def remap(
     base_shape = dst_shape if d.base is d else d.base.shape(d.face_size(dst_shape))
     what = f"remapping {s.name} {w}x{h} to {d.name} {'x'.join(map(str, dst_shape))} ({filter})"
     if filter == "area":
-        if s.name != "latlong":
-            raise UnsupportedError(
-                f"the chunked area filter reads latlong sources; remap this {s.name} with "
-                "filter='bilinear', or convert it to a latlong first"
-            )
-        if d.name == "latlong" and rotation is None:
+        if s.name == d.name == "latlong" and rotation is None:
             dh, dw = dst_shape
             if dh > h or dw > w:
                 raise ArgumentError("the area filter reduces; this output is larger (bilinear)")
             return resize(reader, (dw, dh), engine=engine, weighting="latlong")
-        needed = valid_texels(d.name, dst_shape)
-        out_bytes = needed * c * 4
-        # the in-memory area filter from an intermediate of twice the output's texels, when
-        # its plan (AREA_BYTES_PER_TEXEL per output texel) fits the bound; else bilinear from
-        # one of as many texels
-        in_memory = out_bytes * 3 + AREA_BYTES_PER_TEXEL * needed <= engine.memory
-        hi, wi = _intermediate(h, w, 2 * needed if in_memory else needed)
-        if (hi, wi) != (h, w):
-            reader = ArrayReader(resize(reader, (wi, hi), engine=engine, weighting="latlong"))
-            src_shape = (hi, wi)
-        if in_memory:
-            from bakeshop import progress, sphere
-
-            with progress.step(f"area filter {wi}x{hi} -> {d.name}"):
-                out = sphere.remap(
-                    reader.image, "latlong", d.name, size, filter="area", rotation=rotation
-                )
-                sphere.clear_caches()  # its plan would outlive the job, beyond the bound
-            return out
-        if engine.distributed:  # the intermediate is in this process's memory
-            engine = Engine("threads", memory=engine.memory)
-        filter = "bilinear"
+        ratio = valid_texels(s.name, src_shape) / valid_texels(d.name, dst_shape)
+        if ratio >= 1:
+            k = max(1, round(math.sqrt(ratio)))
+            out = supersample_tiles(reader, s.name, d.base.name, base_shape, k=k, rotation=rotation,
+                                    engine=engine, what=what)  # fmt: skip
+            return out if d.base is d else cube_to_view(out, d.name)
+        filter = "bilinear"  # magnifying: the area filter is bilinear there
     out = remap_tiles(
         reader,
         s.name,

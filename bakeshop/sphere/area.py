@@ -356,8 +356,6 @@ SUPERSAMPLE_PART = 1 << 20
 #: sampled. (Bilinear samples as dense as the texels move a one-texel sun's energy by ~4%.)
 BRIGHT_RATIO = 4.0
 MAX_BRIGHT = 4096
-#: bins per octave of the histogram that finds the threshold.
-_BINS_PER_OCTAVE = 16
 
 
 def supersampling(s: Layout | str, src_shape, d: Layout | str, dst_shape) -> int:
@@ -409,7 +407,8 @@ def supersample(flat, s: Layout, src_shape, d: Layout, dst_shape, rotation, k: i
         _, _, _, omega = next(texel_strips(d, fine, rows=rows, texels=1 << 62, directions=False))
         _box_reduce(samples.reshape(-1, k * dw, c), omega.reshape(-1, k * dw), k, out[top:bottom])
     if len(bright):
-        q, values = _bright_deposits(flat, s, src_shape, d, dst_shape, k, rotation, clamp, bright)
+        q, values = bright_deposits(flat[bright], bright, s, src_shape, d, dst_shape, k, rotation,
+                                    clamp)  # fmt: skip
         flat_out = out.reshape(-1, c)
         np.add.at(flat_out, q, values.astype(flat_out.dtype))
     return out.reshape(tuple(dst_shape) + (c,))
@@ -519,12 +518,13 @@ def _add_bilinear(kind, h, w, src, clamp, f, x, y, weight, acc):  # pragma: no c
 _BASES = np.ascontiguousarray(FACE_BASES)
 
 
-def _bright_deposits(flat, s: Layout, src_shape, d: Layout, dst_shape, k: int, rotation,
-                     clamp: float, bright: np.ndarray):  # fmt: skip
-    """Where :func:`supersample` puts the bright texels' excess: ``(q, values)``, flat output
-    texels and what each adds. The samples of the output texels around each bright texel
-    weigh it as the supersampling would (their bilinear weights times their solid angles), and
-    those weights are scaled to give the texel's excess energy exactly."""
+def bright_deposits(bright_values, bright: np.ndarray, s: Layout, src_shape, d: Layout, dst_shape,
+                    k: int, rotation, clamp: float):  # fmt: skip
+    """Where :func:`supersample` puts the excess over ``clamp`` of the bright texels ``bright``
+    (flat indices, ascending; their values ``bright_values`` (n, C)): ``(q, values)``, flat
+    output texels and what each adds. The samples of the output texels around each bright
+    texel weigh it as the supersampling would (their bilinear weights times their solid
+    angles), and those weights are scaled to give the texel's excess energy exactly."""
     dh, dw, faces = d.grid(dst_shape)
     fine = fine_shape(d, dst_shape, k)
     rot = key_matrix(rotation)
@@ -563,7 +563,7 @@ def _bright_deposits(flat, s: Layout, src_shape, d: Layout, dst_shape, k: int, r
     p = pos[j, t]
     reached = np.bincount(p, energy_weight, minlength=len(bright))
     scale = np.divide(src_omega, reached, out=np.zeros_like(src_omega), where=reached > 0)
-    excess = np.maximum(flat[bright].astype(np.float64) - clamp, 0)
+    excess = np.maximum(np.asarray(bright_values, np.float64) - clamp, 0)
     q = q_all[j // (k * k)]
     values = excess[p] * (scale[p] * energy_weight / total[j // (k * k)])[:, None]
     # a bright texel no sample reached (a sliver) goes whole to the texel its centre is in
@@ -598,33 +598,52 @@ def sample_taps_of(s: Layout, shape, dirs):
 
 def _bright_texels(flat, s: Layout, src_shape) -> tuple[float, np.ndarray]:
     """The clamp of :func:`supersample` and the flat indices of the texels whose brightest
-    channel exceeds it (ascending; at most :data:`MAX_BRIGHT`)."""
+    channel exceeds it (ascending; at most :data:`MAX_BRIGHT`): one pass over strips."""
+    parts = [
+        peak_candidates(flat[start:stop], omega, start)
+        for start, stop, _, omega in texel_strips(s, src_shape, directions=False)
+    ]
+    clamp, index, _ = bright_texels(parts)
+    return clamp, index
 
-    def strips():
-        for start, stop, _, omega in texel_strips(s, src_shape, directions=False):
-            yield flat[start:stop], omega
 
-    stats = np.zeros(3)  # sum of peak x omega, sum of omega, largest peak
-    for values, omega in strips():
-        _peak_stats(values, omega, stats)
+def peak_candidates(values, omega, start: int = 0):
+    """The part of :func:`bright_texels`'s pass over the texels ``values`` (n, C) (flat
+    indices from ``start``; texels of no solid angle left out): ``(stats, index, peaks,
+    values)``, the sums ``[sum peak omega, sum omega, largest peak]`` (peak: a texel's
+    brightest channel) and the :data:`MAX_BRIGHT` + 1 texels of largest peak."""
+    values = np.asarray(values)
+    peak = values.max(axis=1) if values.shape[1] > 1 else values[:, 0].copy()
+    peak[~(omega > 0)] = -np.inf
+    stats = np.zeros(3)
+    _peak_stats(values, omega, stats)
+    keep = min(len(peak), MAX_BRIGHT + 1)
+    top = np.argpartition(peak, len(peak) - keep)[len(peak) - keep :]
+    top = top[np.isfinite(peak[top])]
+    return stats, start + top, peak[top], values[top]
+
+
+def bright_texels(parts) -> tuple[float, np.ndarray, np.ndarray]:
+    """The clamp of :func:`supersample` and the texels above it, from the
+    :func:`peak_candidates` of every part of an image: ``(clamp, index, values)``, index
+    ascending. The clamp is :data:`BRIGHT_RATIO` times the mean peak (solid-angle weighted),
+    raised to the (MAX_BRIGHT + 1)-th largest peak when more texels lie above; inf when none."""
+    stats = sum(p[0] for p in parts)
+    none = np.inf, np.empty(0, np.int64), np.empty((0, parts[0][3].shape[1]))
     if not stats[1] > 0 or not stats[2] > 0:
-        return np.inf, np.empty(0, np.int64)
+        return none
     low = BRIGHT_RATIO * stats[0] / stats[1]
-    if not stats[2] > low:
-        return np.inf, np.empty(0, np.int64)
-    octaves = max(1, math.ceil(math.log2(stats[2] / low)) + 1)
-    hist = np.zeros(octaves * _BINS_PER_OCTAVE + 1, np.int64)
-    for values, omega in strips():
-        _peak_histogram(values, omega, math.log2(low), _BINS_PER_OCTAVE, hist)
-    # the lowest bin edge above which at most MAX_BRIGHT texels lie (bin 0 holds those below)
-    above = np.cumsum(hist[::-1])[::-1]  # above[b]: texels in bins b and up
-    b = int(np.argmax(above <= MAX_BRIGHT))
-    if above[b] > MAX_BRIGHT:
-        b = len(hist)
-    clamp = low if b <= 1 else 2.0 ** (math.log2(low) + (b - 1) / _BINS_PER_OCTAVE)
-    index = [start + _above(flat[start:stop], omega, clamp)
-             for start, stop, _, omega in texel_strips(s, src_shape, directions=False)]  # fmt: skip
-    return clamp, np.concatenate(index)
+    index = np.concatenate([p[1] for p in parts])
+    peaks = np.concatenate([p[2] for p in parts])
+    values = np.concatenate([p[3] for p in parts])
+    clamp = low
+    if len(peaks) > MAX_BRIGHT:
+        clamp = max(low, float(np.partition(peaks, len(peaks) - MAX_BRIGHT - 1)[-MAX_BRIGHT - 1]))
+    above = peaks > clamp
+    if not above.any():
+        return none
+    order = np.argsort(index[above])
+    return clamp, index[above][order], values[above][order]
 
 
 @numba.njit(cache=True)
@@ -639,39 +658,27 @@ def _peak_stats(values, omega, stats):  # pragma: no cover - compiled
             stats[2] = max(stats[2], peak)
 
 
-@numba.njit(cache=True)
-def _peak_histogram(values, omega, log_low, per_octave, hist):  # pragma: no cover - compiled
-    # bin 0: peaks at most 2^log_low; bin b >= 1: peaks in (2^(log_low + (b-1)/per_octave), ...]
-    for t in range(values.shape[0]):
-        if omega[t] > 0:
-            peak = values[t, 0]
-            for c in range(1, values.shape[1]):
-                peak = max(peak, values[t, c])
-            if peak > 2.0**log_low:
-                b = 1 + int((math.log2(peak) - log_low) * per_octave)
-                hist[min(b, hist.shape[0] - 1)] += 1
-            else:
-                hist[0] += 1
+def sample_weights(d: Layout, dst_shape, k: int, face: int, rows, cols) -> np.ndarray:
+    """The weights of :func:`supersample`'s samples ``rows x cols`` (of face ``face`` of ``d``'s
+    k-times finer grid): a cube's solid angle density ``(1 + sc^2 + tc^2)^-1.5`` at each sample,
+    as the fused in-memory kernel weighs them; the fine texels' exact solid angles otherwise."""
+    fine = fine_shape(d, dst_shape, k)
+    (r0, r1), (c0, c1) = rows, cols
+    if d.name == "cube":
+        sc = 2.0 * (np.arange(c0, c1) + 0.5) / fine[2] - 1.0
+        tc = 2.0 * (np.arange(r0, r1) + 0.5) / fine[1] - 1.0
+        q = 1.0 + sc[None, :] ** 2 + tc[:, None] ** 2
+        return 1.0 / (q * np.sqrt(q))
+    fh = fine[-2]
+    rows_of = (face * fh + r0, face * fh + r1)
+    _, _, _, omega = next(texel_strips(d, fine, rows=rows_of, texels=1 << 62, directions=False))
+    return omega.reshape(r1 - r0, -1)[:, c0:c1]
 
 
-@numba.njit(cache=True)
-def _above(values, omega, clamp):  # pragma: no cover - compiled
-    n = 0
-    for t in range(values.shape[0]):
-        if omega[t] > 0:
-            for c in range(values.shape[1]):
-                if values[t, c] > clamp:
-                    n += 1
-                    break
-    out = np.empty(n, np.int64)
-    n = 0
-    for t in range(values.shape[0]):
-        if omega[t] > 0:
-            for c in range(values.shape[1]):
-                if values[t, c] > clamp:
-                    out[n] = t
-                    n += 1
-                    break
+def box_reduce(samples: np.ndarray, weights: np.ndarray, k: int, out: np.ndarray) -> np.ndarray:
+    """``out[J, I]`` = the weighted mean of the k x k ``samples`` (rows, columns, C) of output
+    texel (J, I) with ``weights`` (rows, columns); 0 where they sum to 0. Returns ``out``."""
+    _box_reduce(samples, np.ascontiguousarray(weights), k, out)
     return out
 
 
