@@ -14,6 +14,7 @@ import numpy as np
 import trimesh
 
 from bakeshop.errors import ArgumentError, FormatError, validate_choice
+from bakeshop.io import check_input
 
 #: Names of the built-in shapes, in the order the test bench lists them.
 SHAPES = ("box", "sphere", "capsule", "cylinder", "torus", "peep", "hull")
@@ -107,6 +108,7 @@ def load_mesh(path: str | os.PathLike, *, repair: bool = False):
             f"unsupported mesh extension {path.suffix!r}; use one of {', '.join(MESH_EXTENSIONS)}",
             path,
         )
+    check_input(path)
     try:
         loaded = trimesh.load(path, force="mesh", process=True)
     except Exception as e:  # trimesh raises many types for corrupt files

@@ -98,15 +98,14 @@ def read_environment(path: Path, layout: str | None, convention: str = "opengl",
     ``{face}`` files or a .dds/.ktx/.ktx2 cube map (cube layouts in the engine
     ``convention``)."""
     from bakeshop import sphere
-    from bakeshop.io import read_image
+    from bakeshop.io import check_input, read_image
 
     if "{face}" in str(path):
         if layout is not None and not is_cube(layout):
             raise ArgumentError(f"a {{face}} input is six cube faces, not {layout}", path)
         faces = []
         for face_path in face_paths(path, short):
-            if not face_path.is_file():
-                raise ArgumentError("missing cube face file", face_path)
+            check_input(face_path)
             faces.append(read_image(face_path))
         shapes = {f.shape for f in faces}
         if len(shapes) != 1 or faces[0].shape[0] != faces[0].shape[1]:
@@ -115,8 +114,7 @@ def read_environment(path: Path, layout: str | None, convention: str = "opengl",
             )
         cube = sphere.faces_to_cube(np.stack(faces), convention=convention)
         return cube, "cube", "six face files"
-    if not path.is_file():
-        raise ArgumentError("no such file", path)
+    check_input(path)
     if is_container(path):
         mips, meta = read_container(path)
         if not meta.get("cube"):

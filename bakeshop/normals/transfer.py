@@ -43,6 +43,7 @@ import numpy as np
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, FormatError, validate_choice
+from bakeshop.io import check_input
 from bakeshop.normals.encoding import normalize
 from bakeshop.normals.tiling import as_pair, mip_chain, trilinear_add
 
@@ -190,6 +191,7 @@ def load_mesh(path: str | os.PathLike) -> UVMesh:
     ext = path.suffix.lower()
     if ext not in (".obj", ".gltf", ".glb"):
         raise ArgumentError(f"unsupported mesh format {ext!r}: use .obj, .gltf or .glb", path)
+    check_input(path)
     try:
         if ext == ".obj":
             mesh = trimesh.load(path, force="mesh", process=False, maintain_order=True)
