@@ -28,10 +28,9 @@ import warnings
 import mujoco
 import numpy as np
 
-from bakeshop.errors import ArgumentError
-
 from bakeshop.buoyancy.state import State
 from bakeshop.buoyancy.state import quaternion_to_matrix as _rotations
+from bakeshop.errors import ArgumentError
 
 
 def _warn(message: str) -> None:

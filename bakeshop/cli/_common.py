@@ -37,6 +37,8 @@ def parse_size(text: str) -> tuple[int, int] | int:
 INPUT = InputPath()
 #: click type for an input environment: one file, or six named with {face} (checked on reading).
 ENVIRONMENT = InputPath(patterns=True)
+#: click type for input frames: files or glob patterns (each match checked on reading).
+FRAMES = InputPath(patterns=True)
 #: click type for output files.
 OUTPUT = click.Path(dir_okay=False, writable=True, path_type=Path)
 #: click type for an output directory (the commands create it when missing).

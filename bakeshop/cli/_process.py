@@ -24,6 +24,7 @@ One run of the command line (:func:`run`) promises:
 from __future__ import annotations
 
 import contextlib
+import glob
 import logging
 import math
 import os
@@ -137,8 +138,8 @@ _inputs: list[str] = []
 class InputPath(click.ParamType):
     """An input file: checked by :func:`bakeshop.io.check_input` when the arguments are parsed
     (so a directory, named pipe, device or symbolic link loop fails at once with one line), and
-    remembered as one of the run's inputs. With ``patterns``, a name holding ``{face}`` is six
-    files, checked when they are read."""
+    remembered as one of the run's inputs. With ``patterns``, a name holding ``{face}`` (six
+    files) or a glob pattern is remembered as typed and its files are checked when read."""
 
     name = "file"
 
@@ -149,9 +150,10 @@ class InputPath(click.ParamType):
         from bakeshop.io import check_input
 
         path = Path(value)
-        if not (self.patterns and "{face}" in str(path)):
+        text = str(value)
+        if not (self.patterns and ("{face}" in text or glob.has_magic(text))):
             check_input(path)
-        _inputs.append(str(value))
+        _inputs.append(text)
         return path
 
 
@@ -189,7 +191,12 @@ def _raised_in(error: BaseException) -> str:
 
 
 def _one_line(text: str) -> str:
-    return "; ".join(line.strip() for line in str(text).splitlines() if line.strip())
+    """``text`` on one line: a line break after ``:`` or ``,`` becomes a space, others ``; ``."""
+    joined = ""
+    for line in (line.strip() for line in str(text).splitlines()):
+        if line:
+            joined += (" " if joined.endswith((":", ",")) else "; " if joined else "") + line
+    return joined
 
 
 def _bakeshop_error(error: BakeshopError) -> str:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import glob
-import os
 import re
 import string
 from pathlib import Path
@@ -13,6 +12,7 @@ import numpy as np
 
 from bakeshop.cli._common import (
     ENVIRONMENT,
+    FRAMES,
     OUTPUT,
     convention_option,
     is_ldr,
@@ -28,6 +28,7 @@ from bakeshop.cli._environment import (
     write_environment,
 )
 from bakeshop.errors import ArgumentError
+from bakeshop.io import check_input
 
 _AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 
@@ -286,16 +287,15 @@ def expand_inputs(patterns) -> list[Path]:
     """Input frames in order: each argument is a file or a glob pattern, whose matches are
     sorted by name with numbers in numeric order (frame_2 before frame_10)."""
     frames: list[Path] = []
-    for p in patterns:
+    for p in map(str, patterns):
         if glob.has_magic(p):
             matches = sorted(glob.glob(p), key=_natural_key)
             if not matches:
                 raise ArgumentError("no file matches this pattern", p)
             frames.extend(Path(m) for m in matches)
-        elif os.path.isfile(p):
-            frames.append(Path(p))
         else:
-            raise ArgumentError("no such file", p)
+            check_input(p)
+            frames.append(Path(p))
     return frames
 
 
@@ -317,7 +317,7 @@ def frame_paths(target: str, count: int) -> list[Path]:
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("inputs", nargs=-1, required=True, metavar="IN...")
+@click.argument("inputs", nargs=-1, required=True, metavar="IN...", type=FRAMES)
 @click.argument("target", metavar="OUT")
 @click.option(
     "--operator",

@@ -6,8 +6,8 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import secrets
 import stat
-import tempfile
 import threading
 from pathlib import Path
 
@@ -109,6 +109,9 @@ def describe_os_error(error: OSError) -> str:
     return text[:1].lower() + text[1:]
 
 
+#: flags of a new temporary file: created here or not at all, closed on exec.
+_CREATE = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
+
 _journal_lock = threading.Lock()
 _journals: list[list[Path]] = []
 
@@ -147,24 +150,33 @@ def atomic_path(target: str | os.PathLike):
     directory = target.parent if str(target.parent) else Path(".")
     if not directory.is_dir():
         raise BakeshopError(f"directory {str(directory)!r} does not exist", target)
+    tmp = None
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=directory)
-    except OSError as e:
-        raise BakeshopError(
-            f"cannot create a file in {str(directory)!r}: {describe_os_error(e)}", target
-        ) from None
-    os.close(fd)
-    try:
-        yield Path(tmp)
+        # The name is chosen before the file exists, inside the block that removes it: a signal
+        # that lands just after the file is created (where tempfile.mkstemp would still be
+        # returning its name) finds it already known. 48 random bits: a name taken by someone
+        # else is skipped (O_EXCL), and is never ours to remove.
+        while tmp is None:
+            tmp = directory / f".{target.stem}.{secrets.token_hex(6)}{target.suffix}"
+            try:
+                os.close(os.open(tmp, _CREATE, 0o600))
+            except FileExistsError:
+                tmp = None
+            except OSError as e:
+                tmp = None  # nothing was created
+                reason = f"cannot create a file in {str(directory)!r}: {describe_os_error(e)}"
+                raise BakeshopError(reason, target) from None
+        yield tmp
         os.chmod(tmp, 0o644)
         os.replace(tmp, target)
     except BaseException as e:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+        if tmp is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
         if isinstance(e, OSError):
             raise BakeshopError(f"cannot write the file: {describe_os_error(e)}", target) from None
-        if isinstance(e, BakeshopError):
-            _name_target(e, tmp, target)
+        if isinstance(e, BakeshopError) and tmp is not None:
+            _name_target(e, str(tmp), target)
         raise
     with _journal_lock:
         for journal in _journals:
