@@ -40,7 +40,13 @@ def cli(quiet: bool, max_decoded: int | None):
     """The content pipeline of a real-time renderer: HDR light probes, panoramas and cube maps,
     diffuse irradiance, fresnel bakes, normal maps and buoyancy.
 
-    Run 'bakeshop COMMAND --help' for what each command does, with an example.
+    Run 'bakeshop COMMAND --help' for what each command does, with an example. Errors are one
+    line on stderr (exit status 2); SIGINT and SIGTERM clean up and exit 130 and 143.
+
+    \b
+    Example:
+      bakeshop info probe.hdr
+      bakeshop --max-decoded 8G convert flat_16k_mask.png mask.exr
     """
     if not quiet:
         progress.enable()

@@ -52,6 +52,8 @@ def check_input(path: str | os.PathLike) -> os.stat_result:
             raise BakeshopError(reason, path)
     if not stat.S_ISREG(status.st_mode):
         raise BakeshopError("is not a regular file", path)
+    if not os.access(path, os.R_OK):
+        raise BakeshopError("cannot read the file: permission denied", path)
     return status
 
 
