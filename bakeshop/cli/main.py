@@ -27,7 +27,9 @@ class _Ordered(click.Group):
 
 @click.group(cls=_Ordered, context_settings=CONTEXT)
 @click.version_option(__version__, "--version", prog_name="bakeshop")
-@click.option("--quiet", "-q", is_flag=True, help="No progress bars.")
+@click.option(
+    "--quiet", "-q", is_flag=True, help="No progress bars (shown only when stderr is a terminal)."
+)
 @click.option(
     "--max-decoded",
     type=ByteSize(),
@@ -48,8 +50,8 @@ def cli(quiet: bool, max_decoded: int | None):
       bakeshop info probe.hdr
       bakeshop --max-decoded 8G convert flat_16k_mask.png mask.exr
     """
-    if not quiet:
-        progress.enable()
+    if not quiet and sys.stderr.isatty():
+        progress.enable()  # elsewhere rich leaves a blank line, a second line beside an error
     if max_decoded is not None:
         from bakeshop.io import decode_budget
 

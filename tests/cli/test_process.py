@@ -345,3 +345,10 @@ def test_the_decode_budget_option_allows_and_refuses(files, capfd):
     from bakeshop.io.budget import decode_limit
 
     assert decode_limit(0) == 1 << 30
+
+
+def test_without_quiet_an_error_is_still_one_line(files, capfd):
+    # progress bars are for terminals: on a pipe, rich's bar left a blank line beside the error
+    args = ["prefilter", str(files / "ok.hdr"), "/proc/x.dds", "--size", "8", "--mips", "2"]
+    assert main(args) == 2
+    assert one_error_line(capfd).startswith("bakeshop: error: /proc/x.dds: cannot create")
