@@ -8,8 +8,8 @@ One run of the command line (:func:`run`) promises:
   with 128 + the signal number (130 for SIGINT, 143 for SIGTERM, 129 for SIGHUP), the statuses
   a shell reports for a process the signal killed. SIGINT is taken even when the parent
   ignored it: a shell script without job control starts its background commands with SIGINT
-  ignored, and Python then honours the ``kill -INT`` of that job by ignoring it, finishing the
-  work and exiting 0. SIGHUP keeps being ignored under ``nohup``.
+  ignored, Python keeps an inherited SIG_IGN, and so a ``kill -INT`` of such a job went
+  unheard: the work finished and the command exited 0. SIGHUP stays ignored under ``nohup``.
 - **One line on stderr for a failure**, ``bakeshop: error: FILE: reason``, and nothing else:
   Python warnings (numpy's overflow warnings among them) and log records of the libraries
   (trimesh) raised during the run are collected, dropped when the run fails, and printed one
@@ -49,7 +49,7 @@ if hasattr(signal, "SIGHUP"):
 GRACE_SECONDS = 5.0
 
 
-class Interrupted(BaseException):  # noqa: N818 - a signal, not an error
+class Interrupted(BaseException):
     """A signal received by the command line, raised in the main thread.
 
     A :class:`BaseException` like :class:`KeyboardInterrupt`, so that code which handles
