@@ -18,8 +18,9 @@ Other channels of the part are listed in the metadata as ``ignored_channels`` an
 converted or kept: the first part is read through OpenEXR's frame-buffer interface
 (``OpenEXR.InputFile``), which fills only the channels asked for, in blocks of rows converted
 straight into the float32 image (the peak is the image plus one block). Another part is read
-with ``OpenEXR.File``, which decodes every channel of every part; the decode budget
-(:mod:`bakeshop.io.budget`) counts them all, from the header, before anything is decoded.
+with ``OpenEXR.File``, which decodes every channel of every part, and so is the first part by
+bindings that no longer offer ``InputFile`` (deprecated in OpenEXR 3.3+); the decode budget
+(:mod:`bakeshop.io.budget`) counts every channel from the header before anything is decoded.
 Luminance-chroma (``RY``, ``BY``) and sub-sampled channels are refused rather than read wrongly.
 
 Writing stores half floats by default (``pixel_type="float"`` for 32-bit), as scanlines with
@@ -312,7 +313,7 @@ def read(
     # is read (OpenEXR.File decodes them all); and the float32 image returned.
     stored = sum(_samples(h) for h in (headers if part > 0 else [header])) * _SAMPLE_BYTES
     check_decode(stored + width * height * len(order) * 4, os.path.getsize(path))
-    if part == 0:
+    if part == 0 and hasattr(OpenEXR, "InputFile"):  # deprecated in the bindings, still there
         planes, types = _library(_first_part, path, unique, header["data_window"])
         image = planes[:, :, [unique.index(n) for n in order]] if grey_alpha else planes
     else:
