@@ -9,6 +9,7 @@ from pathlib import Path
 import click
 import numpy as np
 
+from bakeshop.cli._process import InputPath
 from bakeshop.errors import ArgumentError
 
 
@@ -32,10 +33,15 @@ def parse_size(text: str) -> tuple[int, int] | int:
     return parts[0] if len(parts) == 1 else (parts[0], parts[1])
 
 
-#: click type for input files: must exist, readable, not a directory.
-INPUT = click.Path(exists=True, dir_okay=False, readable=True, path_type=Path)
+#: click type for input files: a readable regular file (checked when parsed: a directory, named
+#: pipe, device or symbolic link loop fails at once), remembered as one of the run's inputs.
+INPUT = InputPath()
 #: click type for an input environment: one file, or six named with {face} (checked on reading).
-ENVIRONMENT = click.Path(dir_okay=False, path_type=Path)
+ENVIRONMENT = InputPath(patterns=True)
+#: click type for input frames: files or glob patterns (each match checked on reading).
+FRAMES = InputPath(patterns=True)
+#: click type for an input image that may also be a .zarr store (a directory).
+SOURCE = InputPath(stores=True)
 #: click type for output files.
 OUTPUT = click.Path(dir_okay=False, writable=True, path_type=Path)
 #: click type for an output directory (the commands create it when missing).

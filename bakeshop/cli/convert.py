@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
 import numpy as np
 
 from bakeshop.cli._common import (
     OUTPUT,
+    SOURCE,
     is_ldr,
     parse_options,
     refuse_overwriting_inputs,
@@ -18,7 +17,7 @@ from bakeshop.errors import ArgumentError
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("source", type=click.Path(exists=True, readable=True, path_type=Path))
+@click.argument("source", type=SOURCE)
 @click.argument("target", type=OUTPUT)
 @click.option(
     "--exposure",

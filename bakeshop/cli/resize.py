@@ -2,19 +2,15 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
 
 from bakeshop.cli._common import (
     OUTPUT,
+    SOURCE,
     parse_size,
     refuse_overwriting_inputs,
 )
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
-
-#: an input file, or a .zarr store (a directory).
-SOURCE = click.Path(exists=True, readable=True, path_type=Path)
 
 
 @click.command(context_settings={"max_content_width": 100})

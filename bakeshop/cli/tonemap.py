@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import glob
-import os
 import re
 import string
 from pathlib import Path
@@ -11,12 +10,14 @@ from pathlib import Path
 import click
 
 from bakeshop.cli._common import (
+    FRAMES,
     is_ldr,
     parse_exposure,
     refuse_overwriting_inputs,
     require_hdr,
 )
 from bakeshop.errors import ArgumentError
+from bakeshop.io import check_input
 
 
 def _natural_key(path: str):
@@ -28,16 +29,15 @@ def expand_inputs(patterns) -> list[Path]:
     """Input frames in order: each argument is a file or a glob pattern, whose matches are
     sorted by name with numbers in numeric order (frame_2 before frame_10)."""
     frames: list[Path] = []
-    for p in patterns:
+    for p in map(str, patterns):
         if glob.has_magic(p):
             matches = sorted(glob.glob(p), key=_natural_key)
             if not matches:
                 raise ArgumentError("no file matches this pattern", p)
             frames.extend(Path(m) for m in matches)
-        elif os.path.isfile(p):
-            frames.append(Path(p))
         else:
-            raise ArgumentError("no such file", p)
+            check_input(p)
+            frames.append(Path(p))
     return frames
 
 
@@ -59,7 +59,7 @@ def frame_paths(target: str, count: int) -> list[Path]:
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("inputs", nargs=-1, required=True, metavar="IN...")
+@click.argument("inputs", nargs=-1, required=True, metavar="IN...", type=FRAMES)
 @click.argument("target", metavar="OUT")
 @click.option(
     "--operator",

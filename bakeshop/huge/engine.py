@@ -40,6 +40,7 @@ class InTask:
         self.threads = threads
 
     def __call__(self, *args, **kwargs):
+        """Run the task with numba limited to this worker's share of the threads."""
         before = numba.get_num_threads()
         numba.set_num_threads(max(1, min(self.threads, numba.config.NUMBA_NUM_THREADS)))
         try:

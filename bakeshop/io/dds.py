@@ -39,7 +39,7 @@ import struct
 import numpy as np
 
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
-from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload
+from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
 from bakeshop.io._levels import (
     DTYPES,
     MAX_LEVELS,
@@ -164,7 +164,7 @@ def read_dds(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     bakeshop.errors.UnsupportedError
         Block-compressed or integer formats, volume textures and texture arrays.
     """
-    with open(path, "rb") as f:
+    with open_input(path) as f:
         head = f.read(_HEADER.size + _DX10.size)
         size = os.fstat(f.fileno()).st_size
     if len(head) < _HEADER.size or not sniff(head):

@@ -19,6 +19,7 @@ from typing import NamedTuple
 import numpy as np
 
 from bakeshop.errors import ArgumentError
+from bakeshop.io._files import check_input
 from bakeshop.io.containers import is_container, read_container, write_container
 
 #: the placeholder a file name uses for the six faces of a cube (``env_{face}.hdr``).
@@ -123,8 +124,7 @@ def read_environment(
             raise ArgumentError(f"a {{face}} input is six cube faces, not {layout}", path)
         faces = []
         for face_path in face_paths(path, short=short):
-            if not face_path.is_file():
-                raise ArgumentError("missing cube face file", face_path)
+            check_input(face_path)
             faces.append(read_image(face_path))
         shapes = {f.shape for f in faces}
         if len(shapes) != 1 or faces[0].shape[0] != faces[0].shape[1]:
@@ -133,8 +133,7 @@ def read_environment(
             )
         cube = sphere.faces_to_cube(np.stack(faces), convention=convention)
         return EnvironmentFile(cube, "cube", "six face files")
-    if not path.is_file():
-        raise ArgumentError("no such file", path)
+    check_input(path)
     if is_container(path):
         mips, meta = read_container(path)
         if not meta.get("cube"):

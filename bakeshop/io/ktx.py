@@ -30,7 +30,7 @@ import struct
 import numpy as np
 
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
-from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload
+from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
 from bakeshop.io._levels import (
     DTYPES,
     MAX_LEVELS,
@@ -136,7 +136,7 @@ def read_ktx(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     bakeshop.errors.UnsupportedError
         Compressed or integer formats, 3-D textures and texture arrays.
     """
-    with open(path, "rb") as f:
+    with open_input(path) as f:
         data = f.read()
     if len(data) < _HEADER_SIZE or not sniff(data):
         raise FormatError("not a KTX 1 file (bad identifier)")

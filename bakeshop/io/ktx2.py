@@ -36,7 +36,7 @@ import numpy as np
 
 from bakeshop import __version__
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
-from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload
+from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
 from bakeshop.io._levels import (
     DTYPES,
     MAX_LEVELS,
@@ -178,7 +178,7 @@ def read_ktx2(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     bakeshop.errors.UnsupportedError
         Other formats, supercompression, 3-D textures and texture arrays.
     """
-    with open(path, "rb") as f:
+    with open_input(path) as f:
         data = f.read()
     if len(data) < _HEADER.size or not sniff(data):
         raise FormatError("not a KTX2 file (bad identifier)")

@@ -55,6 +55,7 @@ from PIL import Image
 from bakeshop.errors import ArgumentError, BakeshopError, FormatError, UnsupportedError
 from bakeshop.io._files import MAX_PIXELS, check_dimensions
 from bakeshop.io._quantize import float_to_unsigned, unsigned_to_float
+from bakeshop.io.budget import check_decode
 
 NAME = "PNG/JPEG"
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -225,13 +226,16 @@ def _expand_grey_alpha(values: np.ndarray) -> np.ndarray:
 
 
 def _open_with_pillow(data: bytes, max_pixels: int) -> Image.Image:
-    """Decode with Pillow: its decompression-bomb limit and bakeshop's size limits both apply."""
+    """Decode with Pillow: its decompression-bomb limit and bakeshop's size limits and decode
+    budget all apply (the budget counts the float32 image: 4 channels for a palette)."""
     try:
         with warnings.catch_warnings():
             # bakeshop checks the size against its own limits; Pillow's warning adds nothing
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
             image = Image.open(io.BytesIO(data))
             check_dimensions(*image.size, max_pixels=max_pixels)
+            bands = 4 if image.mode in ("P", "PA") else len(image.getbands())
+            check_decode(image.size[0] * image.size[1] * bands * 4, len(data))
             image.load()
         return image
     except BakeshopError:
@@ -309,6 +313,12 @@ def _read_png(data: bytes, max_pixels: int) -> tuple[np.ndarray, dict]:
     kinds = {kind for kind, *_ in chunks}
     colour_name = COLOUR_TYPES[header["colour"]][0]
     colour, depth = header["colour"], header["depth"]
+    # the float32 image (RGBA for grey + alpha, palettes with alpha and colour keys) and the
+    # inflated scanlines, before anything is inflated
+    channels = {0: 1, 2: 3, 3: 3, 4: 4, 6: 4}[colour]
+    if b"tRNS" in kinds:
+        channels = 4
+    check_decode(header["width"] * header["height"] * channels * 4 + needed, len(data))
     if depth == 16 and colour in (2, 4, 6):
         values = _decode_png16(data, header, chunks)
         if colour == 4:

@@ -42,6 +42,7 @@ import numpy as np
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError, validate_choice
 from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
 from bakeshop.io._quantize import float_to_unsigned, unsigned_to_float
+from bakeshop.io.budget import check_decode
 
 NAME = "TGA"
 HEADER = struct.Struct("<BBBHHBHHHHBB")
@@ -259,6 +260,9 @@ def read(path, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
         bpp = (depth + 7) // 8
         count = width * height
         available = size - f.tell()
+        # RLE packets repeat a pixel 128 times: the float32 image (at most 4 channels) and the
+        # unpacked bytes must fit the budget for a file of this size
+        check_decode(count * (4 * 4 + bpp), size)
         if h["rle"]:
             check_payload(-(-count // 128) * (1 + bpp), available, "RLE pixel data (at least)")
             data = np.fromfile(f, np.uint8)
