@@ -10,13 +10,11 @@ import numba
 import numpy as np
 
 from bakeshop.sphere._maps import (
-    ANGULAR,
-    CUBE,
-    DUAL_PARABOLOID,
     LATLONG,
-    MIRRORBALL,
     coordinates,
     direction,
+    is_cubic,
+    is_disk,
     latlong_trig,
     latlong_xy,
     resolve,
@@ -67,9 +65,9 @@ def block(kind, h, w, f, i0, j0, size):
     texel (a, b) is simply that index + b w + a."""
     if i0 < 0 or j0 < 0 or i0 + size > w or j0 + size > h:
         return -1
-    if kind == CUBE:
+    if is_cubic(kind):
         return (int(f) * h + j0) * w + i0
-    if kind == ANGULAR or kind == MIRRORBALL or kind == DUAL_PARABOLOID:
+    if is_disk(kind):
         n = h
         li = i0 % n
         if li + size > n:
