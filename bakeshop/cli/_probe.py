@@ -17,12 +17,16 @@ FILE_LAYOUTS = (
     "latlong",
     "angular",
     "mirrorball",
+    "angular-physical",
+    "mirrorball-physical",
     "octahedral",
     "dual-paraboloid",
     "cross-vertical",
     "cross-horizontal",
     "strip-horizontal",
     "strip-vertical",
+    "openexr-latlong",
+    "openexr-cube",
 )
 
 
@@ -34,8 +38,9 @@ from_option = click.option(
     "--from",
     "src_layout",
     type=click.Choice(FILE_LAYOUTS),
-    help="Layout of IN; guessed from its shape when only one fits (2:1 is latlong). IN may "
-    "also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
+    help="Layout of IN; read from an EXR's envmap attribute (openexr-latlong, openexr-cube), "
+    "else guessed from its shape when only one fits (2:1 is latlong). IN may also be a "
+    ".dds/.ktx/.ktx2 cube or six files with {face}.",
 )
 
 

@@ -49,7 +49,7 @@ def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
       bakeshop dims probe.exr -o dims/ --format exr --size 512x256
     """
     from bakeshop import progress
-    from bakeshop.io import write_image, write_json
+    from bakeshop.io import write_environment, write_image, write_json
     from bakeshop.light import dim_pair, sun_document
 
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -59,8 +59,8 @@ def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
     image, layout, _ = read_probe(source, src_layout)
     pair, elapsed = timed(dim_pair, image, layout, dst_layout, size, method, order)
     with progress.step(f"writing {out_dir}"):
-        write_image(names["sun_dim"], pair.sun_dim)
-        write_image(names["shadow_dim"], pair.shadow_dim)
+        write_environment(names["sun_dim"], pair.sun_dim, dst_layout)
+        write_environment(names["shadow_dim"], pair.shadow_dim, dst_layout)
         write_image(names["shadow_probe"], as_picture(pair.shadow_probe, layout))
         write_json(out_dir / "sun.json", sun_document(pair.sun))
     click.echo(

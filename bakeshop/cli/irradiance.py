@@ -55,7 +55,7 @@ def irradiance(source, target, src_layout, method, order, dst_layout, size, sh_j
       bakeshop irradiance probe.hdr dim_sh.hdr --method sh --order 2 --sh-json sh.json
       bakeshop irradiance probe.hdr dim.hdr --shader irradiance.glsl
     """
-    from bakeshop.io import write_image, write_json, write_text
+    from bakeshop.io import write_environment, write_json, write_text
     from bakeshop.light import irradiance as compute_dim
     from bakeshop.light import sh, sh_coefficients
 
@@ -66,7 +66,7 @@ def irradiance(source, target, src_layout, method, order, dst_layout, size, sh_j
         raise ArgumentError("the shader file must end in .glsl or .hlsl", shader)
     image, layout, _ = read_probe(source, src_layout)
     dim, elapsed = timed(compute_dim, image, layout, dst_layout, size, method, order)
-    write_image(target, dim)
+    write_environment(target, dim, dst_layout)
     click.echo(
         f"wrote {target}: {describe(dim, dst_layout)} DIM (E/pi) of {source.name} "
         f"({describe(image, layout)}), method {method}"

@@ -382,6 +382,17 @@ def resolve(kind, h, w, f, i, j, x):
     return cj * w + ci
 
 
+@_jit
+def nearest_texel(kind, h, w, f, x, y):
+    """Flat index of the texel containing the point at coordinates (f, x, y) (``resolve`` of
+    its integer texel); a cube face owns its far edges, so that a direction on a cube edge or
+    corner (where OpenEXR's cube puts texel centres) finds its face's texel."""
+    i, j = int(math.floor(x)), int(math.floor(y))
+    if is_cubic(kind):
+        i, j = min(i, w - 1), min(j, h - 1)
+    return resolve(kind, h, w, f, i, j, x)
+
+
 # --- drivers ------------------------------------------------------------------------------------
 
 
