@@ -10,7 +10,8 @@ from pathlib import Path
 import click
 
 from bakeshop.cli._common import parse_size
-from bakeshop.io.environment import read_environment
+from bakeshop.errors import ArgumentError
+from bakeshop.io.environment import LAYOUT_ENVMAPS, is_cube, read_environment
 
 #: layouts a single image file can hold (the cube is written as a cross or a strip).
 FILE_LAYOUTS = (
@@ -132,3 +133,21 @@ def read_probe(source: Path | None, layout: str | None, *, convention: str = "op
     with progress.step(f"reading {source.name}"):
         image, layout, _ = read_environment(source, layout, convention=convention)
     return image, layout, source
+
+
+def picture_layout(layout: str) -> str:
+    """The layout a probe's picture (a painted probe) is written in: a cube as a vertical
+    cross (:func:`bakeshop.io.environment.as_picture`), any other layout as it is."""
+    return "cross-vertical" if is_cube(layout) else layout
+
+
+def check_picture_format(layout: str, fmt: str, source) -> None:
+    """Refuse, before any work, to write a probe picture in OpenEXR's layouts to a format that
+    cannot say so (only an .exr's envmap attribute can)."""
+    if layout in LAYOUT_ENVMAPS and fmt != "exr":
+        raise ArgumentError(
+            f"the probe is {layout} (OpenEXR's mapping, from its envmap attribute), which only "
+            f"an .exr file can say: use --format exr, or convert it first (bakeshop remap "
+            f"{source} probe.hdr --to latlong)",
+            source,
+        )

@@ -16,6 +16,7 @@ from bakeshop.cli._common import (
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import (
     FACES,
+    check_openexr_target,
     describe,
     is_container,
     is_cube,
@@ -42,6 +43,7 @@ def _check_target(target: Path, layout: str) -> None:
             )
     elif "{face}" in str(target):
         raise ArgumentError(f"{{face}} in the output name needs --to faces, not {layout}", target)
+    check_openexr_target(target, layout)
 
 
 @click.command(context_settings={"max_content_width": 100})

@@ -174,7 +174,7 @@ def read_environment(
         except ArgumentError as e:
             raise ArgumentError(f"its envmap attribute says {meta['envmap']}, but {e.reason}",
                                 path) from None  # fmt: skip
-        return EnvironmentFile(image, envmap, f"its envmap attribute ({meta['envmap']})")
+        return EnvironmentFile(image, envmap, f"its envmap attribute is {meta['envmap']}")
     guessed = guess_input_layout(image, path)
     h, w = image.shape[:2]
     return EnvironmentFile(image, guessed, f"guessed from its {w}x{h} shape")
@@ -223,16 +223,11 @@ def write_environment(
         The files written.
     """
     from bakeshop import sphere
-    from bakeshop.io import codec_for, write_image
+    from bakeshop.io import write_image
 
     path = Path(path)
+    check_openexr_target(path, layout)
     if layout in LAYOUT_ENVMAPS:
-        if codec_for(path) != "exr":
-            raise ArgumentError(
-                f"{layout} is OpenEXR's environment mapping: write it to an .exr file (its "
-                f"envmap attribute says how to read it), or convert to another layout",
-                path,
-            )
         write_image(path, image, envmap=LAYOUT_ENVMAPS[layout])
         return [path]
     if not is_cube(layout):
@@ -252,6 +247,20 @@ def write_environment(
     for face_path, face in zip(paths, faces, strict=True):
         write_image(face_path, face)
     return paths
+
+
+def check_openexr_target(path: str | os.PathLike, layout: str) -> None:
+    """Refuse to write OpenEXR's layouts (``openexr-latlong``, ``openexr-cube``) anywhere but an
+    .exr file: only its ``envmap`` attribute says how to read them (commands call this before
+    any work, :func:`write_environment` again when writing)."""
+    from bakeshop.io import codec_for
+
+    if layout in LAYOUT_ENVMAPS and codec_for(path) != "exr":
+        raise ArgumentError(
+            f"{layout} is OpenEXR's environment mapping: write it to an .exr file (its envmap "
+            "attribute says how to read it), or convert to another layout",
+            path,
+        )
 
 
 def check_chain_path(path: str | os.PathLike) -> None:

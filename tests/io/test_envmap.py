@@ -40,8 +40,8 @@ def pair(request):
     latlong = read_environment(DATA / ll_name)
     cube = read_environment(DATA / cube_name)
     assert (latlong.layout, cube.layout) == ("openexr-latlong", "openexr-cube")
-    assert latlong.how == "its envmap attribute (latlong)"
-    assert cube.how == "its envmap attribute (cube)"
+    assert latlong.how == "its envmap attribute is latlong"
+    assert cube.how == "its envmap attribute is cube"
     return request.param, latlong.image, cube.image
 
 

@@ -481,5 +481,8 @@ def test_guess_layout():
     assert guess_layout(768, 1024) == ["cross-horizontal"]
     assert guess_layout(64, 384) == ["strip-horizontal"]
     assert guess_layout(384, 64) == ["strip-vertical"]
-    assert set(guess_layout(512, 512)) == {"angular", "mirrorball", "octahedral"}
+    assert guess_layout(512, 512) == [
+        "angular", "mirrorball", "octahedral", "angular-physical", "mirrorball-physical"
+    ]  # fmt: skip
+    assert "octahedral" not in guess_layout(511, 511)
     assert guess_layout(100, 333) == []
