@@ -108,7 +108,7 @@ def main() -> None:
             "openexr-cube",
             e,
             {(k, 0): lab for k, lab in enumerate(sphere.FACE_LABELS)},
-            "openexr-cube faces\n(top to bottom in the file)",
+            "openexr-cube (its faces, top to bottom in the file)",
             "openexr_cube",
         )  # fmt: skip
     )
