@@ -297,6 +297,9 @@ def probe():
         ("strip-horizontal", 32, SPHERE_AREA_ENERGY_RTOL),
         ("mirrorball", 128, SPHERE_AREA_ENERGY_RTOL),
         ("mirrorball", 64, SPHERE_AREA_ENERGY_RTOL),
+        ("mirrorball-physical", 64, SPHERE_AREA_ENERGY_RTOL),
+        ("openexr-latlong", 64, SPHERE_AREA_ENERGY_RTOL),
+        ("openexr-cube", 48, SPHERE_AREA_ENERGY_RTOL),
     ],
 )
 def test_area_filter_preserves_the_energy_of_a_real_probe(probe, dst, size, rtol):
@@ -380,11 +383,13 @@ def test_area_filter_preserves_the_energy_of_a_sun_at_the_zenith(row):
         )
 
 
-@pytest.mark.parametrize("src", ["latlong", "cube", "octahedral", "angular"])
+@pytest.mark.parametrize(
+    "src", ["latlong", "cube", "octahedral", "angular", "openexr-latlong", "openexr-cube"]
+)
 def test_area_filter_preserves_energy_of_noise_with_rotation(src):
     rng = np.random.default_rng(4)
     lay = layout(src)
-    shape = lay.shape(96 if src != "latlong" else 128)
+    shape = lay.shape(128 if src.endswith("latlong") else 96)
     img = (rng.random(shape + (2,)) ** 4).astype(np.float32)
     img[~lay.directions(shape)[1]] = 0
     for dst, size, rtol in [
@@ -392,12 +397,17 @@ def test_area_filter_preserves_energy_of_noise_with_rotation(src):
         ("latlong", 24, SPHERE_AREA_ENERGY_RTOL),
         ("octahedral", 24, SPHERE_AREA_ENERGY_RTOL),
         ("mirrorball", 32, SPHERE_AREA_ENERGY_RTOL),
+        ("openexr-cube", 16, SPHERE_AREA_ENERGY_RTOL),
     ]:
         out = remap(img, src, dst, size, filter="area", rotation=(30, 20, 10))
         np.testing.assert_allclose(energy(out, dst), energy(img, src), rtol=rtol)
 
 
-@pytest.mark.parametrize("dst", ["cube", "latlong", "angular", "mirrorball", "dual-paraboloid"])
+@pytest.mark.parametrize(
+    "dst",
+    ["cube", "latlong", "angular", "mirrorball", "dual-paraboloid", "openexr-latlong",
+     "openexr-cube"],
+)  # fmt: skip
 def test_area_filter_keeps_a_uniform_environment_uniform(dst):
     """Down and up: the filter is a weighted mean, so a constant stays exactly constant."""
     for size in (8, 200):
