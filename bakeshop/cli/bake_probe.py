@@ -12,7 +12,7 @@ from bakeshop.cli._common import (
     out_dir_option,
     refuse_overwriting_inputs,
 )
-from bakeshop.cli._probe import read_probe
+from bakeshop.cli._probe import check_picture_format, picture_layout, read_probe
 from bakeshop.io.environment import (
     as_picture,
     describe,
@@ -25,8 +25,9 @@ _from = click.option(
     "--from",
     "src_layout",
     metavar="LAYOUT",
-    help="Layout of IN (latlong, angular, mirrorball, cross-vertical, ...); guessed from its "
-    "shape when only one fits. IN may also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
+    help="Layout of IN (latlong, angular, mirrorball, cross-vertical, ...); an EXR's envmap "
+    "attribute (openexr-latlong, openexr-cube), else guessed from its shape when only one "
+    "fits. IN may also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
 )
 
 
@@ -75,6 +76,7 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
 
     out_dir.mkdir(parents=True, exist_ok=True)
     image, layout, source = read_probe(source, src_layout)
+    check_picture_format(layout, fmt, source)
     dropped = image.shape[-1] == 4 and f".{fmt}" not in ALPHA_EXTENSIONS
     if dropped:  # alpha is carried by every step, but .hdr and .pfm store none
         image = image[..., :3]
@@ -100,7 +102,9 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
         write_image(paths["sun_dim"], baked.sun_dim)
         write_image(paths["shadow_dim"], baked.shadow_dim)
         # a cube probe (faces or a container) is painted as a cube: one picture, a cross
-        write_image(paths["shadow_probe"], as_picture(baked.shadow_probe, layout))
+        write_environment(
+            paths["shadow_probe"], as_picture(baked.shadow_probe, layout), picture_layout(layout)
+        )
         write_json(paths["sun"], sun_document(baked.sun))
         write_json(paths["sh"], sh.to_document(baked.sh))
         write_chain(paths["specular"], baked.specular, convention="opengl")

@@ -19,7 +19,7 @@ from bakeshop.cli._probe import (
     to_option,
 )
 from bakeshop.errors import ArgumentError
-from bakeshop.io.environment import describe
+from bakeshop.io.environment import check_openexr_target, describe
 
 
 @click.command(context_settings={"max_content_width": 100})
@@ -55,7 +55,7 @@ def irradiance(source, target, src_layout, method, order, dst_layout, size, sh_j
       bakeshop irradiance probe.hdr dim_sh.hdr --method sh --order 2 --sh-json sh.json
       bakeshop irradiance probe.hdr dim.hdr --shader irradiance.glsl
     """
-    from bakeshop.io import write_image, write_json, write_text
+    from bakeshop.io import write_environment, write_json, write_text
     from bakeshop.light import irradiance as compute_dim
     from bakeshop.light import sh, sh_coefficients
 
@@ -64,9 +64,10 @@ def irradiance(source, target, src_layout, method, order, dst_layout, size, sh_j
         refuse_overwriting_inputs(out, source)
     if shader is not None and shader.suffix.lower() not in (".glsl", ".hlsl"):
         raise ArgumentError("the shader file must end in .glsl or .hlsl", shader)
+    check_openexr_target(target, dst_layout)
     image, layout, _ = read_probe(source, src_layout)
     dim, elapsed = timed(compute_dim, image, layout, dst_layout, size, method, order)
-    write_image(target, dim)
+    write_environment(target, dim, dst_layout)
     click.echo(
         f"wrote {target}: {describe(dim, dst_layout)} DIM (E/pi) of {source.name} "
         f"({describe(image, layout)}), method {method}"

@@ -17,6 +17,7 @@ from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import (
     FACES,
+    check_openexr_target,
     describe,
     is_container,
     is_cube,
@@ -37,11 +38,13 @@ def _check_target(target: Path, layout: str) -> None:
             raise ArgumentError(
                 "a cube is written as six files: put {face} in the output name (sky_{face}.exr "
                 "gives sky_posx.exr ... sky_negz.exr), write one .dds, .ktx or .ktx2 file, or "
-                "choose a cross or strip (--to cross-vertical)",
+                "choose a cross or strip (--to cross-vertical) or OpenEXR's cube environment "
+                "(--to openexr-cube)",
                 target,
             )
     elif "{face}" in str(target):
         raise ArgumentError(f"{{face}} in the output name needs --to faces, not {layout}", target)
+    check_openexr_target(target, layout)
 
 
 @click.command(context_settings={"max_content_width": 100})
@@ -51,8 +54,9 @@ def _check_target(target: Path, layout: str) -> None:
     "--from",
     "src",
     type=click.Choice(_layouts()),
-    help="Layout of SOURCE. Default: guessed from its shape (2:1 latlong, 3:4 and 4:3 crosses, "
-    "6:1 and 1:6 strips; a square image is ambiguous: name it).",
+    help="Layout of SOURCE. Default: an EXR's envmap attribute (openexr-latlong, openexr-cube), "
+    "else guessed from its shape (2:1 latlong, 3:4 and 4:3 crosses, 6:1 and 1:6 strips; a "
+    "square image is ambiguous: name it).",
 )
 @click.option("--to", "dst", type=click.Choice(_layouts()), required=True, help="Layout of TARGET.")
 @click.option(
@@ -104,13 +108,16 @@ def remap(
 ):
     """Convert the panorama SOURCE from one layout to another and write TARGET.
 
-    Layouts: latlong (equirectangular), angular (Debevec light probe), mirrorball, octahedral,
+    Layouts: latlong (equirectangular), angular (Debevec light probe) and mirrorball as HDRShop
+    reads them (centre forward, -Z), angular-physical and mirrorball-physical (the exact
+    reflection in a ball you photographed: centre +Z, behind the camera), octahedral,
     dual-paraboloid, cube maps as six files (faces: {face} in the name, or one .dds/.ktx/.ktx2
     file) and as pictures: cross-vertical, cross-horizontal, strip-horizontal,
-    strip-vertical. Crosses and strips are drawn as HDRShop and cmft draw them (seen from
-    inside the cube, unmirrored, the centre looking forward); six face files follow
+    strip-vertical; OpenEXR's environments openexr-latlong and openexr-cube (.exr only, with
+    their envmap attribute). Crosses and strips are drawn as HDRShop and cmft draw them (seen
+    from inside the cube, unmirrored, the centre looking forward); six face files follow
     --convention. Seams are filtered across (cube edges, latlong poles). See
-    docs/panoramas.md.
+    docs/panoramas.md and docs/conventions.md.
 
     \b
     Example:
@@ -119,6 +126,8 @@ def remap(
       bakeshop remap sky.exr sky_{face}.exr --to faces --size 1024 --convention directx
       bakeshop remap sky_{face}.hdr sky.exr --from faces --to latlong --rotate 90,0,0
       bakeshop remap sky.ktx2 sky.hdr --to latlong
+      bakeshop remap KernerEnvCube.exr kerner.hdr --to latlong
+      bakeshop remap sky.hdr sky_env.exr --to openexr-cube --size 512
       bakeshop remap pano_32k.pfm sky_{face}.exr --to faces --size 2048 --memory 2GB
 
     A panorama larger than memory (a flat layout in .pfm, .hdr, .exr, .tif or .zarr) is

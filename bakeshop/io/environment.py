@@ -8,6 +8,11 @@ map; cube mip chains; and 2-D lookup tables.
 
 A cube in memory is bakeshop's ``(6, S, S, C)`` in OpenGL order and orientation; in files it
 is the face set of an engine ``convention`` (:func:`bakeshop.sphere.cube_to_faces`).
+
+OpenEXR environments say their mapping in the standard ``envmap`` attribute (``ImfEnvmap.h``):
+``latlong`` and ``cube`` are read as bakeshop's layouts ``openexr-latlong`` and
+``openexr-cube`` (the exact mappings the header defines, see docs/conventions.md), and an
+environment written in one of them to an .exr file carries the attribute.
 """
 
 from __future__ import annotations
@@ -28,6 +33,9 @@ FACE_FIELD = "{face}"
 FACES = "faces"
 #: the placeholder for the level of a mip chain written as one file per level.
 MIP_FIELD = "{mip}"
+#: OpenEXR ``envmap`` attribute value -> the bakeshop layout that is its mapping, and back.
+ENVMAP_LAYOUTS = {"latlong": "openexr-latlong", "cube": "openexr-cube"}
+LAYOUT_ENVMAPS = {layout: envmap for envmap, layout in ENVMAP_LAYOUTS.items()}
 
 
 class EnvironmentFile(NamedTuple):
@@ -102,9 +110,11 @@ def read_environment(
         One image (any layout), a name with ``{face}`` (six files, see :func:`face_paths`), or
         a cube map container (its level 0 is read).
     layout : str, optional
-        The layout of a single image (:data:`bakeshop.sphere.LAYOUT_NAMES`); guessed from its
-        shape when None (:func:`guess_input_layout`). Face files and containers are cubes
-        (``"cube"`` or ``"faces"``).
+        The layout of a single image (:data:`bakeshop.sphere.LAYOUT_NAMES`). When None: an
+        OpenEXR file's ``envmap`` attribute if it has one (``latlong`` is ``openexr-latlong``,
+        ``cube`` is ``openexr-cube``), else guessed from the shape
+        (:func:`guess_input_layout`). A layout given overrides the attribute (``how`` says
+        so). Face files and containers are cubes (``"cube"`` or ``"faces"``).
     convention : {"opengl", "vulkan", "directx"}
         The engine face set of face files and containers (:func:`bakeshop.sphere.faces_to_cube`).
     short : bool
@@ -141,7 +151,8 @@ def read_environment(
         faces = _without_padding(mips[0])
         cube = sphere.faces_to_cube(faces, convention=convention)
         return EnvironmentFile(cube, "cube", "a cube map file")
-    image = read_image(path)
+    image, meta = read_image(path, with_metadata=True)
+    envmap = ENVMAP_LAYOUTS.get(meta.get("envmap"))
     if layout is not None and is_cube(layout):
         raise ArgumentError(
             "a cube input is six files (put {face} in the name), a .dds, .ktx or .ktx2 file, "
@@ -153,7 +164,16 @@ def read_environment(
             sphere.layout(layout).check_shape(image.shape[:2])
         except ArgumentError as e:
             raise ArgumentError(e.reason, path) from None
+        if envmap is not None and envmap != layout:
+            return EnvironmentFile(image, layout, f"given, over its envmap attribute ({envmap})")
         return EnvironmentFile(image, layout, "given")
+    if envmap is not None:
+        try:
+            sphere.layout(envmap).check_shape(image.shape[:2])
+        except ArgumentError as e:
+            raise ArgumentError(f"its envmap attribute says {meta['envmap']}, but {e.reason}",
+                                path) from None  # fmt: skip
+        return EnvironmentFile(image, envmap, f"its envmap attribute is {meta['envmap']}")
     guessed = guess_input_layout(image, path)
     h, w = image.shape[:2]
     return EnvironmentFile(image, guessed, f"guessed from its {w}x{h} shape")
@@ -186,7 +206,10 @@ def write_environment(
     image : array
         In ``layout``: ``(H, W, C)``, or ``(6, S, S, C)`` for the cube.
     layout : str
-        Any of :data:`bakeshop.sphere.LAYOUT_NAMES`, or ``"faces"`` (a cube).
+        Any of :data:`bakeshop.sphere.LAYOUT_NAMES`, or ``"faces"`` (a cube). OpenEXR's layouts
+        ``openexr-latlong`` and ``openexr-cube`` are written to .exr files only, with their
+        ``envmap`` attribute (``latlong``, ``cube``): in any other format they would read back
+        as another layout.
     convention : {"opengl", "vulkan", "directx"}
     short : bool
         ``{face}`` becomes px ... nz.
@@ -202,6 +225,10 @@ def write_environment(
     from bakeshop.io import write_image
 
     path = Path(path)
+    check_openexr_target(path, layout)
+    if layout in LAYOUT_ENVMAPS:
+        write_image(path, image, envmap=LAYOUT_ENVMAPS[layout])
+        return [path]
     if not is_cube(layout):
         write_image(path, image)
         return [path]
@@ -219,6 +246,20 @@ def write_environment(
     for face_path, face in zip(paths, faces, strict=True):
         write_image(face_path, face)
     return paths
+
+
+def check_openexr_target(path: str | os.PathLike, layout: str) -> None:
+    """Refuse to write OpenEXR's layouts (``openexr-latlong``, ``openexr-cube``) anywhere but an
+    .exr file: only its ``envmap`` attribute says how to read them (commands call this before
+    any work, :func:`write_environment` again when writing)."""
+    from bakeshop.io import codec_for
+
+    if layout in LAYOUT_ENVMAPS and codec_for(path) != "exr":
+        raise ArgumentError(
+            f"{layout} is OpenEXR's environment mapping: write it to an .exr file (its envmap "
+            "attribute says how to read it), or convert to another layout",
+            path,
+        )
 
 
 def check_chain_path(path: str | os.PathLike) -> None:

@@ -92,15 +92,13 @@ def test_every_reader_refuses_special_files_at_once(tmp_path, ext):
         assert caught.value.path == str(path), kind
 
 
-def test_mesh_loaders_refuse_special_files_at_once(tmp_path):
-    from bakeshop.buoyancy.shapes import load_mesh as load_floating
-    from bakeshop.normals.transfer import load_mesh
+@pytest.mark.parametrize("ext", [".obj", ".stl", ".glb"])
+def test_the_mesh_loader_refuses_special_files_at_once(tmp_path, ext):
+    from bakeshop.io import load_mesh
 
-    for i, load in enumerate((load_mesh, load_floating)):
-        (tmp_path / str(i)).mkdir()
-        for path, words in special_files(tmp_path / str(i), ".obj").values():
-            with no_hang(), pytest.raises(BakeshopError, match=words):
-                load(path)
+    for path, words in special_files(tmp_path, ext).values():
+        with no_hang(), pytest.raises(BakeshopError, match=words):
+            load_mesh(path)
 
 
 def test_unreadable_file_says_permission_denied(tmp_path):
