@@ -10,8 +10,17 @@ from bakeshop.cli._common import (
     ENVIRONMENT,
     OUTPUT,
     convention_option,
+    environment_weights,
+    is_picture,
+    linearise,
+    make_picture,
     parse_size,
+    picture_options,
     refuse_overwriting_inputs,
+    refuse_unused_picture_rule,
+    srgb_decode_option,
+    stored_bits,
+    warn,
 )
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import (
@@ -60,7 +69,7 @@ def _check_target(target: Path, layout: str) -> None:
     metavar="N|WxH",
     help="Output size: WxH for a latlong (360x180) or N (its height), one edge for square "
     "layouts, the face edge for cubes, crosses and strips. Default: about as many texels as "
-    "SOURCE.",
+    "SOURCE (a power-of-two face edge for cubes, crosses and strips).",
 )
 @click.option(
     "--filter",
@@ -86,7 +95,21 @@ def _check_target(target: Path, layout: str) -> None:
     is_flag=True,
     help="{face} is px, nx, py, ny, pz, nz instead of posx, negx, posy, negy, posz, negz.",
 )
-def remap(source, target, src, dst, size_text, filter_name, rotate, convention, short_face_names):
+@srgb_decode_option
+@picture_options()
+def remap(
+    source,
+    target,
+    src,
+    dst,
+    size_text,
+    filter_name,
+    rotate,
+    convention,
+    short_face_names,
+    srgb_decode,
+    picture,
+):
     """Convert the panorama SOURCE from one layout to another and write TARGET.
 
     Layouts: latlong (equirectangular), angular (Debevec light probe), mirrorball, octahedral,
@@ -97,6 +120,12 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
     --convention. Seams are filtered across (cube edges, latlong poles). See
     docs/panoramas.md.
 
+    A picture TARGET (.png .tga .jpg) of HDR data follows the display rule of every command
+    (docs/tonemap.md): --exposure (default 0 EV), --tonemap (default none: clamp at 1), sRGB
+    encoding (or --linear), 8 bits (16 with --bits 16, or when the input has 16), said in one
+    line and recorded in the file. A picture SOURCE holds display-encoded values: they are
+    remapped as stored (with a warning) unless --srgb-decode linearises them.
+
     \b
     Example:
       bakeshop remap probe.hdr cross.exr --to cross-vertical --size 512
@@ -104,6 +133,7 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
       bakeshop remap sky.exr sky_{face}.exr --to faces --size 1024 --convention directx
       bakeshop remap sky_{face}.hdr sky.exr --from faces --to latlong --rotate 90,0,0
       bakeshop remap sky.ktx2 sky.hdr --to latlong
+      bakeshop remap probe.hdr preview.png --to cross-vertical --exposure auto --tonemap aces
     """
     from bakeshop import progress, sphere
 
@@ -117,10 +147,14 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
             rotation = []
         if len(rotation) != 3:
             raise ArgumentError(f"--rotate takes YAW,PITCH,ROLL in degrees; got {rotate!r}")
+    picture_out = is_picture(target)
+    if not picture_out:
+        refuse_unused_picture_rule(picture, target)
     with progress.step(f"reading {source}"):
-        image, src, how = read_environment(
-            source, src, convention=convention, short=short_face_names
+        (image, src, how), meta = read_environment(
+            source, src, convention=convention, short=short_face_names, with_metadata=True
         )
+    image, linear = linearise(image, source, meta, srgb_decode)
     dst_name = "cube" if dst == FACES else dst
     size = None if size_text is None else parse_size(size_text)
     if filter_name == "auto":
@@ -129,13 +163,30 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
         filter_name = sphere.auto_filter(src, src_shape, dst_name, dst_shape)
     with progress.step(f"remapping {src} -> {dst_name} ({filter_name})"):
         out = sphere.remap(image, src, dst_name, size, filter=filter_name, rotation=rotation)
+    shown, description, note = None, None, None
+    if picture_out:
+        weights = environment_weights(dst_name, out.shape[:-1])
+        pixels, shown, description, note = make_picture(
+            out, picture, target, weights=weights, inputs=[stored_bits(meta)], linear_input=linear
+        )
     with progress.step(f"writing {target}"):
-        written = write_environment(target, out, dst, convention=convention, short=short_face_names)
+        written = write_environment(
+            target,
+            pixels if picture_out else out,
+            dst,
+            convention=convention,
+            short=short_face_names,
+            description=description,
+        )
     where = written[0] if len(written) == 1 else f"{written[0]} ... {written[-1].name}"
     click.echo(
         f"wrote {where}: {describe(out, dst_name)} from {describe(image, src)} "
         f"({how}), {filter_name}" + (f", rotated {rotate}" if rotate else "")
     )
+    if shown:
+        click.echo(f"  picture: {shown}")
+    if note:
+        warn(note, target)
 
 
 def register(group: click.Group) -> None:
