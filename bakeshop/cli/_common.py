@@ -298,9 +298,24 @@ def picture_options(*, exposure: str = "0", operator: str = "none"):
     return decorate
 
 
+class MadePicture(NamedTuple):
+    """What :func:`make_picture` returns."""
+
+    #: uint8 or uint16 code values.
+    pixels: np.ndarray
+    #: what was done, in one line (for the command's summary).
+    line: str
+    #: the line the file records (``description``).
+    description: str
+    #: the precision note, or None when nothing is lost.
+    note: str | None
+    #: the exposure applied, stops.
+    ev: float
+
+
 def make_picture(
     image, rule: PictureRule, target, *, weights=None, inputs=(), linear_input: bool = True
-):
+) -> MadePicture:
     """Apply the one display rule to ``image`` for the picture file ``target``.
 
     ``linear_input``: the values are linear (HDR, or decoded with --srgb-decode); they get
@@ -312,9 +327,7 @@ def make_picture(
 
     Returns
     -------
-    (pixels, line, description, note)
-        The uint8/uint16 code values, what was done in one line, the line the file records,
-        and the precision note (None when nothing is lost).
+    MadePicture
     """
     from bakeshop.image import to_picture
 
@@ -332,7 +345,7 @@ def make_picture(
             dither="triangular" if rule.dither else "none",
             weights=weights,
         )
-        return picture.pixels, picture.describe(), picture.metadata(), note
+        return MadePicture(picture.pixels, picture.describe(), picture.metadata(), note, picture.ev)
     if rule.ev != 0 or rule.operator != "none" or rule.linear:
         raise ArgumentError(
             "the input holds display-encoded values: --exposure, --tonemap and --linear apply "
@@ -343,7 +356,7 @@ def make_picture(
         image, ev=0.0, encoding="linear", bits=bits, dither="triangular" if rule.dither else "none"
     )
     line = f"values kept as stored (display-encoded), {bits}-bit"
-    return picture.pixels, line, f"bakeshop: {line}", note
+    return MadePicture(picture.pixels, line, f"bakeshop: {line}", note, 0.0)
 
 
 def srgb_decode_option(command):
@@ -410,3 +423,37 @@ def environment_weights(layout: str, spatial_shape, *, up=None) -> np.ndarray:
     if up is not None:
         weights[sphere.texel_cosines(lay, tuple(spatial_shape), up) <= 0] = 0.0
     return weights
+
+
+def write_any(target, image, rule: PictureRule, *, inputs=(), linear: bool, options=None):
+    """Write ``image`` to ``target`` by the one rule: a picture file through
+    :func:`make_picture` (its precision note warned), a float file with the rule's exposure
+    only (a number of stops, or auto/fit metered on the frame). Returns the line saying what
+    was done to the values, or None when they were written as they are."""
+    from bakeshop.image import choose_exposure, exposure
+    from bakeshop.io import write_image
+
+    options = dict(options or {})
+    if is_picture(target):
+        requested = options.pop("bits", None)
+        if requested is not None and rule.bits is not None and requested != rule.bits:
+            raise ArgumentError("--bits and -O bits= disagree", target)
+        if requested is not None:
+            rule = rule._replace(bits=int(requested))
+        made = make_picture(image, rule, target, inputs=inputs, linear_input=linear)
+        write_image(target, made.pixels, description=made.description, **options)
+        if made.note:
+            warn(made.note, target)
+        return made.line
+    if rule.operator != "none" or rule.linear or rule.dither or rule.bits:
+        raise ArgumentError(
+            "--tonemap, --linear, --dither and --bits apply to picture outputs (.png, .tga, "
+            ".jpg); this output stores floats",
+            target,
+        )
+    if rule.ev == 0:
+        write_image(target, image, **options)
+        return None
+    chosen = choose_exposure(image, rule.ev)
+    write_image(target, exposure(image, chosen.ev), **options)
+    return f"exposure {chosen.ev:+.2f} EV" + ("" if chosen.mode == "fixed" else f" ({chosen.mode})")

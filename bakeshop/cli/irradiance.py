@@ -106,13 +106,13 @@ def irradiance(
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     image, linear = linearise(image, source, meta, srgb_decode)
     dim, elapsed = timed(compute_dim, image, layout, dst_layout, size, method, order, window)
-    shown = None
+    made = None
     if picture_out:
         weights = environment_weights(dst_layout, dim.shape[:-1])
-        pixels, shown, description, note = make_picture(
+        made = make_picture(
             dim, picture, target, weights=weights, inputs=[stored_bits(meta)], linear_input=linear
         )
-        write_image(target, pixels, description=description)
+        write_image(target, made.pixels, description=made.description)
     else:
         write_image(target, dim)
     click.echo(
@@ -124,10 +124,10 @@ def irradiance(
     if method == "sh":
         report = sh.windowed_irradiance(sh_coefficients(image, layout, order=order), window=window)
         click.echo(f"  SH irradiance: {report.describe()}")
-    if shown:
-        click.echo(f"  picture: {shown}")
-        if note:
-            warn(note, target)
+    if made is not None:
+        click.echo(f"  picture: {made.line}")
+        if made.note:
+            warn(made.note, target)
     if extras:
         coeffs = sh_coefficients(image, layout, order=max(order, 2) if shader else order)
         if sh_json is not None:

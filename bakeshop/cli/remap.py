@@ -163,30 +163,30 @@ def remap(
         filter_name = sphere.auto_filter(src, src_shape, dst_name, dst_shape)
     with progress.step(f"remapping {src} -> {dst_name} ({filter_name})"):
         out = sphere.remap(image, src, dst_name, size, filter=filter_name, rotation=rotation)
-    shown, description, note = None, None, None
+    made = None
     if picture_out:
         weights = environment_weights(dst_name, out.shape[:-1])
-        pixels, shown, description, note = make_picture(
+        made = make_picture(
             out, picture, target, weights=weights, inputs=[stored_bits(meta)], linear_input=linear
         )
     with progress.step(f"writing {target}"):
         written = write_environment(
             target,
-            pixels if picture_out else out,
+            out if made is None else made.pixels,
             dst,
             convention=convention,
             short=short_face_names,
-            description=description,
+            description=None if made is None else made.description,
         )
     where = written[0] if len(written) == 1 else f"{written[0]} ... {written[-1].name}"
     click.echo(
         f"wrote {where}: {describe(out, dst_name)} from {describe(image, src)} "
         f"({how}), {filter_name}" + (f", rotated {rotate}" if rotate else "")
     )
-    if shown:
-        click.echo(f"  picture: {shown}")
-    if note:
-        warn(note, target)
+    if made is not None:
+        click.echo(f"  picture: {made.line}")
+        if made.note:
+            warn(made.note, target)
 
 
 def register(group: click.Group) -> None:

@@ -8,7 +8,10 @@ from bakeshop.cli._common import (
     INPUT,
     OUTPUT,
     parse_size,
+    picture_options,
     refuse_overwriting_inputs,
+    stored_bits,
+    write_any,
 )
 
 
@@ -21,13 +24,16 @@ from bakeshop.cli._common import (
     metavar="WxH",
     help="Output size; a single W keeps the aspect ratio (height rounded).",
 )
-def resize(source, target, size):
+@picture_options()
+def resize(source, target, size, picture):
     """Resize SOURCE to TARGET with energy-preserving area resampling.
 
     Each output texel is the exact mean of the input over its footprint (the exact box filter
     for integer factors, area-weighted otherwise), so the image's mean is preserved to float32
     rounding: the way to bring huge artist images down to real-time sizes without losing or
     gaining light. Values are resampled as stored: resize linear (HDR) data, not sRGB pictures.
+    An 8/16-bit TARGET keeps the depth of an 8/16-bit SOURCE; from float data it follows the
+    display rule of every command (docs/tonemap.md: --exposure, --tonemap, sRGB, --bits).
 
     \b
     Example:
@@ -35,17 +41,21 @@ def resize(source, target, size):
       bakeshop resize probe.hdr small.hdr --size 360
     """
     from bakeshop.image import resize_area
-    from bakeshop.io import read_image, write_image
+    from bakeshop.io import read_image
 
     refuse_overwriting_inputs(target, source)
     wanted = parse_size(size)
-    image = read_image(source)
+    image, meta = read_image(source, with_metadata=True)
     h, w = image.shape[:2]
     if isinstance(wanted, int):
         wanted = (wanted, max(1, round(h * wanted / w)))
     out = resize_area(image, wanted)
-    write_image(target, out)
-    click.echo(f"wrote {target}: {w}x{h} -> {wanted[0]}x{wanted[1]} (mean preserved)")
+    bits = stored_bits(meta)
+    line = write_any(target, out, picture, inputs=[bits], linear=bits is None)
+    click.echo(
+        f"wrote {target}: {w}x{h} -> {wanted[0]}x{wanted[1]} (mean preserved)"
+        + (f"; {line}" if line else "")
+    )
 
 
 def register(group: click.Group) -> None:

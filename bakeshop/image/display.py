@@ -756,6 +756,45 @@ def _metered_weights(image, weights, center_weight) -> np.ndarray:
     return np.where(lit, w, 0.0) if (lit & (w > 0)).any() else w
 
 
+class Exposure(NamedTuple):
+    """What :func:`choose_exposure` returns."""
+
+    #: stops.
+    ev: float
+    #: "fixed", "auto" or "fit".
+    mode: str
+    #: fraction of the texels metered (1 for a fixed exposure).
+    metered: float
+    #: the metering weights (spatial shape), or None for a fixed exposure.
+    weights: np.ndarray | None
+
+
+def choose_exposure(
+    image,
+    ev=0.0,
+    *,
+    weights=None,
+    key: float = MIDDLE_GREY,
+    center_weight: float = 0.75,
+    clip_fraction: float = CLIP_FRACTION,
+) -> Exposure:
+    """The exposure of the display rule (:func:`to_picture`): ``ev`` stops, or metered.
+
+    ``"auto"`` is :func:`auto_exposure` (log-average luminance to ``key``), ``"fit"`` is
+    :func:`fit_exposure` (only ``clip_fraction`` clips), both over ``weights`` (or the
+    centre-weighted frame) without the texels that are exactly black in every channel.
+    """
+    if not isinstance(ev, str):
+        return Exposure(check_ev(ev), "fixed", 1.0, None)
+    validate_choice(ev, EXPOSURE_MODES, "exposure mode")
+    w = _metered_weights(image, weights, center_weight)
+    if ev == "auto":
+        value = check_ev(auto_exposure(image, key=key, weights=w))
+    else:
+        value = fit_exposure(image, weights=w, clip_fraction=clip_fraction)
+    return Exposure(value, ev, float(np.count_nonzero(w) / w.size), w)
+
+
 def to_picture(
     image,
     *,
@@ -809,19 +848,15 @@ def to_picture(
     validate_choice(operator, TONE_OPERATORS, "tone operator")
     validate_choice(encoding, ENCODINGS, "picture encoding")
     a, colour = _colour_channels(image)
-    if isinstance(ev, str):
-        validate_choice(ev, EXPOSURE_MODES, "exposure mode")
-        mode = ev
-        w = _metered_weights(a, weights, center_weight)
-        if mode == "auto":
-            value = check_ev(auto_exposure(a, key=key, weights=w))
-        else:
-            value = fit_exposure(a, weights=w, clip_fraction=clip_fraction)
-        total = (w > 0).sum()
-        metered = float(total / w.size)
-    else:
-        mode, value, metered = "fixed", check_ev(ev), 1.0
-        w = None
+    chosen = choose_exposure(
+        a,
+        ev,
+        weights=weights,
+        key=key,
+        center_weight=center_weight,
+        clip_fraction=clip_fraction,
+    )
+    value, mode, metered, w = chosen.ev, chosen.mode, chosen.metered, chosen.weights
     exposed = exposure(a, value)
     if operator == "reinhard":
         exposed = reinhard(exposed, white=white)
