@@ -110,29 +110,6 @@ def is_ldr(path) -> bool:
     return codec_for(path) not in HDR_CODECS
 
 
-def require_hdr(path) -> None:
-    """Raise :class:`ArgumentError` unless ``path`` is a linear HDR format (.hdr, .exr, .pfm)."""
-    if is_ldr(path):
-        raise ArgumentError(
-            "this command takes linear HDR input (.hdr, .exr, .pfm); 8-bit pictures hold "
-            "display-encoded values (decode with 'bakeshop convert --srgb-decode' first)",
-            path,
-        )
-
-
-def parse_exposure(text: str | None) -> float | str | None:
-    """``None``, ``'auto'`` or a number of stops."""
-    if text is None or text.strip().lower() == "auto":
-        return None if text is None else "auto"
-    try:
-        ev = float(text)
-    except ValueError:
-        ev = float("nan")
-    if not np.isfinite(ev):
-        raise ArgumentError(f"invalid exposure {text!r}: a number of stops (EV) or 'auto'")
-    return ev
-
-
 # -- pictures: the display rule, bit depth and display-encoded inputs -----------------------------
 
 

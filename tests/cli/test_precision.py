@@ -177,3 +177,21 @@ def test_irradiance_sh_is_windowed_and_reports_the_negative_fraction(tmp_path, c
     assert doc["irradiance"]["negative_fraction_unwindowed"] > 0.05
     assert main([*args, "--window", "none"]) == 0
     assert read_image(tmp_path / "dim.exr").min() < 0  # the raw ring, kept available
+
+
+def test_tonemap_meters_a_cross_as_an_environment(tmp_path, capsys):
+    lay = layout("cross-vertical")
+    shape = lay.shape(8)
+    omega = lay.solid_angles(shape)
+    rng = np.random.default_rng(5)
+    image = np.where((omega > 0)[..., None], rng.uniform(0.1, 2, shape + (3,)), 0)
+    src = tmp_path / "cross.exr"
+    write_image(src, image.astype(np.float32), pixel_type="float")
+    out = tmp_path / "cross.png"
+    assert main(["tonemap", str(src), str(out), "--from", "cross-vertical"]) == 0
+    ev = float(Image.open(out).info["Description"].split("exposure ")[1].split(" EV")[0])
+    lum = image @ np.array([0.2126, 0.7152, 0.0722])
+    valid = omega > 0
+    log_avg = np.exp(np.sum(omega[valid] * np.log(1e-4 + lum[valid])) / omega[valid].sum())
+    assert ev == pytest.approx(np.log2(0.18 / log_avg), abs=1e-4)
+    assert "auto exposure" in capsys.readouterr().out
