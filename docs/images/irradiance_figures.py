@@ -5,8 +5,9 @@ its shadow DIM, and the sun before and after removal), irradiance_methods.png (t
 error of ``sh`` L = 2 and of ``auto`` against ``exact``), irradiance_suns.png (what sun
 detection says on every shared probe), irradiance_sh_windows.png (the order-2 SH DIM of the
 embedded default probe under each window, with its negative fraction and error; ``python
-irradiance_figures.py windows`` makes this one alone, from the repository only). Table (printed as Markdown): ``auto``
-and ``sh`` L = 2 against ``exact`` on every probe of ../shared/data/hdr at 360x180.
+irradiance_figures.py windows`` makes this one alone, from the repository only). Table
+(printed as Markdown): ``auto`` and ``sh`` L = 2 against ``exact`` on every probe of
+../shared/data/hdr at 360x180.
 
 Run: ``.venv/bin/python docs/images/irradiance_figures.py`` (a few minutes: ``exact`` runs at
 360x180 from each 1024x512 probe).
