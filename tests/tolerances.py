@@ -193,3 +193,18 @@ ENVMAP_KERNER_SMOOTH_MEDIAN = 0.005
 #: Orientation pair: fraction of texels off by more than 0.25 (measured 0.55% latlong -> cube,
 #: 0% cube -> latlong; latlong -> faces read as a strip: 1.6%).
 ENVMAP_ORIENTATION_OFF = 0.01
+#: SH windowing (tests/light/test_sh_window.py): a windowed reconstruction against its closed
+#: form by the addition theorem, float64 (absolute, on values of order 1).
+SH_WINDOW_CLOSED_FORM = 1e-12
+#: the minimal window's lambda against the root of the closed-form minimum (relative; the
+#: bisection stops at 1e-4).
+SH_MINIMAL_LAMBDA_RTOL = 2e-4
+#: how far below zero the minimal window's function may dip anywhere (relative to its mean;
+#: Nelder-Mead's bottom of the basin, then lambda one bisection step above the root).
+SH_MINIMAL_NEGATIVE = 1e-9
+#: a windowed SH irradiance vs brute-force convolution of the texels with the windowed,
+#: truncated zonal kernel (relative to the DIM's maximum; both float64 sums over the same
+#: texels, differing only in summation order and the projection's quadrature).
+SH_WINDOW_BRUTE_FORCE = 1e-9
+#: the negative fraction on a 256-row latlong vs the exact solid angle (absolute).
+SH_NEGATIVE_FRACTION_ATOL = 2e-3

@@ -82,7 +82,7 @@ order_option = click.option(
 )
 
 
-def timed(compute, image, layout, dst_layout, size, method, order):
+def timed(compute, image, layout, dst_layout, size, method, order, window="minimal"):
     """``(compute(image, layout, to=..., ...), seconds)``: the DIM or the DIM pair, timed."""
     started = time.perf_counter()
     result = compute(
@@ -92,6 +92,7 @@ def timed(compute, image, layout, dst_layout, size, method, order):
         size=output_size(dst_layout, size),
         method=method,
         order=order,
+        window=window,
     )
     return result, time.perf_counter() - started
 
@@ -123,16 +124,25 @@ def sun_lines(sun) -> list[str]:
     ]
 
 
-def read_probe(source: Path | None, layout: str | None, *, convention: str = "opengl"):
-    """``(image, layout, path)`` of the input probe; the embedded default when ``source`` is
-    None (see :func:`bakeshop.io.read_environment`)."""
+def read_probe(
+    source: Path | None,
+    layout: str | None,
+    *,
+    convention: str = "opengl",
+    with_metadata: bool = False,
+):
+    """``(image, layout, path)`` of the input probe (and its file's metadata with
+    ``with_metadata``); the embedded default when ``source`` is None (see
+    :func:`bakeshop.io.read_environment`)."""
     from bakeshop import progress
     from bakeshop.data import default_probe_path
 
     source = default_probe_path() if source is None else source
     with progress.step(f"reading {source.name}"):
-        image, layout, _ = read_environment(source, layout, convention=convention)
-    return image, layout, source
+        (image, layout, _), meta = read_environment(
+            source, layout, convention=convention, with_metadata=True
+        )
+    return (image, layout, source, meta) if with_metadata else (image, layout, source)
 
 
 def picture_layout(layout: str) -> str:
@@ -151,3 +161,14 @@ def check_picture_format(layout: str, fmt: str, source) -> None:
             f"{source} probe.hdr --to latlong)",
             source,
         )
+
+
+window_option = click.option(
+    "--window",
+    type=click.Choice(("minimal", "hanning", "lanczos", "none")),
+    default="minimal",
+    show_default=True,
+    help="Window of SH irradiance against ringing (method sh, --sh-json, --shader): minimal is "
+    "Sloan's least window that makes it nowhere negative (none when it already is); hanning "
+    "and lanczos are fixed windows of width order+1.",
+)

@@ -8,8 +8,10 @@ import numpy as np
 from bakeshop.cli._common import (
     ENVIRONMENT,
     float_format_option,
+    linearise,
     out_dir_option,
     refuse_overwriting_inputs,
+    srgb_decode_option,
 )
 from bakeshop.cli._probe import (
     check_picture_format,
@@ -22,6 +24,7 @@ from bakeshop.cli._probe import (
     sun_lines,
     timed,
     to_option,
+    window_option,
 )
 from bakeshop.io.environment import as_picture, check_openexr_target, describe
 
@@ -35,7 +38,9 @@ from bakeshop.io.environment import as_picture, check_openexr_target, describe
 @order_option
 @to_option
 @size_option
-def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
+@window_option
+@srgb_decode_option
+def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size, window, srgb_decode):
     """Make the DIM pair of the probe IN: sun_dim, shadow_dim, shadow_probe and sun.json.
 
     The sun is found and painted out of the probe (shadow_probe, same layout and size as IN,
@@ -59,9 +64,10 @@ def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
     for path in (*names.values(), out_dir / "sun.json"):
         refuse_overwriting_inputs(path, source)
     check_openexr_target(names["sun_dim"], dst_layout)
-    image, layout, _ = read_probe(source, src_layout)
+    image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     check_picture_format(layout, fmt, source)
-    pair, elapsed = timed(dim_pair, image, layout, dst_layout, size, method, order)
+    image, _ = linearise(image, source, meta, srgb_decode)
+    pair, elapsed = timed(dim_pair, image, layout, dst_layout, size, method, order, window)
     with progress.step(f"writing {out_dir}"):
         write_environment(names["sun_dim"], pair.sun_dim, dst_layout)
         write_environment(names["shadow_dim"], pair.shadow_dim, dst_layout)

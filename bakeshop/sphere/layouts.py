@@ -43,6 +43,14 @@ def _dirs_array(dirs) -> np.ndarray:
     return d
 
 
+def power_of_two_edge(area: float) -> int:
+    """The power of two nearest (in log scale) to ``sqrt(area)``: the default edge of cube faces,
+    so that a cube's texels number about ``6 * area`` and every mip level halves exactly
+    (296 texels becomes 256, 326 becomes 256, 400 becomes 512)."""
+    edge = float(np.sqrt(max(float(area), 1.0)))
+    return int(2 ** round(np.log2(edge)))
+
+
 class Layout:
     """A panorama layout. Get one with :func:`layout` (``layout("latlong")``)."""
 
@@ -76,7 +84,8 @@ class Layout:
         raise NotImplementedError
 
     def default_size(self, texels: int) -> int:
-        """The size (for :meth:`shape`) whose valid texels number about ``texels``."""
+        """The size (for :meth:`shape`) whose valid texels number about ``texels`` (for cubes,
+        crosses and strips: the nearest power-of-two face edge, :func:`power_of_two_edge`)."""
         raise NotImplementedError
 
     # -- the three operations --------------------------------------------------------------------
@@ -636,7 +645,7 @@ class Cube(Layout):
             raise ArgumentError(f"a cube map is (6, S, S); got spatial shape {shape}")
 
     def default_size(self, texels):
-        return max(1, round(np.sqrt(texels / 6)))
+        return power_of_two_edge(texels / 6)
 
     def solid_angles(self, shape):
         _, s, _ = self.check_shape(shape)
@@ -688,7 +697,7 @@ class CubeView(Layout):
         return self.check_shape(shape)[0] // self.rows
 
     def default_size(self, texels):
-        return max(1, round(np.sqrt(texels / 6)))
+        return power_of_two_edge(texels / 6)
 
     def directions(self, shape):
         s = self.face_size(shape)

@@ -15,6 +15,7 @@ from bakeshop.sphere import (
     cube_to_view,
     layout,
     remap,
+    remap_shape,
     rotation_matrix,
     sample,
 )
@@ -230,7 +231,12 @@ def test_types_and_channel_axis():
     cube = remap(img, "latlong", "cube", 8)
     cross = remap(img, "latlong", "cross-vertical", 8)
     np.testing.assert_array_equal(cross, cube_to_view(cube, "cross-vertical"))
-    assert remap(img, "latlong", "cube").shape == (6, 18, 18, 3)  # default: same texel count
+    # default: about the same texel count, as a power-of-two face (sqrt(64 * 32 / 6) = 18.5)
+    assert remap(img, "latlong", "cube").shape == (6, 16, 16, 3)
+    for texels, edge in ((6 * 296**2, 256), (6 * 326**2, 256), (6 * 400**2, 512), (1, 1)):
+        for name in ("cube", "cross-vertical", "strip-horizontal"):
+            assert layout(name).default_size(texels) == edge
+    assert remap_shape("latlong", (512, 1024), "cross-vertical") == (1024, 768)
     dirs = np.random.default_rng(0).normal(size=(4, 5, 3))
     assert sample(img, "latlong", dirs).shape == (4, 5, 3)
     assert sample(img[..., 0], "latlong", dirs[0, 0]).shape == ()
