@@ -24,8 +24,9 @@ from bakeshop.io.dds import read_dds, write_dds
 from bakeshop.io.ktx import read_ktx
 from bakeshop.io.ktx2 import read_ktx2
 
-#: an operation on a special file fails within this (it must not block at all)
-HANG_SECONDS = 10
+#: an operation on a special file fails within this (it must not block at all: a hang is
+#: forever, while a loaded machine may take seconds to import and compile a command's code)
+HANG_SECONDS = 30
 
 
 @contextlib.contextmanager
@@ -261,7 +262,9 @@ def test_a_signal_at_any_moment_of_writing_leaves_no_temporary(tmp_path):
             received, left, done = json.loads(child.stdout.readline())
             assert received == [signal.SIGTERM] and left == []
             writes += done
-        assert writes > 2 * rounds  # the signals landed amid writes
+        # the signals landed amid writes, not only before the first (fewer writes per round
+        # on a loaded machine, where each takes longer)
+        assert writes > rounds // 2
     finally:
         child.kill()
         child.wait()
