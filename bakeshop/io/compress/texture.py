@@ -105,7 +105,7 @@ def check_range(
     mips : list of float32 arrays
         Clamped copies where anything was clamped, else the inputs.
     notes : dict
-        ``overflow`` (the choice), ``clamped_texels`` (values clamped, all channels and levels),
+        ``overflow`` (the choice), ``clamped_values`` (values clamped, all channels and levels),
         ``peak`` (largest magnitude before clamping) and ``clamped_energy`` (fraction of the sum
         of the level 0 values removed by clamping); ``{}`` for the 8-bit formats.
     """
@@ -143,7 +143,7 @@ def check_range(
         )
     notes = {
         "overflow": overflow,
-        "clamped_texels": count,
+        "clamped_values": count,
         "peak": peak,
         "clamped_energy": removed / total if total > 0 else 0.0,
     }
