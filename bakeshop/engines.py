@@ -251,7 +251,7 @@ ENGINES: dict[str, Engine] = {
             sh="filament",
             normal_format="bc5",
             normal_convention="gl",
-            files={"environment": "skybox.ktx", "specular": "ibl.ktx", "sh": "sh.txt"},
+            files={"environment": "skybox.ktx", "specular": "ibl.ktx", "sh": "sh_filament.json"},
             checked="Roughness to LOD: Filament's perceptualRoughnessToLod "
             "(shaders/src/surface_light_indirect.fs), iblRoughnessOneLevel * r (2 - r), "
             "inverted exactly with iblRoughnessOneLevel = levels - 1. SH: Filament's "
@@ -338,7 +338,8 @@ def mip_roughness(e: Engine | str, levels: int) -> np.ndarray | None:
         return np.zeros(1)
     top = e.lod_of_roughness(1.0, levels)
     out = np.empty(levels)
-    for m in range(levels):
+    out[0] = 0.0  # level 0 is the environment itself
+    for m in range(1, levels):
         lod = min(float(m), top)
         lo, hi = 0.0, 1.0
         for _ in range(60):

@@ -59,7 +59,7 @@ def quality_options(command):
     return command
 
 
-def _describe_quality(q: dict) -> str:
+def describe_quality(q: dict) -> str:
     def db(value):
         return "lossless" if value == float("inf") else f"{value:.2f} dB"
 
@@ -153,7 +153,7 @@ def _summary(paths, report, levels, cube) -> None:
         f": {what}, {shape}, {len(levels)} level(s), {size / 1e6:.2f} MB, "
         f"{report['seconds']:.2f} s"
     )
-    click.echo(f"  quality (level 0): {_describe_quality(report['quality'])}")
+    click.echo(f"  quality (level 0): {describe_quality(report['quality'])}")
     overflow = report.get("overflow")
     if overflow and overflow["clamped_values"]:
         click.echo(
@@ -384,6 +384,73 @@ def compress(
         extra=extra,
     )
     _summary(paths, report, levels, cube)
+
+
+def bake_compressed(
+    bake,
+    image,
+    layout: str,
+    out_dir: Path,
+    engine_name: str,
+    *,
+    specular_size: int,
+    quality_profile: str = "fast",
+    overflow: str = "refuse",
+    min_psnr: float | None = None,
+    zstd: bool = False,
+) -> list[tuple[Path, str, dict | None]]:
+    """Write an engine's compressed files from a probe bake into ``out_dir / engine``: the
+    environment (cube with box mips, or Godot's panorama), the GGX chain re-baked with the
+    roughness per level the engine's shader assumes, and its SH layout. Returns
+    ``(path, what, report)`` rows; reports are None for JSON files."""
+    from bakeshop import engines
+    from bakeshop.io.compress.pipeline import box_mips, write_json
+    from bakeshop.light import specular
+
+    preset = engines.engine(engine_name)
+    folder = out_dir / preset.name
+    folder.mkdir(parents=True, exist_ok=True)
+    common = {
+        "quality_profile": quality_profile,
+        "overflow": overflow,
+        "min_psnr": min_psnr,
+        "zstd": zstd and preset.container == "ktx2",
+    }
+    rows = []
+    extra = {"engine": preset.name, "engine_checked": preset.checked}
+    env_path = folder / preset.files["environment"]
+    if preset.environment == "panorama":
+        from bakeshop import sphere
+
+        pano = sphere.remap(bake.cube, "cube", "latlong", filter="area")
+        levels = box_mips(engines.panorama(pano, preset), cube=False)
+        paths, report = write_levels(env_path, levels, "bc6h", cube=False, extra=extra, **common)
+        rows.append((paths[0], f"panorama {pano.shape[1]}x{pano.shape[0]}, BC6H", report))
+    else:
+        levels = [engines.cube_faces(m, preset) for m in box_mips(bake.cube, cube=True)]
+        paths, report = write_levels(env_path, levels, "bc6h", cube=True, extra=extra, **common)
+        rows.append((paths[0], f"environment 6x{bake.cube.shape[1]}, BC6H", report))
+    if "specular" in preset.files:
+        count = preset.specular_levels or len(bake.specular)
+        count = min(count, specular_size.bit_length())
+        rough = engines.mip_roughness(preset, count)
+        if count == len(bake.specular) and np.allclose(rough, np.linspace(0, 1, count)):
+            chain = bake.specular  # bakeshop's own chain already has this roughness per level
+        else:
+            chain = specular.prefilter_ggx(
+                image, layout=layout, size=specular_size, mips=count, roughness=rough
+            )
+        chain = [engines.cube_faces(level, preset) for level in chain]
+        spec_extra = {**extra, "roughness_per_level": [float(r) for r in rough]}
+        paths, report = write_levels(
+            folder / preset.files["specular"], chain, "bc6h", cube=True, extra=spec_extra, **common
+        )
+        rows.append((paths[0], f"GGX chain, {count} levels for the engine's LOD mapping", report))
+    if preset.sh is not None:
+        sh_path = folder / preset.files["sh"]
+        write_json(sh_path, {"engine": preset.name, **engines.sh_export(bake.sh, preset)})
+        rows.append((sh_path, f"SH, {preset.title} layout", None))
+    return rows
 
 
 def register(group: click.Group) -> None:

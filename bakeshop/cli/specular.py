@@ -24,6 +24,8 @@ from bakeshop.cli._environment import (
     write_container,
     write_environment,
 )
+from bakeshop.cli.compress import bake_compressed, describe_quality, quality_options
+from bakeshop.engines import ENGINES
 from bakeshop.errors import ArgumentError
 
 
@@ -225,7 +227,15 @@ def dfg(target, size, samples, visibility, float32):
               help="Face size of level 0 of the GGX chain.")  # fmt: skip
 @click.option("--mips", type=click.IntRange(1, 14), default=9, show_default=True,
               help="Levels of the GGX chain (roughness m / (mips - 1)).")  # fmt: skip
-def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_size, mips):
+@click.option("--compress", is_flag=True, help="Also write block-compressed (BC6H) files with "
+              "their quality sidecars into DIR/ENGINE/ (generic unless --engine).")  # fmt: skip
+@click.option("--engine", type=click.Choice(sorted(ENGINES)), help="Write the compressed files "
+              "this engine loads (faces, LOD mapping, SH layout; implies --compress).")  # fmt: skip
+@quality_options
+def bake_probe(
+    source, out_dir, src_layout, fmt, container, cube_size, specular_size, mips, compress, engine,
+    quality_profile, overflow, min_psnr, zstd,
+):  # fmt: skip
     """Bake everything the renderer needs from one probe IN (default: the embedded probe).
 
     \b
@@ -242,9 +252,14 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
       contact_sheet.png       all of it side by side, tone-mapped
 
     \b
+    With --compress or --engine E, also DIR/E/: the environment and the GGX chain in BC6H
+    (each with a .json quality sidecar) and E's SH file (docs/engines.md).
+
+    \b
     Example:
       bakeshop bake-probe -o baked/
       bakeshop bake-probe probe.exr -o baked/ --format exr --container ktx
+      bakeshop bake-probe -o baked/ --engine unity --compress
     """
     from bakeshop.io import write_image
     from bakeshop.light import probe as probe_module
@@ -319,6 +334,15 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
             f"  sun: direction [{x:.4f}, {y:.4f}, {z:.4f}], "
             f"radius {bake.sun.angular_radius_deg:.2f} deg"
         )
+    if compress or engine:
+        written = bake_compressed(
+            bake, image, layout, out_dir, engine or "generic", specular_size=specular_size,
+            quality_profile=quality_profile, overflow=overflow, min_psnr=min_psnr, zstd=zstd,
+        )  # fmt: skip
+        click.echo(f"  compressed for {ENGINES[engine or 'generic'].title}:")
+        for path, what, report in written:
+            q = f": {describe_quality(report['quality'])}" if report else ""
+            click.echo(f"    {path.relative_to(out_dir)}  {what}{q}")
 
 
 def register(group: click.Group) -> None:
