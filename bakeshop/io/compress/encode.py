@@ -16,6 +16,7 @@ from __future__ import annotations
 import os
 from concurrent.futures import ThreadPoolExecutor
 
+import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError, BakeshopError, validate_choice
@@ -85,14 +86,76 @@ def _rgba(image: np.ndarray, fill: float) -> np.ndarray:
     return np.concatenate([rgb, np.full_like(image[..., :1], fill)], axis=2)
 
 
+@numba.njit(cache=True, inline="always")
+def _half_bits(bits):  # pragma: no cover - compiled
+    """IEEE binary16 bits of a float32 value given by its bits, rounded to nearest even; beyond
+    +-65504 (and infinity) saturated to +-65504, never infinity. NaN is refused before."""
+    u = np.int64(bits)
+    sign = (u >> 16) & 0x8000
+    exponent = ((u >> 23) & 0xFF) - 112  # rebias 127 -> 15
+    mantissa = u & 0x7FFFFF
+    if exponent >= 31:
+        return sign | 0x7BFF
+    if exponent <= 0:  # subnormal half (or zero)
+        if exponent < -10:
+            return sign
+        mantissa |= 0x800000
+        shift = 14 - exponent
+        half = mantissa >> shift
+        rest = mantissa & ((1 << shift) - 1)
+        midpoint = 1 << (shift - 1)
+        if rest > midpoint or (rest == midpoint and half & 1):
+            half += 1
+        return sign | half
+    half = exponent << 10 | mantissa >> 13
+    rest = mantissa & 0x1FFF
+    if rest > 0x1000 or (rest == 0x1000 and half & 1):
+        half += 1
+    if half >= 0x7C00:
+        half = 0x7BFF
+    return sign | half
+
+
+@numba.njit(cache=True, parallel=True)
+def _half_rgba(image, out):  # pragma: no cover - compiled
+    """``out`` (H', W', 4) uint16 = half floats of ``image`` ((H, W, C) float32 bits as uint32),
+    edge-padded to H' x W', grey repeated to RGB, missing blue 0, missing alpha 1 (0x3C00): one
+    pass over the image."""
+    h, w, c = image.shape
+    for y in numba.prange(out.shape[0]):
+        sy = min(np.int64(y), h - 1)
+        for x in range(out.shape[1]):
+            sx = min(x, w - 1)
+            for k in range(3):
+                if c == 1:
+                    out[y, x, k] = _half_bits(image[sy, sx, 0])
+                elif k < c:
+                    out[y, x, k] = _half_bits(image[sy, sx, k])
+                else:
+                    out[y, x, k] = 0
+            out[y, x, 3] = _half_bits(image[sy, sx, 3]) if c == 4 else 0x3C00
+
+
+def to_half_surface(image: np.ndarray) -> np.ndarray:
+    """The padded RGBA half-float surface ISPC's BC6H encoder reads, as float16 ``(H', W', 4)``
+    with H', W' the next multiples of 4 (see :func:`_half_bits` for the rounding)."""
+    image = np.ascontiguousarray(image, np.float32)
+    if image.ndim == 2:
+        image = image[..., None]
+    h, w = image.shape[:2]
+    out = np.empty((h + (-h % 4), w + (-w % 4), 4), np.uint16)
+    _half_rgba(image.view(np.uint32), out)
+    return out.view(np.float16)
+
+
 def _surface_data(image: np.ndarray, fmt: BlockFormat) -> np.ndarray:
     """The padded surface ISPC reads: RGBA half floats for BC6H, R8 for BC4, RG8 for BC5 (what
     ISPC's kernels read, whatever the wheel's stubs say), else RGBA 8-bit unsigned."""
     from bakeshop.io._quantize import float_to_unsigned
 
-    image = _pad(np.asarray(image, np.float32))
     if fmt.hdr:
-        return _rgba(image, 1.0).astype(np.float16)
+        return to_half_surface(image)
+    image = _pad(np.asarray(image, np.float32))
     if fmt.channels < 3:
         c = image.shape[2]
         if c < fmt.channels:  # one channel into BC5: the same values twice
@@ -170,9 +233,9 @@ def image_jobs(image: np.ndarray, fmt: str | BlockFormat, *, quality: str = "fas
     rows = _STRIP_ROWS * 4
 
     def strip(top: int) -> bytes:
-        part = np.ascontiguousarray(surface[top : top + rows])
+        part = surface[top : top + rows]  # whole rows of a C-contiguous array: contiguous
         stride = width * part.itemsize * part.shape[2]
-        s = it.RGBASurface(part.tobytes(), width, part.shape[0], stride)
+        s = it.RGBASurface(part, width, part.shape[0], stride)  # read through the buffer
         data = function(s) if settings is None else function(s, settings)
         # ispc-texcomp 1.0.1 returns 16 bytes per block for BC1 too, the second half
         # uninitialised memory: keep the blocks (tests check them against BC3's colour half)

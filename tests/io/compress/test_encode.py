@@ -157,3 +157,18 @@ def test_rgbd_png_round_trip_is_close():
     image = hdr_chain(6, 32, cube=False)[0]
     packed = np.rint(encode_rgbd(image) * 255) / 255
     assert mpsnr(image, decode_rgbd(packed)) > 50
+
+
+def test_half_conversion_is_numpys_rounding_saturated():
+    """bakeshop's one-pass half-float surface rounds like numpy (IEEE nearest-even), subnormals
+    included, and saturates at +-65504 where numpy would give infinity."""
+    from bakeshop.io.compress.encode import to_half_surface
+
+    rng = np.random.default_rng(0)
+    values = rng.standard_normal(300000) * 10.0 ** rng.integers(-9, 7, 300000)
+    edges = [0, -0.0, 65504, 65519.99, 65520, 1e9, -1e9, np.inf, 6.1035156e-05, 2.98e-08, 1e-8]
+    values = np.concatenate([values, edges, edges[:1]]).astype(np.float32).reshape(1, -1, 3)
+    got = to_half_surface(values)[0, : values.shape[1], :3]
+    want = np.clip(values, -65504, 65504).astype(np.float16)
+    np.testing.assert_array_equal(got.view(np.uint16), want.view(np.uint16))
+    assert np.all(to_half_surface(values)[..., 3] == 1)
