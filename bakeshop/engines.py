@@ -160,8 +160,8 @@ ENGINES: dict[str, Engine] = {
             "forward), Direct3D cube addressing: bakeshop's directx face set, whose meaning "
             "Mesa's driver checks. Not run in Unity itself.",
             warnings=(
-                "Unity re-convolves a cube map imported with 'Convolution Type: Specular'; "
-                "import specular.dds with convolution None so the baked levels are used.",
+                "Unity convolves cube maps it imports from pictures; a DDS is taken as it is, so "
+                "use specular.dds itself (not a re-import of the environment) as the reflection.",
             ),
         ),
         Engine(
