@@ -41,7 +41,7 @@ def main():
     fig = Figure(figsize=(12, 7.2), dpi=100)
     FigureCanvasAgg(fig)
     grid = fig.add_gridspec(3, 4, height_ratios=[1, 1, 1.3])
-    for row, stops in enumerate((-6, 1)):
+    for row, stops in enumerate((-6, 0)):
         for col, (name, image) in enumerate(versions.items()):
             ax = fig.add_subplot(grid[row, col])
             picture = srgb_encode(np.clip(image[crop] * 2.0**stops, 0, 1))
@@ -54,12 +54,14 @@ def main():
             if col == 0:
                 ax.set_ylabel(f"exposure 2^{stops}", fontsize=9)
     ax = fig.add_subplot(grid[2, :])
+    colours = {"bc6h": "tab:blue", "rgbd-bc7": "tab:orange", "rgbm-bc7": "tab:green"}
     for probe_name, probe, style in (("sunny", sunny, "-"), ("dawn", dawn, "--")):
         for name, image in decoded(probe).items():
             if name == "original":
                 continue
             per = [mpsnr(probe, image, exposures=[c]) for c in EXPOSURES]
-            ax.plot(EXPOSURES, per, style, marker="o", label=f"{probe_name}, {name}")
+            ax.plot(EXPOSURES, per, style, marker="o", color=colours[name],
+                    label=f"{probe_name} latlong, {name}")  # fmt: skip
     ax.set_xlabel("exposure stop c (image scaled by 2^c, gamma 2.2, 8 bits)")
     ax.set_ylabel("PSNR at that exposure (dB)")
     ax.grid(alpha=0.3)
