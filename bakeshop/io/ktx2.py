@@ -130,13 +130,16 @@ def block_format_descriptor(fmt) -> bytes:
     """The basic data format descriptor of a block-compressed format (with its total size), as
     the Khronos Data Format spec's example descriptors give it: 4x4x1x1 texel blocks, one plane
     of the block's bytes, and one sample per stored part of the block (BC3: alpha then colour,
-    BC5: red then green; the others one sample covering the whole block). BC6H samples are
+    BC5: red then green; BC1 one sample of channel 1, ALPHAPRESENT, as its VkFormat is the
+    RGBA one; the others one sample covering the whole block). BC6H samples are
     float (and signed for SFLOAT) with bounds -1.0 or 0.0 .. 1.0; the others unsigned with
     bounds 0 .. UINT32_MAX."""
     if fmt.name.startswith("bc3"):
         samples = [(15, 0, 64), (0, 64, 64)]
     elif fmt.name == "bc5":
         samples = [(0, 0, 64), (1, 64, 64)]
+    elif fmt.name.startswith("bc1"):  # BC1 RGBA: channel 1, the punch-through alpha is live
+        samples = [(1, 0, 64)]
     else:
         samples = [(0, 0, fmt.block_bytes * 8)]
     block = 24 + 16 * len(samples)

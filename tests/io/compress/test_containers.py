@@ -113,6 +113,9 @@ def test_ktx2_descriptors_of_signed_and_srgb_formats():
     bc5 = struct.unpack("<15I", block_format_descriptor(FORMATS["bc5"]))
     assert bc5[0] == 60 and bc5[5] == 16  # two samples; 16 bytes per block
     assert bc5[7] == 0 | 63 << 16 and bc5[11] == 64 | 63 << 16 | 1 << 24  # red, then green
+    bc1 = struct.unpack("<11I", block_format_descriptor(FORMATS["bc1"]))
+    assert bc1[3] == 128 | 1 << 8 | 1 << 16 and bc1[5] == 8  # BC1A, 8 bytes per block
+    assert bc1[7] == 0 | 63 << 16 | 1 << 24  # channel 1: BC1A_ALPHAPRESENT (VK ..._RGBA_...)
     bc3 = struct.unpack("<15I", block_format_descriptor(FORMATS["bc3"]))
     assert bc3[7] == 63 << 16 | 15 << 24 and bc3[11] == 64 | 63 << 16  # alpha, then colour
 
