@@ -16,6 +16,15 @@ from bakeshop.cli._common import ENVIRONMENT, OUTPUT, is_ldr, refuse_overwriting
 from bakeshop.errors import ArgumentError
 
 CONTEXT = {"max_content_width": 100}
+
+
+def _finite(ctx, param, value):
+    """click callback: refuse NaN (click's FloatRange lets it through: it compares false)."""
+    if value is not None and value != value:
+        raise click.BadParameter("must be a finite number", ctx=ctx, param=param)
+    return value
+
+
 _QUALITY_NAMES = ("ultrafast", "veryfast", "fast", "basic", "slow", "veryslow")
 
 
@@ -45,6 +54,7 @@ def quality_options(command):
             type=click.FloatRange(0, 200),
             default=None,
             metavar="DB",
+            callback=_finite,
             help="Fail (no file written) when the quality of level 0 is below DB: "
             "multi-exposure PSNR for HDR, PSNR for 8-bit colour (0-200).",
         ),
@@ -262,12 +272,14 @@ def _as_cube(image, layout: str, size: int | None):
     "--max-angle",
     type=click.FloatRange(0, 180),
     metavar="DEG",
+    callback=_finite,
     help="Normal maps: fail when the mean angular error exceeds DEG (0-180).",
 )
 @click.option(
     "--rgbm-range",
     type=click.FloatRange(1, 65504),
     default=8.0,
+    callback=_finite,
     show_default=True,
     help="Largest value RGBM stores (1-65504).",
 )

@@ -134,6 +134,7 @@ def test_bad_arguments_give_one_line(capsys, probe, tmp_path):
         ["compress", probe, tmp_path / "a.dds", "--cube", "--zstd"],
         ["compress", tmp_path / "missing.hdr", tmp_path / "a.dds"],
         ["compress", probe, probe],
+        ["compress", probe, tmp_path / "a.dds", "--cube", "--min-psnr", "nan"],
     ):
         status, _, err = run(capsys, *args)
         assert status == 2 and err.startswith("bakeshop: error: ") and err.count("\n") == 1, args
