@@ -19,8 +19,8 @@ through the whole ``compress_levels`` (encode, decode, measure), an uncompressed
 DDS write of the same chain, bakeshop's decoder speed, BC7/RGBD-in-BC7 and BC5 normal maps.
 
 Times are the best of ``REPEATS`` after a warm-up (numba's compiled code is cached on disk), on
-a machine shared with other jobs. Run: ``.venv/bin/python benchmarks/bench_compress.py``
-(about five minutes).
+a machine shared with other jobs. Run: ``.venv/bin/python benchmarks/bench_compress.py
+[bc6h] [cube] [other]`` (all three by default; about five minutes on an idle machine).
 """
 
 from __future__ import annotations
@@ -113,8 +113,9 @@ def cube_chain():
     encode, texture = best(lambda: encode_texture(chain, "bc6h", quality="fast"))
     print(f"| encode_texture, BC6H fast, 2 threads | {encode:.2f} s | {texels / 1e6 / encode:.2f}"
           " Mpx/s |", flush=True)  # fmt: skip
-    one, _ = best(lambda: encode_texture(chain, "bc6h", quality="fast", workers=1), 1)
-    print(f"| encode_texture, BC6H fast, 1 thread | {one:.2f} s | {texels / 1e6 / one:.2f} Mpx/s |")
+    one, _ = cpu(lambda: encode_texture(chain, "bc6h", quality="fast", workers=1), 1)
+    print(f"| encode_texture, BC6H fast, 1 thread, CPU time | {one:.2f} s | "
+          f"{texels / 1e6 / one:.2f} Mpx/s |")  # fmt: skip
     whole, result = best(lambda: compress_levels(chain, "bc6h", cube=True), 1)
     print(f"| compress_levels (encode + decode + measure) | {whole:.2f} s | "
           f"{result.report['quality']['mpsnr_db']:.2f} dB |")  # fmt: skip
@@ -176,6 +177,7 @@ def ldr_and_normals():
 
 
 def main():
+    sections = sys.argv[1:] or ["bc6h", "cube", "other"]
     import ispc_texcomp
     import numba
 
@@ -183,15 +185,18 @@ def main():
         f"bakeshop compression benchmark; ispc-texcomp {ispc_texcomp.__version__}, "
         f"numba {numba.__version__}, {os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}"
     )
-    print("\n| probe | BC6H profile | ispc direct Mpx/s | bakeshop 1 thread Mpx/s | overhead | "
-          "bakeshop 2 threads Mpx/s | mPSNR dB | log2 RMSE |")  # fmt: skip
-    print("|---|---|---|---|---|---|---|---|")
-    threads = numba.get_num_threads()
-    numba.set_num_threads(1)  # one-thread conversions: their CPU time compares with ISPC's
-    bc6h_table()
-    numba.set_num_threads(threads)
-    cube_chain()
-    ldr_and_normals()
+    if "bc6h" in sections:
+        print("\n| probe | BC6H profile | ispc direct Mpx/s | bakeshop 1 thread Mpx/s | overhead "
+              "| bakeshop 2 threads Mpx/s | mPSNR dB | log2 RMSE |")  # fmt: skip
+        print("|---|---|---|---|---|---|---|---|")
+        threads = numba.get_num_threads()
+        numba.set_num_threads(1)  # one-thread conversions: their CPU time compares with ISPC's
+        bc6h_table()
+        numba.set_num_threads(threads)
+    if "cube" in sections:
+        cube_chain()
+    if "other" in sections:
+        ldr_and_normals()
     print(f"\nload at the end {os.getloadavg()[0]:.1f}")
 
 
