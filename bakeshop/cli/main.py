@@ -28,6 +28,7 @@ COMMAND_MODULES = [
     "bake_probe",
     "fresnel",
     "tonemap",
+    "compress",
     "normals",
     "float",
 ]

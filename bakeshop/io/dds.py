@@ -26,9 +26,17 @@ also Direct3D's face order and addressing rule; a Direct3D engine whose world is
 (z forward) wants the ``directx`` face set of :func:`bakeshop.sphere.cube.cube_to_faces` instead,
 which the caller passes in.
 
-The reader takes what this writer writes plus the legacy floating-point FourCC codes (D3DFMT
-111 to 116) that older tools write without the DX10 header; block-compressed formats are refused
-with :class:`~bakeshop.errors.UnsupportedError`.
+Block-compressed textures (:class:`bakeshop.io.compress.BlockTexture`: BC1, BC3, BC4, BC5,
+BC6H, BC7) are written by :func:`write_dds_blocks` with the same headers, except that the header
+gives the linear size (bytes of one face of level 0, flag LINEARSIZE) instead of a pitch, the
+DX10 header names the exact DXGI format (BC6H_UF16 95, BC6H_SF16 96, BC7_UNORM 98,
+BC7_UNORM_SRGB 99, ...), and each level of each face is its 4x4 blocks row by row (a 2x2 or 1x1
+level is one block).
+
+The reader takes what these writers write plus the legacy floating-point FourCC codes (D3DFMT
+111 to 116) and block FourCCs (DXT1, DXT5, ATI1/BC4U, ATI2/BC5U) that older tools write without
+the DX10 header. :func:`read_dds` decodes block-compressed files to float mips with bakeshop's
+own decoders; :func:`read_dds_blocks` returns their blocks as they are.
 """
 
 from __future__ import annotations
@@ -54,7 +62,7 @@ MAGIC = b"DDS "
 
 # DDS_HEADER flags, caps and pixel-format flags (Microsoft's names).
 DDSD_CAPS, DDSD_HEIGHT, DDSD_WIDTH, DDSD_PITCH = 0x1, 0x2, 0x4, 0x8
-DDSD_PIXELFORMAT, DDSD_MIPMAPCOUNT, DDSD_DEPTH = 0x1000, 0x20000, 0x800000
+DDSD_PIXELFORMAT, DDSD_MIPMAPCOUNT, DDSD_LINEARSIZE, DDSD_DEPTH = 0x1000, 0x20000, 0x80000, 0x800000
 DDPF_FOURCC = 0x4
 DDSCAPS_COMPLEX, DDSCAPS_TEXTURE, DDSCAPS_MIPMAP = 0x8, 0x1000, 0x400000
 DDSCAPS2_CUBEMAP, DDSCAPS2_ALLFACES, DDSCAPS2_VOLUME = 0x200, 0xFC00, 0x200000
@@ -81,10 +89,20 @@ D3D_FORMATS = {
     116: ("float32", 4),
 }
 
+#: legacy FourCC codes of block formats -> bakeshop block format name (read only).
+FOURCC_BLOCKS = {
+    b"DXT1": "bc1",
+    b"DXT5": "bc3",
+    b"ATI1": "bc4",
+    b"BC4U": "bc4",
+    b"ATI2": "bc5",
+    b"BC5U": "bc5",
+}
+
 _HEADER = struct.Struct("<4s7I44s2I4s5I5I")  # magic, DDS_HEADER with its DDS_PIXELFORMAT
 _DX10 = struct.Struct("<5I")
 
-__all__ = ["write_dds", "read_dds", "sniff"]
+__all__ = ["write_dds", "write_dds_blocks", "read_dds", "read_dds_blocks", "sniff"]
 
 
 def sniff(head: bytes) -> bool:
@@ -138,9 +156,69 @@ def write_dds(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None:
                 f.write(np.ascontiguousarray(encode(texels, DTYPES[dtype])).tobytes())
 
 
+def write_dds_blocks(path: str | os.PathLike, texture) -> None:
+    """Write a block-compressed texture (:class:`bakeshop.io.compress.BlockTexture`) as a DDS file
+    with the DX10 header: faces in file order (each face's whole mip chain, then the next
+    face), the exact DXGI format, the cube flag and the mip count.
+
+    Parameters
+    ----------
+    path : path-like
+        Written atomically.
+    texture : BlockTexture
+        A cube map (faces in OpenGL order, which is also Direct3D's) or a 2-D texture.
+    """
+    levels = len(texture.levels)
+    flags = DDSD_CAPS | DDSD_HEIGHT | DDSD_WIDTH | DDSD_LINEARSIZE | DDSD_PIXELFORMAT
+    caps = DDSCAPS_TEXTURE
+    if levels > 1:
+        flags |= DDSD_MIPMAPCOUNT
+        caps |= DDSCAPS_COMPLEX | DDSCAPS_MIPMAP
+    caps2 = 0
+    if texture.cube:
+        caps |= DDSCAPS_COMPLEX
+        caps2 = DDSCAPS2_CUBEMAP | DDSCAPS2_ALLFACES
+    header = _HEADER.pack(
+        MAGIC, 124, flags, texture.height, texture.width, texture.face_bytes(0), 0, levels,
+        bytes(44), 32, DDPF_FOURCC, b"DX10", 0, 0, 0, 0, 0, caps, caps2, 0, 0, 0,
+    )  # fmt: skip
+    misc = DDS_RESOURCE_MISC_TEXTURECUBE if texture.cube else 0
+    dx10 = _DX10.pack(texture.format.dxgi, D3D10_RESOURCE_DIMENSION_TEXTURE2D, misc, 1, 0)
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        f.write(header + dx10)
+        for face in range(texture.faces):
+            for m in range(levels):
+                f.write(texture.face(m, face))
+
+
+@names_its_file
+def read_dds_blocks(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
+    """Read a block-compressed DDS file without decoding it.
+
+    Returns
+    -------
+    texture : bakeshop.io.compress.BlockTexture
+    metadata : dict
+        As :func:`read_dds` returns it.
+
+    Raises
+    ------
+    bakeshop.errors.UnsupportedError
+        The file is not block-compressed (read it with :func:`read_dds`).
+    """
+    texture, metadata = _read(path, max_pixels, decode=False)
+    if texture is None:
+        raise UnsupportedError("this DDS file is not block-compressed; read it with read_dds")
+    return texture, metadata
+
+
 @names_its_file
 def read_dds(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
-    """Read an uncompressed float DDS file (a cube map or a 2-D texture with its mips).
+    """Read a DDS file (a cube map or a 2-D texture with its mips) as float mips.
+
+    Float files are returned as stored; block-compressed files are decoded with bakeshop's own
+    decoders (:func:`bakeshop.io.compress.decode_image`): BC6H to its half-float values, the
+    8-bit formats to [0, 1] (sRGB formats to linear values).
 
     Parameters
     ----------
@@ -152,18 +230,28 @@ def read_dds(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     -------
     mips : list of float32 arrays
         Level 0 first; ``(6, S, S, C)`` per level for a cube map (faces in file order, which is
-        OpenGL's), ``(H, W, C)`` for a 2-D texture.
+        OpenGL's), ``(H, W, C)`` for a 2-D texture; C as stored (block formats: BC4 1, BC5 2,
+        BC6H 3, others 4).
     metadata : dict
-        ``format`` ("DDS"), ``stored`` ("float16" or "float32"), ``cube`` (bool), ``dxgi_format``
-        (int; the legacy FourCC code's DXGI equivalent) and ``header`` ("DX10" or "legacy").
+        ``format`` ("DDS"), ``stored`` ("float16", "float32" or the block format's name such as
+        "bc6h"), ``cube`` (bool), ``dxgi_format`` (int; the legacy FourCC code's DXGI
+        equivalent) and ``header`` ("DX10" or "legacy").
 
     Raises
     ------
     bakeshop.errors.FormatError
         Not a DDS file, an inconsistent header, or fewer bytes than the header promises.
     bakeshop.errors.UnsupportedError
-        Block-compressed or integer formats, volume textures and texture arrays.
+        Integer and other formats, volume textures and texture arrays.
     """
+    mips, metadata = _read(path, max_pixels, decode=True)
+    return mips, metadata
+
+
+def _read(path, max_pixels: int, decode: bool):
+    """Parse a DDS file: (float mips or BlockTexture or None, metadata)."""
+    from bakeshop.io.compress.formats import FORMATS
+
     with open_input(path) as f:
         head = f.read(_HEADER.size + _DX10.size)
         size = os.fstat(f.fileno()).st_size
@@ -177,31 +265,39 @@ def read_dds(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
         raise FormatError(f"bad DDS pixel format size {pf_size} (expected 32)")
     offset = _HEADER.size
     if not pf_flags & DDPF_FOURCC:
-        raise UnsupportedError("only floating-point DDS formats are supported (no FourCC code)")
+        raise UnsupportedError(
+            "only floating-point and block-compressed DDS formats are supported (no FourCC code)"
+        )
+    block = None
+    by_dxgi = {f.dxgi: f for f in FORMATS.values()}
     if fourcc == b"DX10":
         if len(head) < offset + _DX10.size:
             raise FormatError("truncated DDS file: the DX10 header is missing")
         fmt, dimension, misc, array_size, _ = _DX10.unpack_from(head, offset)
         offset += _DX10.size
-        if fmt not in DXGI_FORMATS:
+        if fmt in by_dxgi:
+            block = by_dxgi[fmt]
+        elif fmt not in DXGI_FORMATS:
             raise UnsupportedError(
-                f"DXGI format {fmt} is not supported (only uncompressed float formats)"
+                f"DXGI format {fmt} is not supported (only float and BC1/3/4/5/6H/7 formats)"
             )
         if dimension != D3D10_RESOURCE_DIMENSION_TEXTURE2D:
             raise UnsupportedError(f"DDS resource dimension {dimension}: only 2-D textures")
         if array_size != 1:
             raise UnsupportedError(f"texture arrays are not supported (array size {array_size})")
         cube = bool(misc & DDS_RESOURCE_MISC_TEXTURECUBE)
-        dtype, channels = DXGI_FORMATS[fmt]
         kind = "DX10"
     else:
         code = struct.unpack("<I", fourcc)[0]
-        if code not in D3D_FORMATS:
+        if fourcc in FOURCC_BLOCKS:
+            block = FORMATS[FOURCC_BLOCKS[fourcc]]
+            fmt = block.dxgi
+        elif code in D3D_FORMATS:
+            fmt = next(k for k, v in DXGI_FORMATS.items() if v == D3D_FORMATS[code])
+        else:
             raise UnsupportedError(
-                f"DDS format {fourcc!r} is not supported (only uncompressed float formats)"
+                f"DDS format {fourcc!r} is not supported (only float and block-compressed formats)"
             )
-        dtype, channels = D3D_FORMATS[code]
-        fmt = next(k for k, v in DXGI_FORMATS.items() if v == (dtype, channels))
         cube = bool(caps2 & DDSCAPS2_CUBEMAP)
         if cube and caps2 & DDSCAPS2_ALLFACES != DDSCAPS2_ALLFACES:
             raise UnsupportedError("cube maps with missing faces are not supported")
@@ -216,10 +312,31 @@ def read_dds(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     levels = max(levels, 1)
     if levels > MAX_LEVELS or max(width, height) >> (levels - 1) == 0:
         raise FormatError(f"{levels} mip levels is more than a {width}x{height} texture has")
+    faces = 6 if cube else 1
+    metadata = {"format": NAME, "cube": cube, "dxgi_format": fmt, "header": kind}
+    if block is not None:
+        from bakeshop.io.compress.formats import level_bytes
+        from bakeshop.io.compress.texture import BlockTexture
+
+        sizes = [level_bytes(block, mip_size(width, m), mip_size(height, m)) for m in range(levels)]
+        check_payload(faces * sum(sizes), size - offset)
+        with open(path, "rb") as f:
+            f.seek(offset)
+            raw = f.read(faces * sum(sizes))
+        chains = [raw[i * sum(sizes) : (i + 1) * sum(sizes)] for i in range(faces)]
+        starts = np.concatenate([[0], np.cumsum(sizes)])
+        data = tuple(
+            b"".join(chain[starts[m] : starts[m + 1]] for chain in chains) for m in range(levels)
+        )
+        texture = BlockTexture(block, width, height, cube, data)
+        metadata["stored"] = block.name
+        return (texture.decode() if decode else texture), metadata
+    if not decode:
+        return None, metadata
+    dtype, channels = DXGI_FORMATS[fmt]
     itemsize = DTYPES[dtype].itemsize
     shapes = [(mip_size(height, m), mip_size(width, m), channels) for m in range(levels)]
     face_bytes = sum(h * w * c for h, w, c in shapes) * itemsize
-    faces = 6 if cube else 1
     check_payload(faces * face_bytes, size - offset)
     raw = np.fromfile(
         path, dtype=DTYPES[dtype], offset=offset, count=faces * face_bytes // itemsize
@@ -228,11 +345,11 @@ def read_dds(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     start = 0
     for face in range(faces):
         for m, (h, w, c) in enumerate(shapes):
-            block = raw[start : start + h * w * c].reshape(h, w, c)
+            block_ = raw[start : start + h * w * c].reshape(h, w, c)
             if cube:
-                mips[m][face] = block
+                mips[m][face] = block_
             else:
-                mips[m][...] = block
+                mips[m][...] = block_
             start += h * w * c
-    metadata = {"format": NAME, "stored": dtype, "cube": cube, "dxgi_format": fmt, "header": kind}
+    metadata["stored"] = dtype
     return mips, metadata
