@@ -300,7 +300,7 @@ def _anchor(g: np.ndarray) -> np.ndarray:
 def _isotonic(y: np.ndarray, w: np.ndarray) -> np.ndarray:
     """Weighted least-squares non-decreasing fit (pool adjacent violators)."""
     values, weights, sizes = [], [], []
-    for yi, wi in zip(y, np.maximum(w, 1e-12)):
+    for yi, wi in zip(y, np.maximum(w, 1e-12), strict=True):
         values.append(yi)
         weights.append(wi)
         sizes.append(1)

@@ -94,8 +94,10 @@ def make_stack(codes, exposures, *, names=None, absolute: bool = False) -> Expos
     if not 2 <= len(frames) <= MAX_FRAMES:
         raise ArgumentError(f"a stack needs 2-{MAX_FRAMES} frames, not {len(frames)}")
     names = list(names) if names is not None else [f"frame {i + 1}" for i in range(len(frames))]
+    if len(names) != len(frames):
+        raise ArgumentError(f"{len(frames)} frames need {len(frames)} names")
     first = frames[0]
-    for name, f in zip(names, frames):
+    for name, f in zip(names, frames, strict=True):
         if f.ndim == 2:
             f = f[..., None]
         if f.dtype not in (np.uint8, np.uint16):
@@ -109,7 +111,7 @@ def make_stack(codes, exposures, *, names=None, absolute: bool = False) -> Expos
     exposures = np.asarray(exposures, dtype=np.float64)
     if exposures.shape != (len(frames),):
         raise ArgumentError(f"{len(frames)} frames need {len(frames)} exposures")
-    for name, e in zip(names, exposures):
+    for name, e in zip(names, exposures, strict=True):
         if not (math.isfinite(e) and e > 0):
             raise ArgumentError(f"exposure {e!r} is not a positive number", name)
     if np.ptp(np.log(exposures)) < 1e-6:
@@ -207,7 +209,7 @@ def read_stack(
             )
         settings.append(found)
         del image
-    exposures, absolute = zip(*(_exposure(s) for s in settings))
+    exposures, absolute = zip(*(_exposure(s) for s in settings), strict=True)
     stack = make_stack(frames, exposures, names=paths, absolute=all(absolute))
     order = np.argsort(np.asarray(exposures), kind="stable")
     stack.settings = [settings[i] for i in order]
