@@ -12,6 +12,7 @@ and merge photographs of a mirror ball), ``quality`` (measures for comparing mer
 docs/photographs.md.
 """
 
+from bakeshop.photo.align import align_stack
 from bakeshop.photo.merge import (
     CLIPPED,
     DARK,
@@ -20,6 +21,15 @@ from bakeshop.photo.merge import (
     Merged,
     confidence_image,
     merge_stack,
+)
+from bakeshop.photo.mirrorball import (
+    Circle,
+    best_yaw,
+    card_reflectance,
+    crop_ball,
+    find_ball,
+    merge_views,
+    unwrap,
 )
 from bakeshop.photo.quality import log2_rmse, multi_exposure_psnr, relative_scale
 from bakeshop.photo.response import (
@@ -31,6 +41,7 @@ from bakeshop.photo.response import (
     select_samples,
 )
 from bakeshop.photo.stack import ExposureStack, make_stack, read_stack
+from bakeshop.photo.sun import SunRecovery, recover_sun
 
 __all__ = [
     "CLIPPED",
@@ -40,16 +51,26 @@ __all__ = [
     "MODELLED",
     "RESPONSE_METHODS",
     "CameraResponse",
+    "Circle",
     "ExposureStack",
     "Merged",
+    "SunRecovery",
+    "align_stack",
+    "best_yaw",
+    "card_reflectance",
     "confidence_image",
+    "crop_ball",
+    "find_ball",
     "known_response",
     "log2_rmse",
     "make_stack",
     "merge_stack",
+    "merge_views",
     "multi_exposure_psnr",
     "read_stack",
     "recover_response",
+    "recover_sun",
     "relative_scale",
     "select_samples",
+    "unwrap",
 ]

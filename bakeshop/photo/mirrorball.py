@@ -50,6 +50,7 @@ __all__ = [
     "Circle",
     "ball_coordinates",
     "ball_directions",
+    "best_yaw",
     "card_reflectance",
     "crop_ball",
     "find_ball",
