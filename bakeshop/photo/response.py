@@ -78,12 +78,16 @@ class CameraResponse:
         RMS residual of the recovery's data term, in stops (log2 units); 0 for known curves.
     samples : int
         Sample pixels used per channel (0 for known curves).
+    gamma : float or None
+        The exponent of a ``gamma`` curve (known curves are evaluated from their formula at
+        every code, not from the table).
     """
 
     linear: np.ndarray
     method: str
     fit_error_stops: np.ndarray = field(default_factory=lambda: np.zeros(0))
     samples: int = 0
+    gamma: float | None = None
 
     def __post_init__(self):
         lin = np.asarray(self.linear, dtype=np.float64)
@@ -107,6 +111,8 @@ class CameraResponse:
         """Linear exposure of every code of a ``bits``-bit image: ``(2**bits, channels)``
         float64, interpolated linearly in ``ln X`` between knots (in ``X`` at ``X = 0``)."""
         codes = np.arange(1 << bits) / ((1 << bits) - 1)
+        if self.method in KNOWN_CURVES:
+            return np.repeat(_known(self.method, codes, self.gamma)[:, None], channels, axis=1)
         knots = np.linspace(0.0, 1.0, self.linear.shape[0])
         out = np.empty((codes.size, channels))
         for c in range(channels):
@@ -119,7 +125,14 @@ class CameraResponse:
         return out
 
     def to_dict(self) -> dict:
-        """The saved document (``bakeshop merge --save-response``): plain lists and numbers."""
+        """The saved document (``bakeshop merge --save-response``): plain lists and numbers;
+        a known curve is saved by name."""
+        if self.method in KNOWN_CURVES:
+            doc = {"bakeshop_camera_response": FORMAT_VERSION, "method": self.method}
+            if self.gamma is not None:
+                doc["gamma"] = float(self.gamma)
+            doc["channels"] = int(self.channels)
+            return doc
         return {
             "bakeshop_camera_response": FORMAT_VERSION,
             "method": self.method,
@@ -135,6 +148,14 @@ class CameraResponse:
         """Read what :meth:`to_dict` wrote; :class:`FormatError` naming what is wrong."""
         if doc.get("bakeshop_camera_response") != FORMAT_VERSION:
             raise FormatError("not a bakeshop camera response (version 1)", path)
+        if doc.get("method") in KNOWN_CURVES:
+            try:
+                return known_response(
+                    doc["method"], gamma=float(doc.get("gamma", 2.2)),
+                    channels=int(doc.get("channels", 3)),
+                )  # fmt: skip
+            except (ArgumentError, TypeError, ValueError) as e:
+                raise FormatError(f"damaged camera response: {e}", path) from None
         try:
             linear = np.asarray(doc["linear"], dtype=np.float64)
             fit = np.asarray(doc.get("fit_error_stops", []), dtype=np.float64)
@@ -163,14 +184,19 @@ def known_response(curve: KnownCurve, *, gamma: float = 2.2, channels: int = 3) 
     validate_choice(curve, KNOWN_CURVES, "response curve")
     if not (math.isfinite(gamma) and 0.2 <= gamma <= 5):
         raise ArgumentError(f"gamma must be within 0.2-5, not {gamma!r}")
+    if channels not in (1, 3):
+        raise ArgumentError(f"a response has 1 or 3 channels, not {channels}")
+    g = gamma if curve == "gamma" else None
     z = np.linspace(0.0, 1.0, 1 << 12)
+    return CameraResponse(np.repeat(_known(curve, z, g)[:, None], channels, axis=1), curve, gamma=g)
+
+
+def _known(curve: str, z: np.ndarray, gamma: float | None) -> np.ndarray:
     if curve == "srgb":
-        x = np.where(z <= 0.04045, z / 12.92, ((z + 0.055) / 1.055) ** 2.4)
-    elif curve == "gamma":
-        x = z**gamma
-    else:
-        x = z
-    return CameraResponse(np.repeat(x[:, None], channels, axis=1), curve)
+        return np.where(z <= 0.04045, z / 12.92, ((z + 0.055) / 1.055) ** 2.4)
+    if curve == "gamma":
+        return z**gamma
+    return z.copy()
 
 
 # --- samples -------------------------------------------------------------------------------------
@@ -358,7 +384,27 @@ def _debevec_channel(z, lnt, valid, knots, smoothness):
     return _strictly_increasing(_isotonic(g, weight_of_knot)), rms
 
 
-def _robertson_channel(z, exposure, valid, knots, iterations=60, tol=1e-5):
+def _smooth(g, counts, smoothness):
+    """Penalised fit: minimise ``sum n_z (h_z - g_z)^2 + lam^2 sum (hat(z) h''_z)^2`` with the
+    same scale-free ``lam`` as Debevec's (``n_z``: observations of code ``z``); the normal
+    equations are pentadiagonal, solved banded."""
+    from scipy.linalg import solveh_banded
+
+    knots = g.size
+    hat = _hat(knots)
+    lam2 = smoothness * counts.sum() / knots / (hat.max() ** 2)
+    h2 = lam2 * hat[1:-1] ** 2  # weight of the second difference centred on knot k + 1
+    bands = np.zeros((3, knots))  # upper form: row 2 diagonal, 1 first, 0 second superdiagonal
+    bands[2] = counts + 1e-9
+    for offset, coef in ((0, 1.0), (1, -2.0), (2, 1.0)):
+        bands[2, offset : offset + knots - 2] += h2 * coef * coef
+    bands[1, 1 : knots - 1] += h2 * -2.0  # (k, k + 1)
+    bands[1, 2:knots] += h2 * -2.0  # (k + 1, k + 2)
+    bands[0, 2:knots] += h2  # (k, k + 2)
+    return solveh_banded(bands, (counts + 1e-9) * g)
+
+
+def _robertson_channel(z, exposure, valid, knots, smoothness, iterations=60, tol=1e-5):
     """Robertson's alternating estimate for one channel; returns (g, fit RMS in ln units)."""
     n, p = z.shape
     hat = _hat(knots)
@@ -375,6 +421,10 @@ def _robertson_channel(z, exposure, valid, knots, iterations=60, tol=1e-5):
         e = (w * t * inv[z]).sum(axis=1) / (w * t * t).sum(axis=1)
         sums = np.bincount(z.ravel(), (e[:, None] * t).ravel(), minlength=knots)
         new = np.interp(np.arange(knots), np.flatnonzero(seen), sums[seen] / counts[seen])
+        # each update smoothed: with exposures a power of two apart, a ripple of period one
+        # stop in ln X is barely observable and the plain iteration drifts into it
+        positive = new > 0
+        new[positive] = np.exp(_smooth(np.log(new[positive]), counts[positive] * 1.0, smoothness))
         new /= new[mid]
         change = float(np.abs(new - inv).max())
         inv = new
@@ -416,9 +466,12 @@ def recover_response(
         over ``g`` and the samples' ``ln E``, with the hat weight ``w`` (0 at both ends);
         ``lam^2 = smoothness * sum w^2 / K / max(w)^2``, so ``smoothness`` does not depend on
         the number of samples or frames. Robertson alternates ``E = sum w t X / sum w t^2`` and
-        ``X(z) = mean of E t`` over the samples of code ``z`` (Gaussian weights, 0 at the ends).
+        ``X(z) = mean of E t`` over the samples of code ``z`` (Gaussian weights, 0 at the ends),
+        smoothing ``ln X`` by the same penalty at each step (with exposures a power of two
+        apart, a ripple of one stop's period is barely observable and the plain iteration drifts
+        into it by a few per cent).
     smoothness : float
-        Weight of Debevec's ``g''`` term (0.001-1000).
+        Weight of the ``g''`` penalty (0.001-1000), for either method.
     samples : int
         Pixels per channel (see :func:`select_samples`).
     shifts : (P, 2) float, optional
@@ -463,7 +516,7 @@ def recover_response(
         if method == "debevec":
             g, rms = _debevec_channel(z[..., c], np.log(exposures), valid, knots, smoothness)
         else:
-            g, rms = _robertson_channel(z[..., c], exposures, valid, knots)
+            g, rms = _robertson_channel(z[..., c], exposures, valid, knots, smoothness)
         gs.append(g)
         fits.append(rms / math.log(2))
     g = _anchor(np.stack(gs, axis=1))
