@@ -19,12 +19,13 @@ brightest frame's, an upper bound), or, rarely, each frame clipped in some chann
 channel is merged on its own). :func:`bakeshop.photo.recover_sun` can replace a clipped sun by a
 model and marks it ``MODELLED``.
 
-Ghost suppression (``ghost=``): per pixel, the frame with the largest weight is the reference,
-and a frame whose estimate differs from it by more than ``ghost`` (natural log of the ratio)
-plus three times the noise the two codes allow is left out. Something that moved between frames
-(a walker, leaves) then comes from the best-exposed frame alone instead of a blend of its
-positions. It tests each pixel alone: a moving object seen at the same brightness as what it
-covers passes.
+Ghost suppression (``ghost=``): per pixel, the reference is the median of the unclipped
+frames' estimates (in log, one vote per frame), and a frame whose estimate differs from it by
+more than ``ghost`` (natural log of the ratio) plus three times the noise the two codes allow
+is left out. Something that moved through the scene in fewer than half of the frames (a walker,
+leaves) is then outvoted by the frames that saw the background, instead of blended in as a
+ghost. It tests each pixel alone: a moving object seen at about the brightness of what it
+covers passes, and one that stood still in most frames wins.
 
 References: Debevec & Malik 1997 (doi:10.1145/258734.258884); Granados et al. 2010, "Optimal
 HDR reconstruction with linear digital cameras" (doi:10.1109/CVPR.2010.5540208) for
@@ -115,6 +116,9 @@ def _merge_rows(
         wts = np.empty((p, nc), np.float32)
         sig = np.empty(p, np.float32)
         state = np.empty(p, np.int8)
+        order_level = np.empty(p, np.float64)
+        order_w = np.empty(p, np.float64)
+        order_j = np.empty(p, np.int64)
         for x in range(w):
             for j in range(p):
                 sy = y + shifts[j, 0]
@@ -156,21 +160,43 @@ def _merge_rows(
                     counts[y, j, 0] += 1
                 elif lo:
                     counts[y, j, 1] += 1
-            # the reference for the ghost test: the frame with the largest weight
-            ref = -1
-            best = 0.0
-            for j in range(p):
-                if state[j] == 0:
-                    total = 0.0
-                    for c in range(nc):
-                        total += wts[j, c]
-                    if total > best:
-                        best = total
-                        ref = j
+            # the reference for the ghost test: the median of the unclipped frames' log levels,
+            # one vote each (the frames that agree outvote one that saw something else, however
+            # well exposed it is)
             ref_level = 0.0
-            if ref >= 0:
-                for c in range(nc):
-                    ref_level += est[ref, c]
+            ref_sig = 0.0
+            if ghost > 0.0:
+                m = 0
+                total_w = 0.0
+                for j in range(p):
+                    if state[j] == 0:
+                        level = 0.0
+                        for c in range(nc):
+                            level += est[j, c]
+                        if level > 0.0:
+                            order_level[m] = math.log(level)
+                            order_w[m] = 1.0
+                            order_j[m] = j
+                            total_w += 1.0
+                            m += 1
+                for a in range(1, m):  # insertion sort by level (m <= 64)
+                    lv, wv, jv = order_level[a], order_w[a], order_j[a]
+                    b = a - 1
+                    while b >= 0 and order_level[b] > lv:
+                        order_level[b + 1] = order_level[b]
+                        order_w[b + 1] = order_w[b]
+                        order_j[b + 1] = order_j[b]
+                        b -= 1
+                    order_level[b + 1] = lv
+                    order_w[b + 1] = wv
+                    order_j[b + 1] = jv
+                run = 0.0
+                for a in range(m):
+                    run += order_w[a]
+                    if run >= 0.5 * total_w:
+                        ref_level = order_level[a]
+                        ref_sig = sig[order_j[a]]
+                        break
             n = 0
             wsum_total = 0.0
             for c in range(nc):
@@ -180,13 +206,13 @@ def _merge_rows(
             for j in range(p):
                 if state[j] != 0:
                     continue
-                if ghost > 0.0 and j != ref:
+                if ghost > 0.0:
                     level = 0.0
                     for c in range(nc):
                         level += est[j, c]
-                    if level <= 0.0 or ref_level <= 0.0:
+                    if level <= 0.0:
                         continue
-                    if abs(math.log(level / ref_level)) > ghost + 3.0 * noise * (sig[j] + sig[ref]):
+                    if abs(math.log(level) - ref_level) > ghost + 3.0 * noise * (sig[j] + ref_sig):
                         counts[y, j, 2] += 1
                         continue
                 n += 1
