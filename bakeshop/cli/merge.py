@@ -295,49 +295,51 @@ def merge(
     )
     radiance, status = merged.radiance, merged.status
     where = _layout_for(radiance.shape, layout)
-    if sun_mode != "off" and merged.fraction(CLIPPED) > 0:
-        if where is None:
-            message = (
-                "the frames are not a panorama (2:1, or --layout), so the clipped sun is not "
-                "modelled"
-            )
-            if sun_mode == "model":
-                raise ArgumentError(message)
-            click.echo(f"sun: {message}")
-        else:
-            with progress.step("modelling the clipped sun"):
-                radiance, status, found = recover_sun(
-                    radiance, status, where, irradiance=sun_illuminance
-                )
-            if found is None:
-                if sun_mode == "model":
-                    raise ArgumentError("no clipped sun with a measurable aureole to model")
-                click.echo(
-                    "sun: the clipped texels hold no sun with a measurable aureole; left as "
-                    "lower bounds"
-                )
-            else:
-                from bakeshop.statistics import luminance
-
-                gained = luminance(found.irradiance[None])[0] / max(
-                    luminance(found.merged_irradiance[None])[0], 1e-300
-                )
-                how = (
-                    f"aureole slope {found.aureole_slope:.2f}, circumsolar ratio "
-                    f"{found.circumsolar_ratio:.3f}"
-                    if found.source == "aureole" else "scaled to --sun-illuminance"
-                )  # fmt: skip
-                click.echo(
-                    f"sun: modelled {found.texels} texels within "
-                    f"{found.clipped_radius_deg:.2f} deg "
-                    f"({how}); its irradiance {luminance(found.irradiance[None])[0]:.4g} is "
-                    f"{gained:.1f}x what the clipped frames held; the sun gives "
-                    f"{100 * found.share:.0f}% of the light on a surface facing it"
-                )
-    elif sun_mode == "model":
-        raise ArgumentError("no pixel is clipped in every frame: there is no sun to model")
-    else:
+    clipped = merged.fraction(CLIPPED) > 0
+    if sun_mode == "off":
+        if clipped:
+            click.echo("sun: not modelled (--sun off): the clipped pixels hold lower bounds")
+    elif not clipped:
+        if sun_mode == "model":
+            raise ArgumentError("no pixel is clipped in every frame: there is no sun to model")
         click.echo("sun: nothing is clipped in every frame")
+    elif where is None:
+        message = (
+            "the frames are not a panorama (2:1, or --layout), so the clipped sun is not modelled"
+        )
+        if sun_mode == "model":
+            raise ArgumentError(message)
+        click.echo(f"sun: {message}")
+    else:
+        with progress.step("modelling the clipped sun"):
+            radiance, status, found = recover_sun(
+                radiance, status, where, irradiance=sun_illuminance
+            )
+        if found is None:
+            if sun_mode == "model":
+                raise ArgumentError("no clipped sun with a measurable aureole to model")
+            click.echo(
+                "sun: the clipped texels hold no sun with a measurable aureole; left as "
+                "lower bounds"
+            )
+        else:
+            from bakeshop.statistics import luminance
+
+            gained = luminance(found.irradiance[None])[0] / max(
+                luminance(found.merged_irradiance[None])[0], 1e-300
+            )
+            how = (
+                f"aureole slope {found.aureole_slope:.2f}, circumsolar ratio "
+                f"{found.circumsolar_ratio:.3f}"
+                if found.source == "aureole" else "scaled to --sun-illuminance"
+            )  # fmt: skip
+            click.echo(
+                f"sun: modelled {found.texels} texels within "
+                f"{found.clipped_radius_deg:.2f} deg "
+                f"({how}); its irradiance {luminance(found.irradiance[None])[0]:.4g} is "
+                f"{gained:.1f}x what the clipped frames held; the sun gives "
+                f"{100 * found.share:.0f}% of the light on a surface facing it"
+            )
     merged.radiance, merged.status = radiance, status
     with progress.step(f"writing {output}"):
         write_image(output, radiance)
