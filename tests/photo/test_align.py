@@ -44,6 +44,7 @@ def test_large_shifts_are_found_by_the_pyramid():
     assert np.abs(found - offsets).max() < ALIGN_PX, found - offsets
 
 
+@pytest.mark.slow
 def test_aligned_merge_is_sharper_than_unaligned():
     offsets = np.array([[2.5, -1.25], [0.5, 3.0], [0.0, 0.0], [-2.0, 1.5], [1.0, -2.5]])
     codes = shifted_stack(offsets, seed=3)

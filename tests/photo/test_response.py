@@ -43,7 +43,6 @@ def test_recovered_curve_within_two_percent_of_the_truth(stack, method):
     assert response.fit_error_stops.shape == (3,) and np.all(response.fit_error_stops < 0.1)
 
 
-@pytest.mark.slow
 def test_every_image_size_meets_the_bound():
     """The same scene at 1024x512, 512x256 and 256x128 (16 times fewer pixels): the samples
     are a fixed number spread over the frame, so each curve is within the bound."""
