@@ -111,6 +111,27 @@ def _merge_rows(
     row0, row1, out, votes, wsum, status, counts,
 ):  # fmt: skip  # pragma: no cover - compiled
     p, h, w, nc = codes.shape
+    shift_y = np.floor(shifts[:, 0])
+    shift_x = np.floor(shifts[:, 1])
+    frac_y = shifts[:, 0] - shift_y
+    frac_x = shifts[:, 1] - shift_x
+    iys = shift_y.astype(np.int64)
+    ixs = shift_x.astype(np.int64)
+    whole = True
+    for j in range(p):
+        if frac_y[j] != 0.0 or frac_x[j] != 0.0:
+            whole = False
+    lut = np.empty((p, table.shape[0], nc), np.float32)
+    for j in range(p):
+        for z in range(table.shape[0]):
+            for c in range(nc):
+                lut[j, z, c] = table[z, c] * inv_exposure[j]
+    flag = np.zeros(table.shape[0], np.uint8)
+    for z in range(table.shape[0]):
+        if z >= high:
+            flag[z] = 1
+        elif z <= low:
+            flag[z] = 2
     for y in numba.prange(row0, row1):
         est = np.empty((p, nc), np.float32)
         wts = np.empty((p, nc), np.float32)
@@ -119,42 +140,129 @@ def _merge_rows(
         order_level = np.empty(p, np.float64)
         order_w = np.empty(p, np.float64)
         order_j = np.empty(p, np.int64)
+        acc = np.empty(nc, np.float64)
+        den = np.empty(nc, np.float64)
+        acc_all = np.empty(nc, np.float64)
+        den_all = np.empty(nc, np.float64)
+        first = np.empty(nc, np.float64)
+        last = np.empty(nc, np.float64)
         for x in range(w):
+            if ghost == 0.0 and whole:  # no ghost test, whole-pixel shifts: one fused pass
+                n = 0
+                wsum_total = 0.0
+                for c in range(nc):
+                    acc[c] = 0.0
+                    den[c] = 0.0
+                    acc_all[c] = 0.0
+                    den_all[c] = 0.0
+                first_state = 0
+                last_state = 0
+                for j in range(p):
+                    y0 = min(max(y + iys[j], 0), h - 1)
+                    x0 = min(max(x + ixs[j], 0), w - 1)
+                    f = 0
+                    for c in range(nc):
+                        f |= flag[codes[j, y0, x0, c]]
+                    state_j = 1 if f & 1 else (2 if f else 0)
+                    if state_j == 1:
+                        counts[y, j, 0] += 1
+                    elif state_j == 2:
+                        counts[y, j, 1] += 1
+                    total = 0.0
+                    for c in range(nc):
+                        z = codes[j, y0, x0, c]
+                        e = lut[j, z, c]
+                        wt = weight[z, c]
+                        acc_all[c] += wt * e
+                        den_all[c] += wt
+                        if j == 0:
+                            first[c] = e
+                        if j == p - 1:
+                            last[c] = e
+                        if state_j == 0:
+                            acc[c] += wt * e
+                            den[c] += wt
+                            total += wt
+                    if j == 0:
+                        first_state = state_j
+                    if j == p - 1:
+                        last_state = state_j
+                    if state_j == 0:
+                        n += 1
+                        wsum_total += total / nc
+                code = 0
+                if n == 0:
+                    if first_state == 1:
+                        code = 1
+                        for c in range(nc):
+                            acc[c] = first[c]
+                            den[c] = 1.0
+                    elif last_state == 2:
+                        code = 2
+                        for c in range(nc):
+                            acc[c] = last[c]
+                            den[c] = 1.0
+                    else:
+                        for c in range(nc):
+                            if den_all[c] > 0.0:
+                                acc[c] = acc_all[c]
+                                den[c] = den_all[c]
+                            else:
+                                acc[c] = first[c]
+                                den[c] = 1.0
+                for c in range(nc):
+                    out[y, x, c] = acc[c] / den[c] if den[c] > 0.0 else 0.0
+                votes[y, x] = n
+                wsum[y, x] = wsum_total
+                status[y, x] = code
+                continue
             for j in range(p):
-                sy = y + shifts[j, 0]
-                sx = x + shifts[j, 1]
-                fy0 = math.floor(sy)
-                fx0 = math.floor(sx)
-                fy = sy - fy0
-                fx = sx - fx0
-                y0 = min(max(int(fy0), 0), h - 1)
-                x0 = min(max(int(fx0), 0), w - 1)
-                y1 = min(max(int(fy0) + 1, 0), h - 1)
-                x1 = min(max(int(fx0) + 1, 0), w - 1)
+                iy = int(shift_y[j])
+                ix = int(shift_x[j])
+                fy = frac_y[j]
+                fx = frac_x[j]
+                y0 = min(max(y + iy, 0), h - 1)
+                x0 = min(max(x + ix, 0), w - 1)
+                y1 = min(max(y + iy + 1, 0), h - 1)
+                x1 = min(max(x + ix + 1, 0), w - 1)
                 hi = False
                 lo = False
                 sig[j] = 0.0
-                for c in range(nc):
-                    lin = 0.0
-                    wt = 0.0
-                    sl = 0.0
-                    for t in range(4):
-                        ty = y0 if t < 2 else y1
-                        tx = x0 if t % 2 == 0 else x1
-                        tw = (1.0 - fy if t < 2 else fy) * (1.0 - fx if t % 2 == 0 else fx)
-                        if tw <= 0.0:
-                            continue
-                        z = codes[j, ty, tx, c]
-                        if z >= high:
+                if fy == 0.0 and fx == 0.0:  # a whole-pixel shift (or none): one tap
+                    s_j = 0.0
+                    for c in range(nc):
+                        z = codes[j, y0, x0, c]
+                        f = flag[z]
+                        if f == 1:
                             hi = True
-                        if z <= low:
+                        elif f == 2:
                             lo = True
-                        lin += tw * table[z, c]
-                        wt += tw * weight[z, c]
-                        sl += tw * slope[z, c]
-                    est[j, c] = lin * inv_exposure[j]
-                    wts[j, c] = wt
-                    sig[j] += sl / nc
+                        est[j, c] = table[z, c] * inv_exposure[j]
+                        wts[j, c] = weight[z, c]
+                        s_j += slope[z, c]
+                    sig[j] = s_j / nc
+                else:
+                    for c in range(nc):
+                        lin = 0.0
+                        wt = 0.0
+                        sl = 0.0
+                        for t in range(4):
+                            ty = y0 if t < 2 else y1
+                            tx = x0 if t % 2 == 0 else x1
+                            tw = (1.0 - fy if t < 2 else fy) * (1.0 - fx if t % 2 == 0 else fx)
+                            if tw <= 0.0:
+                                continue
+                            z = codes[j, ty, tx, c]
+                            if z >= high:
+                                hi = True
+                            if z <= low:
+                                lo = True
+                            lin += tw * table[z, c]
+                            wt += tw * weight[z, c]
+                            sl += tw * slope[z, c]
+                        est[j, c] = lin * inv_exposure[j]
+                        wts[j, c] = wt
+                        sig[j] += sl / nc
                 state[j] = 1 if hi else (2 if lo else 0)
                 if hi:
                     counts[y, j, 0] += 1
@@ -201,8 +309,9 @@ def _merge_rows(
             wsum_total = 0.0
             for c in range(nc):
                 out[y, x, c] = 0.0
-            acc = np.zeros(nc, np.float64)
-            den = np.zeros(nc, np.float64)
+            for c in range(nc):
+                acc[c] = 0.0
+                den[c] = 0.0
             for j in range(p):
                 if state[j] != 0:
                     continue

@@ -84,6 +84,7 @@ def make_stack(codes, exposures, *, names=None, absolute: bool = False) -> Expos
     Parameters
     ----------
     codes : sequence of (H, W, C) uint8/uint16 arrays, or (P, H, W, C)
+        A (P, H, W, C) array already in order of exposure is used as it is (not copied).
     exposures : (P,) float
         Positive, finite, not all equal.
     names : list of str, optional
@@ -120,10 +121,14 @@ def make_stack(codes, exposures, *, names=None, absolute: bool = False) -> Expos
             "scene from the darker ones; bracket the exposure (or give the right times)"
         )
     order = np.argsort(exposures, kind="stable")
-    stacked = np.empty((len(frames),) + _hwc(first), first.dtype)
-    for k, i in enumerate(order):
-        f = frames[i]
-        stacked[k] = f[..., None] if f.ndim == 2 else f
+    given = codes if isinstance(codes, np.ndarray) else None
+    if given is not None and given.ndim == 4 and np.all(order == np.arange(len(frames))):
+        stacked = given  # already one sorted (P, H, W, C) array: no copy
+    else:
+        stacked = np.empty((len(frames),) + _hwc(first), first.dtype)
+        for k, i in enumerate(order):
+            f = frames[i]
+            stacked[k] = f[..., None] if f.ndim == 2 else f
     return ExposureStack(
         stacked, exposures[order], [names[i] for i in order], absolute, [{} for _ in order]
     )
