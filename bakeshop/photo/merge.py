@@ -41,7 +41,7 @@ import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError
-from bakeshop.photo.response import CameraResponse
+from bakeshop.photo.response import KNOWN_CURVES, CameraResponse
 from bakeshop.photo.stack import LUMINANCE_PER_UNIT, ExposureStack
 
 __all__ = [
@@ -63,6 +63,9 @@ CLIP_HIGH = 250 / 255
 CLIP_LOW = 2 / 255
 #: the weights rise from 0 at a clipped end to full over this fraction of full scale.
 TAPER = 0.06
+#: a recovered curve's darkest codes are trusted in proportion up to this fraction of full
+#: scale (known curves are trusted everywhere).
+SUPPORT = 0.25
 #: code noise assumed by the ghost test, as a fraction of full scale.
 GHOST_NOISE = 0.005
 #: rows merged per call of the kernel (progress granularity).
@@ -99,6 +102,10 @@ def _tables(response: CameraResponse, bits: int, channels: int, low: int, high: 
     ramp = max(TAPER * top, 1.0)
     taper = np.clip((codes - low) / ramp, 0, 1) * np.clip((high - codes) / ramp, 0, 1)
     weight = taper[:, None] / slope**2
+    if response.method not in KNOWN_CURVES:
+        # a recovered curve rests on few, low-weighted samples at its darkest codes (Debevec's
+        # hat): trust them less, rising to full trust at a quarter of full scale
+        weight *= np.clip(codes / (SUPPORT * top), 0, 1)[:, None]
     weight[codes <= low] = 0
     weight[codes >= high] = 0
     weight /= weight.max()

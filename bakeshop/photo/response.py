@@ -50,8 +50,9 @@ ResponseMethod = Literal["debevec", "robertson"]
 KNOWN_CURVES = ("srgb", "gamma", "linear")
 RESPONSE_METHODS = ("debevec", "robertson")
 
-#: knots of a recovered curve for 16-bit input (8-bit input uses its 256 codes).
-KNOTS_16 = 1024
+#: knots of a recovered curve for 16-bit input (8-bit input uses its 256 codes); a 16-bit
+#: sample reads the curve between knots by linear interpolation.
+KNOTS_16 = 256
 #: default weight of Debevec's smoothness term, relative to the data term (scale-free: see
 #: :func:`recover_response`).
 SMOOTHNESS = 50.0
@@ -109,19 +110,20 @@ class CameraResponse:
 
     def table(self, bits: int, channels: int) -> np.ndarray:
         """Linear exposure of every code of a ``bits``-bit image: ``(2**bits, channels)``
-        float64, interpolated linearly in ``ln X`` between knots (in ``X`` at ``X = 0``)."""
+        float64. Between knots, ``ln X`` is interpolated linearly in ``ln Z`` (a power law,
+        the toe of most curves, is then exact), and ``X`` linearly below the first knot."""
         codes = np.arange(1 << bits) / ((1 << bits) - 1)
         if self.method in KNOWN_CURVES:
             return np.repeat(_known(self.method, codes, self.gamma)[:, None], channels, axis=1)
         knots = np.linspace(0.0, 1.0, self.linear.shape[0])
         out = np.empty((codes.size, channels))
+        above = codes >= knots[1]
         for c in range(channels):
             lin = self.linear[:, min(c, self.channels - 1)]
-            positive = lin > 0
-            out[:, c] = np.exp(np.interp(codes, knots[positive], np.log(lin[positive])))
-            if not positive[0]:
-                low = codes < knots[1]
-                out[low, c] = np.interp(codes[low], knots[:2], lin[:2])
+            out[above, c] = np.exp(
+                np.interp(np.log(codes[above]), np.log(knots[1:]), np.log(lin[1:]))
+            )
+            out[~above, c] = np.interp(codes[~above], knots[:2], lin[:2])
         return out
 
     def to_dict(self) -> dict:
@@ -345,43 +347,96 @@ def _strictly_increasing(g: np.ndarray) -> np.ndarray:
     return np.maximum.accumulate(g - ramp) + ramp
 
 
-def _debevec_channel(z, lnt, valid, knots, smoothness):
-    """Solve Debevec-Malik for one channel; returns (g (knots,), fit RMS in ln units)."""
+def _debevec_channel(zf, lnt, valid, knots, smoothness):
+    """Solve Debevec-Malik for one channel; returns (g (knots,), fit RMS in ln units).
+
+    ``zf`` (N, P) are the samples' positions in knot units: a sample between two knots reads
+    the curve there by linear interpolation (exact for 8-bit codes on 256 knots)."""
     from scipy import sparse
 
-    n, p = z.shape
+    n, p = zf.shape
     hat = _hat(knots)
-    w = np.where(valid, hat[z], 0.0)
+    k0 = np.minimum(np.floor(zf).astype(np.int64), knots - 2)
+    a = zf - k0
+    w = np.where(valid, (1 - a) * hat[k0] + a * hat[k0 + 1], 0.0)
     w2 = w * w
     keep = w2.sum(axis=1) > 0
-    z, w2 = z[keep], w2[keep]
-    n = z.shape[0]
+    k0, a, w2 = k0[keep], a[keep], w2[keep]
+    n = k0.shape[0]
     if n < 2:
         raise ArgumentError("too few unclipped samples to recover a response")
-    rows = z.ravel()
-    cols = np.repeat(np.arange(n), p)
+    # normal equations of sum w^2 (c . g - lnE - lnt)^2 + lam^2 sum (hat(z) g''(z))^2, with
+    # c = (1 - a) at knot k0 and a at k0 + 1
+    c0, c1 = (1 - a).ravel(), a.ravel()
+    kk0, kk1 = k0.ravel(), k0.ravel() + 1
     data = w2.ravel()
-    # normal equations of sum w^2 (g[z] - lnE - lnt)^2 + lam^2 sum (hat(z) g''(z))^2
-    hgg = np.bincount(rows, data, minlength=knots)
-    bg = np.bincount(rows, data * np.tile(lnt, n), minlength=knots)
+    lnt_obs = np.tile(lnt, n)
+    hgg = np.zeros((knots, knots))
+    np.add.at(hgg, (kk0, kk0), data * c0 * c0)
+    np.add.at(hgg, (kk1, kk1), data * c1 * c1)
+    np.add.at(hgg, (kk0, kk1), data * c0 * c1)
+    np.add.at(hgg, (kk1, kk0), data * c0 * c1)
+    bg = np.bincount(kk0, data * c0 * lnt_obs, minlength=knots) + np.bincount(
+        kk1, data * c1 * lnt_obs, minlength=knots
+    )
     d = w2.sum(axis=1)
     be = -(w2 * lnt).sum(axis=1)
-    hge = sparse.csr_matrix((-data, (rows, cols)), shape=(knots, n))
-    schur = np.diag(hgg) - (hge @ sparse.diags(1.0 / d) @ hge.T).toarray()
+    cols = np.repeat(np.arange(n), p)
+    hge = sparse.csr_matrix(
+        (
+            -np.concatenate([data * c0, data * c1]),
+            (np.concatenate([kk0, kk1]), np.concatenate([cols, cols])),
+        ),
+        shape=(knots, n),
+    )
+    schur = hgg - (hge @ sparse.diags(1.0 / d) @ hge.T).toarray()
     rhs = bg - hge @ (be / d)
-    lam2 = smoothness * data.sum() / knots / (hat.max() ** 2)
-    second = sparse.diags([1.0, -2.0, 1.0], [0, 1, 2], shape=(knots - 2, knots)).toarray()
-    weighted = hat[1:-1, None] * second
+    lam2 = _penalty(smoothness, data.sum(), knots)
+    weighted = _curvature_rows(knots)
     schur += lam2 * weighted.T @ weighted
     mid = (knots - 1) // 2
     free = np.arange(knots) != mid
     g = np.zeros(knots)
     g[free] = np.linalg.solve(schur[np.ix_(free, free)], rhs[free])
-    lne = (w2 * (g[z] - lnt)).sum(axis=1) / d
-    residual = g[z] - lne[:, None] - lnt
+    at = (1 - a) * g[k0] + a * g[k0 + 1]
+    lne = (w2 * (at - lnt)).sum(axis=1) / d
+    residual = at - lne[:, None] - lnt
     rms = math.sqrt(float((w2 * residual**2).sum() / data.sum()))
-    weight_of_knot = hgg + 1e-9
+    weight_of_knot = np.diag(hgg) + 1e-9
     return _strictly_increasing(_isotonic(g, weight_of_knot)), rms
+
+
+CURVATURE = "linear"
+
+
+def _curvature_rows(knots: int) -> np.ndarray:
+    """Rows of the weighted curvature penalty on ``g``: ``(K - 2, K)``.
+
+    The curvature of ``g = ln X`` is taken against ``ln z`` below the middle code (a power law,
+    the toe of nearly every camera curve, has none there, where its curvature against ``z``
+    grows as ``1/z^2`` and a penalty on it bends the toe away from the data), scaled to match
+    ``g''(z)`` at the middle, and against ``z`` above it, weighted by Debevec's hat.
+    """
+    hat = _hat(knots)
+    mid = (knots - 1) / 2
+    rows = np.zeros((knots - 2, knots))
+    for r, k in enumerate(range(1, knots - 1)):
+        if CURVATURE == "loglog" and k < mid:
+            u0, u1, u2 = np.log([max(k - 1, 0.5), k, k + 1])
+            h1, h2 = u1 - u0, u2 - u1
+            coef = 2 / (h1 + h2) * np.array([1 / h1, -(1 / h1 + 1 / h2), 1 / h2])
+            rows[r, k - 1 : k + 2] = coef / mid**2 * hat[int(round(mid))]
+        else:
+            rows[r, k - 1 : k + 2] = np.array([1.0, -2.0, 1.0]) * hat[k]
+    return rows
+
+
+def _penalty(smoothness: float, total: float, knots: int) -> float:
+    """``lam^2`` of the ``g''`` penalty: ``smoothness * total / K / max(hat)^2`` at 256 knots,
+    scaled so that the penalty on the curve as a function of the code's fraction of full scale
+    (not of the knot index) is the same for any number of knots."""
+    top = (knots - 1) / 2
+    return smoothness * total / knots / top**2 * (127.5 / top) ** 2 * ((knots - 1) / 255) ** 4
 
 
 def _smooth(g, counts, smoothness):
@@ -392,7 +447,7 @@ def _smooth(g, counts, smoothness):
 
     knots = g.size
     hat = _hat(knots)
-    lam2 = smoothness * counts.sum() / knots / (hat.max() ** 2)
+    lam2 = _penalty(smoothness, counts.sum(), knots)
     h2 = lam2 * hat[1:-1] ** 2  # weight of the second difference centred on knot k + 1
     bands = np.zeros((3, knots))  # upper form: row 2 diagonal, 1 first, 0 second superdiagonal
     bands[2] = counts + 1e-9
@@ -414,7 +469,9 @@ def _robertson_channel(z, exposure, valid, knots, smoothness, iterations=60, tol
     keep = w.sum(axis=1) > 0
     z, w = z[keep], w[keep]
     t = np.broadcast_to(exposure, z.shape)
-    inv = np.linspace(0.0, 2.0, knots)  # any increasing start
+    # start from the sRGB curve: from a linear start, brackets two stops apart converge to a
+    # curve rippled by 10 % (the iteration has such fixed points); from sRGB, within 1.5 %
+    inv = _known("srgb", np.linspace(0.0, 1.0, knots), None)
     counts = np.bincount(z.ravel(), minlength=knots)
     seen = counts > 0
     for _ in range(iterations):
@@ -469,7 +526,8 @@ def recover_response(
         ``X(z) = mean of E t`` over the samples of code ``z`` (Gaussian weights, 0 at the ends),
         smoothing ``ln X`` by the same penalty at each step (with exposures a power of two
         apart, a ripple of one stop's period is barely observable and the plain iteration drifts
-        into it by a few per cent).
+        into it by a few per cent), starting from the sRGB curve (from a linear start, brackets
+        two stops apart end in a curve rippled by 10 %).
     smoothness : float
         Weight of the ``g''`` penalty (0.001-1000), for either method.
     samples : int
@@ -506,15 +564,12 @@ def recover_response(
     positions = select_samples(codes, count=samples, shifts=shifts, seed=seed)
     values = _gather(codes, positions, shifts)  # (N, P, C)
     valid = ~_clipped_any(values, low, high)  # (N, P)
-    z = (
-        values.astype(np.int64)
-        if bits == 8
-        else (values.astype(np.int64) * (knots - 1) + 32767) // 65535
-    )
+    zf = values.astype(np.float64) * ((knots - 1) / ((1 << bits) - 1))  # in knot units
+    z = np.rint(zf).astype(np.int64)  # Robertson averages per knot
     gs, fits = [], []
     for c in range(codes.shape[3]):
         if method == "debevec":
-            g, rms = _debevec_channel(z[..., c], np.log(exposures), valid, knots, smoothness)
+            g, rms = _debevec_channel(zf[..., c], np.log(exposures), valid, knots, smoothness)
         else:
             g, rms = _robertson_channel(z[..., c], exposures, valid, knots, smoothness)
         gs.append(g)

@@ -144,3 +144,14 @@ def test_bad_arguments_are_refused(scene):
         merge_stack(stack, response, clip_low=0.6, clip_high=0.7)
     with pytest.raises(ArgumentError, match="same exposure"):
         make_stack(stack.codes[:3], [0.5, 0.5, 0.5])
+
+
+def test_sixteen_bit_frames():
+    truth = synthetic.default_probe()[::2, ::2]
+    times = 2.0 ** np.arange(-8, 3, 2)
+    frames = synthetic.shoot(truth, times, gain=GAIN, bits=16, noise=0.1)
+    stack = make_stack(frames, times)
+    assert stack.bits == 16
+    merged = merge_stack(stack, recover_response(stack.codes, stack.exposures))
+    seen = merged.votes > 0
+    assert relative_rms(merged.radiance, truth, seen) < MERGE_RMS

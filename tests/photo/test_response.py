@@ -39,6 +39,13 @@ def curve_error(response, bits=8) -> np.ndarray:
 def test_recovered_curve_within_two_percent_of_the_truth(stack, method):
     response = recover_response(stack.codes, stack.exposures, method=method)
     assert np.all(curve_error(response) < RESPONSE_CURVE), curve_error(response)
+    if method == "robertson":
+        return  # two stops apart, Robertson's curve wanders by up to 3.3 % (docs/photographs.md)
+    # brackets two stops apart, as most cameras take them
+    times = TIMES[::2]
+    wide = make_stack(synthetic.shoot(synthetic.default_probe(), times, gain=0.5, seed=4), times)
+    response = recover_response(wide.codes, wide.exposures, method=method)
+    assert np.all(curve_error(response) < RESPONSE_CURVE), curve_error(response)
     assert np.all(np.diff(response.linear, axis=0) > 0)
     assert response.fit_error_stops.shape == (3,) and np.all(response.fit_error_stops < 0.1)
 
