@@ -37,7 +37,8 @@ def _numbers(text: str, count: int, what: str) -> list[float]:
 @click.option(
     "--size",
     type=click.IntRange(8, 32768),
-    help="Output height (latlong) or edge (8-32768). Default: the ball's diameter.",
+    help="Output height (latlong) or edge (8-32768). Default: the ball's diameter in pixels "
+    "across (a latlong that wide).",
 )
 @click.option(
     "--convention",
@@ -146,9 +147,9 @@ def unwrap(
         )
         photos.append(photo)
         found.append(circle)
-    size = size or int(np.ceil(2 * max(c.radius for c in found)))
-    if to == "latlong":
-        size = max(8, size // 2)
+    if size is None:  # the ball's diameter across: the latlong's width, a square's edge
+        size = int(np.ceil(2 * max(c.radius for c in found)))
+        size = max(8, size // 2) if to == "latlong" else size
     with progress.step("unwrapping"):
         if len(photos) == 1:
             out = mb.unwrap(photos[0], found[0], to=to, size=size, convention=convention)
