@@ -85,8 +85,11 @@ def _mtb_shift(ref_grey, grey, top, levels, ref_q, q) -> tuple[int, int]:
         for sy in (-1, 0, 1):
             for sx in (-1, 0, 1):
                 ty, tx = dy + sy, dx + sx
-                diff = (tb_r ^ _shifted(tb, ty, tx)) & eb_r & _shifted(eb, ty, tx)
-                err = int(np.count_nonzero(diff))
+                compared = eb_r & _shifted(eb, ty, tx)
+                diff = (tb_r ^ _shifted(tb, ty, tx)) & compared
+                # a rate, not a count: a shift that pushes part of the frame out of the picture
+                # compares fewer pixels and must not win for it
+                err = np.count_nonzero(diff) / max(int(np.count_nonzero(compared)), 1)
                 if best is None or err < best[0]:
                     best = (err, ty, tx)
         _, dy, dx = best
@@ -94,13 +97,15 @@ def _mtb_shift(ref_grey, grey, top, levels, ref_q, q) -> tuple[int, int]:
 
 
 def _thresholds(ref_grey, grey, top, low, high) -> tuple[float, float]:
-    """A common percentile both frames see unclipped: the median when possible."""
+    """A common percentile both frames see unclipped: the median when it lies well inside the
+    range both see (a quarter of it from either end), else the middle of that range."""
     n = ref_grey.size
     lo = max(np.count_nonzero(ref_grey <= low), np.count_nonzero(grey <= low)) / n
     hi = 1 - max(np.count_nonzero(ref_grey >= high), np.count_nonzero(grey >= high)) / n
     if hi - lo < 0.02:
         return float("nan"), float("nan")
-    q = min(max(0.5, lo + 0.01), hi - 0.01)
+    margin = 0.25 * (hi - lo)  # keep the threshold well inside what both frames see
+    q = 0.5 if lo + margin <= 0.5 <= hi - margin else 0.5 * (lo + hi)
     return float(np.quantile(ref_grey, q)), float(np.quantile(grey, q))
 
 
@@ -196,8 +201,10 @@ def align_stack(
     Returns
     -------
     (P, 2) float64
-        ``(dy, dx)`` per frame; the reference's is ``(0, 0)``. A frame with too little unclipped
-        overlap with the reference to compare gets ``(0, 0)``.
+        ``(dy, dx)`` per frame; the reference's is ``(0, 0)``. A frame that shares too little
+        unclipped range with the reference is aligned to its neighbour towards it and the
+        shifts are composed; one that shares too little with both takes its neighbour's
+        shift.
     """
     from scipy.ndimage import gaussian_filter
 
@@ -217,23 +224,43 @@ def align_stack(
     low, high = clip_codes(8 if top == 255 else 16, clip_low, clip_high)
     min_side = min(codes.shape[1:3])
     levels = max(0, min(math.ceil(math.log2(max_shift)), int(math.log2(max(min_side, 2))) - 4))
-    ref_grey = _grey(codes[reference])
-    ref_ok = (codes[reference] > low).all(axis=-1) & (codes[reference] < high).all(axis=-1)
-    ref_rank = gaussian_filter(_ranks(ref_grey, top), BLUR) if subpixel else None
-    shifts = np.zeros((p, 2))
-    for j in progress.track(range(p), "aligning frames", total=p):
-        if j == reference:
-            continue
+
+    def frame(j):
         grey = _grey(codes[j])
+        ok = (codes[j] > low).all(axis=-1) & (codes[j] < high).all(axis=-1)
+        rank = gaussian_filter(_ranks(grey, top), BLUR) if subpixel else None
+        return grey, ok, rank
+
+    def step(near, far):
+        """Shift of frame ``far`` onto its neighbour ``near`` (None: too little overlap)."""
+        ref_grey, ref_ok, ref_rank = near
+        grey, ok, rank = far
         ref_q, q = _thresholds(ref_grey, grey, top, low, high)
         if math.isnan(q):
-            continue
+            return None
         dy, dx = _mtb_shift(ref_grey, grey, top, levels, ref_q, q)
-        if subpixel:
-            ok = (codes[j] > low).all(axis=-1) & (codes[j] < high).all(axis=-1)
-            usable = ref_ok & _shifted(ok, dy, dx)
-            rank = gaussian_filter(_ranks(grey, top), BLUR)
-            shifts[j] = _refine(ref_rank, rank, usable, dy, dx)
-        else:
-            shifts[j] = (dy, dx)
+        if not subpixel:
+            return float(dy), float(dx)
+        return _refine(ref_rank, rank, ref_ok & _shifted(ok, dy, dx), dy, dx)
+
+    # each frame is aligned to the reference; one too dark or too bright to share a
+    # well-exposed range with it is aligned to its neighbour towards the reference and the
+    # shifts composed (frame j at q + s_near + d matches its neighbour at q + s_near, which
+    # matches the reference at q: s_j = s_near + d)
+    shifts = np.zeros((p, 2))
+    with progress.step(f"aligning {p} frames"):
+        ref = frame(reference)
+        for direction in (-1, 1):
+            near = ref
+            j = reference + direction
+            while 0 <= j < p:
+                far = frame(j)
+                d = step(ref, far)
+                if d is not None:
+                    shifts[j] = d
+                else:
+                    d = step(near, far)
+                    shifts[j] = shifts[j - direction] + (d if d is not None else (0.0, 0.0))
+                near = far
+                j += direction
     return shifts
