@@ -7,7 +7,8 @@ the *order* of values. Two steps use that:
    reduced to grey, becomes a bitmap of "brighter than its own median" (or, when the median is
    clipped, of a percentile both frames see unclipped), with pixels within a few codes of the
    threshold excluded. An image pyramid finds the whole-pixel shift that minimises the
-   differing bits, one pixel of search per level, up to ``max_shift`` pixels.
+   rate of differing bits, a pixel of search per level (two at the last), up to
+   ``max_shift`` pixels.
 2. **Sub-pixel refinement**: each frame is mapped through its own cumulative histogram (its
    codes become ranks in [0, 1], comparable across exposures), lightly blurred, and the
    translation is refined by Lucas-Kanade iterations (Lucas & Kanade 1981) on the most
@@ -29,6 +30,10 @@ from bakeshop.errors import ArgumentError
 
 __all__ = ["align_stack"]
 
+#: offsets searched at full resolution around twice the coarser level's answer (Ward searches
+#: +-1 at every level; +-2 at the last also corrects a coarser level that was a whole pixel off,
+#: which halving makes common; wider at the coarse levels finds false minima).
+SEARCH = (-2, -1, 0, 1, 2)
 #: pixels within this fraction of full scale of the threshold are excluded (Ward: 4 of 255).
 EXCLUSION = 4 / 255
 #: tiles used by the refinement, and their side in pixels.
@@ -82,8 +87,9 @@ def _mtb_shift(ref_grey, grey, top, levels, ref_q, q) -> tuple[int, int]:
         tb_r, eb_r = _bitmaps(pyr_ref[level], ref_q, band)
         tb, eb = _bitmaps(pyr[level], q, band)
         best = None
-        for sy in (-1, 0, 1):
-            for sx in (-1, 0, 1):
+        search = SEARCH if level == 0 else SEARCH[1:-1]
+        for sy in search:
+            for sx in search:
                 ty, tx = dy + sy, dx + sx
                 compared = eb_r & _shifted(eb, ty, tx)
                 diff = (tb_r ^ _shifted(tb, ty, tx)) & compared
