@@ -198,9 +198,7 @@ def main() -> None:
     y0, y1, x0, x1 = ys.min(), ys.max() + 1, xs.min(), xs.max() + 1
     bx = fig.add_subplot(1, 4, 3)
     bx.imshow(merged.status[y0:y1, x0:x1], cmap="viridis", vmin=0, vmax=3, interpolation="nearest")
-    bx.set_title(
-        "status near the sun, merged:\nteal (1) = clipped in every frame", fontsize=9
-    )
+    bx.set_title("status near the sun, merged:\nteal (1) = clipped in every frame", fontsize=9)
     bx.axis("off")
     cx = fig.add_subplot(1, 4, 4)
     cx.imshow(status[y0:y1, x0:x1], cmap="viridis", vmin=0, vmax=3, interpolation="nearest")
