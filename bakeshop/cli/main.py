@@ -14,17 +14,8 @@ import click
 from bakeshop import __version__, progress
 from bakeshop.errors import BakeshopError
 
-COMMAND_MODULES = [
-    "images",
-    "panorama",
-    "fresnel",
-    "normals",
-    "light",
-    "specular",
-    "buoyancy",
-    "merge",
-    "unwrap",
-]
+COMMAND_MODULES = ["images", "panorama", "fresnel", "normals", "light", "specular", "buoyancy"]
+COMMAND_MODULES += ["merge", "unwrap"]  # from photographs to a probe
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
