@@ -134,6 +134,23 @@ def make_stack(codes, exposures, *, names=None, absolute: bool = False) -> Expos
     )
 
 
+def _allocate(shape, dtype) -> np.ndarray:
+    """An array for a whole stack, refused with the number when it cannot fit in memory."""
+    needed = int(np.prod(shape)) * np.dtype(dtype).itemsize
+    try:
+        with open("/proc/meminfo") as f:
+            info = dict(line.split(":", 1) for line in f)
+        available = int(info["MemAvailable"].split()[0]) * 1024
+    except (OSError, KeyError, ValueError):
+        available = None
+    if available is not None and needed > available:
+        raise ArgumentError(
+            f"the stack's codes need {needed / 2**30:.1f} GiB and {available / 2**30:.1f} GiB "
+            "is available"
+        )
+    return np.empty(shape, dtype)
+
+
 def _hwc(f: np.ndarray) -> tuple[int, int, int]:
     return (f.shape[0], f.shape[1], 1 if f.ndim == 2 else f.shape[2])
 
@@ -193,10 +210,10 @@ def read_stack(
     for key, values in given.items():
         if values is not None and len(values) != len(paths):
             raise ArgumentError(f"{len(paths)} frames need {len(paths)} values of {key}")
-    frames, settings = [], []
-    for i, path in enumerate(paths):
-        image, meta = read_image(path, with_metadata=True)
-        frames.append(_codes(image, meta, path))
+    if not 2 <= len(paths) <= MAX_FRAMES:
+        raise ArgumentError(f"a stack needs 2-{MAX_FRAMES} frames, not {len(paths)}")
+    settings = []
+    for i, path in enumerate(paths):  # the exposures first: EXIF is read without the pixels
         try:
             found = read_exposure(path)
         except BakeshopError:
@@ -213,9 +230,27 @@ def read_stack(
                 path,
             )
         settings.append(found)
-        del image
     exposures, absolute = zip(*(_exposure(s) for s in settings), strict=True)
-    stack = make_stack(frames, exposures, names=paths, absolute=all(absolute))
     order = np.argsort(np.asarray(exposures), kind="stable")
+    # each frame read straight into its place in one (P, H, W, C) array, darkest first
+    stacked = None
+    for k, i in enumerate(order):
+        image, meta = read_image(paths[i], with_metadata=True)
+        codes = _codes(image, meta, paths[i])
+        del image
+        if stacked is None:
+            stacked = _allocate((len(paths),) + codes.shape, codes.dtype)
+        elif codes.shape != stacked.shape[1:] or codes.dtype != stacked.dtype:
+            h, w = stacked.shape[1:3]
+            raise ArgumentError(
+                f"all frames must have one size and depth: {codes.shape[1]}x{codes.shape[0]} "
+                f"{codes.dtype} against {w}x{h} {stacked.dtype}",
+                paths[i],
+            )
+        stacked[k] = codes
+    stack = make_stack(
+        stacked, [exposures[i] for i in order], names=[paths[i] for i in order],
+        absolute=all(absolute),
+    )  # fmt: skip
     stack.settings = [settings[i] for i in order]
     return stack
