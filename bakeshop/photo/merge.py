@@ -8,7 +8,9 @@ response's linear value of its code over the frame's exposure); the merge is the
 with ``w = taper(Z) / g'(Z)^2``: the inverse of the variance that a constant code noise gives
 an estimate through the curve ``g = ln X`` (so a frame that sees a pixel brighter, where the
 curve is flatter in log terms, counts more), times a taper that is exactly 0 at the clipped
-ends and rises to 1 over :data:`TAPER` of full scale. Clipping is judged per pixel across
+ends and rises to 1 over :data:`TAPER` of full scale (and, for a recovered curve, times a ramp
+up to :data:`SUPPORT` of full scale: a recovered curve's darkest codes rest on few samples with
+Debevec's smallest weights, and are trusted less). Clipping is judged per pixel across
 channels: a frame in which any channel of a pixel is at or beyond ``clip_low`` or ``clip_high``
 does not vote for that pixel at all (a red channel clipped in a sunset would otherwise tint the
 merge with the other channels' larger values).
