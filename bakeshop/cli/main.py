@@ -20,6 +20,8 @@ COMMAND_MODULES = [
     "convert",
     "resize",
     "remap",
+    "merge",
+    "unwrap",
     "irradiance",
     "sun",
     "dims",
