@@ -1,0 +1,22 @@
+"""Tolerances of the water tests, named once (units in each comment)."""
+
+#: float64 FFT fields vs brute-force float64 sums over the same modes (relative to the field's
+#: largest value).
+FFT_VS_SUM_RTOL = 1e-12
+#: loop closure and tile seams in float32 output: |difference| relative to the field's largest
+#: value (the issue's bound).
+FLOAT32_FIELD = 1e-6
+#: angle between normals, radians: loop closure in float32 (the issue's bound).
+LOOP_ANGLE_RAD = 1e-6
+#: spectral normals vs central differences of the height (step 1e-4 m) of one mode, radians.
+SLOPE_ANGLE_RAD = 1e-4
+#: angle after 8-bit (xyz) or two-channel 8-bit (xy, z rebuilt) encoding, degrees.
+ENCODED_SEAM_DEG = 0.5
+#: measured directional band power vs the target spectrum, relative (the issue's 5 %).
+BAND_POWER_RTOL = 0.05
+#: Hs measured over seeds vs 4 sqrt(m0) of the closed form (sampling of a finite patch).
+HS_RTOL = 0.03
+#: imaginary part of a single field's inverse FFT, relative to its largest real value.
+IMAGINARY_RESIDUE = 1e-6
+#: Gerstner normal vs the cross product of finite-difference tangents (step 1e-5 m), radians.
+GERSTNER_FD_RAD = 1e-6
