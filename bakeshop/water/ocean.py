@@ -107,7 +107,7 @@ def _mode_normals(seed, mx, my, out):  # pragma: no cover - compiled
         state = _splitmix64(base ^ np.uint64(np.int64(mx[i])))
         state = _splitmix64(state ^ np.uint64(np.int64(my[i]) * np.int64(0x5851F42D)))
         u1 = (float(_splitmix64(state) >> np.uint64(11)) + 0.5) * scale
-        u2 = (float(_splitmix64(state ^ np.uint64(0xD1B54A32D192ED03)) >> np.uint64(11)) + 0.5)
+        u2 = float(_splitmix64(state ^ np.uint64(0xD1B54A32D192ED03)) >> np.uint64(11)) + 0.5
         u2 *= scale
         r = math.sqrt(-2.0 * math.log(u1))
         out[i, 0] = r * math.cos(2.0 * math.pi * u2)
@@ -133,9 +133,7 @@ def mode_normals(seed: int, mx, my) -> np.ndarray:
 
 
 def _check_seed(seed) -> int:
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not (
-        0 <= seed < 2**63
-    ):
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not (0 <= seed < 2**63):
         raise ArgumentError(f"seed must be an integer in [0, 2^63), got {seed!r}")
     return int(seed)
 
@@ -610,9 +608,7 @@ def ocean_frames(
             _loop_spectra(a, b, o.cycles, sel, np.int64(frames), m, spectra)
         else:
             _free_spectra(a, b, o.omega, t[sel], m, spectra)
-        scipy.fft.ifft2(
-            spectra, axes=(-2, -1), norm="forward", overwrite_x=True, workers=workers
-        )
+        scipy.fft.ifft2(spectra, axes=(-2, -1), norm="forward", overwrite_x=True, workers=workers)
         yield sel, _unpack(spectra, pairs, fields, choppiness, real_type)
 
 
@@ -630,9 +626,9 @@ def _unpack(spectra, pairs, fields, choppiness, real_type) -> dict[str, np.ndarr
         out["displacement"] = (np.stack([s.real, s.imag], axis=-1) * lam).astype(real_type)
     if "jacobian" in fields:
         st, hd = got["stretch"], got["height"]
-        out["jacobian"] = (
-            (1 + lam * st.real) * (1 + lam * st.imag) - (lam * hd.imag) ** 2
-        ).astype(real_type)
+        out["jacobian"] = ((1 + lam * st.real) * (1 + lam * st.imag) - (lam * hd.imag) ** 2).astype(
+            real_type
+        )
     if "normal" in fields:
         normals = np.empty(got["slope"].shape + (3,), real_type)
         if choppiness > 0:

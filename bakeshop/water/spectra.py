@@ -324,12 +324,7 @@ class Spectrum:
         sigma = np.where(wp <= peak, JONSWAP_SIGMA[0], JONSWAP_SIGMA[1])
         r = np.exp(-((wp - peak) ** 2) / (2 * sigma**2 * peak**2))
         out[pos] = (
-            self.phillips_alpha
-            * g
-            * g
-            / wp**5
-            * np.exp(-1.25 * (peak / wp) ** 4)
-            * self.gamma**r
+            self.phillips_alpha * g * g / wp**5 * np.exp(-1.25 * (peak / wp) ** 4) * self.gamma**r
         )
         return out
 
