@@ -14,7 +14,16 @@ import click
 from bakeshop import __version__, progress
 from bakeshop.errors import BakeshopError
 
-COMMAND_MODULES = ["images", "panorama", "fresnel", "normals", "light", "specular", "buoyancy"]
+COMMAND_MODULES = [
+    "images",
+    "panorama",
+    "fresnel",
+    "normals",
+    "light",
+    "specular",
+    "buoyancy",
+    "water",
+]
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 

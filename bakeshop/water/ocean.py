@@ -532,8 +532,7 @@ def ocean_frames(
         Frames per batch; by default as many as fit in :data:`BATCH_BYTES`.
     alias : {"refuse", "drop"}
         When ``frames`` is too few for the fastest mode: refuse with the reason, or remove the
-        modes that would alias (:attr:`Ocean.report` gains ``aliased_modes`` and
-        ``aliased_variance``).
+        modes that would alias (see :func:`fit_to_frames`, which says what they carried).
     workers : int, optional
         FFT threads (default: all cores).
 
@@ -562,23 +561,7 @@ def ocean_frames(
         frames = int(frames)
         if o.cycles is None:
             raise ArgumentError("frames= needs an ocean with a loop period; pass times= instead")
-        needed = o.minimum_frames()
-        if frames < needed:
-            if alias == "refuse":
-                raise ArgumentError(
-                    f"{frames} frames per {o.loop_period:g} s loop alias the fastest waves, "
-                    f"which turn {o.max_cycles} times per loop (wavelength "
-                    f"{_fastest_wavelength(o):.3g} m); use at least {needed} frames, a "
-                    "shorter loop, a coarser resolution, a small-wave cut-off, or "
-                    "alias='drop' to remove those waves"
-                )
-            bad = (np.abs(o.cycles) * 2 >= frames) & (o.mode_variance > 0)
-            lost = float(o.mode_variance[bad].sum())
-            report = dict(o.report)
-            o = o.without(bad)
-            report["aliased_modes"] = int(bad.sum())
-            report["aliased_variance"] = lost
-            o.report = report
+        o = fit_to_frames(o, frames, alias=alias)
         count = frames
         index = np.arange(frames, dtype=np.int64)
     else:
@@ -610,6 +593,32 @@ def ocean_frames(
             _free_spectra(a, b, o.omega, t[sel], m, spectra)
         scipy.fft.ifft2(spectra, axes=(-2, -1), norm="forward", overwrite_x=True, workers=workers)
         yield sel, _unpack(spectra, pairs, fields, choppiness, real_type)
+
+
+def fit_to_frames(o: Ocean, frames: int, *, alias: str = "refuse") -> Ocean:
+    """``o`` itself when ``frames`` per loop sample its fastest mode, else refuse with the
+    reason (``alias="refuse"``) or return a copy without the modes that would alias
+    (``alias="drop"``: |n| >= frames / 2 turns per loop), whose report gains
+    ``aliased_modes`` and ``aliased_variance`` (m^2)."""
+    validate_choice(alias, ALIAS_MODES, "aliasing policy")
+    needed = o.minimum_frames()
+    if frames >= needed:
+        return o
+    if alias == "refuse":
+        raise ArgumentError(
+            f"{frames} frames per {o.loop_period:g} s loop alias the fastest waves, which turn "
+            f"{o.max_cycles} times per loop (wavelength {_fastest_wavelength(o):.3g} m); use at "
+            f"least {needed} frames, a longer loop period per frame, a coarser resolution, a "
+            "small-wave cut-off, or alias='drop' to remove those waves"
+        )
+    bad = (np.abs(o.cycles) * 2 >= frames) & (o.mode_variance > 0)
+    report = dict(o.report)
+    reduced = o.without(bad)
+    report["aliased_modes"] = int(bad.sum())
+    report["aliased_variance"] = float(o.mode_variance[bad].sum())
+    report["aliased_fraction"] = report["aliased_variance"] / max(report["variance"], 1e-300)
+    reduced.report = report
+    return reduced
 
 
 def _unpack(spectra, pairs, fields, choppiness, real_type) -> dict[str, np.ndarray]:

@@ -227,19 +227,19 @@ def _shade(normals, light, out):  # pragma: no cover - compiled
     h, w = normals.shape[:2]
     for r in numba.prange(h):
         for c in range(w):
-            nx, ny, nz = normals[r, c, 0], normals[r, c, 1], normals[r, c, 2]
-            d = nx * light[0] + ny * light[1] + nz * light[2]
-            # a deep blue-green base, a grazing key light, and a sky term brighter on slopes
-            diffuse = max(d, 0.0)
-            sky = 0.5 * (1.0 - nz)
-            out[r, c, 0] = 0.02 + 0.45 * diffuse * 0.80 + 0.9 * sky
-            out[r, c, 1] = 0.07 + 0.45 * diffuse * 0.95 + 0.9 * sky
-            out[r, c, 2] = 0.10 + 0.45 * diffuse * 1.00 + 0.9 * sky
+            d = normals[r, c, 0] * light[0] + normals[r, c, 1] * light[1]
+            d += normals[r, c, 2] * light[2]
+            # a low key light: brightness follows the slope towards it; deep blue to pale cyan
+            s = max(d, 0.0) ** 1.5
+            out[r, c, 0] = 0.005 + 0.55 * s
+            out[r, c, 1] = 0.030 + 0.75 * s
+            out[r, c, 2] = 0.060 + 0.85 * s
 
 
-def shade(normals, *, light=(0.6, 0.3, 0.74)) -> np.ndarray:
-    """A quick lit picture of a normal map ``(H, W, 3)`` for previews: linear RGB in [0, ~1]
-    from a grazing light (slopes show, so does any seam). Not a water shader."""
+def shade(normals, *, light=(0.82, 0.35, 0.45)) -> np.ndarray:
+    """A quick lit picture of a normal map ``(H, W, 3)`` for previews: linear RGB in [0, 1]
+    from a low light (elevation about 27 degrees), so slopes show and so would any seam. Not
+    a water shader."""
     n = np.ascontiguousarray(np.asarray(normals, dtype=np.float32))
     if n.ndim != 3 or n.shape[2] != 3:
         raise ArgumentError(f"normals must be (H, W, 3), got shape {n.shape}")
