@@ -32,3 +32,8 @@ WAVE_AMPLITUDE_RTOL = 0.05
 #: wave equation vs the continuous equation's exact solution, relative to its largest value
 #: (leapfrog dispersion at 12 cells per dent width, Courant 0.3, after 0.38 m).
 WAVE_EXACT_RTOL = 0.06
+#: Wyman-Sloan-Shirley multi-lobe CMF fit vs the CIE 1931 2-degree table (absolute; the
+#: functions peak at 1.06, 1.00 and 1.78).
+CMF_FIT_ATOL = 0.03
+#: the refracted underwater path vs a brute-force minimum of the optical path on a 1e-6 grid.
+PATH_RTOL = 1e-6
