@@ -203,18 +203,18 @@ def ring(crater: Crater, r, times, *, damping: bool = True, nodes: int | None = 
         raise ArgumentError("radii and times must be finite and >= 0")
     k, w = _k_nodes(crater, float(r.max(initial=0)), float(t.max(initial=0)), nodes)
     e = -crater.amplitude * crater.width**2 / 2 * np.exp(-((k * crater.width) ** 2) / 4)
-    omega = crater.omega(k)
+    # weights (K, T) of every time, then one matrix product per Bessel function: the Bessel
+    # values J(k r) do not depend on time
+    weight = (e * w)[:, None] * np.cos(np.outer(crater.omega(k), t))
+    if damping and crater.viscosity > 0:
+        weight *= np.exp(-2 * crater.viscosity * np.outer(k * k, t))
     eta = np.empty((t.size, r.size))
     slope = np.empty((t.size, r.size))
-    step = max(1, (1 << 23) // k.size)
-    for i, ti in enumerate(t):
-        weight = e * np.cos(omega * ti) * w
-        if damping and crater.viscosity > 0:
-            weight = weight * np.exp(-2 * crater.viscosity * k * k * ti)
-        for s in range(0, r.size, step):
-            kr = np.outer(r[s : s + step], k)
-            eta[i, s : s + step] = special.j0(kr) @ (weight * k)
-            slope[i, s : s + step] = -(special.j1(kr) @ (weight * k * k))
+    step = max(1, (1 << 22) // k.size)
+    for s in range(0, r.size, step):
+        kr = np.outer(r[s : s + step], k)
+        eta[:, s : s + step] = (special.j0(kr) @ (weight * k[:, None])).T
+        slope[:, s : s + step] = -(special.j1(kr) @ (weight * (k * k)[:, None])).T
     return eta, slope
 
 
