@@ -37,3 +37,11 @@ WAVE_EXACT_RTOL = 0.06
 CMF_FIT_ATOL = 0.03
 #: the refracted underwater path vs a brute-force minimum of the optical path on a 1e-6 grid.
 PATH_RTOL = 1e-6
+#: shader-decoded normals from a two-channel 8-bit array vs brute-force sums, degrees (8-bit
+#: quantisation with z rebuilt, float32 texture sampling).
+SHADER_NORMAL_DEG = 0.6
+#: shader's refracted underwater path vs Fermat's principle (float32 in the driver).
+SHADER_PATH_RTOL = 1e-4
+#: shader's ripple slope from the 512x512 ring LUT vs the analytic ring (bilinear in r and t),
+#: relative to the largest slope.
+SHADER_RIPPLE_RTOL = 0.03
