@@ -82,6 +82,9 @@ FOLD_FLOOR = 1e-3
 
 #: Bytes of working memory one frame batch may take (complex spectra, FFT buffers, outputs).
 BATCH_BYTES = 256 << 20
+#: Most frames per batch: the spectra of a batch are written mode by mode for every frame, and
+#: more than a few output streams at once defeat the caches.
+BATCH_FRAMES = 8
 #: Largest texture side accepted (a 8192^2 frame of 4 complex pairs is 2 GiB).
 MAX_RESOLUTION = 8192
 
@@ -399,10 +402,12 @@ def _multipliers(o: Ocean, pairs: Sequence[str]) -> np.ndarray:
 
 
 @numba.njit(parallel=True, cache=True)
-def _loop_spectra(a, b, cycles, frames, count, mult, out):  # pragma: no cover - compiled
-    """out[f, p] = (a P + b conj(P)) mult[p] with P = exp(-2 pi i (n f mod F) / F)."""
+def _loop_spectra(a, b, cycles, frames, table, mult, out):  # pragma: no cover - compiled
+    """out[f, p] = (a P + b conj(P)) mult[p] with P = table[(n f) mod F], table[i] =
+    exp(-2 pi i i / F): integer turns, so frame F is frame 0 exactly, and no trigonometry."""
     n_rows, n_cols = a.shape
     npairs = mult.shape[0]
+    count = table.size
     for r in numba.prange(n_rows):
         for c in range(n_cols):
             ar = a[r, c]
@@ -412,11 +417,9 @@ def _loop_spectra(a, b, cycles, frames, count, mult, out):  # pragma: no cover -
                     for p in range(npairs):
                         out[f, p, r, c] = 0
                 continue
-            nc = cycles[r, c] % count
+            nc = np.int64(cycles[r, c]) % count
             for f in range(frames.size):
-                idx = (nc * (frames[f] % count)) % count
-                angle = -2.0 * math.pi * idx / count
-                ph = complex(math.cos(angle), math.sin(angle))
+                ph = table[(nc * (np.int64(frames[f]) % count)) % count]
                 h = ar * ph + br * ph.conjugate()
                 for p in range(npairs):
                     out[f, p, r, c] = h * mult[p, r, c]
@@ -443,38 +446,40 @@ def _free_spectra(a, b, omega, times, mult, out):  # pragma: no cover - compiled
 def _normals(slope, stretch, height, lam, out):  # pragma: no cover - compiled
     """Unit normals of the displaced surface from the packed FFT outputs (see module doc)."""
     frames, rows, cols = slope.shape
-    for f in range(frames):
-        for r in numba.prange(rows):
-            for c in range(cols):
-                hx = slope[f, r, c].real
-                hy = slope[f, r, c].imag
-                dxx = lam * stretch[f, r, c].real
-                dyy = lam * stretch[f, r, c].imag
-                dxy = lam * height[f, r, c].imag
-                nx = -hx * (1.0 + dyy) + dxy * hy
-                ny = -hy * (1.0 + dxx) + dxy * hx
-                nz = (1.0 + dxx) * (1.0 + dyy) - dxy * dxy
-                if nz < FOLD_FLOOR:
-                    nz = FOLD_FLOOR
-                s = 1.0 / math.sqrt(nx * nx + ny * ny + nz * nz)
-                out[f, r, c, 0] = nx * s
-                out[f, r, c, 1] = ny * s
-                out[f, r, c, 2] = nz * s
+    for fr in numba.prange(frames * rows):
+        f = fr // rows
+        r = fr % rows
+        for c in range(cols):
+            hx = slope[f, r, c].real
+            hy = slope[f, r, c].imag
+            dxx = lam * stretch[f, r, c].real
+            dyy = lam * stretch[f, r, c].imag
+            dxy = lam * height[f, r, c].imag
+            nx = -hx * (1.0 + dyy) + dxy * hy
+            ny = -hy * (1.0 + dxx) + dxy * hx
+            nz = (1.0 + dxx) * (1.0 + dyy) - dxy * dxy
+            if nz < FOLD_FLOOR:
+                nz = FOLD_FLOOR
+            s = 1.0 / math.sqrt(nx * nx + ny * ny + nz * nz)
+            out[f, r, c, 0] = nx * s
+            out[f, r, c, 1] = ny * s
+            out[f, r, c, 2] = nz * s
 
 
 @numba.njit(parallel=True, cache=True)
 def _flat_normals(slope, out):  # pragma: no cover - compiled
     """Unit normals (-hx, -hy, 1) / |.| of the undisplaced surface."""
     frames, rows, cols = slope.shape
-    for f in range(frames):
-        for r in numba.prange(rows):
-            for c in range(cols):
-                hx = slope[f, r, c].real
-                hy = slope[f, r, c].imag
-                s = 1.0 / math.sqrt(hx * hx + hy * hy + 1.0)
-                out[f, r, c, 0] = -hx * s
-                out[f, r, c, 1] = -hy * s
-                out[f, r, c, 2] = s
+    for fr in numba.prange(frames * rows):
+        f = fr // rows
+        r = fr % rows
+        for c in range(cols):
+            hx = slope[f, r, c].real
+            hy = slope[f, r, c].imag
+            s = 1.0 / math.sqrt(hx * hx + hy * hy + 1.0)
+            out[f, r, c, 0] = -hx * s
+            out[f, r, c, 1] = -hy * s
+            out[f, r, c, 2] = s
 
 
 def _pairs_for(fields: Sequence[str], choppiness: float) -> list[str]:
@@ -574,7 +579,7 @@ def ocean_frames(
     mult = _multipliers(o, pairs)
     per_frame = frame_bytes(o.resolution, fields, choppiness, dtype)
     if batch is None:
-        batch = max(1, min(count, BATCH_BYTES // max(per_frame, 1)))
+        batch = max(1, min(count, BATCH_FRAMES, BATCH_BYTES // max(per_frame, 1)))
     elif isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) or batch < 1:
         raise ArgumentError(f"batch must be a positive integer, got {batch!r}")
     complex_type = np.complex64 if dtype == "float32" else np.complex128
@@ -582,13 +587,15 @@ def ocean_frames(
     workers = workers or os.cpu_count() or 1
     a = o.amplitude.astype(complex_type)
     b = o.partner.astype(complex_type)
+    if frames is not None:
+        table = np.exp(-2j * np.pi * np.arange(frames) / frames).astype(complex_type)
     m = mult.astype(complex_type)
     n = o.resolution
     for start in range(0, count, batch):
         sel = index[start : start + batch]
         spectra = np.empty((sel.size, len(pairs), n, n), complex_type)
         if frames is not None:
-            _loop_spectra(a, b, o.cycles, sel, np.int64(frames), m, spectra)
+            _loop_spectra(a, b, o.cycles, sel, table, m, spectra)
         else:
             _free_spectra(a, b, o.omega, t[sel], m, spectra)
         scipy.fft.ifft2(spectra, axes=(-2, -1), norm="forward", overwrite_x=True, workers=workers)
@@ -608,7 +615,7 @@ def fit_to_frames(o: Ocean, frames: int, *, alias: str = "refuse") -> Ocean:
         raise ArgumentError(
             f"{frames} frames per {o.loop_period:g} s loop alias the fastest waves, which turn "
             f"{o.max_cycles} times per loop (wavelength {_fastest_wavelength(o):.3g} m); use at "
-            f"least {needed} frames, a longer loop period per frame, a coarser resolution, a "
+            f"least {needed} frames, a shorter loop, a coarser resolution, a "
             "small-wave cut-off, or alias='drop' to remove those waves"
         )
     bad = (np.abs(o.cycles) * 2 >= frames) & (o.mode_variance > 0)

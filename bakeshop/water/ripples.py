@@ -340,32 +340,34 @@ class Impact:
     width: float
 
 
-@numba.njit(cache=True)
-def _neighbour(i, step, n, periodic, reflect):  # pragma: no cover - compiled
-    i = np.int64(i)  # a prange index may be unsigned: keep the arithmetic in int64
-    j = i + np.int64(step)
-    if 0 <= j < n:
-        return j
+def _neighbours(n: int, periodic: bool, reflect: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Index of the previous and next cell along an axis of ``n`` cells: wrapped (periodic),
+    mirrored about the edge cell (reflect: dh/dn = 0), or the edge cell itself (for Mur)."""
+    i = np.arange(n)
+    prev, nxt = i - 1, i + 1
     if periodic:
-        return j % n
-    return i - step if reflect else i
+        return prev % n, nxt % n
+    prev[0] = 1 if reflect else 0
+    nxt[-1] = n - 2 if reflect else n - 1
+    return prev, nxt
 
 
 @numba.njit(parallel=True, cache=True)
-def _laplacian_step(h, v, c2, damp_a, damp_b, dt, dx2, force, periodic, reflect):
+def _laplacian_step(h, v, c2, damp_a, damp_b, dt, dx2, force, rm, rp, cm, cp):
     """One leapfrog step of the damped wave equation with the 9-point isotropic Laplacian;
-    edges periodic, mirrored (reflect) or clamped for Mur's condition (the caller)."""
+    rm/rp and cm/cp give each row's and column's neighbours (the edge condition)."""
     rows, cols = h.shape
+    scale = c2 / (6.0 * dx2)
     for r in numba.prange(rows):  # pragma: no cover - compiled
-        rm = _neighbour(r, -1, rows, periodic, reflect)
-        rp = _neighbour(r, 1, rows, periodic, reflect)
+        up = rm[r]
+        down = rp[r]
         for c in range(cols):
-            cm = _neighbour(c, -1, cols, periodic, reflect)
-            cp = _neighbour(c, 1, cols, periodic, reflect)
-            edge = h[rm, c] + h[rp, c] + h[r, cm] + h[r, cp]
-            corner = h[rm, cm] + h[rm, cp] + h[rp, cm] + h[rp, cp]
-            lap = (4.0 * edge + corner - 20.0 * h[r, c]) / (6.0 * dx2)
-            v[r, c] = (damp_a * v[r, c] + dt * (c2 * lap + force[r, c])) / damp_b
+            left = cm[c]
+            right = cp[c]
+            edge = h[up, c] + h[down, c] + h[r, left] + h[r, right]
+            corner = h[up, left] + h[up, right] + h[down, left] + h[down, right]
+            lap = 4.0 * edge + corner - 20.0 * h[r, c]
+            v[r, c] = (damp_a * v[r, c] + dt * (scale * lap + force[r, c])) / damp_b
     for r in numba.prange(rows):  # pragma: no cover - compiled
         for c in range(cols):
             h[r, c] += dt * v[r, c]
@@ -420,6 +422,8 @@ class WaveEquation:
             )
         self.height = np.zeros((n, n))
         self.velocity = np.zeros((n, n))
+        rows = _neighbours(n, self.edges == "periodic", self.edges == "reflect")
+        self._neighbours = (*rows, *rows)
 
     @property
     def dx(self) -> float:
@@ -461,8 +465,7 @@ class WaveEquation:
                     force += s.strength * self._gaussian(*s.at(self.time), s.radius)
             old = self.height.copy() if self.edges == "absorb" else None
             _laplacian_step(self.height, self.velocity, self.speed**2, a, b, self.dt,
-                            self.dx**2, force, self.edges == "periodic",
-                            self.edges == "reflect")  # fmt: skip
+                            self.dx**2, force, *self._neighbours)  # fmt: skip
             if old is not None:
                 self._mur(old)
             self.time += self.dt
