@@ -223,30 +223,39 @@ def box_mips(values) -> list[np.ndarray]:
 
 
 @numba.njit(parallel=True, cache=True)
-def _shade(normals, light, out):  # pragma: no cover - compiled
+def _shade(normals, view, sun, out):  # pragma: no cover - compiled
     h, w = normals.shape[:2]
     for r in numba.prange(h):
         for c in range(w):
-            d = normals[r, c, 0] * light[0] + normals[r, c, 1] * light[1]
-            d += normals[r, c, 2] * light[2]
-            # a low key light: brightness follows the slope towards it; deep blue to pale cyan
-            s = max(d, 0.0) ** 1.5
-            out[r, c, 0] = 0.005 + 0.55 * s
-            out[r, c, 1] = 0.030 + 0.75 * s
-            out[r, c, 2] = 0.060 + 0.85 * s
+            nx, ny, nz = normals[r, c, 0], normals[r, c, 1], normals[r, c, 2]
+            cos_v = max(nx * view[0] + ny * view[1] + nz * view[2], 0.0)
+            # mirror direction m = 2 (n.v) n - v and Schlick's fresnel for water (R0 = 0.02)
+            mx = 2.0 * cos_v * nx - view[0]
+            my = 2.0 * cos_v * ny - view[1]
+            mz = 2.0 * cos_v * nz - view[2]
+            f = 0.02 + 0.98 * (1.0 - cos_v) ** 5
+            e = min(max(mz, 0.0), 1.0)  # a sky deep blue overhead, pale at the horizon
+            sky_r = 0.75 - 0.60 * e
+            sky_g = 0.85 - 0.55 * e
+            sky_b = 0.95 - 0.35 * e
+            glint = max(mx * sun[0] + my * sun[1] + mz * sun[2], 0.0) ** 600 * 30.0
+            out[r, c, 0] = 0.003 + (1.0 - f) * 0.010 + f * (sky_r + glint)
+            out[r, c, 1] = 0.015 + (1.0 - f) * 0.035 + f * (sky_g + glint)
+            out[r, c, 2] = 0.030 + (1.0 - f) * 0.060 + f * (sky_b + glint)
 
 
-def shade(normals, *, light=(0.82, 0.35, 0.45)) -> np.ndarray:
-    """A quick lit picture of a normal map ``(H, W, 3)`` for previews: linear RGB in [0, 1]
-    from a low light (elevation about 27 degrees), so slopes show and so would any seam. Not
-    a water shader."""
+def shade(normals, *, view=(0.0, -0.8, 0.6), sun=(0.05, 0.83, 0.55)) -> np.ndarray:
+    """A quick picture of a normal map ``(H, W, 3)`` for previews: the map seen obliquely
+    (``view``, towards the eye, tangent frame), fresnel-weighted reflection of a sky that is
+    pale at the horizon, a sun's glint, deep water below; linear RGB, about 0 to 1. Slopes
+    show, and so would any seam. Not a water shader."""
     n = np.ascontiguousarray(np.asarray(normals, dtype=np.float32))
     if n.ndim != 3 or n.shape[2] != 3:
         raise ArgumentError(f"normals must be (H, W, 3), got shape {n.shape}")
-    light = np.asarray(light, dtype=np.float32)
-    light = light / np.linalg.norm(light)
+    view = np.asarray(view, dtype=np.float32)
+    sun = np.asarray(sun, dtype=np.float32)
     out = np.empty(n.shape, np.float32)
-    _shade(n, light, out)
+    _shade(n, view / np.linalg.norm(view), sun / np.linalg.norm(sun), out)
     return out
 
 
