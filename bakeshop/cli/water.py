@@ -584,7 +584,7 @@ def _ocean_summary(doc: dict, name: str) -> str:
 
 # --- ripples --------------------------------------------------------------------------------
 
-_RIPPLE_OUTPUTS = ("flipbook", "ring", "rain")
+_RIPPLE_OUTPUTS = ("flipbook", "ring", "ring-texture", "rain")
 
 
 def _parse_impacts(texts) -> list[tuple[float, float, float]]:
@@ -691,10 +691,11 @@ def _parse_impacts(texts) -> list[tuple[float, float, float]]:
 @click.option(
     "--frames", type=_int_range(1, 1024), default=32, show_default=True, help="Frames, 1 to 1024."
 )
-@click.option("--outputs", default="flipbook,ring,rain", show_default=True, metavar="LIST",
-              help="flipbook: normal-map frames; ring: the (time, radius) lookup table of one "
-              "ring, for shaders; rain: a tileable atlas of drops with random phases "
-              "(analytic model).")  # fmt: skip
+@click.option("--outputs", default="flipbook,ring,ring-texture,rain", show_default=True,
+              metavar="LIST", help="flipbook: normal-map frames; ring: the (time, radius) "
+              "lookup table of one ring, for shaders; ring-texture: one ring with time in a "
+              "channel (direction, arrival time, strength); rain: a tileable atlas of drops "
+              "with random phases (analytic model).")  # fmt: skip
 @click.option(
     "--rain-cells",
     type=_int_range(1, 64),
@@ -795,7 +796,7 @@ def ripples(out_dir: Path, **o):
     previews = []
     fmt = o["normal_format"]
     params: dict = {"model": o["model"], "crater": crater.to_dict()}
-    if o["model"] == "wave" and ("ring" in outputs or "rain" in outputs):
+    if o["model"] == "wave" and set(outputs) - {"flipbook"}:
         outputs = [x for x in outputs if x == "flipbook"] or ["flipbook"]
     if "flipbook" in outputs:
         sink = TextureSet(out_dir, o["name"], o["layout"], container=o["container"],
@@ -846,6 +847,18 @@ def ripples(out_dir: Path, **o):
                       "columns": "radius 0 to radius", "radius_m": radius,
                       "duration_s": o["duration"],
                       "channels": "R height (m), G d height / d r (m/m), B 0"})  # fmt: skip
+    if "ring-texture" in outputs:
+        with progress.step("measuring the ring's arrival times"):
+            texture, info = rp.ring_texture(crater, size=o["size"], resolution=n,
+                                            duration=o["duration"],
+                                            damping=not o["no_viscosity"])  # fmt: skip
+        path = out_dir / f"{o['name']}_ring_texture.png"
+        write_image(path, texture, bits=16)
+        channels = (
+            "RG outward direction packed (d + 1) / 2; B time of the strongest slope / "
+            "duration; A strongest |d eta / dr| / slope_max"
+        )
+        files.append({"output": "ring-texture", "file": path.name, **info, "channels": channels})
     if "rain" in outputs:
         atlas = rp.rain_atlas(resolution=n, cells=o["rain_cells"], seed=o["seed"])
         path = out_dir / f"{o['name']}_rain_atlas.png"

@@ -269,6 +269,50 @@ def ring_lut(crater: Crater, *, radius: float, duration: float, radii: int = 256
     return out
 
 
+def ring_texture(crater: Crater, *, size: float, resolution: int, duration: float,
+                 steps: int = 256, damping: bool = True) -> tuple[np.ndarray, dict]:  # fmt: skip
+    """One ring as a single RGBA texture with time in a channel, for shaders that animate it
+    with a wavelet (the Lagarde-style ripple texture), ``(N, N, 4)`` float32 over a
+    ``size`` x ``size`` m square centred on the drop:
+
+    - R, G: the outward direction (x / r, y / r), packed (d + 1) / 2 (tangent frame, y up);
+    - B: the time at which the slope at this radius is strongest, / ``duration`` (the arrival
+      of the ring's energy, from the exact solution);
+    - A: that strongest |d eta / dr|, / its largest value over the texture (the energy spreading
+      over the circle and viscous decay, from the exact solution).
+
+    Returns the texture and ``info``: ``slope_max`` (m/m, the A = 1 slope), ``duration`` (s),
+    ``period`` (s, 2 pi / omega(k0): the wavelet's period) and ``k0`` (rad/m).
+    A shader reconstructs d eta / dr ~ A slope_max sin(2 pi (t - B duration) / period) w(t)
+    with a window w a period or two wide: an approximation of the ring that
+    :func:`ring_lut` tabulates exactly.
+    """
+    n = int(resolution)
+    size = _positive(size, "texture size (m)")
+    texel = size / n
+    r_nodes = np.arange(0, size * 0.75, texel / 2)
+    t = np.linspace(0, _positive(duration, "duration (s)"), int(steps))
+    _, slope = ring(crater, r_nodes, t, damping=damping)
+    peak = np.abs(slope).max(0)
+    when = t[np.argmax(np.abs(slope), axis=0)]
+    c = (np.arange(n) + 0.5) * texel - size / 2
+    x, y = np.meshgrid(c, -c)
+    rr = np.hypot(x, y)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ux = np.where(rr > 0, x / rr, 0.0)
+        uy = np.where(rr > 0, y / rr, 0.0)
+    out = np.empty((n, n, 4), np.float32)
+    out[..., 0] = (ux + 1) / 2
+    out[..., 1] = (uy + 1) / 2
+    out[..., 2] = np.interp(rr, r_nodes, when) / t[-1]
+    top = float(peak.max()) or 1.0
+    out[..., 3] = np.interp(rr, r_nodes, peak) / top
+    k0 = crater.dominant_wavenumber
+    info = {"slope_max": top, "duration_s": float(t[-1]),
+            "period_s": float(2 * math.pi / crater.omega(k0)), "k0_rad_m": k0}  # fmt: skip
+    return out, info
+
+
 def rain_atlas(*, resolution: int, cells: int, seed: int = 0, margin: float = 0.35) -> np.ndarray:
     """A tileable atlas of drop positions and phases: one drop per cell of a ``cells`` x
     ``cells`` grid, at a random place and with a random phase, ``(N, N, 4)`` float32:

@@ -110,6 +110,7 @@ def test_ripples_analytic_and_wave(tmp_path):
                  "--duration", "0.4"]) == 0  # fmt: skip
     doc = json.loads((out / "ripples.json").read_text())
     assert doc["parameters"]["crater"]["front_speed_m_s"] > 0.15
+    assert (out / "ripples_ring_texture.png").exists()
     lut = oiio.ImageBuf(str(out / "ripples_ring_lut.exr")).get_pixels(oiio.FLOAT)
     assert lut.shape == (64, 64, 3)
     rain = cv2.imread(str(out / "ripples_rain_atlas.png"), cv2.IMREAD_UNCHANGED)

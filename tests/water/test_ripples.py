@@ -22,6 +22,7 @@ from bakeshop.water.ripples import (
     ring,
     ring_lut,
     ring_normals,
+    ring_texture,
     simulate,
 )
 from bakeshop.water.spectra import dispersion
@@ -236,3 +237,22 @@ def test_dispersion_of_ripples_has_the_capillary_minimum():
     k = np.linspace(100, 1000, 10000)
     c = dispersion(k) / k
     assert c.min() == pytest.approx(0.2315, abs=5e-4)  # m/s, at about 1.7 cm
+
+
+def test_ring_texture_time_channel_is_when_the_exact_slope_peaks():
+    crater = Crater(amplitude=1e-3, width=0.006)
+    texture, info = ring_texture(crater, size=0.2, resolution=64, duration=0.6, steps=301)
+    # at a texel on the +x axis, B x duration is the time of the strongest slope there
+    n = 64
+    row, col = n // 2 - 1, n - 8  # tangent y just above the centre line, x = 0.07 m
+    x = (col + 0.5) * 0.2 / n - 0.1
+    y = 0.1 - (row + 0.5) * 0.2 / n
+    r = math.hypot(x, y)
+    t = np.linspace(0, 0.6, 301)
+    slope = ring(crater, [r], t)[1][:, 0]
+    assert texture[row, col, 2] * 0.6 == pytest.approx(t[np.argmax(np.abs(slope))], abs=0.01)
+    assert texture[row, col, 3] * info["slope_max"] == pytest.approx(np.abs(slope).max(), rel=0.02)
+    np.testing.assert_allclose(texture[row, col, 0] * 2 - 1, x / r, atol=1e-6)
+    # the energy arrives later farther out: B grows with r
+    b_axis = texture[n // 2, n // 2 :, 2]
+    assert (np.diff(b_axis[4:-4]) >= 0).mean() > 0.9
