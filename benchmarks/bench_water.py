@@ -19,8 +19,10 @@ same stencil in numpy (np.roll), in ns per cell-step.
 
 Murk: the tables and LUTs of a Jerlov type (spectral integration over 129 wavelengths).
 
-Prints seconds (best of 3 for small jobs, 1 for large), CPU seconds, ratios, and peak traced
-memory (tracemalloc) of bakeshop's ocean runs.
+Each ocean size runs twice: with both cores (numba and scipy's FFT threads) and with one thread
+each, whose CPU seconds a loaded machine disturbs least. Prints seconds (best of 3 for small
+jobs, 1 for large), CPU seconds, ratios to the scipy FFT floor of the same thread count, and
+peak traced memory (tracemalloc) of bakeshop's ocean runs.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ import resource
 import time
 import tracemalloc
 
+import numba
 import numpy as np
 import scipy.fft
 
@@ -55,9 +58,10 @@ def timed(function, repeats=1):
     return best_wall, best_cpu, out
 
 
-def bakeshop_normals(o, frames):
+def bakeshop_normals(o, frames, threads=None):
     count = 0
-    for _, batch in ocean_frames(o, frames=frames, fields=("normal",), choppiness=LAMBDA):
+    for _, batch in ocean_frames(o, frames=frames, fields=("normal",), choppiness=LAMBDA,
+                                 workers=threads):  # fmt: skip
         count += batch["normal"].shape[0]
     return count
 
@@ -82,35 +86,41 @@ def numpy_normals(o, frames, subset):
     return subset
 
 
-def fft_floor(n, frames, library):
+def fft_floor(n, frames, library, threads=None):
     data = (np.random.default_rng(0).normal(size=(3, n, n)) * (1 + 1j)).astype(np.complex64)
     for _ in range(frames):
         if library == "numpy":
             np.fft.ifft2(data)
         else:
-            scipy.fft.ifft2(data, workers=os.cpu_count())
+            scipy.fft.ifft2(data, workers=threads or os.cpu_count())
     return frames
 
 
-def ocean_rows(n, frames, size, subset):
+def ocean_rows(n, frames, size, subset, threads, reference):
+    """Rows of one size at ``threads`` threads (numba and scipy); ``reference``: the numpy
+    reference's row, measured once (it is single-threaded), or None to measure it."""
+    numba.set_num_threads(threads)
     o = ocean(SEA, size=size, resolution=n, seed=1, loop_period=max(8.0, frames / 8))
     frames = max(frames, o.minimum_frames())
     # compile and warm the caches: one batch of one frame
     next(ocean_frames(o, frames=frames, fields=("normal",), choppiness=LAMBDA, batch=1))
     rows = []
-    wall, cpu, _ = timed(lambda: bakeshop_normals(o, frames), 3 if n <= 256 else 1)
+    wall, cpu, _ = timed(lambda: bakeshop_normals(o, frames, threads), 3 if n <= 256 else 1)
     tracemalloc.start()
-    bakeshop_normals(o, frames)
+    bakeshop_normals(o, frames, threads)
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     rows.append(("bakeshop", wall, cpu, peak))
-    w, c, _ = timed(lambda: numpy_normals(o, frames, subset))
-    rows.append((f"numpy reference{'' if subset == frames else ' (scaled)'}",
-                 w * frames / subset, c * frames / subset, None))  # fmt: skip
-    for lib in ("numpy", "scipy"):
-        w, c, _ = timed(lambda lib=lib: fft_floor(n, frames, lib), 3 if n <= 256 else 1)
-        label = "FFT floor, numpy (1 thread)" if lib == "numpy" else "FFT floor, scipy (2 threads)"
-        rows.append((label, w, c, None))
+    if reference is None:
+        w, c, _ = timed(lambda: numpy_normals(o, frames, subset))
+        reference = (f"numpy reference{'' if subset == frames else ' (scaled)'}",
+                     w * frames / subset, c * frames / subset, None)  # fmt: skip
+    rows.append(reference)
+    w, c, _ = timed(lambda: fft_floor(n, frames, "numpy"), 3 if n <= 256 else 1)
+    rows.append(("FFT floor, numpy (1 thread)", w, c, None))
+    w, c, _ = timed(lambda: fft_floor(n, frames, "scipy", threads), 3 if n <= 256 else 1)
+    rows.append((f"FFT floor, scipy ({threads} thread{'s' if threads > 1 else ''})", w, c, None))
+    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
     return frames, rows
 
 
@@ -166,16 +176,20 @@ def main():
     print(f"# bench_water: {cpu}, {os.cpu_count()} cores, numpy {np.__version__}, "
           f"scipy {scipy.__version__}, load average {os.getloadavg()[0]:.1f}")  # fmt: skip
     for n, frames, size, subset in ((256, 64, 64.0, 64), (1024, 128, 256.0, 16)):
-        frames, rows = ocean_rows(n, frames, size, subset)
-        print(f"\nocean normals {n}^2 x {frames} frames (slopes + choppiness)")
-        print(f"{'method':32s} {'seconds':>9s} {'cpu':>8s} {'x floor':>8s} {'x bakeshop':>10s} "
-              f"{'ms/frame':>9s} {'peak MiB':>9s}")  # fmt: skip
-        base = rows[0][1]
-        floor = rows[3][1]
-        for name, wall, cpu_s, peak in rows:
-            peak_text = f"{peak / 2**20:9.0f}" if peak is not None else f"{'':9s}"
-            print(f"{name:32s} {wall:9.3f} {cpu_s:8.3f} {wall / floor:8.2f} {wall / base:10.2f} "
-                  f"{1000 * wall / frames:9.2f} {peak_text}")  # fmt: skip
+        reference = None
+        for threads in (os.cpu_count(), 1):
+            frames_used, rows = ocean_rows(n, frames, size, subset, threads, reference)
+            reference = rows[1]
+            print(f"\nocean normals {n}^2 x {frames_used} frames (slopes + choppiness), "
+                  f"{threads} thread{'s' if threads > 1 else ''}")  # fmt: skip
+            print(f"{'method':32s} {'seconds':>9s} {'cpu':>8s} {'x floor':>8s} "
+                  f"{'cpu x floor':>11s} {'ms/frame':>9s} {'peak MiB':>9s}")  # fmt: skip
+            floor_wall, floor_cpu = rows[3][1], rows[3][2]
+            for name, wall, cpu_s, peak in rows:
+                peak_text = f"{peak / 2**20:9.0f}" if peak is not None else f"{'':9s}"
+                print(f"{name:32s} {wall:9.3f} {cpu_s:8.3f} {wall / floor_wall:8.2f} "
+                      f"{cpu_s / floor_cpu:11.2f} {1000 * wall / frames_used:9.2f} "
+                      f"{peak_text}")  # fmt: skip
     print("\nwave equation 1024^2, periodic, 9-point isotropic stencil")
     print(f"{'method':32s} {'ns/cell-step':>13s} {'cpu ns':>8s}")
     for name, w, c in wave_rows():

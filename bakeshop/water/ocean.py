@@ -87,6 +87,10 @@ BATCH_BYTES = 256 << 20
 BATCH_FRAMES = 8
 #: Largest texture side accepted (a 8192^2 frame of 4 complex pairs is 2 GiB).
 MAX_RESOLUTION = 8192
+#: Bytes per lattice mode that :func:`ocean` holds while seeding (wave vectors, amplitudes,
+#: partners, frequencies, variances, turns and their temporaries), and the most it may take.
+SEED_BYTES_PER_MODE = 160
+SEED_BYTES_LIMIT = 8 << 30
 
 
 # --- deterministic amplitudes -----------------------------------------------------------------
@@ -308,6 +312,12 @@ def ocean(
             f"resolution must be even, from 4 to {MAX_RESOLUTION}; got {resolution}"
         )
     seed = _check_seed(seed)
+    needed = resolution * resolution * SEED_BYTES_PER_MODE
+    if needed > SEED_BYTES_LIMIT:
+        raise ArgumentError(
+            f"a {resolution}^2 lattice needs about {needed / 2**30:.1f} GiB to seed (limit "
+            f"{SEED_BYTES_LIMIT / 2**30:.0f} GiB); use a lower resolution or cascades"
+        )
     if loop_period is not None:
         loop_period = _positive(loop_period, "loop period (s)")
     validate_choice(frozen, FROZEN_MODES, "frozen-mode policy")

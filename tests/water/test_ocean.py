@@ -341,3 +341,8 @@ def test_bad_arguments_are_refused():
         next(ocean_frames(o, times=[0.0], fields=("colour",)))
     with pytest.raises(ArgumentError):
         next(ocean_frames(o, times=[0.0], choppiness=-1))
+
+
+def test_a_lattice_too_large_to_seed_is_refused_with_the_number():
+    with pytest.raises(ArgumentError, match="GiB to seed"):
+        ocean(SEA, size=64.0, resolution=8192)
