@@ -27,6 +27,7 @@ OCEAN = ["--wind", "7", "--fetch", "30000", "--size", "32", "--resolution", "32"
          "5", "--seed", "4"]  # fmt: skip
 
 
+@pytest.mark.slow
 def test_ocean_frames_match_the_library_and_the_sidecar_says_what_they_are(tmp_path, capsys):
     out = tmp_path / "sea"
     assert main(["-q", "water", "ocean", str(out), *OCEAN, "--choppiness", "0.5",

@@ -35,6 +35,7 @@ def small():
     return ocean(SEA, size=64.0, resolution=32, seed=3, loop_period=8.0)
 
 
+@pytest.mark.slow
 def test_fft_fields_are_the_brute_force_sums(small):
     frames = small.minimum_frames()
     f = ocean_fields(small, frames=frames, fields=ALL, choppiness=0.8, dtype="float64")
@@ -46,6 +47,7 @@ def test_fft_fields_are_the_brute_force_sums(small):
             assert np.abs(f[name][frame] - ref[name]).max() < FFT_VS_SUM_RTOL * scale, name
 
 
+@pytest.mark.slow
 def test_loop_closes_with_quantised_frequencies_and_not_without():
     looped = ocean(SEA, size=64.0, resolution=64, seed=1, loop_period=6.0)
     free = ocean(SEA, size=64.0, resolution=64, seed=1)

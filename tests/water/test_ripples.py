@@ -99,19 +99,19 @@ def exact_wave(r, t, amplitude, width, c):
 
 @pytest.fixture(scope="module")
 def rings():
-    """A dent 12 cells wide on a 1024^2 periodic grid, sampled along the axis and the
-    diagonal at four times."""
-    n, size, c = 1024, 1.0, 0.25
+    """A dent 12 cells wide on a 512^2 periodic grid, sampled along the axis and the
+    diagonal at four times (the crest travels 40 dent widths)."""
+    n, size, c = 512, 0.5, 0.25
     dx = size / n
     sim = WaveEquation(n, size, c, dt=0.3 * dx / c)
     a, amp = 12 * dx, 1e-3
-    sim.add_impact(0.5, 0.5, amplitude=amp, width=a)
-    r = np.arange(0, 0.46, dx / 4)
+    sim.add_impact(0.25, 0.25, amplitude=amp, width=a)
+    r = np.arange(0, 0.23, dx / 4)
     out = []
-    for t, h in simulate(sim, frames=4, steps_per_frame=333):
+    for t, h in simulate(sim, frames=4, steps_per_frame=167):
         rows = {}
         for name, (ux, uy) in {"axis": (1, 0), "diagonal": (0.5**0.5, 0.5**0.5)}.items():
-            px, py = 0.5 + r * ux, 0.5 + r * uy
+            px, py = 0.25 + r * ux, 0.25 + r * uy
             rows[name] = map_coordinates(h, [(size - py) / dx - 0.5, px / dx - 0.5], order=3)
         out.append((t, rows))
     return r, out, (amp, a, c)
@@ -124,6 +124,7 @@ def _crest(r, v):
     return r[i] + off * (r[1] - r[0]), b - 0.25 * (a - c) * off
 
 
+@pytest.mark.slow
 def test_wave_front_moves_at_c_and_round(rings):
     r, frames, (amp, a, c) = rings
     (t1, f1), (t2, f2) = frames[1], frames[3]
@@ -135,6 +136,7 @@ def test_wave_front_moves_at_c_and_round(rings):
     assert diagonal == pytest.approx(axis, rel=WAVE_ISOTROPY_RTOL)
 
 
+@pytest.mark.slow
 def test_crest_amplitude_falls_as_one_over_root_r(rings):
     r, frames, (amp, a, c) = rings
     products = []

@@ -23,14 +23,14 @@ GERSTNER_FD_RAD = 1e-6
 #: analytic ring (Hankel quadrature) vs a 1024^2 FFT solution of the same problem (relative to
 #: the ring's largest height; the FFT grid's bicubic sampling dominates).
 RING_VS_FFT_RTOL = 2e-3
-#: wave equation, crest speed vs c (the crest of a 12-cell dent, 0.18 to 0.38 m).
+#: wave equation, crest speed vs c (the crest of a 12-cell dent, 20 to 40 dent widths out).
 WAVE_SPEED_RTOL = 0.01
 #: crest travel along the diagonal vs along the axis (the issue's 1 %).
 WAVE_ISOTROPY_RTOL = 0.01
-#: crest amplitude times sqrt(r) between r = 0.18 m and 0.38 m (40 dent widths of travel).
+#: crest amplitude times sqrt(r) from 20 to 40 dent widths out (damping off).
 WAVE_AMPLITUDE_RTOL = 0.05
 #: wave equation vs the continuous equation's exact solution, relative to its largest value
-#: (leapfrog dispersion at 12 cells per dent width, Courant 0.3, after 0.38 m).
+#: (leapfrog dispersion at 12 cells per dent width, Courant 0.3, after 40 dent widths).
 WAVE_EXACT_RTOL = 0.06
 #: Wyman-Sloan-Shirley multi-lobe CMF fit vs the CIE 1931 2-degree table (absolute; the
 #: functions peak at 1.06, 1.00 and 1.78).
