@@ -907,7 +907,7 @@ def ripples(out_dir: Path, **o):
     type=Number(0.1, 1000),
     default=None,
     metavar="M",
-    help="LUT path lengths up to this, m (default: where 1 %% of the light is left).",
+    help="LUT path lengths up to this, m (default: where 1 % of the light is left).",
 )
 @click.option(
     "--max-depth",
@@ -943,7 +943,7 @@ def murk(out_dir: Path, **o):
     """
     from bakeshop.cli._common import parse_size
     from bakeshop.io import write_image
-    from bakeshop.io.sidecar import write_json
+    from bakeshop.io.sidecar import write_json, write_text
     from bakeshop.water import murk as mk
 
     size = parse_size(o["lut_size"])
@@ -964,7 +964,7 @@ def murk(out_dir: Path, **o):
     write_image(out_dir / f"{name}_transmittance.exr", lut["transmittance"][None],
                 pixel_type="float")  # fmt: skip
     write_image(out_dir / f"{name}_inscatter.exr", lut["inscatter"], pixel_type="float")
-    (out_dir / f"{name}.glsl").write_text(mk.glsl_function(w))
+    write_text(out_dir / f"{name}.glsl", mk.glsl_function(w))
     files = [f"{name}_transmittance.exr", f"{name}_inscatter.exr", f"{name}.glsl"]
     if not o["no_preview"]:
         files.append(_murk_preview(out_dir / f"{name}_preview.png", w, reach, o["max_depth"]))

@@ -11,7 +11,7 @@ import numpy as np
 
 from bakeshop.io._files import atomic_path
 
-__all__ = ["write_json", "read_json"]
+__all__ = ["write_json", "read_json", "write_text"]
 
 
 def _plain(value):
@@ -35,6 +35,13 @@ def write_json(path: str | os.PathLike, document: dict) -> None:
     """Write ``document`` as indented UTF-8 JSON, atomically. numpy values become plain
     numbers and lists; NaN and infinities become null (JSON has neither)."""
     text = json.dumps(_plain(document), indent=2, ensure_ascii=False, allow_nan=False) + "\n"
+    with atomic_path(path) as tmp:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(text)
+
+
+def write_text(path: str | os.PathLike, text: str) -> None:
+    """Write UTF-8 text (a shader snippet, a note beside a texture set), atomically."""
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as f:
             f.write(text)
