@@ -29,6 +29,7 @@ COMMAND_MODULES = [
     "dfg",
     "bake_probe",
     "fresnel",
+    "water",
     "tonemap",
     "compress",
     "normals",

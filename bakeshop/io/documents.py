@@ -4,7 +4,10 @@ quality reports) and shader snippets; read with clear errors, written atomically
 from __future__ import annotations
 
 import json
+import math
 import os
+
+import numpy as np
 
 from bakeshop.errors import BakeshopError, FormatError
 from bakeshop.io._files import atomic_path
@@ -22,10 +25,28 @@ def write_text(path: str | os.PathLike, text: str) -> None:
             f.write(text if text.endswith("\n") else text + "\n")
 
 
+def _plain(value):
+    """Numpy scalars and arrays as Python numbers and lists, paths as strings, non-finite
+    floats as null (JSON has neither NaN nor infinity)."""
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _plain(value.tolist())
+    if isinstance(value, np.generic):
+        return _plain(value.item())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    return value
+
+
 def write_json(path: str | os.PathLike, document: dict) -> None:
-    """Write a JSON object (plain dicts, lists, finite numbers and strings) to ``path``
-    atomically, indented by one space per level."""
-    write_text(path, json.dumps(document, indent=1, allow_nan=False))
+    """Write a JSON object to ``path`` atomically, indented by one space per level; numpy
+    values become plain numbers and lists, NaN and infinities null."""
+    write_text(path, json.dumps(_plain(document), indent=1, allow_nan=False))
 
 
 def read_json(path: str | os.PathLike) -> dict:

@@ -20,7 +20,11 @@ little-endian)::
 
 Row 0 is bakeshop's row 0 (t = 0, shown at the top: "rd"), so cube faces are exactly bakeshop's
 internal (OpenGL) cube, which is also what Vulkan samples. Sample types ``float16`` (default)
-and ``float32``, 1 to 4 channels; half clamps finite values beyond +-65504.
+and ``float32``, 1 to 4 channels; half clamps finite values beyond +-65504; ``unorm8``
+(VK_FORMAT_R8..._UNORM, a stored c reads as c / 255) for data such as two-channel normal maps.
+
+Texture arrays (``array=True``): layerCount L, and each level holds its L layers in order
+(the specification's order within a level: layers, then faces, then rows).
 
 Block-compressed textures (:class:`bakeshop.io.compress.BlockTexture`) are written by
 :func:`write_ktx2_blocks`: the exact VkFormat (VK_FORMAT_BC6H_UFLOAT_BLOCK 143, BC6H_SFLOAT 144,
@@ -55,11 +59,13 @@ from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_inpu
 from bakeshop.io._levels import (
     DTYPES,
     MAX_LEVELS,
+    UNORM_DTYPES,
     check_levels,
     encode,
     mip_size,
     names_its_file,
 )
+from bakeshop.io._quantize import unsigned_to_float
 from bakeshop.io.ktx import _key_values
 
 NAME = "KTX2"
@@ -75,7 +81,13 @@ VK_FORMATS = {
     ("float32", 2): 103,  # VK_FORMAT_R32G32_SFLOAT
     ("float32", 3): 106,  # VK_FORMAT_R32G32B32_SFLOAT
     ("float32", 4): 109,  # VK_FORMAT_R32G32B32A32_SFLOAT
+    ("unorm8", 1): 9,  # VK_FORMAT_R8_UNORM
+    ("unorm8", 2): 16,  # VK_FORMAT_R8G8_UNORM
+    ("unorm8", 3): 23,  # VK_FORMAT_R8G8B8_UNORM
+    ("unorm8", 4): 37,  # VK_FORMAT_R8G8B8A8_UNORM
 }
+#: Every sample type this module stores.
+SAMPLE_TYPES = {**DTYPES, **UNORM_DTYPES}
 # Khronos Data Format: colour model, primaries, transfer, channel ids and sample qualifiers.
 KHR_DF_MODEL_RGBSDA, KHR_DF_PRIMARIES_BT709, KHR_DF_TRANSFER_LINEAR = 1, 1, 1
 CHANNEL_IDS = (0, 1, 2, 15)  # R, G, B, alpha
@@ -103,9 +115,9 @@ def _pad(n: int, align: int) -> int:
 
 
 def data_format_descriptor(dtype: str, channels: int) -> bytes:
-    """The basic data format descriptor block of a linear signed-float RGBA-like format,
-    preceded by its total size (as it is stored in a KTX2 file)."""
-    bits = DTYPES[dtype].itemsize * 8
+    """The basic data format descriptor block of a linear RGBA-like format (signed float, or
+    unsigned normalised for ``unorm8``), preceded by its total size (as stored in KTX2)."""
+    bits = SAMPLE_TYPES[dtype].itemsize * 8
     block = 24 + 16 * channels
     words = [
         0,  # vendorId 0 (Khronos), descriptorType 0 (basic)
@@ -115,13 +127,17 @@ def data_format_descriptor(dtype: str, channels: int) -> bytes:
         channels * bits // 8,  # bytesPlane0
         0,
     ]
-    qualifiers = KHR_DF_SAMPLE_DATATYPE_SIGNED | KHR_DF_SAMPLE_DATATYPE_FLOAT
+    if dtype in UNORM_DTYPES:
+        qualifiers, lower, upper = 0, 0, (1 << bits) - 1
+    else:
+        qualifiers = KHR_DF_SAMPLE_DATATYPE_SIGNED | KHR_DF_SAMPLE_DATATYPE_FLOAT
+        lower, upper = FLOAT_LOWER, FLOAT_UPPER
     for c in range(channels):
         words += [
             c * bits | (bits - 1) << 16 | (CHANNEL_IDS[c] | qualifiers) << 24,
             0,  # samplePosition 0
-            FLOAT_LOWER,
-            FLOAT_UPPER,
+            lower,
+            upper,
         ]
     return struct.pack(f"<{len(words) + 1}I", 4 + block, *words)
 
@@ -247,8 +263,10 @@ def write_ktx2_blocks(
             f.write(data[m])
 
 
-def write_ktx2(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None:
-    """Write a mip chain (a cube map or a 2-D texture) as a KTX 2.0 file.
+def write_ktx2(
+    path: str | os.PathLike, mips, *, dtype: str = "float16", array: bool = False
+) -> None:
+    """Write a mip chain (a cube map, a 2-D texture or a 2-D texture array) as a KTX 2.0 file.
 
     Parameters
     ----------
@@ -256,15 +274,20 @@ def write_ktx2(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None
         Written atomically (a failed write leaves no partial file).
     mips : sequence of arrays, level 0 first
         Cube map levels ``(6, S, S, C)`` in OpenGL face order, or 2-D levels ``(H, W, C)`` (or
-        ``(H, W)``), C in 1..4, each level half the previous (floor, at least 1). NaN is refused.
-    dtype : {"float16", "float32"}
-        Stored sample type (VK_FORMAT_R16G16B16A16_SFLOAT and friends, or the 32-bit ones).
+        ``(H, W)``), C in 1..4, each level half the previous (floor, at least 1); with
+        ``array=True``, ``(L, H, W, C)`` levels of L layers. NaN is refused.
+    dtype : {"float16", "float32", "unorm8"}
+        Stored sample type (VK_FORMAT_R16G16B16A16_SFLOAT and friends, the 32-bit ones, or
+        VK_FORMAT_R8G8_UNORM and friends: floats in [0, 1] rounded to c / 255, or uint8 as is).
+    array : bool
+        Write a texture array (layerCount = L, even for L = 1).
     """
-    validate_choice(dtype, tuple(DTYPES), "KTX2 sample type")
-    levels, cube = check_levels(mips)
+    validate_choice(dtype, tuple(SAMPLE_TYPES), "KTX2 sample type")
+    levels, cube = check_levels(mips, array=array)
     channels = levels[0].shape[-1]
     height, width = levels[0].shape[-3:-1]
-    texel = channels * DTYPES[dtype].itemsize
+    layers = levels[0].shape[0] if array else 0
+    texel = channels * SAMPLE_TYPES[dtype].itemsize
     align = texel * 4 // math.gcd(texel, 4)
     dfd = data_format_descriptor(dtype, channels)
     kv = _key_value_data(
@@ -273,7 +296,7 @@ def write_ktx2(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None
     index_end = _HEADER.size + _LEVEL.size * len(levels)
     dfd_offset = index_end
     kv_offset = dfd_offset + len(dfd)
-    data = [np.ascontiguousarray(encode(level, DTYPES[dtype])).tobytes() for level in levels]
+    data = [np.ascontiguousarray(encode(level, SAMPLE_TYPES[dtype])).tobytes() for level in levels]
     offsets = [0] * len(levels)
     position = kv_offset + len(kv)
     for m in reversed(range(len(levels))):  # the smallest level first
@@ -281,8 +304,8 @@ def write_ktx2(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None
         offsets[m] = position
         position += len(data[m])
     header = _HEADER.pack(
-        IDENTIFIER, VK_FORMATS[dtype, channels], DTYPES[dtype].itemsize, width, height, 0, 0,
-        6 if cube else 1, len(levels), 0, dfd_offset, len(dfd), kv_offset, len(kv), 0, 0,
+        IDENTIFIER, VK_FORMATS[dtype, channels], SAMPLE_TYPES[dtype].itemsize, width, height, 0,
+        layers, 6 if cube else 1, len(levels), 0, dfd_offset, len(dfd), kv_offset, len(kv), 0, 0,
     )  # fmt: skip
     index = b"".join(
         _LEVEL.pack(offsets[m], len(data[m]), len(data[m])) for m in range(len(levels))
@@ -312,7 +335,8 @@ def read_ktx2_blocks(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
 
 @names_its_file
 def read_ktx2(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
-    """Read a KTX 2.0 file (a cube map or a 2-D texture with its mips) as float mips.
+    """Read a KTX 2.0 file (a cube map, a 2-D texture or a 2-D texture array with its mips) as
+    float mips.
 
     Float files are returned as stored; block-compressed files (with or without Zstandard) are
     decoded with bakeshop's own decoders (:func:`bakeshop.io.compress.decode_image`).
@@ -321,10 +345,11 @@ def read_ktx2(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     -------
     mips : list of float32 arrays
         Level 0 first; ``(6, S, S, C)`` per level for a cube map, ``(H, W, C)`` for a 2-D
-        texture.
+        texture, ``(L, H, W, C)`` for a texture array. ``unorm8`` samples read as c / 255.
     metadata : dict
-        ``format`` ("KTX2"), ``stored`` ("float16", "float32" or a block format's name),
-        ``cube`` (bool), ``vk_format`` (int), ``supercompression`` ("none" or "zstd"),
+        ``format`` ("KTX2"), ``stored`` ("float16", "float32", "unorm8" or a block format's
+        name), ``cube`` (bool), ``layers`` (L, 0 for a texture that is not an array),
+        ``vk_format`` (int), ``supercompression`` ("none" or "zstd"),
         ``key_values`` (dict of str to bytes) and ``dfd`` (bytes).
 
     Raises
@@ -332,7 +357,8 @@ def read_ktx2(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     bakeshop.errors.FormatError
         Not a KTX2 file, an inconsistent header or level index, or a truncated file.
     bakeshop.errors.UnsupportedError
-        Other formats and supercompression schemes, 3-D textures and texture arrays.
+        Other formats and supercompression schemes, 3-D textures, cube map arrays and
+        block-compressed arrays.
     """
     return _read(path, max_pixels, decode=True)
 
@@ -350,24 +376,27 @@ def _read(path, max_pixels: int, decode: bool):
     match = [k for k, v in VK_FORMATS.items() if v == vk_format]
     if block is None and not match:
         raise UnsupportedError(
-            f"VkFormat {vk_format} is not supported (only float and BC1/3/4/5/6H/7 formats)"
+            f"VkFormat {vk_format} is not supported (only float, 8-bit unorm and BC1/3/4/5/6H/7)"
         )
     if block is not None:
         if type_size != 1:
             raise FormatError(f"typeSize {type_size} of a block format (must be 1)")
     else:
         dtype, channels = match[0]
-        if type_size != DTYPES[dtype].itemsize:
+        if type_size != SAMPLE_TYPES[dtype].itemsize:
             raise FormatError(f"typeSize {type_size} does not match VkFormat {vk_format}")
     schemes = {v: k for k, v in SUPERCOMPRESSION.items()}
     if scheme not in schemes:
         raise UnsupportedError(f"supercompression scheme {scheme} is not supported")
-    if depth or layers:
-        raise UnsupportedError("3-D textures and texture arrays are not supported")
+    if depth:
+        raise UnsupportedError("3-D textures are not supported")
     if faces not in (1, 6):
         raise FormatError(f"faceCount is {faces} (expected 1 or 6)")
     cube = faces == 6
-    if not (1 <= width and 1 <= height and width * height <= max_pixels):
+    if layers and (cube or block is not None):
+        what = "cube map" if cube else "block-compressed"
+        raise UnsupportedError(f"{what} arrays are not supported")
+    if not (1 <= width and 1 <= height and width * height * max(layers, 1) <= max_pixels):
         raise FormatError(f"KTX2 size {width}x{height} out of range (limit {max_pixels} pixels)")
     if cube and width != height:
         raise FormatError(f"a cube map's faces must be square; the header says {width}x{height}")
@@ -393,7 +422,7 @@ def _read(path, max_pixels: int, decode: bool):
         if block is not None:
             expected = faces * level_bytes(block, w, h)
         else:
-            expected = faces * h * w * channels * DTYPES[dtype].itemsize
+            expected = max(layers, 1) * faces * h * w * channels * SAMPLE_TYPES[dtype].itemsize
         if full != expected or (not scheme and length != expected):
             raise FormatError(f"level {m}: byteLength {length}, expected {expected}")
         check_payload(offset + length, len(data), f"level {m}")
@@ -410,6 +439,7 @@ def _read(path, max_pixels: int, decode: bool):
         "format": NAME,
         "stored": block.name if block is not None else dtype,
         "cube": cube,
+        "layers": layers,
         "vk_format": vk_format,
         "supercompression": schemes[scheme],
         "key_values": _key_values(data[kv_offset : kv_offset + kv_length], "<"),
@@ -422,10 +452,13 @@ def _read(path, max_pixels: int, decode: bool):
         return (texture.decode() if decode else texture), metadata
     if not decode:
         return None, metadata
-    stored = np.dtype(DTYPES[dtype])
+    stored = np.dtype(SAMPLE_TYPES[dtype])
     mips = []
     for m, level in enumerate(raw_levels):
         h, w = mip_size(height, m), mip_size(width, m)
-        level = np.frombuffer(level, stored).reshape(faces, h, w, channels).astype(np.float32)
-        mips.append(level if cube else level[0])
+        level = np.frombuffer(level, stored)
+        if dtype in UNORM_DTYPES:
+            level = unsigned_to_float(level, 8)
+        level = level.reshape(max(layers, 1) * faces, h, w, channels).astype(np.float32)
+        mips.append(level if cube or layers else level[0])
     return mips, metadata
