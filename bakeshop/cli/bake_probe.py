@@ -15,6 +15,8 @@ from bakeshop.cli._common import (
     srgb_decode_option,
 )
 from bakeshop.cli._probe import check_picture_format, picture_layout, read_probe
+from bakeshop.cli.compress import bake_compressed, describe_quality, quality_options
+from bakeshop.engines import ENGINES
 from bakeshop.io.environment import (
     as_picture,
     describe,
@@ -52,9 +54,15 @@ _from = click.option(
 @click.option("--mips", type=click.IntRange(1, 14), default=9, show_default=True,
               help="Levels of the GGX chain (roughness m / (mips - 1)).")  # fmt: skip
 @srgb_decode_option
+@click.option("--compress", is_flag=True, help="Also write block-compressed (BC6H) files with "
+              "their quality sidecars into DIR/ENGINE/ (generic unless --engine).")  # fmt: skip
+@click.option("--engine", type=click.Choice(sorted(ENGINES)), help="Write the compressed files "
+              "this engine loads (faces, LOD mapping, SH layout; implies --compress).")  # fmt: skip
+@quality_options
 def bake_probe(
-    source, out_dir, src_layout, fmt, container, cube_size, specular_size, mips, srgb_decode
-):
+    source, out_dir, src_layout, fmt, container, cube_size, specular_size, mips, srgb_decode,
+    compress, engine, quality_profile, overflow, min_psnr, zstd,
+):  # fmt: skip
     """Bake everything the renderer needs from one probe IN (default: the embedded probe).
 
     \b
@@ -72,9 +80,14 @@ def bake_probe(
       contact_sheet.png       all of it side by side, tone-mapped (exposure recorded in it)
 
     \b
+    With --compress or --engine E, also DIR/E/: the environment and the GGX chain in BC6H
+    (each with a .json quality sidecar) and E's SH file (docs/engines.md).
+
+    \b
     Example:
       bakeshop bake-probe -o baked/
       bakeshop bake-probe probe.exr -o baked/ --format exr --container ktx
+      bakeshop bake-probe -o baked/ --engine unity --compress
     """
     from bakeshop.io import ALPHA_EXTENSIONS, write_image, write_json
     from bakeshop.light import bake_probe as bake
@@ -162,6 +175,15 @@ def bake_probe(
             f"  sun: direction [{x:.4f}, {y:.4f}, {z:.4f}], "
             f"radius {baked.sun.angular_radius_deg:.2f} deg"
         )
+    if compress or engine:
+        written = bake_compressed(
+            baked, image, layout, out_dir, engine or "generic", specular_size=specular_size,
+            quality_profile=quality_profile, overflow=overflow, min_psnr=min_psnr, zstd=zstd,
+        )  # fmt: skip
+        click.echo(f"  compressed for {ENGINES[engine or 'generic'].title}:")
+        for path, what, report in written:
+            q = f": {describe_quality(report['quality'])}" if report else ""
+            click.echo(f"    {path.relative_to(out_dir)}  {what}{q}")
 
 
 def register(group: click.Group) -> None:

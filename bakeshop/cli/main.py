@@ -20,6 +20,8 @@ COMMAND_MODULES = [
     "convert",
     "resize",
     "remap",
+    "merge",
+    "unwrap",
     "irradiance",
     "sun",
     "dims",
@@ -27,7 +29,9 @@ COMMAND_MODULES = [
     "dfg",
     "bake_probe",
     "fresnel",
+    "water",
     "tonemap",
+    "compress",
     "normals",
     "float",
 ]

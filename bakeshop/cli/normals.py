@@ -19,6 +19,7 @@ from bakeshop.cli._common import (
     warn,
     writer_option,
 )
+from bakeshop.engines import ENGINES
 from bakeshop.errors import ArgumentError
 from bakeshop.normals.blend import DEFAULT_METHOD, METHODS
 from bakeshop.normals.encoding import CONVENTIONS, ENCODINGS
@@ -283,6 +284,11 @@ def normals():
 @_detail_convention
 @_encoding
 @_writer
+@click.option("--compress", is_flag=True, help="Write OUT (.dds, .ktx2, .ktx) block-compressed "
+              "with its mip chain: BC5 (x, y; z rebuilt) unless --engine says otherwise, with "
+              "its angular error in OUT.json.")  # fmt: skip
+@click.option("--engine", type=click.Choice(sorted(ENGINES)), help="Compress for this engine: "
+              "its normal-map format and green convention (implies --compress).")  # fmt: skip
 def combine(
     macro,
     detail,
@@ -299,6 +305,8 @@ def combine(
     detail_convention,
     encoding,
     options,
+    compress,
+    engine,
 ):
     """Blend tileable DETAIL normal maps onto the MACRO normal map; write OUT.
 
@@ -338,6 +346,22 @@ def combine(
         base.shape[:2], settings, detail_convention or convention, encoding, depths
     )
     result = apply_layers(base, built, method=method)
+    h, w = result.shape[:2]
+    if compress or engine:
+        from bakeshop.cli.compress import describe_quality, write_levels
+        from bakeshop.io.compress.pipeline import box_mips
+
+        preset = ENGINES[engine] if engine else None
+        conv = preset.normal_convention if preset else convention
+        fmt = preset.normal_format if preset else "bc5"
+        levels = box_mips(result, cube=False, normals=True)
+        _, report = write_levels(out, levels, fmt, cube=False, normals=True,
+                                 normal_convention=conv, extra={"engine": engine})  # fmt: skip
+        click.echo(
+            f"wrote {out}: {w}x{h} {fmt} ({conv}), {len(levels)} levels, {len(built)} detail "
+            f"layer(s) blended with {method}; {describe_quality(report['quality'])}"
+        )
+        return
     bits = write_normal_map(
         out,
         result,
@@ -346,7 +370,6 @@ def combine(
         inputs=depths,
         **parse_options(options),
     )
-    h, w = result.shape[:2]
     click.echo(
         f"wrote {out}: {w}x{h} {_depth_text(bits)}, {len(built)} detail layer(s) blended with "
         f"{method}"

@@ -46,6 +46,7 @@ CODECS: dict[str, tuple[str, ...]] = {
     "tga": (".tga",),
     "exr": (".exr",),
     "ldr": (".png", ".jpg", ".jpeg"),
+    "tiff": (".tif", ".tiff"),
 }
 
 #: codecs that store floating-point values; the others store 8- or 16-bit integers that the
@@ -53,7 +54,7 @@ CODECS: dict[str, tuple[str, ...]] = {
 HDR_CODECS = frozenset({"pfm", "rgbe", "exr"})
 
 #: extensions whose formats store an alpha channel (PFM, Radiance and JPEG store none).
-ALPHA_EXTENSIONS = frozenset({".tga", ".exr", ".png"})
+ALPHA_EXTENSIONS = frozenset({".tga", ".exr", ".png", ".tif", ".tiff"})
 
 #: bytes read from the head of a file to recognise its format.
 SNIFF_BYTES = 64
