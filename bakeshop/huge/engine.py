@@ -40,7 +40,8 @@ class InTask:
         self.threads = threads
 
     def __call__(self, *args, **kwargs):
-        """``fn(*args, **kwargs)`` with the task's numba threads and progress silenced."""
+        """``fn(*args, **kwargs)`` with numba limited to this worker's share of the threads and
+        progress silenced."""
         before = numba.get_num_threads()
         numba.set_num_threads(max(1, min(self.threads, numba.config.NUMBA_NUM_THREADS)))
         try:

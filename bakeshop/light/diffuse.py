@@ -435,6 +435,7 @@ def irradiance(
     size=(360, 180),
     method: str = "auto",
     order: int = 2,
+    window: str = "minimal",
 ) -> np.ndarray:
     """The DIM (``E / pi``) of an environment, in any layout and size.
 
@@ -453,6 +454,10 @@ def irradiance(
         See the module docstring. ``auto`` is exact within 0.1 % RMS / 0.5 % max.
     order : int
         SH order for ``method="sh"`` (2: the classic 9 coefficients per channel).
+    window : {"minimal", "hanning", "lanczos", "none"}
+        The window of ``method="sh"`` against ringing
+        (:func:`bakeshop.light.sh.windowed_irradiance`): by default the least one that makes
+        the DIM nowhere negative.
 
     Returns
     -------
@@ -462,18 +467,20 @@ def irradiance(
     validate_choice(method, METHODS, "irradiance method")
     env = check_environment(image, layout)
     shape, normals, valid = dim_normals(to, size)
-    dim = dim_of_environment(env, normals, method, order=order)
+    dim = dim_of_environment(env, normals, method, order=order, window=window)
     dim[~valid] = 0
     return env.shaped(dim.astype(np.float32))
 
 
-def dim_of_environment(env: Environment, normals, method: str, *, order: int = 2, fill=None):
+def dim_of_environment(env: Environment, normals, method: str, *, order: int = 2,
+                       window: str = "minimal", fill=None):  # fmt: skip
     """E / pi at ``normals`` (..., 3) of a checked environment by ``method``, in one pass over
     its texels (:func:`integrate`); ``fill`` (a :class:`bakeshop.light.sun.Removal`) paints
-    the sun out first."""
+    the sun out first; ``window`` is the SH method's
+    (:func:`bakeshop.light.sh.windowed_irradiance`)."""
     if method == "sh":
         coeffs = integrate(env, "sh", order=order, fill=fill)
-        return sh.evaluate(sh.irradiance_coefficients(coeffs), normals)
+        return sh.evaluate(sh.windowed_irradiance(coeffs, window=window).coefficients, normals)
     e = integrate(env, method, normals=normals.reshape(-1, 3), fill=fill)
     return e.reshape(normals.shape[:-1] + (-1,)) / math.pi
 

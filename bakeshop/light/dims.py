@@ -45,6 +45,7 @@ def dim_pair(
     size=(360, 180),
     method: str = "auto",
     order: int = 2,
+    window: str = "minimal",
 ) -> DimPair:
     """The sun DIM, the shadow DIM, the sun-removed probe and the sun, from one probe.
 
@@ -58,7 +59,7 @@ def dim_pair(
     image : (..., C) array_like
         The probe in ``layout`` (see :func:`bakeshop.sphere.check_environment`).
     layout : str
-    to, size, method, order
+    to, size, method, order, window
         As for :func:`bakeshop.light.irradiance`.
 
     Returns
@@ -68,7 +69,9 @@ def dim_pair(
     """
     validate_choice(method, METHODS, "irradiance method")
     env = check_environment(image, layout)
-    lit, shadow, removal = dim_pair_of(env, to=to, size=size, method=method, order=order)
+    lit, shadow, removal = dim_pair_of(
+        env, to=to, size=size, method=method, order=order, window=window
+    )
     probe = env.image.copy()  # the fill is fractional: a float copy
     if removal is not None:
         removal.paint(probe)
@@ -81,7 +84,13 @@ def dim_pair(
 
 
 def dim_pair_of(
-    env, *, to: str = "latlong", size=(360, 180), method: str = "auto", order: int = 2
+    env,
+    *,
+    to: str = "latlong",
+    size=(360, 180),
+    method: str = "auto",
+    order: int = 2,
+    window: str = "minimal",
 ) -> tuple[np.ndarray, np.ndarray, Removal | None]:
     """The DIM pair of a checked environment (:func:`bakeshop.sphere.check_environment`)
     without painting a copy of it: ``(sun DIM, shadow DIM, removal)``, float32 with a channel
@@ -96,7 +105,7 @@ def dim_pair_of(
     shape, normals, valid = dim_normals(to, size)
     with progress.step("finding the sun"):
         removal = split_environment(env)
-    shadow = dim_of_environment(env, normals, method, order=order, fill=removal)
+    shadow = dim_of_environment(env, normals, method, order=order, window=window, fill=removal)
     lit = shadow
     if removal is not None:
         i = removal.index

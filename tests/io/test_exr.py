@@ -352,3 +352,31 @@ def test_random_bytes(scratch, data):
 @given(st.integers(0, 2), fuzzing.edits(400, min_size=1))
 def test_mutations_of_valid_files(scratch, seed_files, which, changes):
     fuzzing.decode(scratch, fuzzing.mutate(seed_files[which], changes))
+
+
+@pytest.mark.parametrize(
+    "channels, count",
+    [
+        ({c: hdr_image(5, 7, 1)[..., 0].astype(np.float16) for c in "RGBA"}, 4),
+        ({"Y": hdr_image(5, 7, 1)[..., 0], "A": np.full((5, 7), 0.5, np.float16)}, 4),
+        (
+            {
+                "R": hdr_image(5, 7, 1)[..., 0],
+                "G": np.full((5, 7), 2, np.uint32),
+                "B": np.zeros((5, 7), np.float16),
+                "extra.Z": np.ones((5, 7), np.float32),
+            },
+            3,
+        ),
+    ],  # fmt: skip
+    ids=["half RGBA", "Y A", "mixed types and an ignored channel"],
+)
+def test_frame_buffer_and_whole_file_reads_agree(tmp_path, monkeypatch, channels, count):
+    """The first part is read through the frame buffer (only the channels returned); the whole
+    file interface, which bindings without ``InputFile`` fall back to, gives the same."""
+    path = write_raw(tmp_path / "a.exr", channels, {"dataWindow": ((3, -2), (9, 2))})
+    image, meta = read_image(path, with_metadata=True)
+    monkeypatch.delattr(OpenEXR, "InputFile")
+    whole, whole_meta = read_image(path, with_metadata=True)
+    assert same_bits(image, whole) and image.shape == (5, 7, count)
+    assert meta == whole_meta
