@@ -6,10 +6,11 @@ strip (:func:`bakeshop.sphere.windows.latlong_window_geometry`), never for the w
 
 Two passes over the file:
 
-1. per strip: its brightest texel, its SH projection, and its DIM sources (``exact``: the
-   strip's own cosine sum; ``auto``: the strip's moment-preserving bins,
+1. per strip: its brightest texel, its SH projection, and its DIM (the cosine sum of the
+   strip's texels for ``exact``; for ``auto``, of the strip's moment-preserving bins,
    :func:`bakeshop.light.diffuse.compress`, split against the strip's own energy, so at least as
-   finely as the in-memory ``auto`` splits them);
+   finely as the in-memory ``auto`` splits them): only the (M, C) sums are kept, never the
+   sources of every strip;
 2. per strip: the brightest texel outside caps of :data:`RIVAL_RADII` around the brightest one
    (the sun's possible rivals).
 
@@ -101,7 +102,8 @@ def _strips(reader: Reader, engine: Engine, fixed: int, what: str) -> list[tuple
 
 
 def _strip(rows, reader: Reader, order: int, method: str, normals):
-    """Pass 1 on one strip: (brightest luminance, its flat index), SH and DIM partials."""
+    """Pass 1 on one strip: (brightest luminance, its flat index), SH and DIM partials (the
+    irradiance at ``normals``, not over pi; None for ``sh``)."""
     h, w, c = reader.shape
     values = reader.read(rows).reshape(-1, c)
     dirs, omega = latlong_window_geometry((h, w), rows)
@@ -111,11 +113,10 @@ def _strip(rows, reader: Reader, order: int, method: str, normals):
     brightest = (float(lum[k]), rows[0] * w + k)
     coeffs = sh.project(values, dirs, omega, order=order)
     if method == "exact":
-        dim = cosine_sum(normals, dirs, values * omega[:, None])
-        return brightest, coeffs, dim, None
-    if method == "auto":
-        return brightest, coeffs, None, compress(values, dirs, omega)
-    return brightest, coeffs, None, None
+        return brightest, coeffs, cosine_sum(normals, dirs, values * omega[:, None])
+    if method == "auto":  # the strip's sources summed here: only (M, C) per strip is kept
+        return brightest, coeffs, cosine_sum(normals, *compress(values, dirs, omega))
+    return brightest, coeffs, None
 
 
 def _rivals(rows, reader: Reader, centre):
@@ -212,6 +213,7 @@ def dim_pair(
     size=(360, 180),
     method: str = "auto",
     order: int = 2,
+    window: str = "minimal",
     engine: Engine | None = None,
 ) -> HugeDimPair:
     """The DIM pair, the sun and the SH coefficients of a panorama of any size, in two passes
@@ -223,7 +225,7 @@ def dim_pair(
         A latlong panorama.
     layout : str
         ``"latlong"`` (the only chunked source layout).
-    to, size, method, order
+    to, size, method, order, window
         As for :func:`bakeshop.light.dim_pair`.
     engine : Engine, optional
 
@@ -259,14 +261,10 @@ def dim_pair(
     fill_values = np.empty((0, min(3, c)), np.float32)
     if lum > 0:
         sun, fill_index, fill_values, found = _find_sun(reader, brightest, rivals)
-    if method == "exact":
+    if method != "sh":
         e = sum(p[2] for p in parts)
-    elif method == "auto":
-        dirs = np.concatenate([p[3][0] for p in parts])
-        energy = np.concatenate([p[3][1] for p in parts])
-        e = cosine_sum(flat_normals, dirs, energy)
     if method == "sh":
-        lit = sh.evaluate(sh.irradiance_coefficients(coeffs), normals)
+        lit = sh.evaluate(sh.windowed_irradiance(coeffs, window=window).coefficients, normals)
     else:
         lit = e.reshape(normals.shape[:-1] + (-1,)) / math.pi
     shadow = lit.copy()
@@ -279,7 +277,9 @@ def dim_pair(
         removed = removed.reshape(lit.shape) / math.pi
         if method == "sh":  # as bakeshop.light.dim_pair: SH of the painted probe + the exact sun
             painted = coeffs - sh.project(excess, dirs[k], omega[k], order=order)
-            shadow = sh.evaluate(sh.irradiance_coefficients(painted), normals)
+            shadow = sh.evaluate(
+                sh.windowed_irradiance(painted, window=window).coefficients, normals
+            )
             lit = shadow + removed
         else:
             shadow = lit - removed
