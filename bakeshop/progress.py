@@ -6,7 +6,8 @@ unless :func:`enable` was called, which the ``bakeshop`` command does.
 
 On a terminal they draw rich progress bars. When the console is not a terminal (stderr sent to a
 log file, a CI job, a render farm's job log), bars would print nothing useful, so each long
-job prints a line every :data:`LOG_INTERVAL` seconds instead, and one when it ends::
+job prints a line every :data:`LOG_INTERVAL` seconds instead, and one when it ends (a step
+shorter than the interval prints nothing, so a quick command's stderr stays clean)::
 
     bakeshop: resize 16384x8192 -> 2048x1024: 37% (24/64), 12.4 s elapsed, about 21 s left
     bakeshop: resize 16384x8192 -> 2048x1024: done in 33.0 s
@@ -177,8 +178,8 @@ def task(description: str, total: int | None = None) -> Iterator[Task]:
         stop.set()
         thread.join()
     elapsed = time.perf_counter() - t.started
-    if _console is None or (elapsed < 1.0 and t._last_log == t.started):
-        return  # a short step in a log: no line
+    if _console is None or (elapsed < _interval() and t._last_log == t.started):
+        return  # a step shorter than the interval in a log: no line
     _console.print(
         f"bakeshop: {description}: done in {_seconds(elapsed)}",
         markup=False,

@@ -47,7 +47,10 @@ class _Ordered(click.Group):
 @click.group(cls=_Ordered, context_settings=CONTEXT)
 @click.version_option(__version__, "--version", prog_name="bakeshop")
 @click.option(
-    "--quiet", "-q", is_flag=True, help="No progress bars (shown only when stderr is a terminal)."
+    "--quiet",
+    "-q",
+    is_flag=True,
+    help="No progress (bars on a terminal; in a log, a line every 5 s from long steps).",
 )
 @click.option(
     "--max-decoded",
@@ -69,8 +72,10 @@ def cli(quiet: bool, max_decoded: int | None):
       bakeshop info probe.hdr
       bakeshop --max-decoded 8G convert flat_16k_mask.png mask.exr
     """
-    if not quiet and sys.stderr.isatty():
-        progress.enable()  # elsewhere rich leaves a blank line, a second line beside an error
+    if not quiet:
+        # bars on a terminal; elsewhere (a log) plain lines from steps longer than the log
+        # interval only, so that a quick command's stderr is its error line alone
+        progress.enable()
     if max_decoded is not None:
         from bakeshop.io import decode_budget
 
