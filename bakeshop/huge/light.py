@@ -58,6 +58,9 @@ RIVAL_RADII = tuple(math.radians(r) for r in (4, 6, 8, 12, 16, 24, 32, 48))
 #: bytes per texel of a strip's task: its values (read, copied), directions, solid angles,
 #: luminance, energies and the SH basis of a block.
 _TEXEL_BYTES = 120
+#: the largest strip task: larger ones save nothing (the work is per texel) and would add
+#: their size, times the tasks running at once, to the process's peak.
+STRIP_BYTES = 64 << 20
 
 
 class HugeDimPair(NamedTuple):
@@ -91,9 +94,11 @@ def _check(reader: Reader, layout: str) -> tuple[int, int, int]:
 
 
 def _strips(reader: Reader, engine: Engine, fixed: int, what: str) -> list[tuple[int, int]]:
+    """Strips of rows whose tasks fit their share of the bound, at most :data:`STRIP_BYTES`
+    each (the interpreter, numpy, numba and dask already hold ~300 MB outside the bound)."""
     h, w, c = reader.shape
     row = w * (_TEXEL_BYTES + 8 * c)
-    per_task = min(engine.per_task(fixed), 256 << 20)
+    per_task = min(engine.per_task(fixed), STRIP_BYTES)
     if fixed + engine.workers * row > engine.memory:
         raise refuse(what, fixed + engine.workers * row, engine.memory)
     rows = max(1, per_task // row)
