@@ -8,6 +8,7 @@ import click
 
 from bakeshop.cli._common import (
     ENVIRONMENT,
+    Integer,
     float_format_option,
     out_dir_option,
     refuse_overwriting_inputs,
@@ -42,11 +43,11 @@ _from = click.option(
     show_default=True,
     help="Container of the specular mip chain and the DFG table.",
 )
-@click.option("--cube-size", type=click.IntRange(1, 4096), help="Face size of the environment "
+@click.option("--cube-size", type=Integer(1, 4096), help="Face size of the environment "
               "cube (default: as many texels as the probe, a power of two).")  # fmt: skip
-@click.option("--specular-size", type=click.IntRange(1, 4096), default=256, show_default=True,
+@click.option("--specular-size", type=Integer(1, 4096), default=256, show_default=True,
               help="Face size of level 0 of the GGX chain.")  # fmt: skip
-@click.option("--mips", type=click.IntRange(1, 14), default=9, show_default=True,
+@click.option("--mips", type=Integer(1, 14), default=9, show_default=True,
               help="Levels of the GGX chain (roughness m / (mips - 1)).")  # fmt: skip
 def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_size, mips):
     """Bake everything the renderer needs from one probe IN (default: the embedded probe).
@@ -73,11 +74,6 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
     from bakeshop.light import bake_probe as bake
     from bakeshop.light import contact_sheet, sh, sun_document
 
-    out_dir.mkdir(parents=True, exist_ok=True)
-    image, layout, source = read_probe(source, src_layout)
-    dropped = image.shape[-1] == 4 and f".{fmt}" not in ALPHA_EXTENSIONS
-    if dropped:  # alpha is carried by every step, but .hdr and .pfm store none
-        image = image[..., :3]
     paths = {
         "cube": out_dir / f"env_{{face}}.{fmt}",
         "sun_dim": out_dir / f"sun_dim.{fmt}",
@@ -89,8 +85,13 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
         "dfg": out_dir / f"dfg.{container}",
         "sheet": out_dir / "contact_sheet.png",
     }
-    for path in paths.values():
+    for path in paths.values():  # before any work
         refuse_overwriting_inputs(path, source)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    image, layout, source = read_probe(source, src_layout)
+    dropped = image.shape[-1] == 4 and f".{fmt}" not in ALPHA_EXTENSIONS
+    if dropped:  # alpha is carried by every step, but .hdr and .pfm store none
+        image = image[..., :3]
     started = time.perf_counter()
     baked = bake(image, layout, cube_size=cube_size, specular_size=specular_size, mips=mips)
     from bakeshop import progress

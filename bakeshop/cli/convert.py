@@ -8,6 +8,7 @@ import numpy as np
 from bakeshop.cli._common import (
     OUTPUT,
     SOURCE,
+    Exposure,
     is_ldr,
     parse_options,
     refuse_overwriting_inputs,
@@ -22,7 +23,7 @@ from bakeshop.errors import ArgumentError
 @click.option(
     "--exposure",
     "-e",
-    type=float,
+    type=Exposure(words=()),
     default=0.0,
     show_default=True,
     help="Exposure in EV (stops) applied before writing: values are multiplied by 2^EV.",

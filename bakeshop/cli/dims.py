@@ -52,10 +52,10 @@ def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
     from bakeshop.io import write_image, write_json
     from bakeshop.light import dim_pair, sun_document
 
-    out_dir.mkdir(parents=True, exist_ok=True)
     names = {key: out_dir / f"{key}.{fmt}" for key in ("sun_dim", "shadow_dim", "shadow_probe")}
-    for path in (*names.values(), out_dir / "sun.json"):
+    for path in (*names.values(), out_dir / "sun.json"):  # before any work
         refuse_overwriting_inputs(path, source)
+    out_dir.mkdir(parents=True, exist_ok=True)
     image, layout, _ = read_probe(source, src_layout)
     pair, elapsed = timed(dim_pair, image, layout, dst_layout, size, method, order)
     with progress.step(f"writing {out_dir}"):

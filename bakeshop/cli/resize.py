@@ -7,6 +7,7 @@ import click
 from bakeshop.cli._common import (
     OUTPUT,
     SOURCE,
+    Size,
     parse_size,
     refuse_overwriting_inputs,
 )
@@ -19,6 +20,7 @@ from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 @click.option(
     "--size",
     required=True,
+    type=Size(),
     metavar="WxH",
     help="Output size; a single W keeps the aspect ratio (height rounded).",
 )
