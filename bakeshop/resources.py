@@ -39,6 +39,10 @@ __all__ = [
 ]
 
 
+#: a cost this small is not checked (reading the limits takes longer than such a call).
+SMALL = 32 << 20
+
+
 class Cost(NamedTuple):
     """The estimated cost of one call of a heavy function (see the module notes)."""
 
@@ -173,6 +177,8 @@ def require(cost: Cost) -> Cost:
         ``"<what> needs about 15.7 GB of memory; 11 GB is available"``, naming the limit that
         binds when it is not the machine's memory.
     """
+    if cost.memory <= SMALL:
+        return cost
     limits = memory_limits()
     binding = min(limits, key=limits.get)
     available = limits[binding]

@@ -28,6 +28,7 @@ from bakeshop.image.resize import (
     area_weights,
     resample_separable,
     resize_area,
+    resize_area_cost,
     resize_area_part,
 )
 from bakeshop.image.statistics import LUMINANCE_WEIGHTS, describe, luminance
@@ -51,6 +52,7 @@ __all__ = [
     "reinhard",
     "resample_separable",
     "resize_area",
+    "resize_area_cost",
     "resize_area_part",
     "srgb_decode",
     "srgb_encode",
