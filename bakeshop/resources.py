@@ -168,8 +168,9 @@ def available_memory() -> int:
     return min(memory_limits().values())
 
 
-def require(cost: Cost) -> Cost:
+def require(cost: Cost, path=None) -> Cost:
     """Refuse ``cost`` when its memory exceeds :func:`available_memory`; return it otherwise.
+    ``path`` is the file the computation works on, named in the error.
 
     Raises
     ------
@@ -190,4 +191,5 @@ def require(cost: Cost) -> Cost:
         f"{format_bytes(available)} {where}",
         cost.memory,
         available,
+        path,
     )

@@ -227,7 +227,6 @@ def float_command(
         )
     from bakeshop.buoyancy.bench import float_body
     from bakeshop.buoyancy.plots import plot_trace
-    from bakeshop.buoyancy.shapes import closed_mesh
     from bakeshop.io import load_mesh, write_image
 
     model = ForceModel(
@@ -244,25 +243,29 @@ def float_command(
     seconds = 10.0 if seconds is None else seconds
     if (mesh is None) == (shape is None):
         raise ArgumentError("give either a mesh file or a built-in shape, not both or neither")
-    body = None if mesh is None else closed_mesh(load_mesh(mesh), repair=repair, path=mesh)
-    with progress.step(f"floating for {seconds:g} s of simulated time"):
-        result = float_body(
-            body,
-            shape=shape,
-            size=None if size is None else size[0] if len(size) == 1 else size,
-            density=density,
-            resolution=10 if resolution is None else resolution,
-            model=model,
-            water=water,
-            fps=fps,
-            solver_hz=solver_hz,
-            forces=forces,
-            seconds=seconds,
-            release_height=0.0 if release_height is None else release_height,
-            tilt=tilt,
-            backend=backend,
-            **options,
-        )
+    body = None
+    if mesh is not None:
+        with progress.step(f"reading {mesh}"):
+            body = load_mesh(mesh)
+    result = float_body(
+        body,
+        shape=shape,
+        size=None if size is None else size[0] if len(size) == 1 else size,
+        density=density,
+        resolution=10 if resolution is None else resolution,
+        model=model,
+        water=water,
+        fps=fps,
+        solver_hz=solver_hz,
+        forces=forces,
+        seconds=seconds,
+        release_height=0.0 if release_height is None else release_height,
+        tilt=tilt,
+        backend=backend,
+        repair=repair,
+        path=mesh,
+        **options,
+    )
     summary = result.summary
     if plot is not None:
         label = shape or Path(mesh).name
