@@ -21,6 +21,8 @@ COMMAND_MODULES = [
     "convert",
     "resize",
     "remap",
+    "merge",
+    "unwrap",
     "irradiance",
     "sun",
     "dims",
@@ -28,7 +30,9 @@ COMMAND_MODULES = [
     "dfg",
     "bake_probe",
     "fresnel",
+    "water",
     "tonemap",
+    "compress",
     "normals",
     "float",
 ]

@@ -9,9 +9,12 @@ from bakeshop.cli._common import (
     SOURCE,
     Size,
     parse_size,
+    picture_options,
     refuse_overwriting_inputs,
+    write_any,
 )
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
+from bakeshop.io import stored_bits
 
 
 @click.command(context_settings={"max_content_width": 100})
@@ -24,15 +27,18 @@ from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
     metavar="WxH",
     help="Output size; a single W keeps the aspect ratio (height rounded).",
 )
+@picture_options()
 @memory_option
 @scheduler_option
-def resize(source, target, size, memory, scheduler):
+def resize(source, target, size, picture, memory, scheduler):
     """Resize SOURCE to TARGET with energy-preserving area resampling.
 
     Each output texel is the exact mean of the input over its footprint (the exact box filter
     for integer factors, area-weighted otherwise), so the image's mean is preserved to float32
     rounding: the way to bring huge artist images down to real-time sizes without losing or
     gaining light. Values are resampled as stored: resize linear (HDR) data, not sRGB pictures.
+    An 8/16-bit TARGET keeps the depth of an 8/16-bit SOURCE; from float data it follows the
+    display rule of every command (docs/tonemap.md: --exposure, --tonemap, sRGB, --bits).
 
     Images larger than memory (.pfm, .hdr, .exr, .tif, .zarr) are resized block by block within
     --memory, bit-identical to the in-memory result; a .zarr, .tif, .pfm, .hdr or .exr output is
@@ -45,7 +51,7 @@ def resize(source, target, size, memory, scheduler):
       bakeshop resize pano_64k.zarr pano_8k.exr --size 8192 --memory 2GB
     """
     from bakeshop.image import resize_area
-    from bakeshop.io import read_image, write_image
+    from bakeshop.io import read_image
     from bakeshop.resources import MemoryLimitError
 
     refuse_overwriting_inputs(target, source)
@@ -53,7 +59,7 @@ def resize(source, target, size, memory, scheduler):
     if chunked(source, memory, scheduler):
         _resize_chunked(source, target, wanted, memory, scheduler)
         return
-    image = read_image(source)
+    image, meta = read_image(source, with_metadata=True)
     h, w = image.shape[:2]
     if isinstance(wanted, int):
         wanted = (wanted, max(1, round(h * wanted / w)))
@@ -66,8 +72,12 @@ def resize(source, target, size, memory, scheduler):
         del image
         _resize_chunked(source, target, wanted, memory, scheduler)
         return
-    write_image(target, out)
-    click.echo(f"wrote {target}: {w}x{h} -> {wanted[0]}x{wanted[1]} (mean preserved)")
+    bits = stored_bits(meta)
+    line = write_any(target, out, picture, inputs=[bits], linear=bits is None)
+    click.echo(
+        f"wrote {target}: {w}x{h} -> {wanted[0]}x{wanted[1]} (mean preserved)"
+        + (f"; {line}" if line else "")
+    )
 
 
 #: outputs that the chunked resize writes strip by strip (larger than memory).

@@ -46,6 +46,7 @@ CODECS: dict[str, tuple[str, ...]] = {
     "tga": (".tga",),
     "exr": (".exr",),
     "ldr": (".png", ".jpg", ".jpeg"),
+    "tiff": (".tif", ".tiff"),
 }
 
 #: codecs that store floating-point values; the others store 8- or 16-bit integers that the
@@ -53,7 +54,7 @@ CODECS: dict[str, tuple[str, ...]] = {
 HDR_CODECS = frozenset({"pfm", "rgbe", "exr"})
 
 #: extensions whose formats store an alpha channel (PFM, Radiance and JPEG store none).
-ALPHA_EXTENSIONS = frozenset({".tga", ".exr", ".png"})
+ALPHA_EXTENSIONS = frozenset({".tga", ".exr", ".png", ".tif", ".tiff"})
 
 #: bytes read from the head of a file to recognise its format.
 SNIFF_BYTES = 64
@@ -77,6 +78,7 @@ __all__ = [
     "read_json",
     "record_writes",
     "sniff_format",
+    "stored_bits",
     "write_chain",
     "write_container",
     "write_environment",
@@ -101,6 +103,15 @@ def codec_for(path: str | os.PathLike) -> str:
     raise UnsupportedError(
         f"unknown image extension {ext!r}; bakeshop reads and writes {known}", path
     )
+
+
+def stored_bits(metadata: dict) -> int | None:
+    """Bits of an integer-stored file's samples (8 or 16; fewer count as 8), None for floats."""
+    stored = str(metadata.get("stored", ""))
+    if not stored.startswith("uint"):
+        return None
+    digits = "".join(ch for ch in stored if ch.isdigit())
+    return 16 if int(digits or 8) > 8 else 8
 
 
 def sniff_format(head: bytes) -> str | None:

@@ -66,6 +66,8 @@ COMPRESSIONS = {
 LOSSLESS = ("none", "rle", "zips", "zip", "piz", "zstd", "htj2k256", "htj2k32")
 
 PIXEL_TYPES = {"half": np.float16, "float": np.float32}
+#: values of the standard ``envmap`` attribute (``ImfEnvmap.h``): an environment's mapping.
+ENVMAPS = {"latlong": OpenEXR.Envmap.ENVMAP_LATLONG, "cube": OpenEXR.Envmap.ENVMAP_CUBE}
 HALF_MAX = 65504.0
 
 _STORED = {np.dtype(np.float16): "half", np.dtype(np.float32): "float", np.dtype(np.uint32): "uint"}
@@ -369,7 +371,14 @@ def to_half(image: np.ndarray) -> np.ndarray:
     return half
 
 
-def write(path, image, *, pixel_type: str = "half", compression: str = "zip") -> None:
+def write(
+    path,
+    image,
+    *,
+    pixel_type: str = "half",
+    compression: str = "zip",
+    envmap: str | None = None,
+) -> None:
     """Write an image as a scanline OpenEXR file.
 
     Parameters
@@ -385,9 +394,16 @@ def write(path, image, *, pixel_type: str = "half", compression: str = "zip") ->
         ``"piz"``, ``"zstd"``, ``"htj2k256"``, ``"htj2k32"`` are lossless; ``"pxr24"`` is
         lossless for half but rounds float to 24 bits; ``"b44"``, ``"b44a"``, ``"dwaa"``,
         ``"dwab"`` are lossy.
+    envmap : {"latlong", "cube"}, optional
+        Write the standard ``envmap`` attribute: the image is an environment in OpenEXR's
+        latitude-longitude or cube mapping (``ImfEnvmap.h``; bakeshop's layouts
+        ``openexr-latlong`` and ``openexr-cube``, which :func:`bakeshop.io.write_environment`
+        writes with it).
     """
     validate_choice(pixel_type, tuple(PIXEL_TYPES), "EXR pixel type")
     validate_choice(compression, tuple(COMPRESSIONS), "EXR compression")
+    if envmap is not None:
+        validate_choice(envmap, tuple(ENVMAPS), "EXR envmap")
     a = np.asarray(image)
     if a.dtype.kind not in "fiu":
         raise ArgumentError(f"cannot write {a.dtype} samples to OpenEXR")
@@ -395,6 +411,8 @@ def write(path, image, *, pixel_type: str = "half", compression: str = "zip") ->
     names = {1: "Y", 3: "RGB", 4: "RGBA"}[a.shape[2]]
     channels = {n: np.ascontiguousarray(a[:, :, i]) for i, n in enumerate(names)}
     header = {"compression": COMPRESSIONS[compression], "type": OpenEXR.scanlineimage}
+    if envmap is not None:
+        header["envmap"] = ENVMAPS[envmap]
     try:
         OpenEXR.File(header, channels).write(os.fspath(path))
     except MemoryError:

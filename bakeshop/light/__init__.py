@@ -21,7 +21,13 @@ from bakeshop.light.diffuse import (
 )
 from bakeshop.light.dims import DimPair, dim_pair, dim_pair_cost
 from bakeshop.light.fresnel import WATER_IOR, bake_fresnel, fresnel_dielectric
-from bakeshop.light.probe import ProbeBake, bake_probe, bake_probe_cost, contact_sheet
+from bakeshop.light.probe import (
+    ProbeBake,
+    bake_probe,
+    bake_probe_cost,
+    contact_sheet,
+    sheet_exposure,
+)
 from bakeshop.light.specular import prefilter_cost, prefilter_ggx, prefilter_phong, source_cube
 from bakeshop.light.sun import Sun, find_sun, find_sun_cost, remove_sun, sun_document
 
@@ -50,6 +56,7 @@ __all__ = [
     "prefilter_phong",
     "remove_sun",
     "sh_coefficients",
+    "sheet_exposure",
     "source_cube",
     "sun_document",
 ]

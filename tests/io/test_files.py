@@ -24,8 +24,9 @@ from bakeshop.io.dds import read_dds, write_dds
 from bakeshop.io.ktx import read_ktx
 from bakeshop.io.ktx2 import read_ktx2
 
-#: an operation on a special file fails within this (it must not block at all)
-HANG_SECONDS = 10
+#: an operation on a special file fails within this (it must not block at all: a hang is
+#: forever, while a loaded machine may take seconds to import and compile a command's code)
+HANG_SECONDS = 30
 
 
 @contextlib.contextmanager
@@ -92,15 +93,13 @@ def test_every_reader_refuses_special_files_at_once(tmp_path, ext):
         assert caught.value.path == str(path), kind
 
 
-def test_mesh_loaders_refuse_special_files_at_once(tmp_path):
-    from bakeshop.buoyancy.shapes import load_mesh as load_floating
-    from bakeshop.normals.transfer import load_mesh
+@pytest.mark.parametrize("ext", [".obj", ".stl", ".glb"])
+def test_the_mesh_loader_refuses_special_files_at_once(tmp_path, ext):
+    from bakeshop.io import load_mesh
 
-    for i, load in enumerate((load_mesh, load_floating)):
-        (tmp_path / str(i)).mkdir()
-        for path, words in special_files(tmp_path / str(i), ".obj").values():
-            with no_hang(), pytest.raises(BakeshopError, match=words):
-                load(path)
+    for path, words in special_files(tmp_path, ext).values():
+        with no_hang(), pytest.raises(BakeshopError, match=words):
+            load_mesh(path)
 
 
 def test_unreadable_file_says_permission_denied(tmp_path):
@@ -263,7 +262,9 @@ def test_a_signal_at_any_moment_of_writing_leaves_no_temporary(tmp_path):
             received, left, done = json.loads(child.stdout.readline())
             assert received == [signal.SIGTERM] and left == []
             writes += done
-        assert writes > 2 * rounds  # the signals landed amid writes
+        # the signals landed amid writes, not only before the first (fewer writes per round
+        # on a loaded machine, where each takes longer)
+        assert writes > rounds // 2
     finally:
         child.kill()
         child.wait()
