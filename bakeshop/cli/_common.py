@@ -336,13 +336,13 @@ class Integer(click.IntRange):
 
 
 class Size(click.IntRange):
-    """``N`` or ``WxH`` (with ``pair``): positive integers up to ``high`` (each side); parsed
+    """``N`` or ``WxH`` (with ``pair``): integers from ``low`` to ``high`` (each side); parsed
     to ``N`` or ``(W, H)``. ``--help`` states the range of each number."""
 
     name = "integer"
 
-    def __init__(self, high: int = IMAGE_SIDE, *, pair: bool = True):
-        super().__init__(1, int(high))
+    def __init__(self, high: int = IMAGE_SIDE, *, pair: bool = True, low: int = 1):
+        super().__init__(int(low), int(high))
         self.pair = pair
 
     def convert(self, value, param, ctx):
@@ -365,30 +365,49 @@ class Size(click.IntRange):
 
 
 class Numbers(Number):
-    """``count`` numbers (any of ``count`` when it is a tuple) separated by ``sep``, each a
-    :class:`Number` in the range given: ``YAW,PITCH,ROLL`` or ``UxV``. Parsed to a tuple of
-    floats; one number stands for all of them when ``repeat`` (``4`` is ``4x4``)."""
+    """``count`` numbers (any of ``count`` when it is a tuple; any number of them when None)
+    separated by ``sep``, each a :class:`Number` in the range given: ``YAW,PITCH,ROLL``,
+    ``UxV`` or ``T1,T2,...``. Parsed to a tuple of floats; one number stands for all of them
+    when ``repeat`` (``4`` is ``4x4``); with ``fractions``, ``1/250`` is a number."""
 
     name = "numbers"
 
-    def __init__(self, low, high, *, count=3, sep=",", repeat=False, **kwargs):
+    def __init__(self, low, high, *, count=3, sep=",", repeat=False, fractions=False, **kwargs):
         super().__init__(low, high, **kwargs)
-        self.counts = count if isinstance(count, tuple) else (count,)
+        self.counts = None if count is None else count if isinstance(count, tuple) else (count,)
         self.sep = sep
         self.repeat = repeat
+        self.fractions = fractions
 
     def convert(self, value, param, ctx):
         if isinstance(value, tuple):
             return value
         parts = str(value).strip().lower().split(self.sep)
-        counts = (*self.counts, 1) if self.repeat else self.counts
-        if len(parts) not in counts:
-            wanted = " or ".join(map(str, sorted(set(counts))))
-            if param is not None and param.metavar:
-                wanted = f"{param.metavar}, {wanted}"
-            self.fail(f"{value!r}: expected {wanted} numbers separated by {self.sep!r}", param, ctx)
-        numbers = tuple(super(Numbers, self).convert(p.strip(), param, ctx) for p in parts)
-        return numbers * max(self.counts) if len(numbers) == 1 and self.repeat else numbers
+        if self.counts is not None:
+            counts = (*self.counts, 1) if self.repeat else self.counts
+            if len(parts) not in counts:
+                wanted = " or ".join(map(str, sorted(set(counts))))
+                if param is not None and param.metavar:
+                    wanted = f"{param.metavar}, {wanted}"
+                self.fail(
+                    f"{value!r}: expected {wanted} numbers separated by {self.sep!r}", param, ctx
+                )
+        numbers = tuple(
+            super(Numbers, self).convert(self._number(p.strip(), param, ctx), param, ctx)
+            for p in parts
+        )
+        if self.counts is not None and len(numbers) == 1 and self.repeat:
+            return numbers * max(self.counts)
+        return numbers
+
+    def _number(self, text: str, param, ctx):
+        if not self.fractions or "/" not in text:
+            return text
+        top, _, bottom = text.partition("/")
+        try:
+            return float(top) / float(bottom)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            self.fail(f"{text!r} is not a number or a fraction like 1/250", param, ctx)
 
 
 class Direction(Numbers):

@@ -12,17 +12,17 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import ENVIRONMENT, OUTPUT, is_ldr, refuse_overwriting_inputs
+from bakeshop.cli._common import (
+    ENVIRONMENT,
+    OUTPUT,
+    Integer,
+    Number,
+    is_ldr,
+    refuse_overwriting_inputs,
+)
 from bakeshop.errors import ArgumentError
 
 CONTEXT = {"max_content_width": 100}
-
-
-def _finite(ctx, param, value):
-    """Click callback: refuse NaN (click's FloatRange lets it through: it compares false)."""
-    if value is not None and value != value:
-        raise click.BadParameter("must be a finite number", ctx=ctx, param=param)
-    return value
 
 
 _QUALITY_NAMES = ("ultrafast", "veryfast", "fast", "basic", "slow", "veryslow")
@@ -51,12 +51,11 @@ def quality_options(command):
         ),
         click.option(
             "--min-psnr",
-            type=click.FloatRange(0, 200),
+            type=Number(0, 200),
             default=None,
             metavar="DB",
-            callback=_finite,
             help="Fail (no file written) when the quality of level 0 is below DB: "
-            "multi-exposure PSNR for HDR, PSNR for 8-bit colour (0-200).",
+            "multi-exposure PSNR for HDR, PSNR for 8-bit colour.",
         ),
         click.option(
             "--zstd",
@@ -248,12 +247,12 @@ def _as_cube(image, layout: str, size: int | None):
 )
 @click.option(
     "--size",
-    type=click.IntRange(1, 4096),
+    type=Integer(1, 4096),
     help="Face size of the cube made from a panorama (default: as many texels).",
 )
 @click.option(
     "--mips",
-    type=click.IntRange(1, 21),
+    type=Integer(1, 21),
     help="Levels to write (default: down to 1x1, or the chain a .dds/.ktx/.ktx2 IN holds).",
 )
 @click.option(
@@ -268,18 +267,16 @@ def _as_cube(image, layout: str, size: int | None):
 )
 @click.option(
     "--max-angle",
-    type=click.FloatRange(0, 180),
+    type=Number(0, 180),
     metavar="DEG",
-    callback=_finite,
-    help="Normal maps: fail when the mean angular error exceeds DEG (0-180).",
+    help="Normal maps: fail when the mean angular error exceeds DEG.",
 )
 @click.option(
     "--rgbm-range",
-    type=click.FloatRange(1, 65504),
+    type=Number(1, 65504),
     default=8.0,
-    callback=_finite,
     show_default=True,
-    help="Largest value RGBM stores (1-65504).",
+    help="Largest value RGBM stores.",
 )
 @quality_options
 def compress(
