@@ -216,7 +216,8 @@ def simulate_cost(fleet, *, seconds: float, fps: float, solver_hz: float) -> Cos
     steps = int(np.floor(frames * (1.0 / fps) / (1.0 / solver_hz) + 1e-9))
     points = int(fleet.offsets[-1])
     memory = (steps + 1) * len(fleet) * TRACE_BYTES + POINT_BYTES * points
-    what = f"simulating {seconds:g} s of {len(fleet)} bodies ({steps:,} steps, {points:,} points)"
+    bodies = f"{len(fleet)} bod{'y' if len(fleet) == 1 else 'ies'}"
+    what = f"simulating {seconds:g} s of {bodies} ({steps:,} steps, {points:,} points)"
     return Cost(memory, steps, what)
 
 

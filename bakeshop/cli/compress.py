@@ -14,13 +14,13 @@ import numpy as np
 
 from bakeshop.cli._common import (
     ENVIRONMENT,
-    OUTPUT,
+    OUTPUT_CHAIN,
     Integer,
     Number,
     is_ldr,
     refuse_overwriting_inputs,
 )
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, BakeshopError
 
 CONTEXT = {"max_content_width": 100}
 
@@ -124,7 +124,7 @@ def write_levels(
                 normal_convention=normal_convention,
                 rgbm_range=rgbm_range,
             )
-        except ArgumentError as e:
+        except BakeshopError as e:  # refused arguments, and memory that cannot fit
             if e.path is None:
                 e.path = str(target)
             raise
@@ -203,20 +203,27 @@ def _read(source: Path, src_layout, as_cube: bool, normal: bool, convention: str
     return [read_image(source)], False, False, "image"
 
 
-def _as_cube(image, layout: str, size: int | None):
+def _as_cube(image, layout: str, size: int | None, source):
     from bakeshop import sphere
+    from bakeshop.io.compress.pipeline import compress_levels_cost
+    from bakeshop.resources import Cost, require
 
     if layout == "cube":
         return image
     if size is None:
         texels = image.shape[0] * image.shape[1]
         size = int(min(2048, 2 ** round(np.log2(max(1.0, np.sqrt(texels / 6))))))
+    # the whole chain of this cube and its compression, refused before the cube is made
+    chain = [(6, max(1, size >> m), max(1, size >> m), 4) for m in range(size.bit_length())]
+    cost = compress_levels_cost(chain, "a block format")
+    held = sum(int(np.prod(shape)) for shape in chain) * 4
+    require(Cost(cost.memory + held, cost.work, f"{cost.what} (a 6x{size}x{size} cube)"), source)
     return sphere.remap(image, layout, "cube", size=size, filter="auto")
 
 
 @click.command("compress", context_settings=CONTEXT)
 @click.argument("source", metavar="IN", type=ENVIRONMENT)
-@click.argument("target", metavar="OUT", type=OUTPUT)
+@click.argument("target", metavar="OUT", type=OUTPUT_CHAIN)
 @click.option(
     "--format",
     "fmt",
@@ -333,7 +340,7 @@ def compress(
             if layout != "latlong":
                 levels = [sphere.remap(levels[0], layout, "latlong")]
         else:
-            levels, cube = [_as_cube(levels[0], layout, size)], True
+            levels, cube = [_as_cube(levels[0], layout, size, source)], True
     elif preset is not None and preset.environment == "panorama" and cube:
         from bakeshop import sphere
 

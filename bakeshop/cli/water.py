@@ -11,11 +11,14 @@ import numpy as np
 from bakeshop import progress
 from bakeshop.cli._common import OUT_DIR, Integer, Number, Numbers, Size
 from bakeshop.errors import ArgumentError
+from bakeshop.resources import Cost, require
 
 CONTEXT = {"max_content_width": 100}
 
 #: Largest amount of frame data an atlas or array output may gather in memory, bytes.
 GATHER_LIMIT = 4 << 30
+#: Bytes per texel and frame that a ripple flipbook holds: the normals and their packed copy.
+RIPPLE_TEXEL_BYTES = 24
 
 
 @click.group(context_settings=CONTEXT)
@@ -194,11 +197,11 @@ def _parse_outputs(text: str, allowed) -> list[str]:
               "(Tessendorf 2001).")  # fmt: skip
 @click.option(
     "--wind",
-    type=Number(0, 60, low_open=True),
+    type=Number(0.1, 60),
     default=10.0,
     show_default=True,
     metavar="M/S",
-    help="Wind speed 10 m above the sea, m/s, in (0, 60].",
+    help="Wind speed 10 m above the sea, m/s (the spectra's fetch and peak divide by it).",
 )
 @click.option("--direction", type=Number(-360, 360), default=0.0, show_default=True,
               metavar="DEG", help="Wind direction in the texture, degrees from +u towards +v "
@@ -439,6 +442,8 @@ def _ocean_set(oc, name, out_dir, outputs, frames, spectrum, o) -> dict:
                 f"{gathered / 2**30:.1f} GiB in memory (limit {GATHER_LIMIT / 2**30:.0f} GiB); "
                 "use --layout frames, fewer frames or a lower resolution"
             )
+        what = f"gathering {frames} frames of {n}x{n} for the {o['layout']} output"
+        require(Cost(gathered, frames, what))
     sink = TextureSet(out_dir, name, o["layout"], container=o["container"], columns=o["columns"],
                       gutter=o["gutter"], mips=not o["no_mips"], frames=frames)  # fmt: skip
     report = dict(oc.report)
@@ -759,6 +764,9 @@ def ripples(out_dir: Path, **o):
     if o["model"] == "wave" and set(outputs) - {"flipbook"}:
         outputs = [x for x in outputs if x == "flipbook"] or ["flipbook"]
     if "flipbook" in outputs:
+        # every frame's normals (float32) and their packed texels (at most float32 too) are held
+        gathered = frames * n * n * RIPPLE_TEXEL_BYTES
+        require(Cost(gathered, frames, f"a flipbook of {frames} frames of {n}x{n} normals"))
         sink = TextureSet(out_dir, o["name"], o["layout"], container=o["container"],
                           columns=None, gutter=0, mips=True, frames=frames)  # fmt: skip
         if o["model"] == "analytic":

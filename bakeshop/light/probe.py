@@ -27,7 +27,7 @@ from bakeshop.light.dfg import dfg_table, dfg_table_cost
 from bakeshop.light.dims import dim_pair, dim_pair_cost
 from bakeshop.light.sun import Sun
 from bakeshop.resources import Cost, require
-from bakeshop.sphere import check_environment, remap_cost
+from bakeshop.sphere import check_environment, remap_cost, valid_texels
 from bakeshop.sphere import layout as layout_of
 
 __all__ = ["ProbeBake", "bake_probe", "bake_probe_cost", "contact_sheet", "sheet_exposure"]
@@ -65,7 +65,7 @@ def default_cube_size(shape, layout: str) -> int:
     """The environment cube's face size when none is given: the power of two nearest to as many
     texels as the probe has (a quarter of a latlong's width), at most 2048."""
     lay = layout_of(layout)
-    texels = int(np.count_nonzero(lay.solid_angles(tuple(shape[: 3 if lay.cubic else 2]))))
+    texels = valid_texels(lay, tuple(shape[: 3 if lay.cubic else 2]))
     return min(2048, layout_of("cube").default_size(texels))
 
 

@@ -37,6 +37,7 @@ from bakeshop.sphere.sampling import (
     remap_cost,
     remap_shape,
     sample,
+    valid_texels,
 )
 from bakeshop.sphere.texels import (
     Environment,
@@ -70,6 +71,7 @@ __all__ = [
     "remap",
     "remap_cost",
     "remap_shape",
+    "valid_texels",
     "rotation_matrix",
     "sample",
     "texel_cosines",

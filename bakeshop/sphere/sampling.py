@@ -106,9 +106,28 @@ def auto_filter(src: str | Layout, src_shape, dst: str | Layout, dst_shape) -> F
     does not reuse the matrix), while bilinear moves the total energy by ~0.2-1% only for a
     one-texel sun (docs/panoramas.md)."""
     s, d = layout(src), layout(dst)
-    in_texels = int(np.count_nonzero(s.solid_angles(src_shape)))
-    out_texels = int(np.count_nonzero(d.solid_angles(dst_shape)))
+    in_texels = valid_texels(s, src_shape)
+    out_texels = valid_texels(d, dst_shape)
     return "area" if 2 * out_texels <= in_texels else "bilinear"
+
+
+#: Largest shape whose valid texels are counted one by one (a float64 array of solid angles).
+COUNTED_TEXELS = 1 << 22
+
+
+def valid_texels(lay: str | Layout, shape) -> int:
+    """How many texels of a ``shape`` image in layout ``lay`` hold a direction (a disk's
+    inside, a cross's six cells). Counted exactly up to :data:`COUNTED_TEXELS` texels; past
+    that, the layout's valid fraction measured on a small image of it, so that a size is
+    judged (``auto`` filter, default sizes, cost estimates) without allocating its picture."""
+    lay = layout(lay)
+    shape = tuple(int(n) for n in shape)
+    total = math.prod(shape)
+    if total <= COUNTED_TEXELS:
+        return int(np.count_nonzero(lay.solid_angles(shape)))
+    small = lay.shape(lay.default_size(1 << 16))
+    fraction = np.count_nonzero(lay.solid_angles(small)) / math.prod(small)
+    return int(round(fraction * total))
 
 
 def remap_shape(src: str | Layout, src_shape, dst: str | Layout, size=None) -> tuple[int, ...]:
@@ -117,7 +136,7 @@ def remap_shape(src: str | Layout, src_shape, dst: str | Layout, size=None) -> t
     source has; a power-of-two face edge for cubes, crosses and strips)."""
     s, d = layout(src), layout(dst)
     if size is None:
-        size = d.default_size(int(np.count_nonzero(s.solid_angles(src_shape))))
+        size = d.default_size(valid_texels(s, src_shape))
     return d.shape(size)
 
 
