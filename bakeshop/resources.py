@@ -17,8 +17,9 @@ available (``MemAvailable``, plus free swap), the room left under the process's 
 and the room left under its address-space and data-segment limits (``ulimit -v``, ``ulimit -d``),
 each read when asked, so memory already held by the caller counts.
 
-The estimates are upper bounds of the measured peak (``tests/test_resources.py`` runs each heavy
-function in a child process and compares its peak resident size with the estimate).
+The estimates are upper bounds of the measured peak: ``tests/test_resources.py`` runs heavy
+functions in a child process and compares the peak resident size of the call with its estimate,
+and checks that each heavy function under a small budget is refused before it allocates.
 """
 
 from __future__ import annotations

@@ -232,3 +232,87 @@ def test_the_command_line_refuses_in_one_line_under_ulimit(tmp_path, args, words
     assert re.search(pattern + r" limit \(ulimit -v\)$", done.stderr.strip()), done.stderr
     assert words in done.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["probe.hdr"]
+
+
+# --- the estimates bound what the calls hold ------------------------------------------------------
+
+#: each case: the code that makes the inputs (and compiles the kernels on a small call), the
+#: cost, and the call. Sizes are chosen for peaks of a few hundred MB.
+MEASURED = {
+    "remap": (
+        "from bakeshop import sphere\n"
+        "image = np.ones((512, 1024, 3), np.float32)\n"
+        "sphere.remap(image[:8, :16], 'latlong', 'cube', 8)",
+        "sphere.remap_cost('latlong', (512, 1024), 'cube', 1024)",
+        "sphere.remap(image, 'latlong', 'cube', 1024)",
+    ),
+    "resize_area": (
+        "from bakeshop.image import resize_area, resize_area_cost\n"
+        "image = np.ones((2048, 4096, 3), np.float32)\n"
+        "resize_area(image[:8, :8], (3, 3))",  # the kernel of non-integer factors
+        "resize_area_cost(image.shape, (3000, 1500))",
+        "resize_area(image, (3000, 1500))",
+    ),
+    "prefilter_ggx": (
+        "from bakeshop import light\n"
+        "image = np.ones((256, 512, 3), np.float32)\n"
+        "light.prefilter_ggx(image, 'latlong', size=8, mips=2, samples=8)",
+        "light.prefilter_cost(image.shape, 'latlong', size=512, mips=10)",
+        "light.prefilter_ggx(image, 'latlong', size=512, mips=10, samples=8)",
+    ),
+    "dfg_table": (
+        "from bakeshop import light\nlight.dfg_table(8, samples=16)",
+        "light.dfg_table_cost(2048, samples=16)",
+        "light.dfg_table(2048, samples=16)",
+    ),
+    "closed_mesh": (
+        "import trimesh\n"
+        "from bakeshop.buoyancy import closed_mesh\n"
+        "from bakeshop.buoyancy.mass import make_body\n"
+        "from bakeshop.buoyancy.shapes import closed_mesh_cost\n"
+        "mesh = trimesh.creation.icosphere(subdivisions=7)\n"
+        "make_body(closed_mesh(trimesh.creation.icosphere(subdivisions=1)), 500.0).hull_vertices",
+        "closed_mesh_cost(len(mesh.faces))",
+        "make_body(closed_mesh(mesh), 500.0).hull_vertices",
+    ),
+    "compress_levels": (
+        "from bakeshop.io.compress.pipeline import box_mips, compress_levels, "
+        "compress_levels_cost\n"
+        "rng = np.random.default_rng(0)\n"
+        "chain = box_mips(rng.lognormal(0, 1, (6, 256, 256, 3)).astype(np.float32), cube=True)\n"
+        "compress_levels(box_mips(chain[0][:, :8, :8], cube=True), 'bc6h', cube=True)",
+        "compress_levels_cost([c.shape for c in chain], 'bc6h')",
+        "compress_levels(chain, 'bc6h', cube=True)",
+    ),
+}
+
+MEASURE = """
+import numpy as np
+{setup}
+cost = {cost}
+
+def status(field):
+    with open("/proc/self/status") as f:
+        return next(int(line.split()[1]) * 1024 for line in f if line.startswith(field + ":"))
+
+with open("/proc/self/clear_refs", "w") as f:  # the peak (VmHWM) starts again from here
+    f.write("5")
+base = status("VmRSS")
+{call}
+print(cost.memory, status("VmHWM") - base)
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(MEASURED))
+def test_an_estimate_bounds_the_measured_peak(name):
+    """The call's peak resident size beyond what the process held before it (VmHWM, reset
+    just before the call) is at most the estimate, and the estimate is not wildly above it."""
+    setup, cost, call = MEASURED[name]
+    child = MEASURE.format(setup=setup, cost=cost, call=call)
+    done = subprocess.run(
+        [sys.executable, "-c", child], capture_output=True, text=True, timeout=600, check=True
+    )
+    estimate, peak = map(int, done.stdout.split()[-2:])
+    assert peak <= estimate, f"{name}: peak {peak / 1e6:.0f} MB > estimate {estimate / 1e6:.0f} MB"
+    assert estimate <= 4 * peak + 64_000_000, (name, estimate, peak)

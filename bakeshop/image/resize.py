@@ -27,6 +27,9 @@ from bakeshop.resources import Cost, require
 
 #: bytes of the sparse weights per entry (float64 value, int32 index) and per row (int32).
 _WEIGHT_BYTES = 12
+#: bytes that a call holds whatever its size (a margin for the weights' int64 temporaries and
+#: the threads' working set).
+_OVERHEAD = 4 << 20
 
 
 @functools.lru_cache(maxsize=8)
@@ -67,14 +70,15 @@ def resize_area_cost(shape, size: tuple[int, int], *, itemsize: int = 4) -> Cost
     """What :func:`resize_area` of an image of ``shape`` ((H, W) or (H, W, C)) to ``size``
     (width, height) holds at its peak: the output (``itemsize`` bytes per sample; float32 for
     integer images, which are converted first, a copy of the input), the sparse weights of both
-    axes and one float64 row of scratch per thread. ``work`` is in input samples."""
+    axes, one float64 row of scratch per thread and a fixed overhead. ``work`` is in input
+    samples."""
     h, w = (int(n) for n in shape[:2])
     channels = int(math.prod(shape[2:]))
     width, height = (int(n) for n in size)
     weights = _WEIGHT_BYTES * (h + height + w + width) * 2
     scratch = numba.get_num_threads() * w * channels * 8
     copy = h * w * channels * 4 if itemsize not in (4, 8) else 0
-    memory = width * height * channels * max(itemsize, 4) + weights + scratch + copy
+    memory = width * height * channels * max(itemsize, 4) + weights + scratch + copy + _OVERHEAD
     what = f"resizing {w}x{h} to {width}x{height}"
     return Cost(int(memory), h * w * channels, what)
 

@@ -153,6 +153,26 @@ def test_every_output_of_a_command(tmp_path, capfd):
     refused(capfd, tmp_path, ["normals", "combine", n, n, layer, "--layer", layer], layer)
 
 
+def test_the_commands_main_gained(tmp_path, capfd):
+    # compress writes a chain of {mip} and {face} pictures: one of them is its input
+    source = tmp_path / "env_0_posy.png"
+    write_image(source, np.full((16, 32, 3), 90, np.uint8))
+    args = ["compress", source, tmp_path / "env_{mip}_{face}.png", "--cube", "--format", "rgbd"]
+    refused(capfd, tmp_path, args, source, "env_{mip}_{face}.png includes it")
+    # merge's confidence map and saved response, unwrap's probe through a link
+    frames = []
+    for k in range(2):
+        frames.append(tmp_path / f"bracket_{k}.png")
+        write_image(frames[-1], np.full((8, 16, 3), 60 * (k + 1), np.uint8))
+    merge = ["merge", *frames, "-o", tmp_path / "m.exr", "--times", "1/100,1/25"]
+    refused(capfd, tmp_path, [*merge, "--confidence", frames[1]], frames[1])
+    refused(capfd, tmp_path, [*merge, "--save-response", frames[0]], frames[0])
+    ball = probe(tmp_path / "ball.exr", (16, 16, 3))
+    (tmp_path / "probe.exr").symlink_to(ball.name)
+    args = ["unwrap", ball, "-o", tmp_path / "probe.exr"]
+    refused(capfd, tmp_path, args, tmp_path / "probe.exr", "a symbolic link")
+
+
 def test_what_is_not_an_input_is_written(tmp_path, capfd):
     # the pattern's other files, names its glob matches but its fields cannot make, and a copy
     source = probe(tmp_path / "f_posx.hdr")
