@@ -34,7 +34,7 @@ from bakeshop.preview.scene import (
 __all__ = ["DIFFUSE", "OPERATORS", "SCENES", "Renderer", "View"]
 
 #: What a view shows.
-SCENES = ("balls", "golf", "water")
+SCENES = ("sky", "balls", "golf", "water")
 #: The golf course's diffuse lighting: the DIM pair by the shadow map, or one source everywhere.
 DIFFUSE = {"pair": 0, "sun": 1, "shadow": 2, "sh": 3}
 #: Tone operators of the shaders' display step (bakeshop.image's names).
@@ -219,8 +219,6 @@ class Renderer:
         return tex
 
     def _upload(self, water) -> None:
-        from bakeshop.water.shader import WaterScene
-
         b = self.bake
         self.textures = {
             "uEnvCube": self._cube([b.cube]),
@@ -229,9 +227,21 @@ class Renderer:
             "uShadowDim": self._texture2d(b.shadow_dim, repeat_x=True),
             "uDfg": self._texture2d(b.dfg),
         }
-        water = water if water is not None else WaterScene()
+        self._water_given = water
+        self.water = None
+        self._mesh = None
+        self._shadow = None
+
+    def _upload_golf(self) -> None:
+        """The golf course's mesh and the water's textures, on the first golf view (the sky
+        and the balls need neither)."""
+        if self._mesh is not None:
+            return
+        from bakeshop.water.shader import WaterScene
+
+        water = self._water_given if self._water_given is not None else WaterScene()
         if water.environment is None:
-            water = replace(water, environment=fresnel_environment(b))
+            water = replace(water, environment=fresnel_environment(self.bake))
         self.water = water
         mgl = self.moderngl
         normals = water.normals
@@ -252,9 +262,8 @@ class Renderer:
         ring = water.ring if water.ring is not None else np.zeros((2, 2, 2), np.float32)
         self.textures["uRing"] = self._texture2d(np.asarray(ring)[..., :2])
         self._water_frames, self._water_xy = frames, comps == 2
-        g = self.golf
-        self._mesh = self._keep(self.ctx.buffer(np.ascontiguousarray(g.vertices, np.float32)))
-        self._shadow = None
+        vertices = np.ascontiguousarray(self.golf.vertices, np.float32)
+        self._mesh = self._keep(self.ctx.buffer(vertices))
 
     # -- uniforms ---------------------------------------------------------------------------
 
@@ -323,29 +332,31 @@ class Renderer:
             Tone-map and sRGB-encode in the shader (the browser's path) instead of returning
             linear radiance.
         """
-        if view.scene == "balls":
+        if view.scene in ("sky", "balls"):
             return self._balls(view, mode, display)
         return self._golf(view, mode, display)
 
-    def ball_list(self) -> list[dict]:
-        """The balls this bake shows (:func:`bakeshop.preview.scene.balls`)."""
-        return balls(len(self.bake.specular))
+    def ball_list(self, view: View) -> list[dict]:
+        """The balls ``view`` shows (:func:`bakeshop.preview.scene.balls`; none on the sky)."""
+        return balls(len(self.bake.specular)) if view.scene == "balls" else []
 
     def _balls(self, view, mode, display):
         w, h = view.width, view.height
         prog = self.program("balls")
         self._bind(prog)
-        items = self.ball_list()
+        items = self.ball_list(view)
         geometry = np.zeros((MAX_BALLS, 4), np.float32)
         material = np.zeros((MAX_BALLS, 4), np.float32)
+        colour = np.zeros((MAX_BALLS, 4), np.float32)
         for i, ball in enumerate(items):
             geometry[i] = (*ball["centre"], ball["radius"])
-            material[i] = (BALL_KINDS[ball["kind"]], ball["roughness"], ball["value"], 0.0)
+            material[i] = (BALL_KINDS[ball["kind"]], ball["roughness"], ball["metalness"], 0.0)
+            colour[i, :3] = ball["colour"]
         values = self.uniforms(view, display=display)
         values.update({
             "uInvViewProj": _matrix(np.linalg.inv(view.eye.view_projection(w / h))),
             "uMode": int(mode), "uBallCount": len(items), "uBalls": geometry,
-            "uBallMaterial": material, "uSunLight": bool(view.sun_light),
+            "uBallMaterial": material, "uBallColor": colour, "uSunLight": bool(view.sun_light),
         })  # fmt: skip
         self._set(prog, values)
         fbo, colours, _ = self._target(w, h)
@@ -368,6 +379,7 @@ class Renderer:
         return shadow_view_projection(self.bake.sun.direction, self.golf.bounds)
 
     def _shadow_map(self):
+        self._upload_golf()
         if self._shadow is None and self.bake.sun is not None:
             ctx, mgl = self.ctx, self.moderngl
             depth = self._keep(ctx.depth_texture((SHADOW_SIZE, SHADOW_SIZE)))
@@ -400,6 +412,7 @@ class Renderer:
         return self.ctx.vertex_array(prog, [(self._mesh, " ".join(parts), *names)])
 
     def _golf(self, view, mode, display):
+        self._upload_golf()
         ctx, mgl = self.ctx, self.moderngl
         w, h = view.width, view.height
         shadow = self._shadow_map()

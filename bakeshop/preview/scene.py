@@ -24,6 +24,8 @@ from bakeshop.errors import ArgumentError
 
 __all__ = [
     "BALL_KINDS",
+    "MAX_BALLS",
+    "MAX_COLUMNS",
     "Camera",
     "Golf",
     "VERTEX_FLOATS",
@@ -39,8 +41,10 @@ __all__ = [
 BALL_KINDS = {"sun-dim": 0, "shadow-dim": 1, "sh": 2, "ggx": 3}
 #: Floats per vertex of the golf meshes: position 3, normal 3, albedo 3, uv 2, centre 3, kind 1.
 VERTEX_FLOATS = 15
-#: The most balls the shader takes.
-MAX_BALLS = 16
+#: The most balls the shader takes (balls.frag's arrays).
+MAX_BALLS = 32
+#: The most roughness columns of the ball grid.
+MAX_COLUMNS = 9
 
 
 @dataclass(frozen=True)
@@ -108,7 +112,9 @@ class Camera:
 def default_camera(scene: str) -> Camera:
     """The camera each scene opens with."""
     if scene == "balls":
-        return Camera(target=(0.0, 0.9, 0.0), yaw=0.0, pitch=4.0, distance=25.0, fov=36.0)
+        return Camera(target=(0.0, 0.4, 0.0), yaw=0.0, pitch=4.0, distance=26.0, fov=36.0)
+    if scene == "sky":
+        return Camera(target=(0.0, 0.0, 0.0), yaw=0.0, pitch=0.0, distance=1.0, fov=90.0)
     if scene == "water":
         return Camera(target=(18.0, 0.0, -8.0), yaw=-35.0, pitch=22.0, distance=48.0, fov=45.0)
     return Camera(target=(0.0, 2.0, 0.0), yaw=-30.0, pitch=28.0, distance=120.0, fov=45.0)
@@ -117,34 +123,63 @@ def default_camera(scene: str) -> Camera:
 # -- material balls -------------------------------------------------------------------------------
 
 
-def balls(levels: int, *, albedo: float = 0.8, f0: float = 0.9) -> list[dict]:
-    """The material balls: a top row of three Lambertian balls (sun DIM, shadow DIM, SH) and a
-    row of GGX balls, one per level of a ``levels``-level chain at that level's roughness
-    m / (levels - 1), so each reads exactly one baked level (at most 13 levels are shown, evenly
+def balls(
+    levels: int,
+    *,
+    albedo: float = 0.8,
+    base_colour: tuple = (0.95, 0.64, 0.54),
+    metalness: tuple = (0.0, 0.5, 1.0),
+) -> list[dict]:
+    """The material balls: a top row of three white Lambertian balls (sun DIM, shadow DIM, SH
+    irradiance), then a roughness x metalness grid of GGX balls: one row per ``metalness``, one
+    column per level of a ``levels``-level chain at that level's roughness m / (levels - 1), so
+    each ball reads exactly one baked level (at most :data:`MAX_COLUMNS` levels are shown, evenly
     spread, when the chain has more).
+
+    Parameters
+    ----------
+    levels : int
+        Levels of the specular chain.
+    albedo : float
+        The Lambertian balls' albedo.
+    base_colour : (3,) float
+        The GGX balls' base colour (linear): their diffuse albedo times ``1 - metalness`` and
+        their F0 ``mix(0.04, base_colour, metalness)``.
+    metalness : tuple of float in [0, 1]
+        One row of GGX balls each, top to bottom.
 
     Returns
     -------
     list of dict
         ``centre`` (3,), ``radius``, ``kind`` (a :data:`BALL_KINDS` key), ``roughness``,
-        ``value`` (the albedo, or F0 for GGX), ``label``.
+        ``metalness``, ``colour`` (3,), ``label``.
     """
     if levels < 1:
         raise ArgumentError("the specular chain has no levels")
+    if not metalness or not all(0.0 <= float(m) <= 1.0 for m in metalness):
+        raise ArgumentError(f"metalness values must lie in [0, 1], got {metalness!r}")
+    colour = tuple(float(c) for c in base_colour)
+    count = min(levels, MAX_COLUMNS)
+    chosen = np.unique(np.round(np.linspace(0, levels - 1, count)).astype(int))
+    if len(chosen) * len(metalness) + 3 > MAX_BALLS:
+        raise ArgumentError(f"at most {MAX_BALLS - 3} GGX balls fit, asked for "
+                            f"{len(chosen)} x {len(metalness)}")  # fmt: skip
     out = []
+    white = (float(albedo),) * 3
     for i, (kind, label) in enumerate(
         (("sun-dim", "sun DIM"), ("shadow-dim", "shadow DIM"), ("sh", "SH irradiance"))
     ):
-        out.append({"centre": ((i - 1) * 3.6, 3.0, 0.0), "radius": 1.5, "kind": kind,
-                    "roughness": 1.0, "value": albedo, "label": label})  # fmt: skip
-    count = min(levels, MAX_BALLS - 3)
-    chosen = np.unique(np.round(np.linspace(0, levels - 1, count)).astype(int))
+        out.append({"centre": ((i - 1) * 3.4, 4.3, 0.0), "radius": 1.4, "kind": kind,
+                    "roughness": 1.0, "metalness": 0.0, "colour": white, "label": label})  # fmt: skip
     spacing = 2.4
-    for k, m in enumerate(chosen):
-        r = float(m) / (levels - 1) if levels > 1 else 0.0
-        x = (k - (len(chosen) - 1) / 2) * spacing
-        out.append({"centre": (x, -1.3, 0.0), "radius": 1.0, "kind": "ggx", "roughness": r,
-                    "value": f0, "label": f"GGX r={r:.3g}"})  # fmt: skip
+    for row, metal in enumerate(metalness):
+        y = 1.3 - row * spacing
+        for k, m in enumerate(chosen):
+            r = float(m) / (levels - 1) if levels > 1 else 0.0
+            x = (k - (len(chosen) - 1) / 2) * spacing
+            out.append({"centre": (x, y, 0.0), "radius": 1.0, "kind": "ggx", "roughness": r,
+                        "metalness": float(metal), "colour": colour,
+                        "label": f"GGX roughness {r:.3g}, metalness {float(metal):.3g}"})  # fmt: skip
     return out
 
 

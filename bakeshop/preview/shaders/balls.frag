@@ -1,9 +1,13 @@
 // bakeshop preview: material balls in the baked sky, ray-traced per pixel (no meshes, so the
 // numpy reference hits the same spheres at the same pixels).
 //
-// Each ball: uBalls[i] = (centre, radius); uBallMaterial[i] = (kind, roughness, albedo or F0, 0):
+// Each ball: uBalls[i] = (centre, radius); uBallMaterial[i] = (kind, roughness, metalness, 0);
+// uBallColor[i].rgb its albedo or base colour (linear):
 //   kind 0: Lambertian, albedo * sun DIM(n)      kind 1: Lambertian, albedo * shadow DIM(n)
-//   kind 2: Lambertian, albedo * SH(n)           kind 3: GGX split-sum, F0 grey, + sun term
+//   kind 2: Lambertian, albedo * SH(n)
+//   kind 3: metallic-roughness GGX (the glTF / Filament material): diffuse
+//           (1 - metalness) base * sun DIM(n), plus the split sum with F0 = mix(0.04, base,
+//           metalness), plus sun.json's sun as a light when uSunLight
 // uMode: 0 shaded colour; 1 (world normal, ball index + 1, 0 for the sky).
 
 in vec2 vNdc;
@@ -12,8 +16,9 @@ out vec4 fragColor;
 uniform mat4 uInvViewProj;
 uniform int uMode;
 uniform int uBallCount;
-uniform vec4 uBalls[16];
-uniform vec4 uBallMaterial[16];
+uniform vec4 uBalls[32];
+uniform vec4 uBallMaterial[32];
+uniform vec4 uBallColor[32];
 uniform bool uSunLight;            // add the sun as a light to the GGX balls (sun.json)
 uniform bool uDisplay;             // tone-map and encode here (the browser); else linear out
 
@@ -21,7 +26,7 @@ uniform bool uDisplay;             // tone-map and encode here (the browser); el
 int nearestBall(vec3 o, vec3 d, out float tHit) {
     int hit = -1;
     tHit = 1e30;
-    for (int i = 0; i < 16; ++i) {
+    for (int i = 0; i < 32; ++i) {
         if (i >= uBallCount) break;
         vec3 oc = o - uBalls[i].xyz;
         float b = dot(oc, d);
@@ -47,13 +52,15 @@ void main() {
     vec3 n = normalize(o + d * t - uBalls[i].xyz);
     if (uMode == 1) { fragColor = vec4(n, float(i + 1)); return; }
     vec4 m = uBallMaterial[i];
+    vec3 base = uBallColor[i].rgb;
     vec3 c;
-    if (m.x < 0.5) c = m.z * dimAt(uSunDim, n);
-    else if (m.x < 1.5) c = m.z * dimAt(uShadowDim, n);
-    else if (m.x < 2.5) c = m.z * shAt(n);
+    if (m.x < 0.5) c = base * dimAt(uSunDim, n);
+    else if (m.x < 1.5) c = base * dimAt(uShadowDim, n);
+    else if (m.x < 2.5) c = base * shAt(n);
     else {
-        c = splitSum(n, -d, m.y, vec3(m.z));
-        if (uSunLight) c += sunSpecular(n, -d, m.y, vec3(m.z));
+        vec3 f0 = mix(vec3(0.04), base, m.z);
+        c = (1.0 - m.z) * base * dimAt(uSunDim, n) + splitSum(n, -d, m.y, f0);
+        if (uSunLight) c += sunSpecular(n, -d, m.y, f0);
     }
     fragColor = vec4(uDisplay ? display(c) : c, 1.0);
 }
