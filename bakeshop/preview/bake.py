@@ -187,8 +187,9 @@ def bake_from_arrays(baked) -> Bake:
         sun_dim=_rgb(baked.sun_dim),
         shadow_dim=_rgb(baked.shadow_dim),
         dfg=np.ascontiguousarray(np.asarray(baked.dfg, np.float32)[..., :2]),
-        sh=_sh_from_document({"coefficients": baked.sh_irradiance.coefficients,
-                              "kind": "irradiance"}, None),  # fmt: skip
+        sh=_sh_from_document(
+            {"coefficients": baked.sh_irradiance.coefficients, "kind": "irradiance"}, None
+        ),  # fmt: skip
         sun=_sun_from_document(sun_doc, None),
     )
 
