@@ -189,7 +189,7 @@ def bake_from_arrays(baked) -> Bake:
         dfg=np.ascontiguousarray(np.asarray(baked.dfg, np.float32)[..., :2]),
         sh=_sh_from_document(
             {"coefficients": baked.sh_irradiance.coefficients, "kind": "irradiance"}, None
-        ),  # fmt: skip
+        ),
         sun=_sun_from_document(sun_doc, None),
     )
 

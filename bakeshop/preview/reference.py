@@ -195,8 +195,20 @@ def sh_irradiance(coefficients, normals) -> np.ndarray:
     x, y, z = (np.asarray(normals, np.float64)[:, k] for k in range(3))
     k0, k1 = np.sqrt(1 / (4 * np.pi)), np.sqrt(3 / (4 * np.pi))
     k2, k3, k4 = np.sqrt(15 / (4 * np.pi)), np.sqrt(5 / (16 * np.pi)), np.sqrt(15 / (16 * np.pi))
-    basis = np.stack([np.full_like(x, k0), k1 * y, k1 * z, k1 * x, k2 * x * y, k2 * y * z,
-                      k3 * (3 * z * z - 1), k2 * x * z, k4 * (x * x - y * y)], -1)  # fmt: skip
+    basis = np.stack(
+        [
+            np.full_like(x, k0),
+            k1 * y,
+            k1 * z,
+            k1 * x,
+            k2 * x * y,
+            k2 * y * z,
+            k3 * (3 * z * z - 1),
+            k2 * x * z,
+            k4 * (x * x - y * y),
+        ],
+        -1,
+    )
     return basis @ np.asarray(coefficients, np.float64)[:9]
 
 
@@ -250,16 +262,20 @@ def shade_balls(bake, view, rows, cols) -> tuple[np.ndarray, np.ndarray]:
         return out, index
     hit = ~miss
     ns, vs = n[hit], -d[hit]
-    table = {name: np.array([b[name] for b in items], np.float64) for name in
-             ("roughness", "metalness", "colour")}  # fmt: skip
+    table = {
+        name: np.array([b[name] for b in items], np.float64)
+        for name in ("roughness", "metalness", "colour")
+    }
     kinds = np.array([BALL_KINDS[b["kind"]] for b in items])[index[hit]]
     base = table["colour"][index[hit]]
     rough = table["roughness"][index[hit]]
     metal = table["metalness"][index[hit]][:, None]
     colour = np.zeros_like(ns)
-    for name, lookup in (("sun-dim", lambda x: latlong_bilinear(bake.sun_dim, x)),
-                         ("shadow-dim", lambda x: latlong_bilinear(bake.shadow_dim, x)),
-                         ("sh", lambda x: sh_irradiance(bake.sh, x))):  # fmt: skip
+    for name, lookup in (
+        ("sun-dim", lambda x: latlong_bilinear(bake.sun_dim, x)),
+        ("shadow-dim", lambda x: latlong_bilinear(bake.shadow_dim, x)),
+        ("sh", lambda x: sh_irradiance(bake.sh, x)),
+    ):
         sel = kinds == BALL_KINDS[name]
         if sel.any():
             colour[sel] = base[sel] * lookup(ns[sel])

@@ -90,10 +90,18 @@ class View:
 
     def to_dict(self) -> dict:
         """The view as JSON numbers (the browser's URL parameters are these)."""
-        return {"scene": self.scene, "width": self.width, "height": self.height,
-                "camera": self.eye.to_dict(), "diffuse": self.diffuse,
-                "sky_level": self.sky_level, "sun_light": self.sun_light, "water": self.water,
-                "reflection": self.reflection, "time": self.time}  # fmt: skip
+        return {
+            "scene": self.scene,
+            "width": self.width,
+            "height": self.height,
+            "camera": self.eye.to_dict(),
+            "diffuse": self.diffuse,
+            "sky_level": self.sky_level,
+            "sun_light": self.sun_light,
+            "water": self.water,
+            "reflection": self.reflection,
+            "time": self.time,
+        }
 
 
 def _moderngl():
@@ -202,17 +210,36 @@ class Renderer:
         tex = self._keep(self.ctx.texture_cube((s, s), 4, first.tobytes(), dtype="f4"))
         if len(levels) > 1:
             tex.build_mipmaps(0, len(levels) - 1)
-            sub = _gl_function("glTexSubImage2D", None, ctypes.c_uint, ctypes.c_int,
-                               ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_int,
-                               ctypes.c_uint, ctypes.c_uint, ctypes.c_void_p)  # fmt: skip
+            sub = _gl_function(
+                "glTexSubImage2D",
+                None,
+                ctypes.c_uint,
+                ctypes.c_int,
+                ctypes.c_int,
+                ctypes.c_int,
+                ctypes.c_int,
+                ctypes.c_int,
+                ctypes.c_uint,
+                ctypes.c_uint,
+                ctypes.c_void_p,
+            )
             tex.use(15)
             for m, level in enumerate(levels[1:], start=1):
                 level = _rgba(level)
                 side = level.shape[1]
                 for face in range(6):
                     data = np.ascontiguousarray(level[face])
-                    sub(_CUBE_POSITIVE_X + face, m, 0, 0, side, side, _RGBA, _FLOAT,
-                        data.ctypes.data)  # fmt: skip
+                    sub(
+                        _CUBE_POSITIVE_X + face,
+                        m,
+                        0,
+                        0,
+                        side,
+                        side,
+                        _RGBA,
+                        _FLOAT,
+                        data.ctypes.data,
+                    )
             tex.filter = (mgl.LINEAR_MIPMAP_LINEAR, mgl.LINEAR)
         else:
             tex.filter = (mgl.LINEAR, mgl.LINEAR)
@@ -249,8 +276,9 @@ class Renderer:
             normals = np.zeros((1, 2, 2, 3), np.float32) + (0.5, 0.5, 1.0)
         normals = np.ascontiguousarray(normals, np.float32)
         frames, n, _, comps = normals.shape
-        arr = self._keep(self.ctx.texture_array((n, n, frames), comps, normals.tobytes(),
-                                                dtype="f4"))  # fmt: skip
+        arr = self._keep(
+            self.ctx.texture_array((n, n, frames), comps, normals.tobytes(), dtype="f4")
+        )
         arr.repeat_x = arr.repeat_y = True
         arr.filter = (mgl.LINEAR, mgl.LINEAR)
         self.textures["uNormals"] = arr
@@ -353,11 +381,17 @@ class Renderer:
             material[i] = (BALL_KINDS[ball["kind"]], ball["roughness"], ball["metalness"], 0.0)
             colour[i, :3] = ball["colour"]
         values = self.uniforms(view, display=display)
-        values.update({
-            "uInvViewProj": _matrix(np.linalg.inv(view.eye.view_projection(w / h))),
-            "uMode": int(mode), "uBallCount": len(items), "uBalls": geometry,
-            "uBallMaterial": material, "uBallColor": colour, "uSunLight": bool(view.sun_light),
-        })  # fmt: skip
+        values.update(
+            {
+                "uInvViewProj": _matrix(np.linalg.inv(view.eye.view_projection(w / h))),
+                "uMode": int(mode),
+                "uBallCount": len(items),
+                "uBalls": geometry,
+                "uBallMaterial": material,
+                "uBallColor": colour,
+                "uSunLight": bool(view.sun_light),
+            }
+        )
         self._set(prog, values)
         fbo, colours, _ = self._target(w, h)
         try:
@@ -422,9 +456,14 @@ class Renderer:
         extra = {"uShadowMap": shadow} if shadow is not None else {}
         self._bind(scene, extra)
         texel = 2 * self.golf.bounds[1] / SHADOW_SIZE
-        values = dict(common, uViewProj=_matrix(vp), uMode=int(mode if mode in (1, 2) else 0),
-                      uDiffuse=DIFFUSE[view.diffuse], uHasShadows=shadow is not None,
-                      uShadowOffset=SHADOW_OFFSET_TEXELS * texel)  # fmt: skip
+        values = dict(
+            common,
+            uViewProj=_matrix(vp),
+            uMode=int(mode if mode in (1, 2) else 0),
+            uDiffuse=DIFFUSE[view.diffuse],
+            uHasShadows=shadow is not None,
+            uShadowOffset=SHADOW_OFFSET_TEXELS * texel,
+        )
         if shadow is not None:
             values["uShadowViewProj"] = _matrix(self.shadow_matrix())
         self._set(scene, values)
@@ -444,18 +483,29 @@ class Renderer:
             compose = self.program("compose")
             self._bind(compose, {"uSceneColor": colour, "uScenePosition": position})
             wt = self.water
-            values = dict(common, uInvViewProj=_matrix(np.linalg.inv(vp)),
-                          uMode={3: 1, 4: 2}.get(mode, 0), uWater=bool(view.water),
-                          uReflection=REFLECTIONS[view.reflection], uTime=float(view.time),
-                          uFrames=self._water_frames, uNormalXY=self._water_xy,
-                          uFrameRate=float(wt.frame_rate), uTileSize=float(wt.tile_size),
-                          uNormalStrength=float(wt.normal_strength if wt.normals is not None else 0),
-                          uIor=float(wt.ior), uBottomDepth=float(wt.bottom_depth),
-                          uWaterC=tuple(wt.water["c"]), uWaterKd=tuple(wt.water["kd"]),
-                          uWaterInscatter=tuple(wt.water["inscatter"]),
-                          uRainCell=float(wt.rain_cell), uRainTile=float(wt.rain_tile),
-                          uRingRadius=float(wt.ring_radius), uRingDuration=float(wt.ring_duration),
-                          uRippleStrength=float(wt.ripple_strength if wt.rain is not None else 0))  # fmt: skip
+            values = dict(
+                common,
+                uInvViewProj=_matrix(np.linalg.inv(vp)),
+                uMode={3: 1, 4: 2}.get(mode, 0),
+                uWater=bool(view.water),
+                uReflection=REFLECTIONS[view.reflection],
+                uTime=float(view.time),
+                uFrames=self._water_frames,
+                uNormalXY=self._water_xy,
+                uFrameRate=float(wt.frame_rate),
+                uTileSize=float(wt.tile_size),
+                uNormalStrength=float(wt.normal_strength if wt.normals is not None else 0),
+                uIor=float(wt.ior),
+                uBottomDepth=float(wt.bottom_depth),
+                uWaterC=tuple(wt.water["c"]),
+                uWaterKd=tuple(wt.water["kd"]),
+                uWaterInscatter=tuple(wt.water["inscatter"]),
+                uRainCell=float(wt.rain_cell),
+                uRainTile=float(wt.rain_tile),
+                uRingRadius=float(wt.ring_radius),
+                uRingDuration=float(wt.ring_duration),
+                uRippleStrength=float(wt.ripple_strength if wt.rain is not None else 0),
+            )
             self._set(compose, values)
             out.use()
             vao = ctx.vertex_array(compose, [])

@@ -162,24 +162,42 @@ def balls(
     count = min(levels, MAX_COLUMNS)
     chosen = np.unique(np.round(np.linspace(0, levels - 1, count)).astype(int))
     if len(chosen) * len(metalness) + 3 > MAX_BALLS:
-        raise ArgumentError(f"at most {MAX_BALLS - 3} GGX balls fit, asked for "
-                            f"{len(chosen)} x {len(metalness)}")  # fmt: skip
+        raise ArgumentError(
+            f"at most {MAX_BALLS - 3} GGX balls fit, asked for {len(chosen)} x {len(metalness)}"
+        )
     out = []
     white = (float(albedo),) * 3
     for i, (kind, label) in enumerate(
         (("sun-dim", "sun DIM"), ("shadow-dim", "shadow DIM"), ("sh", "SH irradiance"))
     ):
-        out.append({"centre": ((i - 1) * 3.4, 4.3, 0.0), "radius": 1.4, "kind": kind,
-                    "roughness": 1.0, "metalness": 0.0, "colour": white, "label": label})  # fmt: skip
+        out.append(
+            {
+                "centre": ((i - 1) * 3.4, 4.3, 0.0),
+                "radius": 1.4,
+                "kind": kind,
+                "roughness": 1.0,
+                "metalness": 0.0,
+                "colour": white,
+                "label": label,
+            }
+        )
     spacing = 2.4
     for row, metal in enumerate(metalness):
         y = 1.3 - row * spacing
         for k, m in enumerate(chosen):
             r = float(m) / (levels - 1) if levels > 1 else 0.0
             x = (k - (len(chosen) - 1) / 2) * spacing
-            out.append({"centre": (x, y, 0.0), "radius": 1.0, "kind": "ggx", "roughness": r,
-                        "metalness": float(metal), "colour": colour,
-                        "label": f"GGX roughness {r:.3g}, metalness {float(metal):.3g}"})  # fmt: skip
+            out.append(
+                {
+                    "centre": (x, y, 0.0),
+                    "radius": 1.0,
+                    "kind": "ggx",
+                    "roughness": r,
+                    "metalness": float(metal),
+                    "colour": colour,
+                    "label": f"GGX roughness {r:.3g}, metalness {float(metal):.3g}",
+                }
+            )
     return out
 
 
@@ -264,8 +282,16 @@ def box_triangles(lo, hi, albedo) -> np.ndarray:
             quad = [corners[k] for k in (0, 1, 2, 0, 2, 3)]
             if sign < 0:  # keep the winding counter-clockwise seen from outside
                 quad = [corners[k] for k in (0, 2, 1, 0, 3, 2)]
-            rows.append(_vertex(np.array(quad), np.tile(normal, (6, 1)),
-                                np.tile(albedo, (6, 1)), np.zeros((6, 2)), np.zeros((6, 3)), 0))  # fmt: skip
+            rows.append(
+                _vertex(
+                    np.array(quad),
+                    np.tile(normal, (6, 1)),
+                    np.tile(albedo, (6, 1)),
+                    np.zeros((6, 2)),
+                    np.zeros((6, 3)),
+                    0,
+                )
+            )
     return np.concatenate(rows)
 
 
@@ -277,22 +303,42 @@ def _tree(base, height: float, width: float) -> np.ndarray:
     rows = []
     for along, normal in (((1.0, 0.0, 0.0), (0.0, 0.0, 1.0)), ((0.0, 0.0, 1.0), (1.0, 0.0, 0.0))):
         along = np.asarray(along)
-        corners = [base - along * width / 2, base + along * width / 2,
-                   base + along * width / 2 + [0, height, 0], base - along * width / 2 + [0, height, 0]]  # fmt: skip
+        corners = [
+            base - along * width / 2,
+            base + along * width / 2,
+            base + along * width / 2 + [0, height, 0],
+            base - along * width / 2 + [0, height, 0],
+        ]
         uvs = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
         order = (0, 1, 2, 0, 2, 3)
-        rows.append(_vertex(np.array([corners[k] for k in order]), np.tile(normal, (6, 1)),
-                            np.tile((0.16, 0.3, 0.09), (6, 1)), np.array([uvs[k] for k in order]),
-                            np.tile(centre, (6, 1)), 1))  # fmt: skip
+        rows.append(
+            _vertex(
+                np.array([corners[k] for k in order]),
+                np.tile(normal, (6, 1)),
+                np.tile((0.16, 0.3, 0.09), (6, 1)),
+                np.array([uvs[k] for k in order]),
+                np.tile(centre, (6, 1)),
+                1,
+            )
+        )
     return np.concatenate(rows)
 
 
 #: the built-in course's boxes (clubhouse, a wall by the green) and trees (x, z, height, width).
-COURSE_BOXES = (((-40.0, -30.0), (12.0, 7.0, 9.0), (0.62, 0.58, 0.52)),
-                ((-14.0, 28.0), (14.0, 3.0, 1.0), (0.55, 0.5, 0.45)))  # fmt: skip
-COURSE_TREES = ((-8.0, -6.0, 11.0, 8.0), (4.0, 16.0, 9.0, 7.0), (40.0, 10.0, 12.0, 9.0),
-                (-50.0, 8.0, 10.0, 8.0), (10.0, -40.0, 13.0, 9.0), (-22.0, 44.0, 9.0, 7.0),
-                (46.0, -36.0, 11.0, 8.0), (-30.0, -4.0, 8.0, 6.0))  # fmt: skip
+COURSE_BOXES = (
+    ((-40.0, -30.0), (12.0, 7.0, 9.0), (0.62, 0.58, 0.52)),
+    ((-14.0, 28.0), (14.0, 3.0, 1.0), (0.55, 0.5, 0.45)),
+)
+COURSE_TREES = (
+    (-8.0, -6.0, 11.0, 8.0),
+    (4.0, 16.0, 9.0, 7.0),
+    (40.0, 10.0, 12.0, 9.0),
+    (-50.0, 8.0, 10.0, 8.0),
+    (10.0, -40.0, 13.0, 9.0),
+    (-22.0, 44.0, 9.0, 7.0),
+    (46.0, -36.0, 11.0, 8.0),
+    (-30.0, -4.0, 8.0, 6.0),
+)
 GRASS = (0.21, 0.36, 0.12)
 
 
@@ -350,8 +396,13 @@ def golf_course(
     lo, hi = vertices[:, :3].min(axis=0), vertices[:, :3].max(axis=0)
     centre = (lo + hi) / 2
     radius = float(np.linalg.norm(hi - lo) / 2)
-    return Golf(np.ascontiguousarray(vertices), boxes, trees, half,
-                (tuple(float(v) for v in centre), radius))  # fmt: skip
+    return Golf(
+        np.ascontiguousarray(vertices),
+        boxes,
+        trees,
+        half,
+        (tuple(float(v) for v in centre), radius),
+    )
 
 
 def shadow_view_projection(sun_direction, bounds) -> np.ndarray:

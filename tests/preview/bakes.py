@@ -33,8 +33,10 @@ def synthetic_bake(*, size: int = 32, levels: int = 5, uniform: float | None = N
     if uniform is not None:
         pano = np.full_like(pano, uniform)
     cube = remap(pano, "latlong", "cube", size)
-    chain = [remap(pano * (1 + m / 10 if uniform is None else 1), "latlong", "cube",
-                   max(1, size >> m)) for m in range(levels)]  # fmt: skip
+    chain = [
+        remap(pano * (1 + m / 10 if uniform is None else 1), "latlong", "cube", max(1, size >> m))
+        for m in range(levels)
+    ]
     dim_dirs, _ = layout("latlong").directions((32, 64))
     x, y, z = (dim_dirs[..., k] for k in range(3))
     sun_dim = np.stack([1.2 + 0.8 * x + 0.3 * y, 1.0 + 0.5 * y - 0.2 * z, 0.8 + 0.6 * z * y], -1)
