@@ -114,6 +114,22 @@ def _moderngl():
     return moderngl
 
 
+def _context(moderngl):
+    """A standalone OpenGL 3.3 context: EGL (headless; Mesa's llvmpipe without a GPU), else the
+    platform's default; an :class:`UnsupportedError` naming what to install when neither
+    works."""
+    try:
+        return moderngl.create_context(standalone=True, backend="egl")
+    except Exception as egl:  # noqa: BLE001 - any driver failure: try the default backend
+        try:
+            return moderngl.create_context(standalone=True)
+        except Exception:  # noqa: BLE001
+            raise UnsupportedError(
+                f"no OpenGL 3.3 context ({str(egl).splitlines()[0] if str(egl) else egl!r}): "
+                "install libEGL and Mesa (Debian: apt-get install libegl1 libgl1-mesa-dri)"
+            ) from None
+
+
 def _gl_function(name: str, restype, *argtypes):
     """A GL entry point of the current context (moderngl has no call for a cube's mip level)."""
     prototype = ctypes.CFUNCTYPE(restype, *argtypes)
@@ -158,10 +174,7 @@ class Renderer:
         self.moderngl = moderngl
         self.bake = bake
         self.golf = golf if golf is not None else golf_course()
-        try:
-            self.ctx = moderngl.create_context(standalone=True, backend="egl")
-        except Exception:  # noqa: BLE001 - fall back to the platform's default backend
-            self.ctx = moderngl.create_context(standalone=True)
+        self.ctx = _context(moderngl)
         self.ctx.enable_direct(_SEAMLESS)
         self._programs = {}
         self._objects = []
