@@ -22,6 +22,7 @@ sysdeps:
 
 demo: $(BIN)/.installed
 	$(BIN)/bakeshop bake-probe -o demo
+	$(BIN)/bakeshop preview demo --scene all || echo "note: no preview pictures (bakeshop preview needs libEGL and Mesa: make sysdeps)"
 
 test: $(BIN)/.installed sysdeps
 	$(BIN)/python -m pytest -n 2 -q

@@ -118,8 +118,9 @@ def _bilinear(image, u, v, *, repeat_u: bool) -> np.ndarray:
 
 
 def latlong_bilinear(image, directions) -> np.ndarray:
-    """A latlong texture (a DIM) looked up as the shaders do: u = atan2(x, -z) / 2 pi + 1/2,
-    v = acos(y) / pi, bilinear with u repeating.
+    """A latlong texture (a DIM) looked up as the shaders do: u = atan2(x, -z) / 2 pi + 1/2
+    (1/2 straight up or down, where atan2 is undefined), v = acos(y) / pi, bilinear with u
+    repeating.
 
     Parameters
     ----------
@@ -131,7 +132,8 @@ def latlong_bilinear(image, directions) -> np.ndarray:
     (N, C) float64
     """
     d = np.asarray(directions, np.float64)
-    u = np.arctan2(d[:, 0], -d[:, 2]) / (2 * np.pi) + 0.5
+    pole = (d[:, 0] == 0) & (d[:, 2] == 0)
+    u = np.where(pole, 0.5, np.arctan2(d[:, 0], -d[:, 2]) / (2 * np.pi) + 0.5)
     v = np.arccos(np.clip(d[:, 1], -1, 1)) / np.pi
     return _bilinear(image, u, v, repeat_u=True)
 

@@ -367,7 +367,8 @@ class Renderer:
         view : View
         mode : int
             The shaders' ``uMode``: 0 the shaded colour; balls: 1 (normal, ball index + 1);
-            golf: 1 (normal, lit), 2 (albedo, lit) from the scene pass; 3 (normal, 1 on
+            golf: 1 (normal, lit), 2 (albedo, lit), 5 (world position, 1 where drawn) from
+            the scene pass (before the water and the sky); 3 (normal, 1 on
             water), 4 (path length, depth, 0, 1 on water) from the water pass.
         display : (ev, operator), optional
             Tone-map and sRGB-encode in the shader (the browser's path) instead of returning
@@ -491,8 +492,8 @@ class Renderer:
             vao.render(mgl.TRIANGLES)
             vao.release()
             ctx.disable(mgl.DEPTH_TEST)
-            if mode in (1, 2):
-                return self._read(fbo, w, h)
+            if mode in (1, 2, 5):
+                return self._read(fbo, w, h, attachment=1 if mode == 5 else 0)
             compose = self.program("compose")
             self._bind(compose, {"uSceneColor": colour, "uScenePosition": position})
             wt = self.water

@@ -22,9 +22,11 @@ uniform float uSkyLevel;           // < 0: the environment cube; else this level
 uniform float uExposure;
 uniform int uOperator;
 
-// bakeshop's latlong: u = atan(x, -z) / 2 pi + 1/2, v = acos(y) / pi (row 0 at the top, +Y)
+// bakeshop's latlong: u = atan(x, -z) / 2 pi + 1/2, v = acos(y) / pi (row 0 at the top, +Y);
+// straight up or down (x = z = 0, where atan is undefined: a box's top face) u = 1/2
 vec2 latlongUv(vec3 d) {
-    return vec2(atan(d.x, -d.z) / (2.0 * M_PI) + 0.5, acos(clamp(d.y, -1.0, 1.0)) / M_PI);
+    float u = d.x == 0.0 && d.z == 0.0 ? 0.5 : atan(d.x, -d.z) / (2.0 * M_PI) + 0.5;
+    return vec2(u, acos(clamp(d.y, -1.0, 1.0)) / M_PI);
 }
 
 // a DIM's value for the unit normal n: bilinear, u wrapping, v clamped at the poles
