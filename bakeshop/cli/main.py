@@ -35,6 +35,7 @@ COMMAND_MODULES = [
     "normals",
     "float",
     "preview",
+    "view",
 ]
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
