@@ -15,3 +15,8 @@ PREVIEW_LINEAR_RTOL = 1e-3
 PREVIEW_UNIFORM_ATOL = 1e-6
 #: The shaders' own display step vs bakeshop.image.to_picture, in 8-bit code values.
 PREVIEW_DISPLAY_CODES = 1
+#: The browser's screenshot (WebGL2 on SwiftShader, 8-bit canvas) vs ``bakeshop preview`` of the
+#: same view (moderngl on llvmpipe, bakeshop.image.to_picture), in 8-bit code values: the issue's
+#: bounds, mean over the picture and largest away from balls' silhouettes.
+BROWSER_MEAN_CODES = 1.0
+BROWSER_MAX_CODES = 8
