@@ -277,17 +277,10 @@ class Renderer:
         and the balls need neither)."""
         if self._mesh is not None:
             return
-        from bakeshop.water.shader import WaterScene
-
-        water = self._water_given if self._water_given is not None else WaterScene()
-        if water.environment is None:
-            water = replace(water, environment=fresnel_environment(self.bake))
-        self.water = water
         mgl = self.moderngl
-        normals = water.normals
-        if normals is None:
-            normals = np.zeros((1, 2, 2, 3), np.float32) + (0.5, 0.5, 1.0)
-        normals = np.ascontiguousarray(normals, np.float32)
+        self.water = resolve_water(self.bake, self._water_given)
+        arrays = water_arrays(self.water)
+        normals = arrays["normals"]
         frames, n, _, comps = normals.shape
         arr = self._keep(
             self.ctx.texture_array((n, n, frames), comps, normals.tobytes(), dtype="f4")
@@ -295,14 +288,11 @@ class Renderer:
         arr.repeat_x = arr.repeat_y = True
         arr.filter = (mgl.LINEAR, mgl.LINEAR)
         self.textures["uNormals"] = arr
-        self.textures["uEnv"] = self._texture2d(water.environment, repeat_x=True)
-        rain = water.rain if water.rain is not None else np.zeros((2, 2, 4), np.float32)
-        rt = self._texture2d(rain, linear=False)
+        self.textures["uEnv"] = self._texture2d(arrays["env"], repeat_x=True)
+        rt = self._texture2d(arrays["rain"], linear=False)
         rt.repeat_x = rt.repeat_y = True
         self.textures["uRain"] = rt
-        ring = water.ring if water.ring is not None else np.zeros((2, 2, 2), np.float32)
-        self.textures["uRing"] = self._texture2d(np.asarray(ring)[..., :2])
-        self._water_frames, self._water_xy = frames, comps == 2
+        self.textures["uRing"] = self._texture2d(arrays["ring"])
         vertices = np.ascontiguousarray(self.golf.vertices, np.float32)
         self._mesh = self._keep(self.ctx.buffer(vertices))
 
@@ -469,17 +459,13 @@ class Renderer:
         scene = self.program("scene")
         extra = {"uShadowMap": shadow} if shadow is not None else {}
         self._bind(scene, extra)
-        texel = 2 * self.golf.bounds[1] / SHADOW_SIZE
         values = dict(
             common,
+            **shadow_uniforms(self.bake, self.golf),
             uViewProj=_matrix(vp),
             uMode=int(mode if mode in (1, 2) else 0),
             uDiffuse=DIFFUSE[view.diffuse],
-            uHasShadows=shadow is not None,
-            uShadowOffset=SHADOW_OFFSET_TEXELS * texel,
         )
-        if shadow is not None:
-            values["uShadowViewProj"] = _matrix(self.shadow_matrix())
         self._set(scene, values)
         fbo, (colour, position), rb = self._target(w, h, attachments=2, depth=True)
         out, (final,), _ = self._target(w, h)
@@ -496,29 +482,14 @@ class Renderer:
                 return self._read(fbo, w, h, attachment=1 if mode == 5 else 0)
             compose = self.program("compose")
             self._bind(compose, {"uSceneColor": colour, "uScenePosition": position})
-            wt = self.water
             values = dict(
                 common,
+                **water_uniforms(self.water),
                 uInvViewProj=_matrix(np.linalg.inv(vp)),
                 uMode={3: 1, 4: 2}.get(mode, 0),
                 uWater=bool(view.water),
                 uReflection=REFLECTIONS[view.reflection],
                 uTime=float(view.time),
-                uFrames=self._water_frames,
-                uNormalXY=self._water_xy,
-                uFrameRate=float(wt.frame_rate),
-                uTileSize=float(wt.tile_size),
-                uNormalStrength=float(wt.normal_strength if wt.normals is not None else 0),
-                uIor=float(wt.ior),
-                uBottomDepth=float(wt.bottom_depth),
-                uWaterC=tuple(wt.water["c"]),
-                uWaterKd=tuple(wt.water["kd"]),
-                uWaterInscatter=tuple(wt.water["inscatter"]),
-                uRainCell=float(wt.rain_cell),
-                uRainTile=float(wt.rain_tile),
-                uRingRadius=float(wt.ring_radius),
-                uRingDuration=float(wt.ring_duration),
-                uRippleStrength=float(wt.ripple_strength if wt.rain is not None else 0),
             )
             self._set(compose, values)
             out.use()
@@ -539,6 +510,70 @@ _SIZES = (3, 3, 3, 2, 3, 1)
 def _matrix(m) -> tuple:
     """A (4, 4) matrix as GLSL's column-major tuple."""
     return tuple(float(v) for v in np.asarray(m, np.float64).T.ravel())
+
+
+def resolve_water(bake, water=None):
+    """The water the golf course shows: ``water`` (a :class:`bakeshop.water.shader.WaterScene`)
+    or the default calm Jerlov IB water, with the bake's fresnel-baked reflection
+    (:func:`fresnel_environment`) where it has none."""
+    from bakeshop.water.shader import WaterScene
+
+    water = water if water is not None else WaterScene()
+    if water.environment is None:
+        water = replace(water, environment=fresnel_environment(bake))
+    return water
+
+
+def water_arrays(water) -> dict[str, np.ndarray]:
+    """The water's textures as both hosts upload them (float32): ``normals`` (F, N, N, C) (a
+    flat 2 x 2 frame when there is none), ``env`` (H, 2H, 4), ``rain`` (N, N, 4) and ``ring``
+    (T, R, 4) (zeros when there are no ripples)."""
+    normals = water.normals
+    if normals is None:
+        normals = np.zeros((1, 2, 2, 3), np.float32) + (0.5, 0.5, 1.0)
+    rain = water.rain if water.rain is not None else np.zeros((2, 2, 4), np.float32)
+    ring = water.ring if water.ring is not None else np.zeros((2, 2, 2), np.float32)
+    return {
+        "normals": np.ascontiguousarray(normals, np.float32),
+        "env": _rgba(water.environment),
+        "rain": _rgba(rain),
+        "ring": _rgba(np.asarray(ring)[..., :2]),
+    }
+
+
+def water_uniforms(water) -> dict:
+    """The water pass's view-independent uniforms (water.frag's), by name."""
+    normals = water_arrays(water)["normals"]
+    return {
+        "uFrames": int(normals.shape[0]),
+        "uNormalXY": normals.shape[-1] == 2,
+        "uFrameRate": float(water.frame_rate),
+        "uTileSize": float(water.tile_size),
+        "uNormalStrength": float(water.normal_strength if water.normals is not None else 0),
+        "uIor": float(water.ior),
+        "uBottomDepth": float(water.bottom_depth),
+        "uWaterC": tuple(float(v) for v in water.water["c"]),
+        "uWaterKd": tuple(float(v) for v in water.water["kd"]),
+        "uWaterInscatter": tuple(float(v) for v in water.water["inscatter"]),
+        "uRainCell": float(water.rain_cell),
+        "uRainTile": float(water.rain_tile),
+        "uRingRadius": float(water.ring_radius),
+        "uRingDuration": float(water.ring_duration),
+        "uRippleStrength": float(water.ripple_strength if water.rain is not None else 0),
+    }
+
+
+def shadow_uniforms(bake, golf) -> dict:
+    """The scene pass's shadow uniforms: ``uHasShadows``, ``uShadowOffset`` (metres: 1.5 texels
+    of the :data:`SHADOW_SIZE` map over the scene's bounding sphere) and ``uShadowViewProj``
+    (column-major, when the bake has a sun)."""
+    values = {
+        "uHasShadows": bake.sun is not None,
+        "uShadowOffset": SHADOW_OFFSET_TEXELS * 2 * golf.bounds[1] / SHADOW_SIZE,
+    }
+    if bake.sun is not None:
+        values["uShadowViewProj"] = _matrix(shadow_view_projection(bake.sun.direction, golf.bounds))
+    return values
 
 
 def fresnel_environment(bake, *, height: int = 256) -> np.ndarray:
