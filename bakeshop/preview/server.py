@@ -10,11 +10,14 @@ route                        what
 ``/``                        the page (``web/index.html``)
 ``/viewer.js``               the viewer (``web/viewer.js``, no library)
 ``/bake.json``               sizes, the chain's levels, sh.json's 9 coefficients, the sun, the
-                             balls, each scene's camera, the bake's auto exposure, the GLSL ES
-                             3.00 sources of the programs (:func:`bakeshop.preview.glsl.
-                             program_sources` with host "webgl")
-``/data/NAME.f32``           one texture's texels, float32 RGBA little-endian, rows in order
-                             (``cube``, ``specular0`` ..., ``sun_dim``, ``shadow_dim``, ``dfg``)
+                             balls, each scene's camera, the bake's auto exposure, the golf
+                             course's and the water's uniforms, the GLSL ES 3.00 sources of the
+                             programs (:func:`bakeshop.preview.glsl.program_sources`, "webgl")
+``/data/NAME.f32``           float32 little-endian: a texture's RGBA texels, rows in order
+                             (``cube``, ``specular0`` ..., ``sun_dim``, ``shadow_dim``, ``dfg``,
+                             ``water_env``, ``water_rain``, ``water_ring``), the water's normal
+                             frames as they are (``water_normals``: F, N, N, C) and the golf
+                             course's vertices (``golf``: V rows of 15 floats)
 ============================ =====================================================================
 
 The texels are the bake's values as read by :func:`bakeshop.preview.read_bake` (a half-float
@@ -43,9 +46,9 @@ __all__ = ["LOCALHOST", "Viewer", "serve", "viewer_payload"]
 #: The only address the viewer binds to.
 LOCALHOST = "127.0.0.1"
 #: The programs the page compiles.
-WEB_PROGRAMS = ("balls",)
+WEB_PROGRAMS = ("balls", "scene", "shadow", "compose")
 #: The scenes the page draws.
-WEB_SCENES = ("sky", "balls")
+WEB_SCENES = ("sky", "balls", "golf", "water")
 
 
 def _rgba_bytes(a) -> bytes:
@@ -55,7 +58,17 @@ def _rgba_bytes(a) -> bytes:
     return out.tobytes()
 
 
-def viewer_payload(bake) -> tuple[dict, dict[str, bytes]]:
+def _uniform_json(values: dict) -> dict:
+    out = {}
+    for name, value in values.items():
+        if isinstance(value, (tuple, list, np.ndarray)):
+            out[name] = [float(v) for v in np.asarray(value, np.float64).ravel()]
+        else:
+            out[name] = value if isinstance(value, bool) else float(value)
+    return out
+
+
+def viewer_payload(bake, *, golf=None, water=None) -> tuple[dict, dict[str, bytes]]:
     """What the page receives: the JSON document and the texel blobs by name.
 
     Returns
@@ -66,6 +79,20 @@ def viewer_payload(bake) -> tuple[dict, dict[str, bytes]]:
         Float32 RGBA texels of each texture (a cube's six faces one after the other).
     """
     from bakeshop.preview.bake import bake_exposure
+    from bakeshop.preview.render import (
+        DIFFUSE,
+        REFLECTIONS,
+        SHADOW_SIZE,
+        resolve_water,
+        shadow_uniforms,
+        water_arrays,
+        water_uniforms,
+    )
+    from bakeshop.preview.scene import VERTEX_FLOATS, golf_course
+
+    golf = golf if golf is not None else golf_course()
+    water = resolve_water(bake, water)
+    arrays = water_arrays(water)
 
     blobs = {"cube": _rgba_bytes(bake.cube)}
     for m, level in enumerate(bake.specular):
@@ -73,6 +100,10 @@ def viewer_payload(bake) -> tuple[dict, dict[str, bytes]]:
     blobs["sun_dim"] = _rgba_bytes(bake.sun_dim)
     blobs["shadow_dim"] = _rgba_bytes(bake.shadow_dim)
     blobs["dfg"] = _rgba_bytes(np.concatenate([bake.dfg, np.zeros_like(bake.dfg[..., :1])], -1))
+    blobs["golf"] = np.ascontiguousarray(golf.vertices, "<f4").tobytes()
+    blobs["water_normals"] = np.ascontiguousarray(arrays["normals"], "<f4").tobytes()
+    for name in ("env", "rain", "ring"):
+        blobs[f"water_{name}"] = _rgba_bytes(arrays[name])
     sun = bake.sun
     manifest = {
         "cube": bake.cube.shape[1],
@@ -95,6 +126,21 @@ def viewer_payload(bake) -> tuple[dict, dict[str, bytes]]:
             name: dict(zip(("vertex", "fragment"), program_sources(name, "webgl"), strict=True))
             for name in WEB_PROGRAMS
         },
+        "golf": {
+            "vertices": int(golf.vertices.shape[0]),
+            "floats": VERTEX_FLOATS,
+            "shadow_size": SHADOW_SIZE,
+            "uniforms": _uniform_json(shadow_uniforms(bake, golf)),
+        },
+        "water": {
+            "normals": list(arrays["normals"].shape),
+            "env": list(arrays["env"].shape[:2]),
+            "rain": list(arrays["rain"].shape[:2]),
+            "ring": list(arrays["ring"].shape[:2]),
+            "uniforms": _uniform_json(water_uniforms(water)),
+        },
+        "diffuse": DIFFUSE,
+        "reflections": REFLECTIONS,
         "files": dict(bake.files or {}),
     }
     return manifest, blobs

@@ -125,25 +125,73 @@ function cubeTexture(gl, sizes, levels) {
   for (const wrap of [gl.TEXTURE_WRAP_S, gl.TEXTURE_WRAP_T, gl.TEXTURE_WRAP_R]) {
     gl.texParameteri(gl.TEXTURE_CUBE_MAP, wrap, gl.CLAMP_TO_EDGE);
   }
-  return tex;
+  return { target: gl.TEXTURE_CUBE_MAP, tex };
 }
 
-function texture2d(gl, shape, texels, repeatS) {
+function texture2d(gl, shape, texels, options) {
+  const o = Object.assign({ repeatS: false, repeatT: false, nearest: false }, options);
   const tex = gl.createTexture();
   gl.bindTexture(gl.TEXTURE_2D, tex);
   gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, shape[1], shape[0], 0, gl.RGBA, gl.FLOAT, texels);
-  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
-  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
-  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, repeatS ? gl.REPEAT : gl.CLAMP_TO_EDGE);
-  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
-  return tex;
+  const filter = o.nearest ? gl.NEAREST : gl.LINEAR;
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, filter);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, filter);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, o.repeatS ? gl.REPEAT : gl.CLAMP_TO_EDGE);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, o.repeatT ? gl.REPEAT : gl.CLAMP_TO_EDGE);
+  return { target: gl.TEXTURE_2D, tex };
+}
+
+// every active uniform of a program: name (without "[0]") -> {location, type}
+function uniformTable(gl, prog) {
+  const table = {};
+  const count = gl.getProgramParameter(prog, gl.ACTIVE_UNIFORMS);
+  for (let i = 0; i < count; i++) {
+    const info = gl.getActiveUniform(prog, i);
+    const name = info.name.replace(/\[0\]$/, "");
+    table[name] = { location: gl.getUniformLocation(prog, info.name), type: info.type };
+  }
+  return table;
+}
+
+// set uniforms by name from numbers, booleans and flat arrays (names the program lacks skipped)
+function setUniforms(gl, table, values) {
+  for (const [name, value] of Object.entries(values)) {
+    const u = table[name];
+    if (!u) continue;
+    const v = typeof value === "boolean" ? (value ? 1 : 0) : value;
+    switch (u.type) {
+      case gl.FLOAT: gl.uniform1f(u.location, v); break;
+      case gl.INT: case gl.BOOL: gl.uniform1i(u.location, v); break;
+      case gl.FLOAT_VEC3: gl.uniform3fv(u.location, new Float32Array(v)); break;
+      case gl.FLOAT_VEC4: gl.uniform4fv(u.location, new Float32Array(v)); break;
+      case gl.FLOAT_MAT4: gl.uniformMatrix4fv(u.location, false, new Float32Array(v)); break;
+      default: fail("uniform " + name + " of an unexpected type");
+    }
+  }
+}
+
+// bind textures to the sampler uniforms a program has, one unit each
+function bindTextures(gl, table, textures) {
+  let unit = 0;
+  for (const [name, t] of Object.entries(textures)) {
+    if (!table[name]) continue;
+    gl.activeTexture(gl.TEXTURE0 + unit);
+    gl.bindTexture(t.target, t.tex);
+    gl.uniform1i(table[name].location, unit);
+    unit++;
+  }
 }
 
 // -- the view --------------------------------------------------------------------------------------
+const SCENES = ["sky", "balls", "golf", "water"];
+
 function readState(bake) {
   const q = new URLSearchParams(location.search);
-  const num = (key, fallback) => (q.has(key) && isFinite(parseFloat(q.get(key))) ? parseFloat(q.get(key)) : fallback);
-  const scene = q.get("scene") === "sky" ? "sky" : "balls";
+  const num = (key, fallback) => {
+    const v = parseFloat(q.get(key));
+    return q.has(key) && isFinite(v) ? v : fallback;
+  };
+  const scene = SCENES.includes(q.get("scene")) ? q.get("scene") : "balls";
   const base = bake.cameras[scene];
   const evText = q.get("ev") || "auto";
   return {
@@ -159,6 +207,10 @@ function readState(bake) {
     operator: q.get("operator") in OPERATORS ? q.get("operator") : "aces",
     skyLevel: num("sky_level", -1),
     sunLight: q.get("sun_light") === "1",
+    diffuse: q.get("diffuse") in bake.diffuse ? q.get("diffuse") : "pair",
+    water: q.get("water") !== "0",
+    reflection: q.get("reflection") in bake.reflections ? q.get("reflection") : "fresnel",
+    time: num("time", 0),
     ui: q.get("ui") !== "0",
   };
 }
@@ -168,9 +220,113 @@ function writeState(s) {
     scene: s.scene, width: s.width, height: s.height, yaw: s.camera.yaw.toFixed(2),
     pitch: s.camera.pitch.toFixed(2), distance: s.camera.distance.toFixed(3), fov: s.camera.fov,
     ev: s.ev === "auto" ? "auto" : s.ev, operator: s.operator, sky_level: s.skyLevel,
-    sun_light: s.sunLight ? 1 : 0,
+    sun_light: s.sunLight ? 1 : 0, diffuse: s.diffuse, water: s.water ? 1 : 0,
+    reflection: s.reflection, time: s.time,
   });
   history.replaceState(null, "", "?" + q.toString());
+}
+
+// the golf meshes' vertex attributes and their floats (bakeshop.preview.render._ATTRIBUTES)
+const ATTRIBUTES = [["aPosition", 3], ["aNormal", 3], ["aAlbedo", 3], ["aUv", 2], ["aCentre", 3],
+                    ["aKind", 1]];
+
+// the golf course: its programs, mesh, water textures and the sun's shadow map (drawn once)
+async function loadGolf(gl, bake, shared) {
+  if (!gl.getExtension("EXT_color_buffer_float")) fail("no EXT_color_buffer_float");
+  const g = bake.golf, w = bake.water;
+  const programs = {};
+  for (const name of ["scene", "shadow", "compose"]) {
+    const prog = program(gl, bake.programs[name]);
+    programs[name] = { prog, table: uniformTable(gl, prog) };
+  }
+  const buffer = gl.createBuffer();
+  gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+  gl.bufferData(gl.ARRAY_BUFFER, await blob("golf"), gl.STATIC_DRAW);
+  function meshVao(prog) {
+    const vao = gl.createVertexArray();
+    gl.bindVertexArray(vao);
+    gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+    let offset = 0;
+    for (const [name, size] of ATTRIBUTES) {
+      const loc = gl.getAttribLocation(prog, name);
+      if (loc >= 0) {
+        gl.enableVertexAttribArray(loc);
+        gl.vertexAttribPointer(loc, size, gl.FLOAT, false, g.floats * 4, offset * 4);
+      }
+      offset += size;
+    }
+    gl.bindVertexArray(null);
+    return vao;
+  }
+  const [frames, n, , comps] = w.normals;
+  const normals = gl.createTexture();
+  gl.bindTexture(gl.TEXTURE_2D_ARRAY, normals);
+  gl.texImage3D(gl.TEXTURE_2D_ARRAY, 0, comps === 2 ? gl.RG32F : gl.RGB32F, n, n, frames, 0,
+                comps === 2 ? gl.RG : gl.RGB, gl.FLOAT, await blob("water_normals"));
+  gl.texParameteri(gl.TEXTURE_2D_ARRAY, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
+  gl.texParameteri(gl.TEXTURE_2D_ARRAY, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+  gl.texParameteri(gl.TEXTURE_2D_ARRAY, gl.TEXTURE_WRAP_S, gl.REPEAT);
+  gl.texParameteri(gl.TEXTURE_2D_ARRAY, gl.TEXTURE_WRAP_T, gl.REPEAT);
+  const textures = Object.assign({}, shared, {
+    uNormals: { target: gl.TEXTURE_2D_ARRAY, tex: normals },
+    uEnv: texture2d(gl, w.env, await blob("water_env"), { repeatS: true }),
+    uRain: texture2d(gl, w.rain, await blob("water_rain"),
+                     { repeatS: true, repeatT: true, nearest: true }),
+    uRing: texture2d(gl, w.ring, await blob("water_ring"), {}),
+  });
+  // the shadow map: depth from the sun, nearest texel, drawn once
+  if (bake.sun) {
+    const size = g.shadow_size;
+    const depth = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, depth);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.DEPTH_COMPONENT24, size, size, 0, gl.DEPTH_COMPONENT,
+                  gl.UNSIGNED_INT, null);
+    for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
+                          [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) {
+      gl.texParameteri(gl.TEXTURE_2D, k, v);
+    }
+    const fbo = gl.createFramebuffer();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.TEXTURE_2D, depth, 0);
+    gl.viewport(0, 0, size, size);
+    gl.enable(gl.DEPTH_TEST);
+    gl.clear(gl.DEPTH_BUFFER_BIT);
+    const p = programs.shadow;
+    gl.useProgram(p.prog);
+    setUniforms(gl, p.table, { uViewProj: g.uniforms.uShadowViewProj });
+    gl.bindVertexArray(meshVao(p.prog));
+    gl.drawArrays(gl.TRIANGLES, 0, g.vertices);
+    gl.disable(gl.DEPTH_TEST);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    textures.uShadowMap = { target: gl.TEXTURE_2D, tex: depth };
+  }
+  return { programs, textures, sceneVao: meshVao(programs.scene.prog), target: null };
+}
+
+// the scene pass's target: colour and world position (RGBA32F, nearest) and a depth buffer
+function sceneTarget(gl, width, height) {
+  const fbo = gl.createFramebuffer();
+  gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
+  const attachments = [];
+  for (let i = 0; i < 2; i++) {
+    const tex = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, tex);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, width, height, 0, gl.RGBA, gl.FLOAT, null);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0 + i, gl.TEXTURE_2D, tex, 0);
+    attachments.push({ target: gl.TEXTURE_2D, tex });
+  }
+  const depth = gl.createRenderbuffer();
+  gl.bindRenderbuffer(gl.RENDERBUFFER, depth);
+  gl.renderbufferStorage(gl.RENDERBUFFER, gl.DEPTH_COMPONENT24, width, height);
+  gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, depth);
+  gl.drawBuffers([gl.COLOR_ATTACHMENT0, gl.COLOR_ATTACHMENT1]);
+  if (gl.checkFramebufferStatus(gl.FRAMEBUFFER) !== gl.FRAMEBUFFER_COMPLETE) {
+    fail("the scene pass's float framebuffer is incomplete");
+  }
+  gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+  return { fbo, colour: attachments[0], position: attachments[1], width, height };
 }
 
 async function main() {
@@ -190,16 +346,17 @@ async function main() {
   if (!gl.getExtension("OES_texture_float_linear")) fail("no OES_texture_float_linear");
 
   const specular = await Promise.all(bake.specular.map((_, m) => blob("specular" + m)));
-  const textures = {
+  const shared = {
     uEnvCube: cubeTexture(gl, [bake.cube], [await blob("cube")]),
     uSpecular: cubeTexture(gl, bake.specular, specular),
-    uSunDim: texture2d(gl, bake.sun_dim, await blob("sun_dim"), true),
-    uShadowDim: texture2d(gl, bake.shadow_dim, await blob("shadow_dim"), true),
-    uDfg: texture2d(gl, bake.dfg, await blob("dfg"), false),
+    uSunDim: texture2d(gl, bake.sun_dim, await blob("sun_dim"), { repeatS: true }),
+    uShadowDim: texture2d(gl, bake.shadow_dim, await blob("shadow_dim"), { repeatS: true }),
+    uDfg: texture2d(gl, bake.dfg, await blob("dfg"), {}),
   };
-  const prog = program(gl, bake.programs.balls);
-  const vao = gl.createVertexArray();
-  const u = name => gl.getUniformLocation(prog, name);
+  const ballsProg = program(gl, bake.programs.balls);
+  const ballsTable = uniformTable(gl, ballsProg);
+  const emptyVao = gl.createVertexArray();
+  let golf = null;
 
   const geometry = new Float32Array(MAX_BALLS * 4);
   const material = new Float32Array(MAX_BALLS * 4);
@@ -218,34 +375,74 @@ async function main() {
       `sun: elevation ${elevation.toFixed(1)}°, ${azimuth.toFixed(1)}° from -Z towards +X`;
   }
 
-  function draw() {
-    const s = state;
+  // the uniforms every program shares (Renderer.uniforms), for the canvas: display on
+  function common(s) {
+    return {
+      uSpecularLevels: bake.specular.length, uSh: bake.sh.flat(),
+      uSunDirection: sun.direction, uSunIrradiance: sun.irradiance, uSunRadius: sun.radius,
+      uSkyLevel: s.skyLevel, uDisplay: true,
+      uExposure: s.ev === "auto" ? bake.exposure : s.ev, uOperator: OPERATORS[s.operator],
+    };
+  }
+
+  function drawBalls(s, inverse) {
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.viewport(0, 0, s.width, s.height);
-    gl.useProgram(prog);
-    Object.entries(textures).forEach(([name, tex], unit) => {
-      gl.activeTexture(gl.TEXTURE0 + unit);
-      gl.bindTexture(name === "uEnvCube" || name === "uSpecular" ? gl.TEXTURE_CUBE_MAP : gl.TEXTURE_2D, tex);
-      gl.uniform1i(u(name), unit);
-    });
-    const vp = viewProjection(s.camera, s.width / s.height);
-    gl.uniformMatrix4fv(u("uInvViewProj"), false, columnMajor(invert(vp)));
-    gl.uniform1i(u("uMode"), 0);
-    gl.uniform1i(u("uBallCount"), s.scene === "balls" ? bake.balls.length : 0);
-    gl.uniform4fv(u("uBalls"), geometry);
-    gl.uniform4fv(u("uBallMaterial"), material);
-    gl.uniform4fv(u("uBallColor"), colour);
-    gl.uniform1i(u("uSunLight"), s.sunLight ? 1 : 0);
-    gl.uniform1i(u("uDisplay"), 1);
-    gl.uniform1f(u("uExposure"), s.ev === "auto" ? bake.exposure : s.ev);
-    gl.uniform1i(u("uOperator"), OPERATORS[s.operator]);
-    gl.uniform1f(u("uSpecularLevels"), bake.specular.length);
-    gl.uniform3fv(u("uSh"), new Float32Array(bake.sh.flat()));
-    gl.uniform3fv(u("uSunDirection"), new Float32Array(sun.direction));
-    gl.uniform3fv(u("uSunIrradiance"), new Float32Array(sun.irradiance));
-    gl.uniform1f(u("uSunRadius"), sun.radius);
-    gl.uniform1f(u("uSkyLevel"), s.skyLevel);
-    gl.bindVertexArray(vao);
+    gl.useProgram(ballsProg);
+    bindTextures(gl, ballsTable, shared);
+    setUniforms(gl, ballsTable, Object.assign(common(s), {
+      uInvViewProj: Array.from(columnMajor(inverse)), uMode: 0,
+      uBallCount: s.scene === "balls" ? bake.balls.length : 0,
+      uBalls: Array.from(geometry), uBallMaterial: Array.from(material),
+      uBallColor: Array.from(colour), uSunLight: s.sunLight,
+    }));
+    gl.bindVertexArray(emptyVao);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
+  }
+
+  function drawGolf(s, vp, inverse) {
+    if (!golf.target || golf.target.width !== s.width || golf.target.height !== s.height) {
+      golf.target = sceneTarget(gl, s.width, s.height);
+    }
+    const t = golf.target;
+    const scene = golf.programs.scene, compose = golf.programs.compose;
+    gl.bindFramebuffer(gl.FRAMEBUFFER, t.fbo);
+    gl.viewport(0, 0, s.width, s.height);
+    gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, 0]);
+    gl.clearBufferfv(gl.COLOR, 1, [0, 0, 0, 0]);
+    gl.clearBufferfv(gl.DEPTH, 0, [1]);
+    gl.enable(gl.DEPTH_TEST);
+    gl.useProgram(scene.prog);
+    bindTextures(gl, scene.table, golf.textures);
+    setUniforms(gl, scene.table, Object.assign(common(s), bake.golf.uniforms, {
+      uViewProj: Array.from(columnMajor(vp)), uMode: 0, uDiffuse: bake.diffuse[s.diffuse],
+    }));
+    gl.bindVertexArray(golf.sceneVao);
+    gl.drawArrays(gl.TRIANGLES, 0, bake.golf.vertices);
+    gl.disable(gl.DEPTH_TEST);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.useProgram(compose.prog);
+    bindTextures(gl, compose.table, Object.assign({}, golf.textures,
+                                                  { uSceneColor: t.colour, uScenePosition: t.position }));
+    setUniforms(gl, compose.table, Object.assign(common(s), bake.water.uniforms, {
+      uInvViewProj: Array.from(columnMajor(inverse)), uMode: 0, uWater: s.water,
+      uReflection: bake.reflections[s.reflection], uTime: s.time,
+    }));
+    gl.bindVertexArray(emptyVao);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+  }
+
+  async function draw() {
+    const s = state;
+    document.body.dataset.ready = "0";
+    const vp = viewProjection(s.camera, s.width / s.height);
+    const inverse = invert(vp);
+    if (s.scene === "golf" || s.scene === "water") {
+      if (!golf) golf = await loadGolf(gl, bake, shared);
+      drawGolf(s, vp, inverse);
+    } else {
+      drawBalls(s, inverse);
+    }
     gl.finish();
     document.title = "bakeshop view: ready";
     document.body.dataset.ready = "1";
@@ -265,8 +462,13 @@ async function main() {
     el("sky-level").value = state.skyLevel;
     el("sky-value").textContent = state.skyLevel < 0 ? "environment" : `level ${state.skyLevel}`;
     el("sun-light").checked = state.sunLight;
+    el("diffuse").value = state.diffuse;
+    el("water").checked = state.water;
+    el("reflection").value = state.reflection;
+    const golfControls = state.scene === "golf" || state.scene === "water";
+    el("golf-controls").style.display = golfControls ? "block" : "none";
   }
-  function changed() { syncPanel(); writeState(state); draw(); }
+  function changed() { syncPanel(); writeState(state); draw().catch(e => fail(String(e))); }
   el("scene").onchange = e => {
     state.scene = e.target.value;
     const c = bake.cameras[state.scene];
@@ -279,8 +481,14 @@ async function main() {
   el("operator").onchange = e => { state.operator = e.target.value; changed(); };
   el("sky-level").oninput = e => { state.skyLevel = parseFloat(e.target.value); changed(); };
   el("sun-light").onchange = e => { state.sunLight = e.target.checked; changed(); };
+  el("diffuse").onchange = e => { state.diffuse = e.target.value; changed(); };
+  el("water").onchange = e => { state.water = e.target.checked; changed(); };
+  el("reflection").onchange = e => { state.reflection = e.target.value; changed(); };
   let drag = null;
-  canvas.addEventListener("pointerdown", e => { drag = [e.clientX, e.clientY]; canvas.setPointerCapture(e.pointerId); });
+  canvas.addEventListener("pointerdown", e => {
+    drag = [e.clientX, e.clientY];
+    canvas.setPointerCapture(e.pointerId);
+  });
   canvas.addEventListener("pointerup", () => { drag = null; });
   canvas.addEventListener("pointermove", e => {
     if (!drag) return;
@@ -295,7 +503,7 @@ async function main() {
     changed();
   }, { passive: false });
   syncPanel();
-  draw();
+  await draw();
 }
 
 main().catch(e => {
