@@ -504,6 +504,20 @@ async function main() {
   }, { passive: false });
   syncPanel();
   await draw();
+  // ?frames=N: draw the view N more times and record the mean frame time (ms; each frame read
+  // back one pixel, which waits for the GPU process to finish drawing it)
+  const frames = Math.round(Number(new URLSearchParams(location.search).get("frames") || 0));
+  if (frames > 0) {
+    const pixel = new Uint8Array(4);
+    const start = performance.now();
+    for (let i = 0; i < frames; i++) {
+      await draw();
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+    }
+    const ms = (performance.now() - start) / frames;
+    document.body.dataset.frameMs = ms.toFixed(2);
+    document.title = `bakeshop view: ready, ${ms.toFixed(2)} ms a frame`;
+  }
 }
 
 main().catch(e => {
