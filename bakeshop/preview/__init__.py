@@ -15,6 +15,13 @@ probes along a camera path.
 from bakeshop.preview.bake import Bake, Sun, bake_exposure, bake_from_arrays, read_bake
 from bakeshop.preview.render import DIFFUSE, SCENES, Renderer, View
 from bakeshop.preview.scene import Camera, Golf, balls, default_camera, golf_course
+from bakeshop.preview.transitions import (
+    Walk,
+    blend_bakes,
+    influence_weights,
+    path_weights,
+    walk,
+)
 
 __all__ = [
     "DIFFUSE",
@@ -25,10 +32,15 @@ __all__ = [
     "Renderer",
     "Sun",
     "View",
+    "Walk",
     "bake_exposure",
     "bake_from_arrays",
     "balls",
+    "blend_bakes",
     "default_camera",
     "golf_course",
+    "influence_weights",
+    "path_weights",
     "read_bake",
+    "walk",
 ]
