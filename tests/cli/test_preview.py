@@ -64,3 +64,15 @@ def test_a_folder_that_is_not_a_bake_is_named(tmp_path, capsys):
     assert main(["-q", "preview", str(tmp_path)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and str(tmp_path) in err and "env_posx" in err
+
+
+def test_help_teaches_with_examples(capsys):
+    for command in ("preview", "view"):
+        assert main([command, "--help"]) == 0
+        assert "Example:" in capsys.readouterr().out
+
+
+def test_view_of_a_folder_that_is_not_a_bake_is_one_line(tmp_path, capsys):
+    assert main(["-q", "view", str(tmp_path), "--no-browser"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "env_posx" in err
