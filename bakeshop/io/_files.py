@@ -12,6 +12,7 @@ import threading
 from pathlib import Path
 
 from bakeshop.errors import BakeshopError, FormatError
+from bakeshop.io.verify import check_written
 
 #: Largest accepted image side, in pixels.
 MAX_SIDE = 1 << 20
@@ -169,6 +170,7 @@ def atomic_path(target: str | os.PathLike):
                 reason = f"cannot create a file in {str(directory)!r}: {describe_os_error(e)}"
                 raise BakeshopError(reason, target) from None
         yield tmp
+        check_written(tmp, target)  # within verify_writes(): reloads or fails
         os.chmod(tmp, 0o644)
         os.replace(tmp, target)
     except BaseException as e:

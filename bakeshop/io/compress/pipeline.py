@@ -308,17 +308,20 @@ def write_compressed(
         from bakeshop.io.ktx import write_ktx_blocks
         from bakeshop.io.ktx2 import write_ktx2_blocks
 
-        if suffix == ".dds":
-            write_dds_blocks(target, result.texture)
-        elif suffix == ".ktx2":
-            write_ktx2_blocks(target, result.texture, supercompression=supercompression)
-            report["supercompression"] = supercompression
-        elif suffix == ".ktx":
-            write_ktx_blocks(target, result.texture)
-        else:
-            raise ArgumentError(
-                "a block-compressed texture is written to .dds, .ktx2 or .ktx", target
-            )
+        from bakeshop.io import verify
+
+        with verify.intent(target, "blocks", result.texture):
+            if suffix == ".dds":
+                write_dds_blocks(target, result.texture)
+            elif suffix == ".ktx2":
+                write_ktx2_blocks(target, result.texture, supercompression=supercompression)
+                report["supercompression"] = supercompression
+            elif suffix == ".ktx":
+                write_ktx_blocks(target, result.texture)
+            else:
+                raise ArgumentError(
+                    "a block-compressed texture is written to .dds, .ktx2 or .ktx", target
+                )
         fmt = result.texture.format
         report.update(
             {
