@@ -12,6 +12,7 @@ import numpy as np
 
 from bakeshop.cli._process import InputPath
 from bakeshop.errors import ArgumentError
+from bakeshop.io import stored_bits
 
 
 def refuse_overwriting_inputs(output: str | os.PathLike, *inputs: str | os.PathLike) -> None:
@@ -125,15 +126,6 @@ def warn(message: str, path=None) -> None:
     click.echo(f"bakeshop: warning: {where}{message}", err=True)
 
 
-def stored_bits(metadata: dict) -> int | None:
-    """Bits of an integer-stored file's samples (8 or 16; fewer count as 8), None for floats."""
-    stored = str(metadata.get("stored", ""))
-    if not stored.startswith("uint"):
-        return None
-    digits = "".join(ch for ch in stored if ch.isdigit())
-    return 16 if int(digits or 8) > 8 else 8
-
-
 def _picture_cap(path) -> int:
     """The deepest samples a picture format stores: 16 for PNG, 8 for TGA and JPEG."""
     return 16 if Path(str(path)).suffix.lower() == ".png" else 8
@@ -154,7 +146,7 @@ def output_bits(
     path : the output file
     requested : 8, 16 or None
     inputs : iterable of int or None
-        :func:`stored_bits` of each input (None: float).
+        :func:`bakeshop.io.stored_bits` of each input (None: float).
     display : bool
         The output is a display picture made from linear (HDR) values.
 
@@ -306,7 +298,7 @@ def make_picture(
     are display-encoded values kept as stored (only clamped and quantised), and an exposure or
     tone curve asked for is refused. ``weights`` meter auto and fit exposure (an environment's
     solid angles, 0 where a texel does not count). ``inputs`` are the inputs'
-    :func:`stored_bits`.
+    :func:`bakeshop.io.stored_bits`.
 
     Returns
     -------

@@ -186,7 +186,7 @@ def _read(source: Path, src_layout, as_cube: bool, normal: bool, convention: str
     from bakeshop.io.containers import is_container
 
     if normal:
-        from bakeshop.cli.normals import read_normal_map
+        from bakeshop.normals.encoding import read_normal_map
 
         return [read_normal_map(source, convention=convention)], False, False, "normal map"
     if is_container(source) and source.is_file():

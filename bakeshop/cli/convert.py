@@ -11,11 +11,11 @@ from bakeshop.cli._common import (
     parse_options,
     picture_options,
     refuse_overwriting_inputs,
-    stored_bits,
     write_any,
     writer_option,
 )
 from bakeshop.errors import ArgumentError
+from bakeshop.io import stored_bits
 
 
 @click.command(context_settings={"max_content_width": 100})

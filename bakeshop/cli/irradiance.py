@@ -15,7 +15,6 @@ from bakeshop.cli._common import (
     refuse_overwriting_inputs,
     refuse_unused_picture_rule,
     srgb_decode_option,
-    stored_bits,
     warn,
 )
 from bakeshop.cli._probe import (
@@ -29,6 +28,7 @@ from bakeshop.cli._probe import (
     window_option,
 )
 from bakeshop.errors import ArgumentError
+from bakeshop.io import stored_bits
 from bakeshop.io.environment import check_openexr_target, describe
 
 

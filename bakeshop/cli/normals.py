@@ -15,14 +15,14 @@ from bakeshop.cli._common import (
     parse_options,
     parse_size,
     refuse_overwriting_inputs,
-    stored_bits,
     warn,
     writer_option,
 )
 from bakeshop.engines import ENGINES
 from bakeshop.errors import ArgumentError
+from bakeshop.io import stored_bits
 from bakeshop.normals.blend import DEFAULT_METHOD, METHODS
-from bakeshop.normals.encoding import CONVENTIONS, ENCODINGS
+from bakeshop.normals.encoding import CONVENTIONS, ENCODINGS, read_normal_map
 
 CONTEXT = {"max_content_width": 100}
 
@@ -134,7 +134,7 @@ def _parse_layer(spec: str) -> dict:
 
 def _build_layers(shape, settings, method_convention, encoding, depths=None):
     """Read each layer's detail map and mask into DetailLayer objects; each detail map's
-    :func:`~bakeshop.cli._common.stored_bits` is appended to ``depths``."""
+    :func:`~bakeshop.io.stored_bits` is appended to ``depths``."""
     from bakeshop.io import read_image
     from bakeshop.normals.tiling import DetailLayer, mask_weights
 
@@ -170,28 +170,6 @@ def _build_layers(shape, settings, method_convention, encoding, depths=None):
             )
         )
     return layers
-
-
-def read_normal_map(
-    path,
-    *,
-    convention: str = "gl",
-    encoding: str = "packed",
-    channels: str = "xyz",
-    with_bits: bool = False,
-):
-    """A normal-map file as ``(H, W, 3)`` float32 unit vectors in the OpenGL frame
-    (:func:`bakeshop.normals.decode_normals` of :func:`bakeshop.io.read_image`); with
-    ``with_bits`` also the file's sample depth (8, 16, or None for floats)."""
-    from bakeshop.io import read_image
-    from bakeshop.normals.encoding import decode_normals
-
-    image, meta = read_image(path, with_metadata=True)
-    try:
-        normals = decode_normals(image, convention=convention, encoding=encoding, channels=channels)
-    except ArgumentError as e:
-        raise ArgumentError(e.reason, path) from None
-    return (normals, stored_bits(meta)) if with_bits else normals
 
 
 def write_normal_map(

@@ -19,11 +19,11 @@ from bakeshop.cli._common import (
     refuse_overwriting_inputs,
     refuse_unused_picture_rule,
     srgb_decode_option,
-    stored_bits,
     warn,
 )
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 from bakeshop.errors import ArgumentError
+from bakeshop.io import stored_bits
 from bakeshop.io.environment import (
     FACES,
     check_openexr_target,

@@ -10,10 +10,10 @@ from bakeshop.cli._common import (
     parse_size,
     picture_options,
     refuse_overwriting_inputs,
-    stored_bits,
     write_any,
 )
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
+from bakeshop.io import stored_bits
 
 
 @click.command(context_settings={"max_content_width": 100})

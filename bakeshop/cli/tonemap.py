@@ -18,12 +18,11 @@ from bakeshop.cli._common import (
     parse_exposure_mode,
     refuse_overwriting_inputs,
     srgb_decode_option,
-    stored_bits,
     warn,
 )
 from bakeshop.cli._probe import FILE_LAYOUTS
 from bakeshop.errors import ArgumentError
-from bakeshop.io import check_input
+from bakeshop.io import check_input, stored_bits
 
 
 def _natural_key(path: str):

@@ -80,6 +80,7 @@ __all__ = [
     "read_json",
     "record_writes",
     "sniff_format",
+    "stored_bits",
     "verify",
     "verify_writes",
     "write_chain",
@@ -106,6 +107,15 @@ def codec_for(path: str | os.PathLike) -> str:
     raise UnsupportedError(
         f"unknown image extension {ext!r}; bakeshop reads and writes {known}", path
     )
+
+
+def stored_bits(metadata: dict) -> int | None:
+    """Bits of an integer-stored file's samples (8 or 16; fewer count as 8), None for floats."""
+    stored = str(metadata.get("stored", ""))
+    if not stored.startswith("uint"):
+        return None
+    digits = "".join(ch for ch in stored if ch.isdigit())
+    return 16 if int(digits or 8) > 8 else 8
 
 
 def sniff_format(head: bytes) -> str | None:

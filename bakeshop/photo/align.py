@@ -215,7 +215,7 @@ def align_stack(
     from scipy.ndimage import gaussian_filter
 
     from bakeshop import progress
-    from bakeshop.photo.merge import clip_codes
+    from bakeshop.photo.stack import clip_codes
 
     codes = np.asarray(codes)
     if codes.ndim != 4 or codes.dtype not in (np.uint8, np.uint16):

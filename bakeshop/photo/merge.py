@@ -44,7 +44,7 @@ import numpy as np
 
 from bakeshop.errors import ArgumentError
 from bakeshop.photo.response import KNOWN_CURVES, CameraResponse
-from bakeshop.photo.stack import LUMINANCE_PER_UNIT, ExposureStack
+from bakeshop.photo.stack import CLIP_HIGH, CLIP_LOW, LUMINANCE_PER_UNIT, ExposureStack, clip_codes
 
 __all__ = [
     "CLIP_HIGH",
@@ -59,10 +59,6 @@ __all__ = [
     "merge_stack",
 ]
 
-#: codes at or above this fraction of full scale are clipped (250 of 255).
-CLIP_HIGH = 250 / 255
-#: codes at or below this fraction of full scale are clipped (2 of 255).
-CLIP_LOW = 2 / 255
 #: the weights rise from 0 at a clipped end to full over this fraction of full scale.
 TAPER = 0.06
 #: a recovered curve's darkest codes are trusted in proportion up to this fraction of full
@@ -76,21 +72,6 @@ BAND_ROWS = 256
 #: status codes of the confidence map.
 MEASURED, CLIPPED, DARK, MODELLED = 0, 1, 2, 3
 STATUS_NAMES = {MEASURED: "measured", CLIPPED: "clipped", DARK: "dark", MODELLED: "modelled"}
-
-
-def clip_codes(bits: int, clip_low: float | None, clip_high: float | None) -> tuple[int, int]:
-    """The integer codes at and beyond which a ``bits``-bit sample is clipped."""
-    clip_low = CLIP_LOW if clip_low is None else clip_low
-    clip_high = CLIP_HIGH if clip_high is None else clip_high
-    if not (math.isfinite(clip_low) and math.isfinite(clip_high)):
-        raise ArgumentError("clip levels must be finite")
-    if not 0 <= clip_low < clip_high <= 1 or clip_high - clip_low < 0.25:
-        raise ArgumentError(
-            f"clip levels must satisfy 0 <= low < high <= 1 with at least 0.25 between them; "
-            f"got {clip_low}, {clip_high}"
-        )
-    top = (1 << bits) - 1
-    return int(math.floor(clip_low * top)), int(math.ceil(clip_high * top))
 
 
 def _tables(response: CameraResponse, bits: int, channels: int, low: int, high: int):

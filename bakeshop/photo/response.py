@@ -538,7 +538,7 @@ def recover_response(
     clip_low, clip_high : float, optional
         Codes at or below ``clip_low`` / at or above ``clip_high`` (fractions of full scale) are
         clipped; a sample clipped in any channel of a frame is left out of that frame.
-        Defaults: :data:`bakeshop.photo.merge.CLIP_LOW`, :data:`~bakeshop.photo.merge.CLIP_HIGH`.
+        Defaults: :data:`bakeshop.photo.stack.CLIP_LOW`, :data:`~bakeshop.photo.stack.CLIP_HIGH`.
 
     Returns
     -------
@@ -546,7 +546,7 @@ def recover_response(
         One curve per channel, strictly increasing, anchored as the module notes say, with the
         fit's RMS residual in stops.
     """
-    from bakeshop.photo.merge import clip_codes
+    from bakeshop.photo.stack import clip_codes
 
     validate_choice(method, RESPONSE_METHODS, "response method")
     codes = np.asarray(codes)

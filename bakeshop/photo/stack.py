@@ -69,6 +69,27 @@ class ExposureStack:
         return tuple(self.codes.shape[1:])
 
 
+#: codes at or above this fraction of full scale are clipped (250 of 255).
+CLIP_HIGH = 250 / 255
+#: codes at or below this fraction of full scale are clipped (2 of 255).
+CLIP_LOW = 2 / 255
+
+
+def clip_codes(bits: int, clip_low: float | None, clip_high: float | None) -> tuple[int, int]:
+    """The integer codes at and beyond which a ``bits``-bit sample is clipped."""
+    clip_low = CLIP_LOW if clip_low is None else clip_low
+    clip_high = CLIP_HIGH if clip_high is None else clip_high
+    if not (math.isfinite(clip_low) and math.isfinite(clip_high)):
+        raise ArgumentError("clip levels must be finite")
+    if not 0 <= clip_low < clip_high <= 1 or clip_high - clip_low < 0.25:
+        raise ArgumentError(
+            f"clip levels must satisfy 0 <= low < high <= 1 with at least 0.25 between them; "
+            f"got {clip_low}, {clip_high}"
+        )
+    top = (1 << bits) - 1
+    return int(math.floor(clip_low * top)), int(math.ceil(clip_high * top))
+
+
 def _exposure(settings: dict) -> tuple[float | None, bool]:
     """(relative exposure or None, whether it is absolute)."""
     t = settings.get("exposure_time")
