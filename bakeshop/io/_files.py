@@ -12,7 +12,7 @@ import threading
 from pathlib import Path
 
 from bakeshop.errors import BakeshopError, FormatError
-from bakeshop.io.verify import check_written
+from bakeshop.io._intent import check_written
 
 #: Largest accepted image side, in pixels.
 MAX_SIDE = 1 << 20

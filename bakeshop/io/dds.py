@@ -51,7 +51,7 @@ import struct
 import numpy as np
 
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
-from bakeshop.io import verify
+from bakeshop.io import _intent
 from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
 from bakeshop.io._levels import (
     DTYPES,
@@ -172,7 +172,7 @@ def write_dds(
         0,
     )
     with (
-        verify.intent(path, "mips", levels, dtype=dtype, array=array),
+        _intent.intent(path, "mips", levels, dtype=dtype, array=array),
         atomic_path(path) as tmp,
         open(tmp, "wb") as f,
     ):

@@ -38,7 +38,7 @@ import struct
 import numpy as np
 
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
-from bakeshop.io import verify
+from bakeshop.io import _intent
 from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
 from bakeshop.io._levels import (
     DTYPES,
@@ -110,7 +110,7 @@ def write_ktx(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None:
         len(levels), len(kv),
     )  # fmt: skip
     with (
-        verify.intent(path, "mips", levels, dtype=dtype),
+        _intent.intent(path, "mips", levels, dtype=dtype),
         atomic_path(path) as tmp,
         open(tmp, "wb") as f,
     ):

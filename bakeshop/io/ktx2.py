@@ -55,7 +55,7 @@ from bakeshop.errors import (
     UnsupportedError,
     validate_choice,
 )
-from bakeshop.io import verify
+from bakeshop.io import _intent
 from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
 from bakeshop.io._levels import (
     DTYPES,
@@ -312,7 +312,7 @@ def write_ktx2(
         _LEVEL.pack(offsets[m], len(data[m]), len(data[m])) for m in range(len(levels))
     )
     with (
-        verify.intent(path, "mips", levels, dtype=dtype, array=array),
+        _intent.intent(path, "mips", levels, dtype=dtype, array=array),
         atomic_path(path) as tmp,
         open(tmp, "wb") as f,
     ):

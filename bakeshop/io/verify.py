@@ -38,13 +38,14 @@ import contextlib
 import json
 import math
 import os
-import threading
 import time
 from pathlib import Path
 
 import numpy as np
 
-from bakeshop.errors import BakeshopError, FormatError
+from bakeshop.errors import BakeshopError
+from bakeshop.io import _intent
+from bakeshop.io._intent import intent
 
 __all__ = ["JPEG_MIN_PSNR", "check_file", "intent", "verify_writes", "verifying"]
 
@@ -56,14 +57,10 @@ EXR_LOSSY = frozenset({"b44", "b44a", "dwaa", "dwab"})
 #: extensions of text documents bakeshop writes.
 TEXT_EXTENSIONS = frozenset({".glsl", ".hlsl", ".txt", ".md", ".csv", ".toml"})
 
-_lock = threading.Lock()
-_sessions: list[dict] = []
-_local = threading.local()
-
 
 def verifying() -> bool:
     """True while a :func:`verify_writes` session is open (in any thread)."""
-    return bool(_sessions)
+    return _intent.verifying()
 
 
 @contextlib.contextmanager
@@ -80,58 +77,8 @@ def verify_writes(log: str | os.PathLike | None = None):
     list of dict
         The records, in the order the files were written.
     """
-    session = {"records": [], "log": None if log is None else os.fspath(log)}
-    with _lock:
-        _sessions.append(session)
-    try:
-        yield session["records"]
-    finally:
-        with _lock:
-            _sessions.remove(session)
-
-
-@contextlib.contextmanager
-def intent(target, kind: str, data, **context):
-    """Within the block, a write of ``target`` is meant to hold ``data`` (of ``kind``:
-    ``"image"``, ``"mips"``, ``"blocks"``, ``"json"``, ``"text"``); ``context`` says how it
-    is stored (codec options, sample type). An outer intent for the same target wins (a JSON
-    document written through :func:`~bakeshop.io.write_text` is checked as JSON)."""
-    intents = _intents()
-    key = os.path.abspath(os.fspath(target))
-    if not verifying() or key in intents:
-        yield
-        return
-    intents[key] = (kind, data, context)
-    try:
-        yield
-    finally:
-        intents.pop(key, None)
-
-
-def _intents() -> dict:
-    if not hasattr(_local, "intents"):
-        _local.intents = {}
-    return _local.intents
-
-
-def check_written(tmp: Path, target: Path) -> None:
-    """Called by :func:`~bakeshop.io.atomic_path` with a complete temporary file: check it
-    against the target's intent, record the result, raise :class:`FormatError` naming the
-    target when it fails."""
-    if not verifying():
-        return
-    kind, data, context = _intents().get(os.path.abspath(os.fspath(target)), (None, None, {}))
-    record = check_file(tmp, kind, data, **context)
-    record["file"] = os.fspath(target)
-    with _lock:
-        sessions = list(_sessions)
-    for session in sessions:
-        session["records"].append(record)
-        if session["log"] is not None:
-            with open(session["log"], "a", encoding="utf-8") as f:
-                f.write(json.dumps(record) + "\n")
-    if not record["ok"]:
-        raise FormatError(f"the file written does not reload: {record['reason']}", target)
+    with _intent.session(check_file, log) as records:
+        yield records
 
 
 def check_file(path, kind: str | None = None, data=None, **context) -> dict:
@@ -212,12 +159,17 @@ def _image(path: Path, image, *, codec: str, options: dict) -> dict:
     read, meta = read_image(path, with_metadata=True)
     writer = f"image:{codec}"
     if read.shape[:2] != intended.shape[:2]:
-        return _record(writer, "loads", False,
-                       reason=f"reads as {read.shape}, written {intended.shape}")  # fmt: skip
+        return _record(
+            writer, "loads", False, reason=f"reads as {read.shape}, written {intended.shape}"
+        )
     if read.shape[2] != intended.shape[2]:
         if not (intended.shape[2] == 1 and read.shape[2] == 3):
-            return _record(writer, "loads", False,
-                           reason=f"reads {read.shape[2]} channels, written {intended.shape[2]}")  # fmt: skip
+            return _record(
+                writer,
+                "loads",
+                False,
+                reason=f"reads {read.shape[2]} channels, written {intended.shape[2]}",
+            )
         read = read[..., :1] if np.array_equal(read[..., :1], read[..., 1:2]) else read
         if read.shape[2] != 1:
             return _record(writer, "exact", False, reason="a grey image reads back coloured")
@@ -226,12 +178,22 @@ def _image(path: Path, image, *, codec: str, options: dict) -> dict:
         return _rgbe(writer, read, intended)
     if stored.startswith("uint"):
         bits = int("".join(c for c in stored if c.isdigit()) or 8)
-        return _codes(writer, read, intended, bits, jpeg=codec == "ldr" and path.suffix.lower()
-                      in (".jpg", ".jpeg"))  # fmt: skip
+        return _codes(
+            writer,
+            read,
+            intended,
+            bits,
+            jpeg=codec == "ldr" and path.suffix.lower() in (".jpg", ".jpeg"),
+        )
     if codec == "exr" and options.get("compression") in EXR_LOSSY:
         err = float(np.nanmax(np.abs(read - intended))) if read.size else 0.0
-        return _record(writer, "loads", True, max_error=err,
-                       reason=f"lossy {options['compression']} compression: error recorded")  # fmt: skip
+        return _record(
+            writer,
+            "loads",
+            True,
+            max_error=err,
+            reason=f"lossy {options['compression']} compression: error recorded",
+        )
     half = stored in ("half", "float16")
     return _floats(writer, read, intended, half=half)
 
@@ -264,8 +226,13 @@ def _floats(writer, read, intended, *, half: bool) -> dict:
         return _record(writer, "exact", True, reason="bit-exact" + (" (half)" if half else ""))
     with np.errstate(invalid="ignore"):
         err = float(np.nanmax(np.abs(read - want)))
-    return _record(writer, "exact", False, max_error=err,
-                   reason=f"values differ from those written by up to {err:.6g}")  # fmt: skip
+    return _record(
+        writer,
+        "exact",
+        False,
+        max_error=err,
+        reason=f"values differ from those written by up to {err:.6g}",
+    )
 
 
 def _rgbe(writer, read, intended) -> dict:
@@ -277,9 +244,15 @@ def _rgbe(writer, read, intended) -> dict:
     ratio = float(np.max(err / bound)) if err.size else 0.0
     ok = ratio <= 1.0 + 1e-6
     worst = float(err.max()) if err.size else 0.0
-    return _record(writer, "within", ok, max_error=ratio, tolerance=1.0,
-                   reason=f"RGBE: largest error {ratio:.3f} of the stated bound 2^-8 x the "
-                   f"pixel's largest component (absolute {worst:.3g})")  # fmt: skip
+    return _record(
+        writer,
+        "within",
+        ok,
+        max_error=ratio,
+        tolerance=1.0,
+        reason=f"RGBE: largest error {ratio:.3f} of the stated bound 2^-8 x the "
+        f"pixel's largest component (absolute {worst:.3g})",
+    )
 
 
 def _codes(writer, read, intended, bits: int, *, jpeg: bool = False) -> dict:
@@ -295,14 +268,23 @@ def _codes(writer, read, intended, bits: int, *, jpeg: bool = False) -> dict:
     if jpeg:
         mse = float(np.mean((got - want) ** 2))
         psnr = math.inf if mse == 0 else 10 * math.log10(top * top / mse)
-        return _record(writer, "within", psnr >= JPEG_MIN_PSNR, max_error=-psnr,
-                       tolerance=-JPEG_MIN_PSNR,
-                       reason=f"JPEG: {psnr:.2f} dB PSNR against the codes written "
-                       f"(at least {JPEG_MIN_PSNR:g} dB)")  # fmt: skip
+        return _record(
+            writer,
+            "within",
+            psnr >= JPEG_MIN_PSNR,
+            max_error=-psnr,
+            tolerance=-JPEG_MIN_PSNR,
+            reason=f"JPEG: {psnr:.2f} dB PSNR against the codes written "
+            f"(at least {JPEG_MIN_PSNR:g} dB)",
+        )
     diff = float(np.max(np.abs(got - want))) if got.size else 0.0
-    return _record(writer, "exact", diff == 0, max_error=diff,
-                   reason=f"{bits}-bit codes " + ("exact" if diff == 0 else
-                   f"differ by up to {diff:g}"))  # fmt: skip
+    return _record(
+        writer,
+        "exact",
+        diff == 0,
+        max_error=diff,
+        reason=f"{bits}-bit codes " + ("exact" if diff == 0 else f"differ by up to {diff:g}"),
+    )
 
 
 # --- containers, blocks, documents ---------------------------------------------------------------
@@ -315,8 +297,9 @@ def _mips(path: Path, mips, *, dtype: str, array: bool = False) -> dict:
     writer = f"mips:{path.suffix.lower()[1:]}"
     levels = [np.asarray(m) for m in mips]
     if len(read) != len(levels):
-        return _record(writer, "loads", False,
-                       reason=f"reads {len(read)} levels, written {len(levels)}")  # fmt: skip
+        return _record(
+            writer, "loads", False, reason=f"reads {len(read)} levels, written {len(levels)}"
+        )
     for m, (got, want) in enumerate(zip(read, levels, strict=True)):
         if want.ndim == 2:
             want = want[:, :, None]
@@ -329,8 +312,12 @@ def _mips(path: Path, mips, *, dtype: str, array: bool = False) -> dict:
                 return _record(writer, "exact", False, reason=f"level {m}: the pad alpha is not 1")
             got = got[..., :3]
         if got.shape != want.shape:
-            return _record(writer, "loads", False,
-                           reason=f"level {m} reads as {got.shape}, written {want.shape}")  # fmt: skip
+            return _record(
+                writer,
+                "loads",
+                False,
+                reason=f"level {m} reads as {got.shape}, written {want.shape}",
+            )
         if dtype == "unorm8":
             r = _codes(writer, got, want, 8)
         else:
@@ -352,15 +339,22 @@ def _blocks(path: Path, texture) -> dict:
     got, _ = read(path)
     writer = f"blocks:{ext[1:]}"
     if got.format.name != texture.format.name or len(got.levels) != len(texture.levels):
-        return _record(writer, "loads", False,
-                       reason=f"reads {got.format.name} x{len(got.levels)} levels, written "
-                       f"{texture.format.name} x{len(texture.levels)}")  # fmt: skip
+        return _record(
+            writer,
+            "loads",
+            False,
+            reason=f"reads {got.format.name} x{len(got.levels)} levels, written "
+            f"{texture.format.name} x{len(texture.levels)}",
+        )
     for m, (a, b) in enumerate(zip(got.levels, texture.levels, strict=True)):
         if bytes(a) != bytes(b):
             return _record(writer, "exact", False, reason=f"level {m}: the blocks differ")
-    return _record(writer, "exact", True,
-                   reason=f"{texture.format.name} blocks byte-exact, {len(texture.levels)} "
-                   "level(s)")  # fmt: skip
+    return _record(
+        writer,
+        "exact",
+        True,
+        reason=f"{texture.format.name} blocks byte-exact, {len(texture.levels)} level(s)",
+    )
 
 
 def _json(path: Path, document) -> dict:
@@ -369,8 +363,12 @@ def _json(path: Path, document) -> dict:
     got = read_json(path)
     want = json.loads(json.dumps(_plain(document), allow_nan=False))
     ok = got == want
-    return _record("json", "exact", ok, reason="the same document" if ok else "the document "
-                   "read back differs from the one written")  # fmt: skip
+    return _record(
+        "json",
+        "exact",
+        ok,
+        reason="the same document" if ok else "the document read back differs from the one written",
+    )
 
 
 def _text(path: Path, text) -> dict:

@@ -304,13 +304,12 @@ def write_compressed(
     paths = []
     report = dict(result.report)
     if result.texture is not None:
+        from bakeshop.io import _intent
         from bakeshop.io.dds import write_dds_blocks
         from bakeshop.io.ktx import write_ktx_blocks
         from bakeshop.io.ktx2 import write_ktx2_blocks
 
-        from bakeshop.io import verify
-
-        with verify.intent(target, "blocks", result.texture):
+        with _intent.intent(target, "blocks", result.texture):
             if suffix == ".dds":
                 write_dds_blocks(target, result.texture)
             elif suffix == ".ktx2":
