@@ -133,8 +133,8 @@ def record_writes():
     try:
         yield written
     finally:
-        with _journal_lock:
-            _journals.remove(written)
+        with _journal_lock:  # by identity: two journals may hold the same paths
+            _journals[:] = [j for j in _journals if j is not written]
 
 
 @contextlib.contextmanager

@@ -38,8 +38,8 @@ def session(check, log: str | os.PathLike | None = None):
     try:
         yield state["records"]
     finally:
-        with _lock:
-            _sessions.remove(state)
+        with _lock:  # by identity: two sessions may be equal
+            _sessions[:] = [s for s in _sessions if s is not state]
 
 
 @contextlib.contextmanager

@@ -18,7 +18,8 @@ EXR half, DDS/KTX/KTX2 half   the float16 values (round to nearest even, finite 
                               +-65504 clamped), bit for bit
 Radiance RGBE                 within half a mantissa step of the pixel's largest component:
                               ``|read - max(v, 0)| <= 2**-8 * max(r, g, b)`` (+ 2**-128)
-PNG, TGA, TIFF 8/16, unorm8   the integer codes ``rint(clip(v, 0, 1) * (2**n - 1))``, exactly
+PNG, TGA, TIFF 8/16, unorm8   the integer codes ``rint(clip(v, 0, 1) * (2**n - 1))`` (float32
+                              arithmetic, NaN -> 0), exactly
 JPEG                          those codes within :data:`JPEG_MIN_PSNR` dB PSNR
 EXR lossy compressions        loads with the same shape (error recorded, no bound stated)
 block-compressed textures     the same blocks, byte for byte (the encoder's own error is the
@@ -263,8 +264,11 @@ def _codes(writer, read, intended, bits: int, *, jpeg: bool = False) -> dict:
         if intended.dtype == np.uint8 and bits == 16:
             want = want * 257
     else:
-        v = np.nan_to_num(intended.astype(np.float64), nan=0.0)
-        want = np.rint(np.clip(v, 0.0, 1.0) * top)
+        # the stated quantisation, in float32 as the writers compute it (a float64 product
+        # rounds the other way for a value within float32's rounding of a half code)
+        with np.errstate(over="ignore", invalid="ignore"):
+            v = np.nan_to_num(intended.astype(np.float32), nan=0.0)
+        want = np.rint(np.clip(v, 0, 1) * np.float32(top)).astype(np.float64)
     if jpeg:
         mse = float(np.mean((got - want) ** 2))
         psnr = math.inf if mse == 0 else 10 * math.log10(top * top / mse)
