@@ -34,6 +34,7 @@ COMMAND_MODULES = [
     "compress",
     "normals",
     "float",
+    "bake",
 ]
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
