@@ -13,8 +13,9 @@ inputs come from a step rebuilt in this run is decided once that step is done, s
 rebuild that gives the same bytes rebuilds nothing downstream. Every file a step writes goes
 through :mod:`bakeshop.io` inside :func:`bakeshop.io.verify_writes`: it is read back and
 compared with what was meant to be written before it takes its name, and the check is recorded
-in the manifest. A failed step keeps the previous outputs it did not replace, is left without a
-record (it runs again next time) and stops the steps that read it; the others still run. The
+in the manifest. A failed step keeps the previous outputs it did not replace, is recorded as
+failed (it runs again next time, saying so) and stops the steps that read it; the others still
+run. The
 manifest is rewritten after every step, so an interrupted bake resumes where it stopped.
 """
 
@@ -183,6 +184,9 @@ def _decide(
         reasons.append("forced")
     if record is None:
         reasons.append(note or "never built")
+        return Decision(step.name, "build", reasons), inputs
+    if "failed" in record:
+        reasons.append(f"its last bake failed ({record['failed']})")
         return Decision(step.name, "build", reasons), inputs
     if record.get("bakeshop") != __version__:
         reasons.append(f"bakeshop version changed ({record.get('bakeshop')} -> {__version__})")
@@ -365,6 +369,7 @@ def run(recipe: Recipe, *, force=(), on_decision=None) -> BakeResult:
                     e.reason = f"{step.name}: {e.reason}"
                     e.args = (e.reason, *e.args[1:])
                 failed[step.name] = e
+                records[step.name] = {"failed": str(e), "inputs": inputs}
                 save()
                 continue
             except BaseException:
