@@ -11,8 +11,9 @@ A recipe is a table per operation holding one named step per sub-table, with sha
     output = "baked/atrium"
     mips = 6                      # this probe differs
 
-Paths are relative to the recipe's folder. A step whose input is another step's output (that
-file, or a file in that output folder) runs after it. Unknown tables, keys and operations are
+Paths are relative to the recipe's folder. Steps run in the file's order, except that a step
+whose input is another step's output (that file, or a file in that output folder) runs after
+it. Unknown tables, keys and operations are
 errors that name the valid ones; so is a bad value (with its range), a missing input file that
 no step makes, a circle of steps, and two steps writing the same path.
 """
@@ -152,8 +153,11 @@ def parse_recipe(document: dict, path: str | os.PathLike) -> Recipe:
             if key not in op.options:
                 fail(_unknown_key(op, key, f"[defaults.{op_name}]"))
     steps = []
-    for op_name, op in OPERATIONS.items():
-        for name, table in document.get(op_name, {}).items():
+    for op_name, tables in document.items():  # in the file's order
+        if op_name not in OPERATIONS:
+            continue
+        op = OPERATIONS[op_name]
+        for name, table in tables.items():
             where = f"[{op_name}.{name}]"
             if not isinstance(table, dict):
                 fail(f"{where} must be a table (a step), not a value")

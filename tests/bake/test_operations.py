@@ -1,0 +1,112 @@
+"""The real operations of a recipe make what the commands they mirror make, from the same
+library functions (never by shelling out), and every file they write is re-read and checked."""
+
+import numpy as np
+import pytest
+
+import bakeshop.io as bio
+from bakeshop.bake import load_recipe, run
+from bakeshop.cli.main import main
+
+
+def normal_map(n: int, amp: float) -> np.ndarray:
+    u = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    gx = np.repeat(amp * np.sin(3 * u)[None, :], n, 0)
+    gy = np.repeat(amp * np.cos(2 * u)[:, None], n, 1)
+    v = np.stack([-gx, -gy, np.ones_like(gx)], -1)
+    v /= np.linalg.norm(v, axis=-1, keepdims=True)
+    return ((v + 1) / 2).astype(np.float32)
+
+
+def sky(height: int = 16) -> np.ndarray:
+    y = np.linspace(1, -1, height)[:, None, None]
+    img = (0.3 + np.clip(y, 0, None)) * np.array([0.5, 0.7, 1.0]) * np.ones((height, 2 * height, 3))
+    img[2:4, 20:22] = 300.0
+    return img.astype(np.float32)
+
+
+def bake(folder, text):
+    (folder / "r.toml").write_text(text)
+    result = run(load_recipe(folder / "r.toml"))
+    assert not result.failed, result.failed
+    return result, bio.read_json(folder / "bake.json")
+
+
+def reloads(manifest) -> list:
+    return [o["reload"] for s in manifest["steps"].values() for o in s["outputs"]]
+
+
+def test_normals_and_compress_steps_match_their_commands(tmp_path):
+    bio.write_image(tmp_path / "macro.png", normal_map(32, 0.3), bits=16)
+    bio.write_image(tmp_path / "grain.png", normal_map(8, 0.5), bits=16)
+    cube = np.random.default_rng(3).random((6, 8, 8, 3), dtype=np.float32) * 4
+    bio.write_chain(tmp_path / "env.dds", [cube, cube[:, ::2, ::2], cube[:, ::4, ::4]])
+    result, manifest = bake(
+        tmp_path,
+        """
+        [normals.crate]
+        macro = "macro.png"
+        layers = [{ detail = "grain.png", tile = 4, rotate = 30.0, strength = 0.5 }]
+        output = "out/crate.png"
+        [compress.env]
+        input = "env.dds"
+        output = "out/env_bc6h.dds"
+        """.replace("out/", ""),
+    )
+    assert result.built == ["normals.crate", "compress.env"]
+    assert main(["-q", "normals", "combine", str(tmp_path / "macro.png"),
+                 str(tmp_path / "grain.png"), str(tmp_path / "cli.png"), "--tile", "4",
+                 "--rotate", "30", "--strength", "0.5"]) == 0  # fmt: skip
+    np.testing.assert_array_equal(
+        bio.read_image(tmp_path / "crate.png"), bio.read_image(tmp_path / "cli.png")
+    )
+    assert main(["-q", "compress", str(tmp_path / "env.dds"), str(tmp_path / "cli.dds")]) == 0
+    assert (tmp_path / "env_bc6h.dds").read_bytes() == (tmp_path / "cli.dds").read_bytes()
+    checks = reloads(manifest)
+    assert len(checks) == 3 and all(c["ok"] for c in checks)  # png, dds, its json sidecar
+    assert {c["writer"] for c in checks} == {"image:ldr", "blocks:dds", "json"}
+
+
+def test_water_step_matches_the_command(tmp_path):
+    result, manifest = bake(
+        tmp_path,
+        """
+        [water.harbour]
+        output = "harbour"
+        resolution = 32
+        size = 16.0
+        wind = 5.0
+        """,
+    )
+    out = [o["file"] for o in manifest["steps"]["water.harbour"]["outputs"]]
+    frames = manifest["steps"]["water.harbour"]["facts"]["frames"]
+    assert len(out) == frames + 1 and out[-1] == "harbour/ocean.json"
+    assert main(["-q", "water", "ocean", str(tmp_path / "cli"), "--resolution", "32",
+                 "--size", "16", "--wind", "5", "--no-preview"]) == 0  # fmt: skip
+    for name in ("ocean_normal_0000.png", f"ocean_normal_{frames - 1:04d}.png"):
+        assert (tmp_path / "harbour" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+    assert all(c["ok"] and c["check"] == "exact" for c in reloads(manifest))
+
+
+@pytest.mark.slow
+def test_probe_step_matches_bake_probe(tmp_path):
+    bio.write_image(tmp_path / "sky.hdr", sky())
+    result, manifest = bake(
+        tmp_path,
+        """
+        [probe.sky]
+        input = "sky.hdr"
+        output = "baked"
+        cube_size = 8
+        specular_size = 8
+        mips = 3
+        """,
+    )
+    assert main(["-q", "bake-probe", str(tmp_path / "sky.hdr"), "-o", str(tmp_path / "cli"),
+                 "--cube-size", "8", "--specular-size", "8", "--mips", "3"]) == 0  # fmt: skip
+    made = {o["file"].removeprefix("baked/") for o in manifest["steps"]["probe.sky"]["outputs"]}
+    cli = {p.name for p in (tmp_path / "cli").iterdir()}
+    assert made == cli - {"contact_sheet.png"}
+    for name in made:
+        assert (tmp_path / "baked" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+    assert all(c["ok"] for c in reloads(manifest)) and len(reloads(manifest)) == len(made)
