@@ -213,6 +213,7 @@ def _bakeshop_error(error: BakeshopError) -> str:
 
 def _written(paths: list[Path]) -> str:
     """``'written before it: out/a.hdr, out/b.hdr (2 files)'``; names given once per folder."""
+    paths = list(dict.fromkeys(paths))  # a file rewritten (a bake's manifest) is named once
     if not paths:
         return ""
     folders = {p.parent for p in paths}
