@@ -395,6 +395,7 @@ def _build(step: Step, recipe: Recipe, inputs: dict, hashes: FileHashes) -> dict
     from bakeshop.io import record_writes, verify_writes
 
     op = OPERATIONS[step.operation]
+    step.output.parent.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
     with progress.step(f"{step.name}"), record_writes() as written, verify_writes() as checks:
         facts = op.run(dict(step.options))
