@@ -105,12 +105,15 @@ def bake(recipe: Path | None, explain: bool, dry_run: bool, force: tuple, operat
         decisions = plan(loaded, force=force)
         for d in decisions:
             click.echo(d.describe())
-        todo = sum(d.action != "skip" for d in decisions)
-        click.echo(
-            f"would rebuild {todo} of {len(decisions)} steps (dry run: nothing written)"
-            if todo
-            else f"nothing to do: all {len(decisions)} steps are up to date"
-        )
+        todo = sum(d.action == "build" for d in decisions)
+        maybe = sum(d.action == "wait" for d in decisions)
+        if todo or maybe:
+            more = f", and {maybe} more if what they read changes" if maybe else ""
+            click.echo(
+                f"would rebuild {todo} of {len(decisions)} steps{more} (dry run: nothing written)"
+            )
+        else:
+            click.echo(f"nothing to do: all {len(decisions)} steps are up to date")
         return
 
     def report(decision, record):
