@@ -1,7 +1,8 @@
 """Running a recipe incrementally: what to rebuild, why, and the manifest that proves the rest.
 
 A step is up to date when its manifest record (``bake.json``) was made by the same bakeshop
-version and operation version, from the same options, from inputs with the same contents
+version and code (:func:`source_digest`: a development checkout changes code without changing
+its version) and operation version, from the same options, from inputs with the same contents
 (SHA-256), and every output it wrote still has the contents it had when it was written and
 re-read. Anything else rebuilds the step, and the first difference found in each of those
 classes is its reason (:class:`Decision`). Contents are hashed only when a file's size,
@@ -23,6 +24,7 @@ from __future__ import annotations
 
 import contextlib
 import datetime
+import functools
 import hashlib
 import json
 import os
@@ -43,6 +45,18 @@ MANIFEST_VERSION = 1
 #: (a write within the same timestamp tick as the hash would otherwise go unseen).
 RACY_NS = 2_000_000_000
 _CHUNK = 1 << 20
+
+
+@functools.cache
+def source_digest() -> str:
+    """SHA-256 (16 hex digits) of bakeshop's own Python sources: a bake made by other code is
+    not trusted to match what this code would make, even under the same version number."""
+    root = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        h.update(path.relative_to(root).as_posix().encode() + b"\0")
+        h.update(path.read_bytes())
+    return h.hexdigest()[:16]
 
 
 class FileHashes:
@@ -137,13 +151,14 @@ def _canonical(value, recipe: Recipe):
 
 
 def step_key(step: Step, recipe: Recipe, inputs: dict[str, str]) -> str:
-    """The step's key: SHA-256 of its operation and algorithm version, bakeshop's version, its
-    canonical options and its inputs' digests."""
+    """The step's key: SHA-256 of its operation and algorithm version, bakeshop's version and
+    code, its canonical options and its inputs' digests."""
     op = OPERATIONS[step.operation]
     document = {
         "operation": op.name,
         "operation_version": op.version,
         "bakeshop": __version__,
+        "bakeshop_source": source_digest(),
         "options": _canonical(step.options, recipe),
         "inputs": inputs,
     }
@@ -190,6 +205,11 @@ def _decide(
         return Decision(step.name, "build", reasons), inputs
     if record.get("bakeshop") != __version__:
         reasons.append(f"bakeshop version changed ({record.get('bakeshop')} -> {__version__})")
+    elif record.get("bakeshop_source") != source_digest():
+        reasons.append(
+            f"bakeshop's code changed (version {__version__}, source "
+            f"{record.get('bakeshop_source')} -> {source_digest()})"
+        )
     if record.get("operation_version") != op.version:
         reasons.append(
             f"{op.name}'s algorithm version changed "
@@ -418,6 +438,7 @@ def _build(step: Step, recipe: Recipe, inputs: dict, hashes: FileHashes) -> dict
         "operation": op.name,
         "operation_version": op.version,
         "bakeshop": __version__,
+        "bakeshop_source": source_digest(),
         "key": step_key(step, recipe, inputs),
         "options": _canonical(step.options, recipe),
         "inputs": inputs,

@@ -160,6 +160,29 @@ def test_the_bakeshop_version_keys_every_step(work, level, monkeypatch):
     assert reasons(result)["scale.a"][0].startswith("bakeshop version changed")
 
 
+def test_a_change_of_bakeshop_code_under_the_same_version_rebuilds(work, level, monkeypatch):
+    import bakeshop.bake.build as build
+
+    bake(level)
+    before = build.source_digest()
+    monkeypatch.setattr(build, "source_digest", lambda: "0123456789abcdef")
+    result = bake(level)
+    assert len(work.calls) == 6
+    assert reasons(result)["scale.b"] == [
+        f"bakeshop's code changed (version {build.__version__}, source "
+        f"{before} -> 0123456789abcdef)"
+    ]
+
+
+def test_a_second_bake_of_the_same_recipe_at_once_is_refused(work, level):
+    import bakeshop.bake.build as build
+
+    recipe = load_recipe(level / "level.toml")
+    with build._lock(recipe), pytest.raises(Exception, match="another bake of this recipe"):
+        run(recipe)
+    assert work.calls == []
+
+
 def test_a_corrupted_output_is_found_and_rebuilt(work, level):
     bake(level)
     path = level / "out/b.pfm"
