@@ -1,6 +1,6 @@
 """Running a recipe incrementally: what to rebuild, why, and the manifest that proves the rest.
 
-A step is up to date when its manifest record (``bake.json``) was made by the same bakeshop
+A step is up to date when its manifest record (``RECIPE.bake.json``) was made by the same bakeshop
 version and code (:func:`source_digest`: a development checkout changes code without changing
 its version) and operation version, from the same options, from inputs with the same contents
 (SHA-256), and every output it wrote still has the contents it had when it was written and
@@ -309,7 +309,7 @@ def _lock(recipe: Recipe):
     import fcntl
 
     recipe.cache.mkdir(parents=True, exist_ok=True)
-    fd = os.open(recipe.cache / "lock", os.O_RDWR | os.O_CREAT, 0o644)
+    fd = os.open(recipe.cache / f"{recipe.path.stem}.lock", os.O_RDWR | os.O_CREAT, 0o644)
     try:
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)

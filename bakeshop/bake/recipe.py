@@ -33,10 +33,11 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
-__all__ = ["Recipe", "Step", "load_recipe", "parse_recipe"]
+__all__ = ["Recipe", "Step", "load_recipe", "parse_recipe", "starter_recipe"]
 
-#: keys of the ``[bake]`` table.
-BAKE_KEYS = {"manifest": "bake.json", "cache": ".bakeshop"}
+#: keys of the ``[bake]`` table and their defaults (``{stem}``: the recipe's name without
+#: ``.toml``, so that two recipes in one folder keep apart manifests).
+BAKE_KEYS = {"manifest": "{stem}.bake.json", "cache": ".bakeshop"}
 
 
 @dataclass(frozen=True)
@@ -170,7 +171,7 @@ def parse_recipe(document: dict, path: str | os.PathLike) -> Recipe:
         path=path,
         root=root,
         steps=tuple(ordered),
-        manifest=(root / settings["manifest"]).resolve(),
+        manifest=(root / settings["manifest"].replace("{stem}", path.stem)).resolve(),
         cache=(root / settings["cache"]).resolve(),
         settings=settings,
     )
@@ -258,3 +259,100 @@ def _order(steps: list[Step], fail) -> list[Step]:
     for s in linked:
         visit(s, [])
     return done
+
+
+#: name parts that mark a picture as a tangent-space normal map in a starter recipe.
+NORMAL_MAP_MARKS = ("_n.", "_nrm.", "_normal.", "_normals.", "-normal.", "_nor_gl.")
+#: folders a starter recipe does not look into (a bake's own outputs).
+SKIPPED_FOLDERS = ("baked", "engine", "node_modules")
+#: files a starter recipe lists at most.
+MAX_STARTER_FILES = 500
+
+
+def starter_recipe(folder: str | os.PathLike) -> str:
+    """A commented starter recipe for the files in ``folder`` (and below it): a ``probe`` step
+    for every float image (.hdr, .exr, .pfm), a ``normals`` step for every picture named like a
+    normal map (``*_n.png``, ``*_normal.tga``, ...) with its first detail layer to fill in, and
+    commented ``compress`` and ``water`` examples. The normals steps are commented out until a
+    detail map is named, so the starter bakes as it is. Paths are relative to ``folder``, where the
+    recipe is meant to be saved."""
+    from bakeshop.io import CODECS, HDR_CODECS
+
+    root = Path(folder)
+    hdr = {e for name in HDR_CODECS for e in CODECS[name]}
+    pictures = {e for name in ("ldr", "tga", "tiff") for e in CODECS[name]}
+    probes, normal_maps = [], []
+    for path in sorted(root.rglob("*")):
+        rel = path.relative_to(root)
+        if any(p.startswith(".") or p in SKIPPED_FOLDERS for p in rel.parts[:-1]):
+            continue
+        if not path.is_file() or rel.name.startswith("."):
+            continue
+        ext = path.suffix.lower()
+        if ext in hdr:
+            probes.append(rel)
+        elif ext in pictures and any(m in rel.name.lower() for m in NORMAL_MAP_MARKS):
+            normal_maps.append(rel)
+        if len(probes) + len(normal_maps) >= MAX_STARTER_FILES:
+            break
+    lines = [
+        "# A bake recipe: 'bakeshop bake THIS_FILE' builds it, rebuilding only what changed;",
+        "# --dry-run says what would run and why. 'bakeshop bake --operations' lists every key;",
+        "# docs/recipes.md walks through one. Paths are relative to this file.",
+        "",
+        "# Settings every probe shares (a step's own keys override them).",
+        "[defaults.probe]",
+        "specular_size = 256      # face size of level 0 of the GGX chain",
+        "mips = 9                 # levels of the GGX chain (roughness m / (mips - 1))",
+        'format = "hdr"           # hdr, exr, pfm or tif: cube faces, DIMs, shadow probe',
+        'container = "dds"        # dds, ktx or ktx2: the GGX chain and the DFG table',
+        "",
+    ]
+    names: set[str] = set()
+    first = None
+
+    def unique(stem: str) -> str:
+        base = "".join(c if c.isalnum() or c in "_-" else "_" for c in stem) or "step"
+        name, i = base, 2
+        while name in names:
+            name, i = f"{base}_{i}", i + 1
+        names.add(name)
+        return name
+
+    for rel in probes:
+        name = unique(rel.stem)
+        first = first or name
+        lines += [f"[probe.{name}]", f'input = "{rel.as_posix()}"',
+                  f'output = "baked/{name}"', ""]  # fmt: skip
+    if not probes:
+        lines += ["# No .hdr, .exr or .pfm probe was found here; a probe step reads like this:",
+                  "# [probe.atrium]", '# input = "probes/atrium.hdr"',
+                  '# output = "baked/atrium"', ""]  # fmt: skip
+    for rel in normal_maps:
+        name = unique(rel.stem)
+        out = f"baked/{rel.stem}{rel.suffix.lower()}"
+        lines += [
+            "# Detail normal maps blended onto this one: name a detail map, then uncomment.",
+            f"# [normals.{name}]",
+            f'# macro = "{rel.as_posix()}"',
+            f'# output = "{out}"',
+            "# each layer: detail (a tileable normal map), tile, offset, rotate, strength, mask",
+            '# layers = [{ detail = "textures/detail_n.png", tile = 8, strength = 1.0 }]',
+            "",
+        ]
+    source = f"baked/{first}/specular.dds" if first else "baked/atrium/specular.dds"
+    lines += [
+        "# The GGX chain block-compressed for an engine (BC6H with its quality sidecar):",
+        "# [compress.specular]",
+        f'# input = "{source}"',
+        '# output = "engine/specular_bc6h.ktx2"',
+        "# zstd = true",
+        "",
+        "# A tileable, looping ocean normal-map sequence (16-bit PNG frames + JSON sidecar):",
+        "# [water.ocean]",
+        '# output = "baked/ocean"',
+        "# wind = 8.0              # m/s at 10 m",
+        "# size = 64.0             # patch side, m",
+        "# resolution = 256",
+    ]
+    return "\n".join(lines) + "\n"

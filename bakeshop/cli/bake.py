@@ -7,8 +7,6 @@ from pathlib import Path
 
 import click
 
-from bakeshop.cli._common import INPUT
-
 
 def _operations_text() -> str:
     from bakeshop.bake import OPERATIONS
@@ -35,7 +33,7 @@ def _operations_text() -> str:
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("recipe", type=INPUT, required=False)
+@click.argument("recipe", type=click.Path(dir_okay=False, path_type=Path), required=False)
 @click.option(
     "--explain",
     is_flag=True,
@@ -55,16 +53,24 @@ def _operations_text() -> str:
     help="Rebuild STEP (e.g. probe.atrium) whatever its state; repeatable.",
 )
 @click.option(
+    "--init",
+    is_flag=True,
+    help="Write a commented starter RECIPE for the files in its folder (a probe step per "
+    ".hdr/.exr/.pfm, normal-map and compress templates) and exit; never replaces a file.",
+)
+@click.option(
     "--operations",
     is_flag=True,
     help="List the operations a recipe can use, with every key, its range and default, and exit.",
 )
-def bake(recipe: Path | None, explain: bool, dry_run: bool, force: tuple, operations: bool):
+def bake(
+    recipe: Path | None, explain: bool, dry_run: bool, force: tuple, init: bool, operations: bool
+):
     """Bake a level from RECIPE (TOML): probes, normal maps, compressed textures and water,
     rebuilding only the steps whose inputs, options or bakeshop version changed, or whose
     outputs were deleted or altered. Every file written is read back through bakeshop and
     compared with what was meant (bit-exact for lossless formats, within the stated error for
-    RGBE and JPEG, byte-exact blocks) before it takes its name; bake.json beside the recipe
+    RGBE and JPEG, byte-exact blocks) before it takes its name; RECIPE.bake.json beside it
     records each output's inputs, options, key, size and reload check. Docs: docs/recipes.md.
 
     \b
@@ -87,18 +93,22 @@ def bake(recipe: Path | None, explain: bool, dry_run: bool, force: tuple, operat
 
     \b
     Example:
+      bakeshop bake --init level.toml
       bakeshop bake level.toml
       bakeshop bake level.toml --dry-run
       bakeshop bake level.toml --explain --force probe.atrium
       bakeshop bake --operations
     """
-    from bakeshop.bake import load_recipe, plan, run
+    from bakeshop.bake import load_recipe, plan, run, starter_recipe
 
     if operations:
         click.echo(_operations_text().rstrip())
         return
     if recipe is None:
         raise click.UsageError("give a RECIPE (or --operations)")
+    if init:
+        _init(recipe, starter_recipe(recipe.parent if str(recipe.parent) else Path(".")))
+        return
     loaded = load_recipe(recipe)
     manifest = loaded.relative(loaded.manifest)
     if dry_run:
@@ -144,6 +154,20 @@ def bake(recipe: Path | None, explain: bool, dry_run: bool, force: tuple, operat
         for e in errors[1:]:
             click.echo(f"failed     {e}")
         raise errors[0]
+
+
+def _init(recipe: Path, text: str) -> None:
+    from bakeshop.errors import ArgumentError
+    from bakeshop.io import write_text
+
+    if recipe.exists():
+        raise ArgumentError("already exists; --init never replaces a recipe", recipe)
+    write_text(recipe, text)
+    steps = sum(line.startswith("[probe.") for line in text.splitlines())
+    click.echo(
+        f"wrote {recipe}: {steps} probe step(s) for the files beside it; try: bakeshop bake "
+        f"{recipe} --dry-run"
+    )
 
 
 def register(group: click.Group) -> None:

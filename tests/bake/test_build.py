@@ -207,7 +207,7 @@ def test_a_deleted_output_is_rebuilt(work, level):
 
 def test_the_manifest_holds_the_reload_proof_of_every_output(work, level):
     bake(level)
-    manifest = bio.read_json(level / "bake.json")
+    manifest = bio.read_json(level / "level.bake.json")
     record = manifest["steps"]["scale.b"]
     assert record["inputs"] == {
         "in/b.pfm": hashlib.sha256((level / "in/b.pfm").read_bytes()).hexdigest()
@@ -270,7 +270,7 @@ def test_an_interrupted_bake_resumes_where_it_stopped(work, level, monkeypatch):
 def test_a_dry_run_explains_and_writes_nothing(work, level):
     bake(level)
     bio.write_image(level / "in/a.pfm", image(7))
-    manifest = (level / "bake.json").read_bytes()
+    manifest = (level / "level.bake.json").read_bytes()
     decisions = plan(load_recipe(level / "level.toml"))
     assert [(d.step, d.action) for d in decisions] == [
         ("scale.a", "build"),
@@ -279,7 +279,7 @@ def test_a_dry_run_explains_and_writes_nothing(work, level):
     ]
     assert decisions[0].reasons == ["input in/a.pfm changed"]
     assert decisions[2].reasons == ["rebuilt if scale.a changes what it reads"]
-    assert len(work.calls) == 3 and (level / "bake.json").read_bytes() == manifest
+    assert len(work.calls) == 3 and (level / "level.bake.json").read_bytes() == manifest
 
 
 def test_force_needs_a_step_of_the_recipe(work, level):

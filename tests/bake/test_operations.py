@@ -29,7 +29,7 @@ def bake(folder, text):
     (folder / "r.toml").write_text(text)
     result = run(load_recipe(folder / "r.toml"))
     assert not result.failed, result.failed
-    return result, bio.read_json(folder / "bake.json")
+    return result, bio.read_json(folder / "r.bake.json")
 
 
 def reloads(manifest) -> list:

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import bakeshop.io as bio
-from bakeshop.bake import load_recipe
+from bakeshop.bake import load_recipe, starter_recipe
 from bakeshop.errors import BakeshopError
 
 
@@ -47,7 +47,7 @@ def test_defaults_are_shared_and_a_step_overrides_them(folder):
     assert (a.options["mips"], b.options["mips"]) == (5, 3)
     assert a.options["specular_size"] == 256  # the command's default
     assert a.output == (folder / "a").resolve()
-    assert recipe.manifest == (folder / "bake.json").resolve()
+    assert recipe.manifest == (folder / "r.bake.json").resolve()
 
 
 def test_steps_run_after_the_steps_whose_outputs_they_read(folder):
@@ -130,3 +130,19 @@ def test_mistakes_are_refused_before_any_work(folder, text, message):
 def test_a_missing_recipe_is_named(tmp_path):
     with pytest.raises(BakeshopError, match="recipe file not found"):
         load_recipe(tmp_path / "nope.toml")
+
+
+def test_a_starter_recipe_bakes_the_folder_as_it_is(folder):
+    (folder / "textures").mkdir()
+    bio.write_image(folder / "textures/crate_n.png", np.full((8, 8, 3), 0.5, np.float32))
+    bio.write_image(folder / "textures/crate_albedo.png", np.full((8, 8, 3), 0.5, np.float32))
+    (folder / "baked").mkdir()
+    bio.write_image(folder / "baked/old.hdr", np.ones((8, 16, 3), np.float32))  # an output
+    text = starter_recipe(folder)
+    (folder / "starter.toml").write_text(text)
+    recipe = load_recipe(folder / "starter.toml")
+    assert [s.name for s in recipe.steps] == ["probe.probe"]
+    assert recipe.steps[0].output == (folder / "baked/probe").resolve()
+    assert '# macro = "textures/crate_n.png"' in text and "crate_albedo" not in text
+    assert '# input = "baked/probe/specular.dds"' in text
+    assert recipe.manifest == (folder / "starter.bake.json").resolve()

@@ -109,3 +109,18 @@ def test_an_output_that_does_not_reload_fails_the_bake_naming_it(capsys, level, 
     target = level.parent / "out" / "a.pfm"
     assert err.startswith(f"bakeshop: error: {target}: copy.a: the file written does not reload")
     assert not target.exists()
+
+
+def test_init_writes_a_starter_recipe_and_never_replaces_one(capsys, tmp_path):
+    bio.write_image(tmp_path / "atrium.hdr", np.ones((8, 16, 3), np.float32))
+    recipe = tmp_path / "level.toml"
+    status, out, _ = run(capsys, "bake", "--init", recipe)
+    assert status == 0 and out.startswith(f"wrote {recipe}: 1 probe step(s)")
+    assert "[probe.atrium]" in recipe.read_text()
+    status, out, err = run(capsys, "bake", recipe, "--dry-run")
+    assert status == 0 and out.splitlines()[0] == "rebuild    probe.atrium: never built"
+    status, _, err = run(capsys, "bake", "--init", recipe)
+    assert (
+        status == 2
+        and err == f"bakeshop: error: {recipe}: already exists; --init never replaces a recipe\n"
+    )
