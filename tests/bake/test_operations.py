@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import bakeshop.io as bio
-from bakeshop.bake import load_recipe, run
+from bakeshop.bake import load_recipe, plan, run
 from bakeshop.cli.main import main
 
 
@@ -110,3 +110,63 @@ def test_probe_step_matches_bake_probe(tmp_path):
     for name in made:
         assert (tmp_path / "baked" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
     assert all(c["ok"] for c in reloads(manifest)) and len(reloads(manifest)) == len(made)
+
+
+WATER_LEVEL = """
+[water.a]
+output = "a"
+resolution = 32
+size = 16.0
+[water.b]
+output = "b"
+resolution = 32
+size = 8.0
+seed = 1
+[compress.a0]
+input = "a/ocean_normal_0000.png"
+output = "a0_bc5.dds"
+format = "bc5"
+normals = true
+"""
+
+
+def _files(folder):
+    return {
+        p.relative_to(folder).as_posix(): p.read_bytes()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file()
+        and not any(part.startswith(".") for part in p.relative_to(folder).parts)
+        and not p.name.endswith(".bake.json")
+    }
+
+
+@pytest.mark.slow
+def test_a_bake_killed_at_any_moment_resumes_to_the_same_result(tmp_path):
+    import random
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    clean = tmp_path / "clean"
+    clean.mkdir()
+    bake(clean, WATER_LEVEL)
+    expected = _files(clean)
+    killed = tmp_path / "killed"
+    killed.mkdir()
+    (killed / "r.toml").write_text(WATER_LEVEL)
+    rng = random.Random(18)
+    command = [sys.executable, "-m", "bakeshop.cli.main", "-q", "bake", str(killed / "r.toml")]
+    interrupted = 0
+    for _ in range(4):
+        process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(rng.uniform(1.0, 8.0))
+        process.send_signal(signal.SIGKILL)
+        process.wait()
+        left = [d for d in plan(load_recipe(killed / "r.toml")) if d.action != "skip"]
+        interrupted += bool(left) and process.returncode == -signal.SIGKILL
+    assert interrupted  # at least one kill landed before the bake was done
+    result, manifest = bake(killed, WATER_LEVEL)
+    assert _files(killed) == expected  # no output half written, none missing, none different
+    assert all(c["ok"] for c in reloads(manifest))
+    assert run(load_recipe(killed / "r.toml")).built == []
