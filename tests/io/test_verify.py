@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import bakeshop.io as bio
+from bakeshop.cli.main import main
 from bakeshop.errors import FormatError
 from bakeshop.io import pfm
 
@@ -35,6 +36,7 @@ def test_every_image_writer_reloads_as_meant(tmp_path, name, image, check):
     assert record["ok"], record
     assert record["check"] == check
     assert record["file"] == str(tmp_path / name)
+    assert main(["-q", "info", str(tmp_path / name)]) == 0  # and bakeshop info reads it
 
 
 def test_sixteen_bit_codes_are_exact(tmp_path):
@@ -49,6 +51,7 @@ def test_mip_chains_reload_bit_exact(tmp_path, ext):
     with bio.verify_writes() as records:
         bio.write_chain(tmp_path / f"c.{ext}", [cube, cube[:, :4, :4]])
     assert records[0]["ok"] and records[0]["check"] == "exact", records[0]
+    assert main(["-q", "info", str(tmp_path / f"c.{ext}")]) == 0
 
 
 def test_json_reloads_as_the_same_document(tmp_path):
