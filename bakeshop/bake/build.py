@@ -1,10 +1,10 @@
 """Running a recipe incrementally: what to rebuild, why, and the manifest that proves the rest.
 
-A step is up to date when its manifest record (``RECIPE.bake.json``) was made by the same bakeshop
-version and code (:func:`source_digest`: a development checkout changes code without changing
-its version) and operation version, from the same options, from inputs with the same contents
-(SHA-256), and every output it wrote still has the contents it had when it was written and
-re-read. Anything else rebuilds the step, and the first difference found in each of those
+A step is up to date when its manifest record (``RECIPE.bake.json``) was made by the same
+bakeshop version and code (:func:`source_digest`: a development checkout changes code without
+changing its version) and operation version, from the same options, from inputs with the same
+contents (SHA-256), and every output it wrote still has the contents it had when it was written
+and re-read. Anything else rebuilds the step, and the first difference found in each of those
 classes is its reason (:class:`Decision`). Contents are hashed only when a file's size,
 modification time or inode differ from the digest cache (``.bakeshop/hashes.json``), so an
 unchanged 1 GB input costs one ``stat``.
@@ -14,10 +14,11 @@ inputs come from a step rebuilt in this run is decided once that step is done, s
 rebuild that gives the same bytes rebuilds nothing downstream. Every file a step writes goes
 through :mod:`bakeshop.io` inside :func:`bakeshop.io.verify_writes`: it is read back and
 compared with what was meant to be written before it takes its name, and the check is recorded
-in the manifest. A failed step keeps the previous outputs it did not replace, is recorded as
-failed (it runs again next time, saying so) and stops the steps that read it; the others still
-run. The
-manifest is rewritten after every step, so an interrupted bake resumes where it stopped.
+in the manifest. Outputs of a step's previous bake that it no longer writes are removed when
+they are unchanged since (an edited one is left alone). A failed step keeps the previous
+outputs it did not replace, is recorded as failed (it runs again next time, saying so) and
+stops the steps that read it; the others still run. The manifest is rewritten after every
+step, so an interrupted bake resumes where it stopped.
 """
 
 from __future__ import annotations
@@ -25,9 +26,11 @@ from __future__ import annotations
 import contextlib
 import datetime
 import functools
+import glob
 import hashlib
 import json
 import os
+import re
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -346,6 +349,8 @@ def run(recipe: Recipe, *, force=(), on_decision=None) -> BakeResult:
     started = time.perf_counter()
     force = _check_force(recipe, force)
     with _lock(recipe):
+        for path in (recipe.manifest, recipe.cache / "hashes.json"):
+            _remove_temporaries(path)
         records, note = _load_manifest(recipe)
         records = {s.name: records[s.name] for s in recipe.steps if s.name in records}
         hashes = FileHashes(recipe.cache / "hashes.json")
@@ -381,9 +386,9 @@ def run(recipe: Recipe, *, force=(), on_decision=None) -> BakeResult:
                 continue
             if on_decision:
                 on_decision(decision, None)
-            records.pop(step.name, None)
+            previous = records.pop(step.name, None)
             try:
-                records[step.name] = _build(step, recipe, inputs, hashes)
+                records[step.name] = _build(step, recipe, inputs, hashes, previous)
             except BakeshopError as e:
                 if not e.reason.startswith(step.name):
                     e.reason = f"{step.name}: {e.reason}"
@@ -410,8 +415,13 @@ def _blocked(decisions: list[Decision]) -> set:
     return {d.step for d in decisions if d.action == "blocked"}
 
 
-def _build(step: Step, recipe: Recipe, inputs: dict, hashes: FileHashes) -> dict:
-    """Run one step with every write re-read and checked; its manifest record."""
+def _build(
+    step: Step, recipe: Recipe, inputs: dict, hashes: FileHashes, previous: dict | None
+) -> dict:
+    """Run one step with every write re-read and checked; its manifest record. Then tidy: the
+    outputs of its previous bake that it no longer writes are removed when they are still as
+    that bake left them (water frames beyond a new, shorter loop; a probe's faces in the old
+    format), and so are temporaries of its outputs left by a killed bake."""
     from bakeshop.io import record_writes, verify_writes
 
     op = OPERATIONS[step.operation]
@@ -434,6 +444,7 @@ def _build(step: Step, recipe: Recipe, inputs: dict, hashes: FileHashes) -> dict
                 "reload": proof,
             }
         )
+    removed = _tidy(recipe, {o["file"] for o in outputs}, previous, hashes)
     return {
         "operation": op.name,
         "operation_version": op.version,
@@ -444,6 +455,32 @@ def _build(step: Step, recipe: Recipe, inputs: dict, hashes: FileHashes) -> dict
         "inputs": inputs,
         "outputs": outputs,
         "facts": facts,
+        "removed": removed,
         "seconds": round(seconds, 3),
         "built": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
     }
+
+
+def _tidy(recipe: Recipe, written: set, previous: dict | None, hashes: FileHashes) -> list:
+    """Remove a step's stale outputs (unchanged since its previous bake wrote them) and the
+    temporaries of its outputs (``.STEM.<12 hex>.EXT``, what :func:`bakeshop.io.atomic_path`
+    leaves only when killed); return the stale outputs removed."""
+    removed = []
+    for out in (previous or {}).get("outputs", []):
+        path = recipe.root / out["file"]
+        if out["file"] not in written and hashes.digest(path) == out["sha256"]:
+            with contextlib.suppress(OSError):
+                path.unlink()
+                removed.append(out["file"])
+    for name in written:
+        _remove_temporaries(recipe.root / name)
+    return removed
+
+
+def _remove_temporaries(path: Path) -> None:
+    """Remove the temporaries of ``path`` that a killed :func:`bakeshop.io.atomic_path` left."""
+    pattern = re.compile(rf"\.{re.escape(path.stem)}\.[0-9a-f]{{12}}{re.escape(path.suffix)}")
+    for candidate in path.parent.glob(f".{glob.escape(path.stem)}.*"):
+        if pattern.fullmatch(candidate.name):
+            with contextlib.suppress(OSError):
+                candidate.unlink()

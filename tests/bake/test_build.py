@@ -303,3 +303,28 @@ def test_digests_are_cached_by_stat_and_racy_files_rehashed(tmp_path):
     # a file modified just before it was hashed is not trusted to the cache
     assert again.digest(path) and again.hashed == 2
     assert again.digest(tmp_path / "missing") is None
+
+
+def test_outputs_a_step_no_longer_writes_are_removed_unless_edited(work, level):
+    bake(level)
+    recipe = level / "level.toml"
+    recipe.write_text(RECIPE.replace('output = "out/b.pfm"', 'output = "out/b2.pfm"'))
+    result = bake(level)
+    assert result.built == ["scale.b"]
+    assert not (level / "out/b.pfm").exists() and (level / "out/b2.pfm").exists()
+    manifest = bio.read_json(level / "level.bake.json")
+    assert manifest["steps"]["scale.b"]["removed"] == ["out/b.pfm"]
+    bio.write_image(level / "out/b2.pfm", image(9))  # an artist's edit of the output
+    recipe.write_text(RECIPE)
+    bake(level)
+    assert (level / "out/b2.pfm").exists()  # edited since the bake: left alone
+
+
+def test_temporaries_left_by_a_killed_write_are_removed(work, level):
+    bake(level)
+    left = level / "out/.b.0123456789ab.pfm"
+    left.write_bytes(b"half a file")
+    other = level / "out/.b.notatemporary.pfm"
+    other.write_bytes(b"someone else's")
+    bake(level, force=["scale.b"])
+    assert not left.exists() and other.exists()

@@ -168,5 +168,7 @@ def test_a_bake_killed_at_any_moment_resumes_to_the_same_result(tmp_path):
     assert interrupted  # at least one kill landed before the bake was done
     result, manifest = bake(killed, WATER_LEVEL)
     assert _files(killed) == expected  # no output half written, none missing, none different
+    hidden = [p.name for p in killed.rglob(".*") if p.name != ".bakeshop"]
+    assert hidden == []  # and no temporary left behind
     assert all(c["ok"] for c in reloads(manifest))
     assert run(load_recipe(killed / "r.toml")).built == []
