@@ -4,7 +4,7 @@ TOML file, rebuilt incrementally, explained, and proven to load what they save.
 - :mod:`bakeshop.bake.recipe`: the recipe file, validated completely before any work starts
   (:func:`load_recipe`), and a commented starter for a folder's files (:func:`starter_recipe`).
 - :mod:`bakeshop.bake.operations`: what a step can do (:data:`OPERATIONS`: ``probe``,
-  ``compress``, ``normals``, ``water``), with the options of the commands they mirror.
+  ``remap``, ``compress``, ``normals``, ``water``), with the options of the commands they mirror.
 - :mod:`bakeshop.bake.build`: what to rebuild and why (:func:`plan`), the bake itself
   (:func:`run`), content digests cached by file stat, and the ``RECIPE.bake.json`` manifest holding
   every output's inputs, options, key and reload proof.

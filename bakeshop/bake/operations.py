@@ -213,6 +213,77 @@ PROBE = Operation(
 )
 
 
+# --- remap ---------------------------------------------------------------------------------------
+
+_REMAP_TARGETS = tuple(n for n in _PROBE_LAYOUTS if n != "auto") + ("faces",)
+
+
+def _remap_check(o: dict, resolve, fail) -> dict:
+    from bakeshop.io.containers import is_container
+
+    target, to = o["output"], o["to"]
+    if to is None:
+        fail(f"needs to (the output layout): {', '.join(_REMAP_TARGETS)}")
+    if to == "faces":
+        if "{face}" not in target.name and not is_container(target):
+            fail(
+                "a cube is written as six files: put {face} in the output name "
+                "(sky_{face}.exr), or write one .dds, .ktx or .ktx2 file"
+            )
+    elif "{face}" in target.name:
+        fail(f'{{face}} in the output name needs to = "faces", not {to!r}')
+    if to.startswith("openexr-") and target.suffix.lower() != ".exr":
+        fail(f"{to} is OpenEXR's environment mapping: write it to an .exr file")
+    return {}
+
+
+def _remap(o: dict) -> dict:
+    from bakeshop.io import read_environment
+    from bakeshop.io.environment import write_environment
+    from bakeshop.sphere import remap
+
+    image, layout, _ = read_environment(o["input"], None if o["layout"] == "auto" else o["layout"])
+    cube = o["to"] == "faces"
+    out = remap(image, layout, "cube" if cube else o["to"], o["size"], filter=o["filter"])
+    write_environment(o["output"], out, o["to"], convention=o["convention"])
+    return {
+        "from": layout,
+        "to": o["to"],
+        "shape": list(out.shape),
+        "cube_convention": o["convention"] if cube else None,
+    }
+
+
+REMAP = Operation(
+    name="remap",
+    version=1,
+    summary="a panorama converted between layouts (latlong, light probes, crosses, strips, "
+    "octahedral, cube faces or a cube container), as 'bakeshop remap' does",
+    paths={"input": "input", "output": "output"},
+    options={
+        "to": Option(None, "str", choices=_REMAP_TARGETS, help="the output layout (required)"),
+        "layout": Option("auto", "str", choices=_PROBE_LAYOUTS, help="layout of the input"),
+        "size": Option(
+            None,
+            "int",
+            1,
+            16384,
+            help="latlong height, square edge or cube face "
+            "edge (default: about as many texels as the input)",
+        ),
+        "filter": Option("auto", "str", choices=("auto", "area", "bilinear", "nearest")),
+        "convention": Option(
+            "opengl",
+            "str",
+            choices=("opengl", "vulkan", "directx"),
+            help="cube faces as this engine loads them",
+        ),
+    },
+    run=_remap,
+    check=_remap_check,
+)
+
+
 # --- compress ------------------------------------------------------------------------------------
 
 
@@ -512,4 +583,4 @@ WATER = Operation(
 
 
 #: operation name -> :class:`Operation`, in the order ``--help`` lists them.
-OPERATIONS: dict[str, Operation] = {op.name: op for op in (PROBE, COMPRESS, NORMALS, WATER)}
+OPERATIONS: dict[str, Operation] = {op.name: op for op in (PROBE, REMAP, COMPRESS, NORMALS, WATER)}

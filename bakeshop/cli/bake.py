@@ -66,9 +66,9 @@ def _operations_text() -> str:
 def bake(
     recipe: Path | None, explain: bool, dry_run: bool, force: tuple, init: bool, operations: bool
 ):
-    """Bake a level from RECIPE (TOML): probes, normal maps, compressed textures and water,
-    rebuilding only the steps whose inputs, options or bakeshop version changed, or whose
-    outputs were deleted or altered. Every file written is read back through bakeshop and
+    """Bake a level from RECIPE (TOML): probes, panoramas, normal maps, compressed textures and
+    water, rebuilding only the steps whose inputs, options or bakeshop version changed, or
+    whose outputs were deleted or altered. Every file written is read back through bakeshop and
     compared with what was meant (bit-exact for lossless formats, within the stated error for
     RGBE and JPEG, byte-exact blocks) before it takes its name; RECIPE.bake.json beside it
     records each output's inputs, options, key, size and reload check. Docs: docs/recipes.md.

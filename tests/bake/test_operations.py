@@ -172,3 +172,33 @@ def test_a_bake_killed_at_any_moment_resumes_to_the_same_result(tmp_path):
     assert hidden == []  # and no temporary left behind
     assert all(c["ok"] for c in reloads(manifest))
     assert run(load_recipe(killed / "r.toml")).built == []
+
+
+def test_remap_steps_match_the_command(tmp_path):
+    bio.write_image(tmp_path / "sky.hdr", sky())
+    _, manifest = bake(
+        tmp_path,
+        """
+        [remap.cross]
+        input = "sky.hdr"
+        output = "sky_cross.exr"
+        to = "cross-vertical"
+        size = 8
+        [remap.faces]
+        input = "sky.hdr"
+        output = "sky_{face}.pfm"
+        to = "faces"
+        convention = "directx"
+        """,
+    )
+    assert main(["-q", "remap", str(tmp_path / "sky.hdr"), str(tmp_path / "cli_cross.exr"),
+                 "--to", "cross-vertical", "--size", "8"]) == 0  # fmt: skip
+    assert main(["-q", "remap", str(tmp_path / "sky.hdr"), str(tmp_path / "cli_{face}.pfm"),
+                 "--to", "faces", "--convention", "directx"]) == 0  # fmt: skip
+    np.testing.assert_array_equal(
+        bio.read_image(tmp_path / "sky_cross.exr"), bio.read_image(tmp_path / "cli_cross.exr")
+    )
+    for face in ("posx", "negz"):
+        a = (tmp_path / f"sky_{face}.pfm").read_bytes()
+        assert a == (tmp_path / f"cli_{face}.pfm").read_bytes()
+    assert len(reloads(manifest)) == 7 and all(c["ok"] for c in reloads(manifest))

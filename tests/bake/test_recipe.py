@@ -69,7 +69,10 @@ def test_steps_run_after_the_steps_whose_outputs_they_read(folder):
 @pytest.mark.parametrize(
     ("text", "message"),
     [
-        ("[probes.a]\n", "unknown table [probes]; a recipe has: bake, defaults, probe, compress"),
+        (
+            "[probes.a]\n",
+            "unknown table [probes]; a recipe has: bake, defaults, probe, remap, compress",
+        ),
         (
             '[probe.a]\ninput = "probe.hdr"\noutput = "o"\nmip = 3\n',
             "unknown key 'mip' in [probe.a]; probe takes: input, output, layout, cube_size",
@@ -121,6 +124,11 @@ def test_steps_run_after_the_steps_whose_outputs_they_read(folder):
             "steps read each other's outputs in a circle",
         ),
         ("[probe.a\n", "not valid TOML"),
+        ('[remap.r]\ninput = "probe.hdr"\noutput = "r.exr"\n', "[remap.r] needs to (the output"),
+        (
+            '[remap.r]\ninput = "probe.hdr"\noutput = "r.exr"\nto = "faces"\n',
+            "a cube is written as six files: put {face} in the output name",
+        ),
     ],
 )
 def test_mistakes_are_refused_before_any_work(folder, text, message):
