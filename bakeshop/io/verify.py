@@ -30,7 +30,9 @@ anything else                 loads through bakeshop's reader for its extension
 
 Each check is a record (a dict: ``file``, ``writer``, ``check``, ``ok``, ``max_error``,
 ``tolerance``, ``reason``, ``seconds``), collected by the session and, with ``log``,
-appended to a JSON-lines file (what ``bakeshop bake`` reads from the commands it runs).
+appended to a JSON-lines file as it is made. ``bakeshop bake`` (:mod:`bakeshop.bake`) keeps
+these records in its manifest as each output's reload proof. Checks cost a read of every file
+written (for a 2048-face cube chain, milliseconds against the seconds of its bake).
 """
 
 from __future__ import annotations
