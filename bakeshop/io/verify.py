@@ -31,8 +31,10 @@ anything else                 loads through bakeshop's reader for its extension
 Each check is a record (a dict: ``file``, ``writer``, ``check``, ``ok``, ``max_error``,
 ``tolerance``, ``reason``, ``seconds``), collected by the session and, with ``log``,
 appended to a JSON-lines file as it is made. ``bakeshop bake`` (:mod:`bakeshop.bake`) keeps
-these records in its manifest as each output's reload proof. Checks cost a read of every file
-written (for a 2048-face cube chain, milliseconds against the seconds of its bake).
+these records in its manifest as each output's reload proof. A check costs a read of the file
+and a comparison: about as much again as the write, more for RGBE (measured on a loaded 2-core
+machine: a 6 x 512^2 half-float DDS chain 0.68 s to write, 1.56 s with its check; a 2048x1024
+EXR 1.37 s / 2.36 s; the same as RGBE 0.36 s / 1.96 s).
 """
 
 from __future__ import annotations
