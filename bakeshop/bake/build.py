@@ -9,7 +9,8 @@ classes is its reason (:class:`Decision`). Contents are hashed only when a file'
 modification time or inode differ from the digest cache (``.bakeshop/hashes.json``), so an
 unchanged 1 GB input costs one ``stat``.
 
-Steps run in the recipe's order (each after the steps whose outputs it reads); a step whose
+Steps run in the recipe's order (each after the steps whose outputs it reads), or with
+``jobs`` > 1 several at once on dask's local threaded scheduler; a step whose
 inputs come from a step rebuilt in this run is decided once that step is done, so an upstream
 rebuild that gives the same bytes rebuilds nothing downstream. Every file a step writes goes
 through :mod:`bakeshop.io` inside :func:`bakeshop.io.verify_writes`: it is read back and
@@ -31,6 +32,7 @@ import hashlib
 import json
 import os
 import re
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -70,6 +72,7 @@ class FileHashes:
         self.entries: dict[str, list] = {}
         self.hashed = 0  # files read in full (the work the cache saves)
         self.dirty = False
+        self._lock = threading.Lock()
         if path.is_file():
             from bakeshop.io import read_json
 
@@ -83,7 +86,8 @@ class FileHashes:
         except FileNotFoundError:
             return None
         key = os.fspath(path)
-        entry = self.entries.get(key)
+        with self._lock:
+            entry = self.entries.get(key)
         stamp = [st.st_size, st.st_mtime_ns, st.st_ino]
         if entry is not None and entry[:3] == stamp and st.st_mtime_ns < entry[3] - RACY_NS:
             return entry[4]
@@ -91,20 +95,23 @@ class FileHashes:
         with open(path, "rb") as f:
             while chunk := f.read(_CHUNK):
                 h.update(chunk)
-        self.hashed += 1
         digest = h.hexdigest()
-        self.entries[key] = [*stamp, time.time_ns(), digest]
-        self.dirty = True
+        with self._lock:
+            self.hashed += 1
+            self.entries[key] = [*stamp, time.time_ns(), digest]
+            self.dirty = True
         return digest
 
     def save(self) -> None:
         """Write the cache when a digest was added or refreshed."""
-        if self.dirty:
-            from bakeshop.io import write_json
+        from bakeshop.io import write_json
 
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            write_json(self.path, {"files": self.entries})
-            self.dirty = False
+        with self._lock:
+            if not self.dirty:
+                return
+            entries, self.dirty = dict(self.entries), False
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        write_json(self.path, {"files": entries})
 
 
 @dataclass
@@ -325,7 +332,7 @@ def _lock(recipe: Recipe):
         os.close(fd)
 
 
-def run(recipe: Recipe, *, force=(), on_decision=None) -> BakeResult:
+def run(recipe: Recipe, *, force=(), jobs: int = 1, on_decision=None) -> BakeResult:
     """Bake: run every step that is not up to date (see the module notes).
 
     Parameters
@@ -334,18 +341,26 @@ def run(recipe: Recipe, *, force=(), on_decision=None) -> BakeResult:
         From :func:`bakeshop.bake.load_recipe`.
     force : iterable of str
         Step names to rebuild whatever their state.
+    jobs : int
+        Steps run at once (threads of dask's local scheduler), each as soon as the steps it
+        reads are done; 1 runs them one after another in the recipe's order. The outputs are
+        the same either way.
     on_decision : callable, optional
         Called with each :class:`Decision` as it is made (before the step runs), and with the
-        finished step's manifest record as a second argument once it has run.
+        finished step's manifest record as a second argument once it has run (never from two
+        threads at once).
 
     Returns
     -------
     BakeResult
         Its ``failed`` is empty when every step is up to date or was rebuilt; otherwise the
         caller decides how to report the errors (the command line exits 2 with the first).
+        ``decisions`` are in the recipe's order, ``built`` in the order the steps finished.
     """
     from bakeshop.io import write_json
 
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise BakeshopError(f"jobs must be a whole number of at least 1, got {jobs!r}")
     started = time.perf_counter()
     force = _check_force(recipe, force)
     with _lock(recipe):
@@ -354,7 +369,10 @@ def run(recipe: Recipe, *, force=(), on_decision=None) -> BakeResult:
         records, note = _load_manifest(recipe)
         records = {s.name: records[s.name] for s in recipe.steps if s.name in records}
         hashes = FileHashes(recipe.cache / "hashes.json")
-        decisions, built, failed = [], [], {}
+        decided: dict[str, Decision] = {}
+        built: list[str] = []
+        failed: dict[str, BakeshopError] = {}
+        lock = threading.RLock()  # the records, the lists above, the manifest and callbacks
 
         def save():
             write_json(
@@ -368,51 +386,62 @@ def run(recipe: Recipe, *, force=(), on_decision=None) -> BakeResult:
             )
             hashes.save()
 
-        for step in recipe.steps:
-            broken = [d for d in step.after if d in failed or d in _blocked(decisions)]
-            if broken:
-                decision = Decision(step.name, "blocked", [f"{', '.join(broken)} failed"])
-                decisions.append(decision)
-                if on_decision:
-                    on_decision(decision, None)
-                continue
-            decision, inputs = _decide(
-                step, recipe, records.get(step.name), hashes, step.name in force, note
-            )
-            decisions.append(decision)
-            if decision.action == "skip":
-                if on_decision:
-                    on_decision(decision, None)
-                continue
+        def report(decision, record=None):
             if on_decision:
-                on_decision(decision, None)
-            previous = records.pop(step.name, None)
+                on_decision(decision, record)
+
+        def bake_step(step: Step, *_done) -> None:
+            with lock:
+                broken = [d for d in step.after if d in failed or decided[d].action == "blocked"]
+                if broken:
+                    decided[step.name] = Decision(
+                        step.name, "blocked", [f"{', '.join(broken)} failed"]
+                    )
+                    report(decided[step.name])
+                    return
+                decision, inputs = _decide(
+                    step, recipe, records.get(step.name), hashes, step.name in force, note
+                )
+                decided[step.name] = decision
+                report(decision)
+                if decision.action == "skip":
+                    return
+                previous = records.pop(step.name, None)
             try:
-                records[step.name] = _build(step, recipe, inputs, hashes, previous)
+                record = _build(step, recipe, inputs, hashes, previous)
             except BakeshopError as e:
                 if not e.reason.startswith(step.name):
                     e.reason = f"{step.name}: {e.reason}"
                     e.args = (e.reason, *e.args[1:])
-                failed[step.name] = e
-                records[step.name] = {"failed": str(e), "inputs": inputs}
-                save()
-                continue
+                with lock:
+                    failed[step.name] = e
+                    records[step.name] = {"failed": str(e), "inputs": inputs}
+                    save()
+                return
             except BaseException:
-                save()
+                with lock:
+                    save()
                 raise
-            built.append(step.name)
-            save()
-            if on_decision:
-                on_decision(decision, records[step.name])
+            with lock:
+                records[step.name] = record
+                built.append(step.name)
+                save()
+                report(decision, record)
+
+        if jobs == 1:
+            for step in recipe.steps:
+                bake_step(step)
+        else:
+            import dask
+
+            graph = {s.name: (functools.partial(bake_step, s), *s.after) for s in recipe.steps}
+            dask.threaded.get(graph, list(graph), num_workers=jobs)
         if not recipe.manifest.is_file() or hashes.dirty:
             save()
+    decisions = [decided[s.name] for s in recipe.steps]
     return BakeResult(
         decisions, built, failed, time.perf_counter() - started, hashes.hashed, recipe.manifest
     )
-
-
-def _blocked(decisions: list[Decision]) -> set:
-    return {d.step for d in decisions if d.action == "blocked"}
 
 
 def _build(
@@ -427,15 +456,23 @@ def _build(
     op = OPERATIONS[step.operation]
     step.output.parent.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
-    with progress.step(f"{step.name}"), record_writes() as written, verify_writes() as checks:
+    with (
+        progress.step(f"{step.name}"),
+        record_writes(this_thread=True) as written,
+        verify_writes(this_thread=True) as checks,
+    ):
         facts = op.run(dict(step.options))
     seconds = time.perf_counter() - started
     if not written:
-        raise BakeshopError(f"{step.name} wrote nothing", step.output)
+        raise BakeshopError(
+            f"{step.name} wrote nothing through bakeshop.io in its own thread (the files a step "
+            "writes are re-read and recorded only there)",
+            step.output,
+        )
     proofs = {os.path.abspath(c["file"]): c for c in checks}
     outputs = []
     for path in dict.fromkeys(Path(os.path.abspath(p)) for p in written):
-        proof = {k: v for k, v in proofs.get(os.fspath(path), {}).items() if k != "file"}
+        proof = {k: v for k, v in proofs[os.fspath(path)].items() if k != "file"}
         outputs.append(
             {
                 "file": recipe.relative(path),

@@ -53,6 +53,16 @@ def _operations_text() -> str:
     help="Rebuild STEP (e.g. probe.atrium) whatever its state; repeatable.",
 )
 @click.option(
+    "--jobs",
+    "-j",
+    type=click.IntRange(1, 256),
+    default=1,
+    show_default=True,
+    metavar="N",
+    help="Steps run at once, 1 to 256 (threads; each step after the ones it reads). The "
+    "outputs are the same as one at a time.",
+)
+@click.option(
     "--init",
     is_flag=True,
     help="Write a commented starter RECIPE for the files in its folder (a probe step per "
@@ -64,7 +74,13 @@ def _operations_text() -> str:
     help="List the operations a recipe can use, with every key, its range and default, and exit.",
 )
 def bake(
-    recipe: Path | None, explain: bool, dry_run: bool, force: tuple, init: bool, operations: bool
+    recipe: Path | None,
+    explain: bool,
+    dry_run: bool,
+    force: tuple,
+    jobs: int,
+    init: bool,
+    operations: bool,
 ):
     """Bake a level from RECIPE (TOML): probes, panoramas, normal maps, compressed textures and
     water, rebuilding only the steps whose inputs, options or bakeshop version changed, or
@@ -97,6 +113,7 @@ def bake(
       bakeshop bake level.toml
       bakeshop bake level.toml --dry-run
       bakeshop bake level.toml --explain --force probe.atrium
+      bakeshop bake level.toml --jobs 4
       bakeshop bake --operations
     """
     from bakeshop.bake import load_recipe, plan, run, starter_recipe
@@ -137,7 +154,7 @@ def bake(
         elif decision.action == "blocked" or (explain and decision.action == "build"):
             click.echo(decision.describe())
 
-    result = run(loaded, force=force, on_decision=report)
+    result = run(loaded, force=force, jobs=jobs, on_decision=report)
     n = len(result.decisions)
     if not result.built and not result.failed:
         click.echo(

@@ -23,16 +23,23 @@ _local = threading.local()
 
 
 def verifying() -> bool:
-    """True while a verification session is open (in any thread)."""
+    """True while a verification session is open (in any thread; an intent declared in a
+    thread no session watches is simply not used)."""
     return bool(_sessions)
 
 
 @contextlib.contextmanager
-def session(check, log: str | os.PathLike | None = None):
-    """Within the block, every completed :func:`~bakeshop.io.atomic_path` write is passed to
-    ``check(tmp, kind, data, **context)`` (which returns a record with ``ok`` and ``reason``)
-    before it is renamed; yields the list of records."""
-    state = {"check": check, "records": [], "log": None if log is None else os.fspath(log)}
+def session(check, log: str | os.PathLike | None = None, *, this_thread: bool = False):
+    """Within the block, every completed :func:`~bakeshop.io.atomic_path` write (with
+    ``this_thread``, of the calling thread only) is passed to ``check(tmp, kind, data,
+    **context)`` (which returns a record with ``ok`` and ``reason``) before it is renamed;
+    yields the list of records."""
+    state = {
+        "check": check,
+        "records": [],
+        "log": None if log is None else os.fspath(log),
+        "thread": threading.get_ident() if this_thread else None,
+    }
     with _lock:
         _sessions.append(state)
     try:
@@ -70,8 +77,9 @@ def check_written(tmp: Path, target: Path) -> None:
     """Called by :func:`~bakeshop.io.atomic_path` with a complete temporary file: check it
     against the target's intent, record the result, raise :class:`FormatError` naming the
     target when it fails. Does nothing outside a session."""
+    me = threading.get_ident()
     with _lock:
-        sessions = list(_sessions)
+        sessions = [s for s in _sessions if s["thread"] in (None, me)]
     if not sessions:
         return
     kind, data, context = _intents().get(os.path.abspath(os.fspath(target)), (None, None, {}))

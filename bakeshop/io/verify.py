@@ -69,20 +69,23 @@ def verifying() -> bool:
 
 
 @contextlib.contextmanager
-def verify_writes(log: str | os.PathLike | None = None):
+def verify_writes(log: str | os.PathLike | None = None, *, this_thread: bool = False):
     """Check every file written within the block (see the module notes).
 
     Parameters
     ----------
     log : path-like, optional
         A JSON-lines file each check's record is appended to, as it is made.
+    this_thread : bool
+        Check (and record) only the files the calling thread writes: one session per task
+        when tasks run at once.
 
     Yields
     ------
     list of dict
         The records, in the order the files were written.
     """
-    with _intent.session(check_file, log) as records:
+    with _intent.session(check_file, log, this_thread=this_thread) as records:
         yield records
 
 

@@ -328,3 +328,62 @@ def test_temporaries_left_by_a_killed_write_are_removed(work, level):
     other.write_bytes(b"someone else's")
     bake(level, force=["scale.b"])
     assert not left.exists() and other.exists()
+
+
+def test_jobs_run_independent_steps_at_once_each_with_its_own_proofs(work, level, monkeypatch):
+    import threading
+
+    counter = OPERATIONS["scale"].run
+    meet = threading.Barrier(2, timeout=20)
+
+    def together(options):
+        if options["output"].name in ("a.pfm", "b.pfm"):
+            meet.wait()  # a and b are independent: with two jobs both get here, or this fails
+        return counter(options)
+
+    monkeypatch.setitem(OPERATIONS, "scale", dataclasses.replace(OPERATIONS["scale"], run=together))
+    result = bake(level, jobs=2)
+    assert not result.failed and sorted(result.built) == ["scale.a", "scale.a2", "scale.b"]
+    assert result.built[-1] == "scale.a2"  # after the step it reads
+    assert [d.step for d in result.decisions] == ["scale.a", "scale.b", "scale.a2"]
+    steps = bio.read_json(level / "level.bake.json")["steps"]
+    for name, out in (("scale.a", "out/a.pfm"), ("scale.b", "out/b.pfm")):
+        (record,) = steps[name]["outputs"]  # only its own file, with its own proof
+        assert record["file"] == out and record["reload"]["ok"]
+
+
+def test_jobs_give_the_same_files_and_manifest_records_as_a_serial_bake(work, level, tmp_path):
+    import shutil
+
+    other = tmp_path / "serial"
+    shutil.copytree(level, other)
+    parallel = bake(level, jobs=3)
+    serial = bake(other)
+    assert sorted(parallel.built) == sorted(serial.built)
+    a = bio.read_json(level / "level.bake.json")["steps"]
+    b = bio.read_json(other / "level.bake.json")["steps"]
+    for name in a:
+        assert a[name]["key"] == b[name]["key"]
+        assert a[name]["outputs"] == [
+            {**o, "reload": {**o["reload"], "seconds": p["reload"]["seconds"]}}
+            for o, p in zip(b[name]["outputs"], a[name]["outputs"], strict=True)
+        ]
+    assert bake(level, jobs=2).built == []
+
+
+def test_a_write_from_another_thread_is_unchecked_and_fails_the_step(work, level, monkeypatch):
+    import threading
+
+    counter = OPERATIONS["scale"].run
+
+    def elsewhere(options):
+        worker = threading.Thread(target=counter, args=(options,))
+        worker.start()
+        worker.join()
+        return {}
+
+    monkeypatch.setitem(
+        OPERATIONS, "scale", dataclasses.replace(OPERATIONS["scale"], run=elsewhere)
+    )
+    result = bake(level)
+    assert "wrote nothing through bakeshop.io in its own thread" in result.failed["scale.a"].reason

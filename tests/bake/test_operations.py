@@ -202,3 +202,38 @@ def test_remap_steps_match_the_command(tmp_path):
         a = (tmp_path / f"sky_{face}.pfm").read_bytes()
         assert a == (tmp_path / f"cli_{face}.pfm").read_bytes()
     assert len(reloads(manifest)) == 7 and all(c["ok"] for c in reloads(manifest))
+
+
+def test_parallel_bakes_write_the_same_bytes_as_serial_ones(tmp_path):
+    recipe = """
+        [remap.cross]
+        input = "sky.hdr"
+        output = "out/cross.exr"
+        to = "cross-vertical"
+        size = 8
+        [remap.faces]
+        input = "sky.hdr"
+        output = "out/env.dds"
+        to = "faces"
+        size = 8
+        [compress.env]
+        input = "out/env.dds"
+        output = "out/env_bc6h.ktx2"
+        zstd = true
+        [normals.crate]
+        macro = "macro.png"
+        layers = [{ detail = "grain.png", tile = 4 }]
+        output = "out/crate.png"
+        """
+    for name in ("serial", "parallel"):
+        folder = tmp_path / name
+        folder.mkdir()
+        bio.write_image(folder / "sky.hdr", sky())
+        bio.write_image(folder / "macro.png", normal_map(32, 0.3), bits=16)
+        bio.write_image(folder / "grain.png", normal_map(8, 0.5), bits=16)
+        (folder / "r.toml").write_text(recipe)
+        result = run(load_recipe(folder / "r.toml"), jobs=1 if name == "serial" else 2)
+        assert not result.failed and len(result.built) == 4
+    serial, parallel = _files(tmp_path / "serial"), _files(tmp_path / "parallel")
+    assert serial.keys() == parallel.keys() and len(serial) == 9
+    assert serial == parallel
