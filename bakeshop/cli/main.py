@@ -36,6 +36,7 @@ COMMAND_MODULES = [
     "float",
     "preview",
     "view",
+    "bake",
 ]
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
