@@ -7,6 +7,8 @@ from pathlib import Path
 
 import click
 
+from bakeshop.cli._common import Integer
+
 
 def _operations_text() -> str:
     from bakeshop.bake import OPERATIONS
@@ -55,7 +57,7 @@ def _operations_text() -> str:
 @click.option(
     "--jobs",
     "-j",
-    type=click.IntRange(1, 256),
+    type=Integer(1, 256),
     default=1,
     show_default=True,
     metavar="N",

@@ -2,13 +2,20 @@
 
 from __future__ import annotations
 
-import math
 import time
 from pathlib import Path
 
 import click
 
-from bakeshop.cli._common import parse_exposure_mode, parse_size, refuse_overwriting_inputs
+from bakeshop.cli._common import (
+    Exposure,
+    Fields,
+    Number,
+    Size,
+    parse_exposure_mode,
+    parse_size,
+    refuse_overwriting_inputs,
+)
 from bakeshop.errors import ArgumentError
 
 #: what ``--scene all`` renders.
@@ -17,20 +24,17 @@ ALL_SCENES = ("sky", "balls", "golf")
 MAX_SIDE = 8192
 
 
-def parse_camera(text: str) -> tuple[float, ...]:
-    """``YAW,PITCH,DISTANCE[,FOV]``: degrees, degrees (-90..90, open), metres (> 0), degrees
-    (0..180, open)."""
-    try:
-        values = tuple(float(v) for v in text.split(","))
-    except ValueError:
-        values = ()
-    if len(values) not in (3, 4) or not all(math.isfinite(v) for v in values):
-        raise ArgumentError(f"invalid camera {text!r}: expected YAW,PITCH,DISTANCE[,FOV] numbers")
-    if not -90 < values[1] < 90 or values[2] <= 0 or (len(values) == 4 and not 0 < values[3] < 180):
-        raise ArgumentError(
-            f"invalid camera {text!r}: pitch in (-90, 90) degrees, distance > 0, fov in (0, 180)"
-        )
-    return values
+#: ``--camera YAW,PITCH,DISTANCE[,FOV]``: degrees, degrees (open), metres, degrees (open).
+CAMERA = Fields(
+    {
+        "yaw": Number(-360, 360),
+        "pitch": Number(-90, 90, low_open=True, high_open=True),
+        "distance": Number(0, 1e6, low_open=True),
+        "fov": Number(0, 180, low_open=True, high_open=True),
+    },
+    sep=",",
+    required=3,
+)
 
 
 @click.command(context_settings={"max_content_width": 100})
@@ -54,23 +58,25 @@ def parse_camera(text: str) -> tuple[float, ...]:
     "golf). Default: balls.",
 )
 @click.option(
-    "--size", default="1280x720", show_default=True, metavar="WxH",
-    help=f"Picture size in pixels (1..{MAX_SIDE} a side).",
+    "--size", type=Size(MAX_SIDE), default="1280x720", show_default=True, metavar="WxH",
+    help="Picture size in pixels.",
 )  # fmt: skip
 @click.option(
     "--camera",
+    type=CAMERA,
     metavar="YAW,PITCH,DISTANCE[,FOV]",
-    help="Orbit the scene's target: yaw from +Z towards +X and pitch (-90..90) in degrees, "
-    "distance in metres (> 0), vertical field of view in degrees (0..180). Default: each "
-    "scene's own view (the sky looks forward, -Z, with a 90 degree field of view).",
+    help="Orbit the scene's target: yaw from +Z towards +X and pitch in degrees, distance in "
+    "metres, vertical field of view in degrees. Default: each scene's own view (the sky looks "
+    f"forward, -Z, with a 90 degree field of view). [{CAMERA.describe_range()}]",
 )
 @click.option(
     "--exposure",
     "exposure_text",
+    type=Exposure(("auto",)),
     default="auto",
     show_default=True,
     metavar="EV|auto",
-    help="Exposure in stops (-64..64), or auto: the bake's log-average radiance over the "
+    help="Exposure in stops, or auto: the bake's log-average radiance over the "
     "sphere to middle grey (the contact sheet's exposure, the same for every scene).",
 )
 @click.option(
@@ -83,7 +89,7 @@ def parse_camera(text: str) -> tuple[float, ...]:
 )
 @click.option(
     "--sky-level",
-    type=click.FloatRange(-1, 64),
+    type=Number(-1, 64),
     default=-1.0,
     show_default=True,
     help="Background: -1 the environment cube; m >= 0 that level of detail of the specular "
@@ -149,13 +155,11 @@ def preview(
             if name not in chosen:
                 chosen.append(name)
     parsed = parse_size(size)
-    if isinstance(parsed, int) or max(parsed) > MAX_SIDE:
+    if isinstance(parsed, int):
         raise ArgumentError(f"invalid size {size!r}: expected WxH, each 1..{MAX_SIDE}")
     width, height = parsed
     ev = parse_exposure_mode(exposure_text)
-    if ev == "fit":
-        raise ArgumentError("preview exposure is a number of stops or auto")
-    orbit = parse_camera(camera) if camera else None
+    orbit = camera
     if target is None:
         target = str(bake_dir / "preview_{scene}.png")
     if len(chosen) > 1 and "{scene}" not in target:

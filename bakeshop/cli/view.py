@@ -8,12 +8,14 @@ from pathlib import Path
 
 import click
 
+from bakeshop.cli._common import Integer
+
 
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("bake_dir", metavar="BAKE_DIR", type=click.Path(file_okay=False, path_type=Path))
 @click.option(
     "--port",
-    type=click.IntRange(0, 65535),
+    type=Integer(0, 65535),
     default=0,
     show_default=True,
     help="Port on 127.0.0.1 (0: a free one).",
