@@ -35,7 +35,8 @@ import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError, validate_choice
-from bakeshop.water.ocean import FIELDS, FOLD_FLOOR, Ocean
+from bakeshop.water._kernels import FOLD_FLOOR
+from bakeshop.water.ocean import FIELDS, Ocean
 
 
 @dataclass(frozen=True)
