@@ -195,7 +195,9 @@ def adapt_exposure(
     gain_brighter = -np.expm1(-frame_time / tau_brighter)
     gain_darker = -np.expm1(-frame_time / tau_darker)
     out = np.empty_like(t)
-    ev = t[0] if (start is None and t.size) else start
+    if start is None and not t.size:
+        return out
+    ev = t[0] if start is None else start
     for k, target in enumerate(t):
         gain = gain_brighter if target < ev else gain_darker
         ev = ev + (target - ev) * gain

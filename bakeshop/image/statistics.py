@@ -36,7 +36,7 @@ def describe(image) -> dict:
         a = a[:, :, None]
     flat = a.reshape(-1, a.shape[-1])
     finite = np.isfinite(flat)
-    channels = []
+    channels: list[dict[str, float | None]] = []
     for c in range(flat.shape[1]):
         values = flat[finite[:, c], c]
         if values.size:

@@ -410,7 +410,7 @@ def apply_layers(macro, layers, *, method: str = DEFAULT_METHOD) -> np.ndarray:
                 d, shape, tile=layer.tile, offset=layer.offset, rotation=layer.rotation
             )
         )
-        strength = np.float32(layer.strength)
+        strength: np.floating | np.ndarray = np.float32(layer.strength)
         if layer.mask is not None:
             m = np.asarray(layer.mask, np.float32)
             if m.shape != shape:

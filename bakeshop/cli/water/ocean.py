@@ -244,7 +244,7 @@ def ocean(out_dir: Path, **o):
 
 def _ocean_set(oc, name, out_dir, outputs, frames, spectrum, o) -> dict:
     from bakeshop.water.gerstner import gerstner_frames, gerstner_waves
-    from bakeshop.water.ocean import fit_to_frames, ocean_frames
+    from bakeshop.water.ocean import FieldName, fit_to_frames, ocean_frames
     from bakeshop.water.textures import (
         encode_heights,
         foam,
@@ -255,7 +255,7 @@ def _ocean_set(oc, name, out_dir, outputs, frames, spectrum, o) -> dict:
 
     n = oc.resolution
     lam = o["choppiness"]
-    fields = []
+    fields: list[FieldName] = []
     if "normal" in outputs or not o["no_preview"]:
         fields.append("normal")
     if "height" in outputs or "displacement" in outputs:

@@ -227,7 +227,7 @@ def ripples(out_dir: Path, **o):
     frames = o["frames"]
     times = np.linspace(0, o["duration"], frames, endpoint=frames == 1)
     files: list = []
-    previews = []
+    previews: list | np.ndarray = []
     fmt = o["normal_format"]
     params: dict = {"model": o["model"], "crater": crater.to_dict()}
     if o["model"] == "wave" and set(outputs) - {"flipbook"}:

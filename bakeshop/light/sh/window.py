@@ -162,7 +162,7 @@ def _refine_minimum(coeffs: np.ndarray, start: np.ndarray, step: float):
     return float(result.fun), direction(result.x)
 
 
-def minimum(coeffs) -> tuple[np.ndarray, np.ndarray]:
+def minimum(coeffs) -> tuple[float | np.ndarray, np.ndarray]:
     """The minimum of an SH expansion over the sphere, per channel, and where it is.
 
     A dense Fibonacci set of ``1024 (L + 1)^2`` directions finds the basin of the minimum, and
@@ -275,7 +275,7 @@ def minimal_window(coeffs, *, kernel=None) -> Window:
                 lo, hi = (lo, mid) if sampled_min(mid) >= 0 else (mid, hi)
             lam = hi
         values, where = minimum(convolve(f, _laplacian_factors(order, lam)))
-        low = values < 0
+        low = np.asarray(values) < 0
         if not low.any():
             return Window("minimal", _laplacian_factors(order, lam), lam)
         # the continuous minimum lies between samples: add it to the set and search again

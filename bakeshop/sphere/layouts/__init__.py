@@ -77,7 +77,7 @@ _LAYOUTS: dict[str, Layout] = {
 LAYOUT_NAMES = tuple(_LAYOUTS)
 
 
-def layout(name: str) -> Layout:
+def layout(name: str | Layout) -> Layout:
     """The layout called ``name``: one of :data:`LAYOUT_NAMES`.
 
     >>> layout("latlong").shape(512)
@@ -110,6 +110,7 @@ def guess_layout(height: int, width: int) -> list[str]:
         return disks + (["octahedral"] if h % 2 == 0 else []) + physical
     for name in _cube.VIEWS:
         lay = _LAYOUTS[name]
+        assert isinstance(lay, CubeView)
         if h * lay.cols == w * lay.rows and h % lay.rows == 0:
             return [name]
     return []

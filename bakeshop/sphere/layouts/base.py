@@ -154,8 +154,8 @@ class Layout:
         d = _dirs_array(dirs)
         out = np.empty((d.size // 3, 3))
         _maps.coordinates_of(self.kind, h, w, np.ascontiguousarray(d.reshape(-1, 3)), out)
-        out = out.reshape(d.shape[:-1] + (3,))
-        return out if self.cubic else out[..., 1:]
+        coords = out.reshape(d.shape[:-1] + (3,))
+        return coords if self.cubic else coords[..., 1:]
 
     # -- cube views ----------------------------------------------------------------------------
 

@@ -128,8 +128,8 @@ class OpenEXRCube(Layout):
         d = _dirs_array(dirs)
         out = np.empty((d.size // 3, 3))
         _maps.coordinates_of(self.kind, s, s, np.ascontiguousarray(d.reshape(-1, 3)), out)
-        out = out.reshape(d.shape[:-1] + (3,))
-        return np.stack([out[..., 1], out[..., 0] * s + out[..., 2]], axis=-1)
+        fxy = out.reshape(d.shape[:-1] + (3,))
+        return np.stack([fxy[..., 1], fxy[..., 0] * s + fxy[..., 2]], axis=-1)
 
     def solid_angles(self, shape):
         s = self.face_size(shape)
