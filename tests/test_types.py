@@ -25,14 +25,14 @@ UNANNOTATED_BASELINE = {
     "bakeshop.errors": 1,
     "bakeshop.figures": 2,
     "bakeshop.huge": 20,
-    "bakeshop.image": 20,
+    "bakeshop.image": 3,
     "bakeshop.io": 67,
-    "bakeshop.light": 45,
+    "bakeshop.light": 29,
     "bakeshop.normals": 21,
     "bakeshop.photo": 21,
     "bakeshop.progress": 3,
-    "bakeshop.sphere": 58,
-    "bakeshop.water": 47,
+    "bakeshop.sphere": 20,
+    "bakeshop.water": 46,
 }
 
 

@@ -15,6 +15,7 @@ import math
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.image.statistics import luminance
@@ -37,7 +38,7 @@ def _float_array(values) -> np.ndarray:
     return a
 
 
-def exposure(image, ev: float) -> np.ndarray:
+def exposure(image: ArrayLike, ev: float) -> np.ndarray:
     """Scale linear values by ``2**ev`` (photographic exposure in stops).
 
     Parameters
@@ -59,7 +60,7 @@ def exposure(image, ev: float) -> np.ndarray:
     return a * a.dtype.type(2.0**ev)
 
 
-def srgb_encode(linear) -> np.ndarray:
+def srgb_encode(linear: ArrayLike) -> np.ndarray:
     """Encode linear light with the sRGB transfer function (IEC 61966-2-1).
 
     ``V = 12.92 L`` for ``L <= 0.0031308``, else ``V = 1.055 L**(1/2.4) - 0.055``.
@@ -90,7 +91,7 @@ def srgb_encode(linear) -> np.ndarray:
     return out
 
 
-def srgb_decode(encoded) -> np.ndarray:
+def srgb_decode(encoded: ArrayLike) -> np.ndarray:
     """Decode sRGB-encoded values to linear light (inverse of :func:`srgb_encode`).
 
     ``L = V / 12.92`` for ``V <= 0.04045``, else ``L = ((V + 0.055) / 1.055)**2.4``.
@@ -173,7 +174,7 @@ def _luminance(a: np.ndarray, colour: int) -> np.ndarray:
     return luminance(a[..., :colour])
 
 
-def reinhard(image, *, white: float | None = None) -> np.ndarray:
+def reinhard(image: ArrayLike, *, white: float | None = None) -> np.ndarray:
     """Reinhard's global operator with a white point, applied to luminance, hue preserved.
 
     With L the luminance of a pixel (Rec. 709 weights) and L_white the smallest luminance that
@@ -239,7 +240,7 @@ HILL_OUTPUT = np.array(
 ACES_FITS = ("hill", "narkowicz")
 
 
-def aces_filmic(image, *, fit: str = "hill") -> np.ndarray:
+def aces_filmic(image: ArrayLike, *, fit: str = "hill") -> np.ndarray:
     """ACES-fitted filmic tone curve: a cheap fit of the ACES RRT + sRGB ODT.
 
     ``fit="hill"`` (default) is Stephen Hill's fit (BakingLab, 2016): the colour is taken to
@@ -300,7 +301,9 @@ def aces_filmic(image, *, fit: str = "hill") -> np.ndarray:
 TONE_OPERATORS = ("none", "reinhard", "aces")
 
 
-def tonemap(image, *, ev: float = 0.0, operator: str = "none", white: float | None = None):
+def tonemap(
+    image: ArrayLike, *, ev: float = 0.0, operator: str = "none", white: float | None = None
+) -> np.ndarray:
     """Exposure, then a tone operator, then clamping: display-referred linear values in [0, 1].
 
     Parameters
@@ -332,7 +335,7 @@ def tonemap(image, *, ev: float = 0.0, operator: str = "none", white: float | No
 DITHERS = ("none", "triangular")
 
 
-def to_srgb8(linear, *, dither: str = "none", seed: int = 0) -> np.ndarray:
+def to_srgb8(linear: ArrayLike, *, dither: str = "none", seed: int = 0) -> np.ndarray:
     """Display-referred linear values -> 8-bit sRGB code values (uint8), with optional dither.
 
     Colour channels are clamped to [0, 1], encoded with :func:`srgb_encode` and rounded to

@@ -4,6 +4,7 @@ log-average luminance, the exposure that maps it to middle grey, and adaptation 
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.image.display import _colour_channels, _luminance
@@ -56,7 +57,11 @@ def _metering(shape, center_weight) -> tuple[float, np.ndarray, np.ndarray]:
 
 
 def log_average_luminance(
-    image, *, center_weight: float = 0.75, delta: float = 1e-4, weights=None
+    image: ArrayLike,
+    *,
+    center_weight: float = 0.75,
+    delta: float = 1e-4,
+    weights: ArrayLike | None = None,
 ) -> float:
     """Weighted log-average luminance ``exp(sum w log(delta + L) / sum w)`` of a frame.
 
@@ -122,12 +127,12 @@ MIDDLE_GREY = 0.18
 
 
 def auto_exposure(
-    image,
+    image: ArrayLike,
     *,
     center_weight: float = 0.75,
     key: float = MIDDLE_GREY,
     delta: float = 1e-4,
-    weights=None,
+    weights: ArrayLike | None = None,
 ) -> float:
     """Exposure in EV that maps the centre-weighted log-average luminance to ``key``.
 
@@ -147,7 +152,7 @@ def auto_exposure(
 
 
 def adapt_exposure(
-    targets,
+    targets: ArrayLike,
     *,
     frame_time: float,
     tau_brighter: float = 0.5,

@@ -7,6 +7,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.image.display import (
@@ -34,7 +35,7 @@ CLIP_FRACTION = 1e-3
 PICTURE_BITS = (8, 16)
 
 
-def check_ev(ev) -> float:
+def check_ev(ev: float | str) -> float:
     """``ev`` as a float, refused unless finite and within +-:data:`MAX_EV` stops."""
     try:
         value = float(ev)
@@ -47,7 +48,9 @@ def check_ev(ev) -> float:
     return value
 
 
-def fit_exposure(image, *, weights=None, clip_fraction: float = CLIP_FRACTION) -> float:
+def fit_exposure(
+    image: ArrayLike, *, weights: ArrayLike | None = None, clip_fraction: float = CLIP_FRACTION
+) -> float:
     """Exposure (EV) after which only the brightest ``clip_fraction`` of the image exceeds 1.
 
     Returns ``-log2(q)`` with q the weighted (1 - ``clip_fraction``) quantile of each texel's
@@ -86,7 +89,7 @@ def fit_exposure(image, *, weights=None, clip_fraction: float = CLIP_FRACTION) -
 
 
 def encode_picture(
-    linear, *, bits: int = 8, encoding: str = "srgb", dither: str = "none", seed: int = 0
+    linear: ArrayLike, *, bits: int = 8, encoding: str = "srgb", dither: str = "none", seed: int = 0
 ) -> np.ndarray:
     """Display-referred linear values -> 8- or 16-bit code values.
 
@@ -205,10 +208,10 @@ class Exposure(NamedTuple):
 
 
 def choose_exposure(
-    image,
-    ev=0.0,
+    image: ArrayLike,
+    ev: float | str = 0.0,
     *,
-    weights=None,
+    weights: ArrayLike | None = None,
     key: float = MIDDLE_GREY,
     center_weight: float = 0.75,
     clip_fraction: float = CLIP_FRACTION,
@@ -231,16 +234,16 @@ def choose_exposure(
 
 
 def to_picture(
-    image,
+    image: ArrayLike,
     *,
-    ev=0.0,
+    ev: float | str = 0.0,
     operator: str = "none",
     white: float | None = None,
     encoding: str = "srgb",
     bits: int = 8,
     dither: str = "none",
     seed: int = 0,
-    weights=None,
+    weights: ArrayLike | None = None,
     key: float = MIDDLE_GREY,
     center_weight: float = 0.75,
     clip_fraction: float = CLIP_FRACTION,

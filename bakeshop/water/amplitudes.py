@@ -8,6 +8,7 @@ import math
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 
@@ -37,7 +38,7 @@ def _mode_normals(seed, mx, my, out):  # pragma: no cover - compiled
         out[i, 1] = r * math.sin(2.0 * math.pi * u2)
 
 
-def mode_normals(seed: int, mx, my) -> np.ndarray:
+def mode_normals(seed: int, mx: ArrayLike, my: ArrayLike) -> np.ndarray:
     """Standard normal pairs (xi_r, xi_i) of lattice modes with integer indices (mx, my).
 
     A counter-based hash (SplitMix64) of ``seed`` and the indices: the same mode gets the same

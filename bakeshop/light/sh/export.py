@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, FormatError, validate_choice
 from bakeshop.light.sh.harmonics import (
@@ -13,7 +16,9 @@ from bakeshop.light.sh.harmonics import (
 from bakeshop.light.sh.window import WINDOWS, IrradianceSH, minimal_window, window_factors
 
 
-def to_document(coeffs, *, kind: str = "radiance", irradiance: IrradianceSH | None = None) -> dict:
+def to_document(
+    coeffs: ArrayLike, *, kind: str = "radiance", irradiance: IrradianceSH | None = None
+) -> dict:
     """SH coefficients as a JSON document (order, convention and ``[[r, g, b], ...]``), as
     ``sh.json`` holds them (:func:`bakeshop.io.write_json` writes it).
 
@@ -52,7 +57,7 @@ def to_document(coeffs, *, kind: str = "radiance", irradiance: IrradianceSH | No
     return doc
 
 
-def from_document(doc, path=None) -> np.ndarray:
+def from_document(doc: dict, path: str | os.PathLike | None = None) -> np.ndarray:
     """The ``(N, C)`` float64 coefficients of a :func:`to_document` document (as
     :func:`bakeshop.io.read_json` reads it); ``path`` is named in errors."""
     try:
@@ -65,7 +70,7 @@ def from_document(doc, path=None) -> np.ndarray:
     return c
 
 
-def shader_snippet(coeffs, *, language: str = "glsl", window: str = "minimal") -> str:
+def shader_snippet(coeffs: ArrayLike, *, language: str = "glsl", window: str = "minimal") -> str:
     """A GLSL or HLSL function returning the DIM value ``E(n) / pi`` for a unit normal.
 
     Uses Ramamoorthi and Hanrahan's quadratic form (order 2, 9 coefficients per channel);

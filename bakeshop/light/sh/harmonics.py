@@ -8,6 +8,7 @@ import math
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 
@@ -52,7 +53,7 @@ def _check_order(order) -> int:
     return order
 
 
-def basis(directions, order: int) -> np.ndarray:
+def basis(directions: ArrayLike, order: int) -> np.ndarray:
     """Evaluate every real SH basis function up to ``order`` at unit directions.
 
     Parameters
@@ -137,7 +138,9 @@ def _project(values, dirs, weights, order, chunks):  # pragma: no cover - compil
     return partial.sum(axis=0)
 
 
-def project(values, directions, weights, *, order: int = 2) -> np.ndarray:
+def project(
+    values: ArrayLike, directions: ArrayLike, weights: ArrayLike, *, order: int = 2
+) -> np.ndarray:
     """Project samples of a function on the sphere to real SH coefficients.
 
     ``c(l, m) = sum_i f(d_i) Y(l, m)(d_i) w_i``: a quadrature of the projection integral with
@@ -183,7 +186,7 @@ def project(values, directions, weights, *, order: int = 2) -> np.ndarray:
     return coeffs[:, 0] if scalar else coeffs
 
 
-def evaluate(coeffs, directions) -> np.ndarray:
+def evaluate(coeffs: ArrayLike, directions: ArrayLike) -> np.ndarray:
     """Evaluate an SH expansion at directions.
 
     Parameters
@@ -261,7 +264,7 @@ def phong_kernel(order: int, exponent: float) -> np.ndarray:
     return (exponent + 1) / (2 * math.pi) * cosine_power_kernel(order, exponent)
 
 
-def convolve(coeffs, kernel) -> np.ndarray:
+def convolve(coeffs: ArrayLike, kernel: ArrayLike) -> np.ndarray:
     """Convolve an SH expansion with a zonal kernel given by its per-degree factors.
 
     Parameters
@@ -283,13 +286,13 @@ def convolve(coeffs, kernel) -> np.ndarray:
     return c * per_coeff.reshape((-1,) + (1,) * (c.ndim - 1))
 
 
-def irradiance_coefficients(coeffs) -> np.ndarray:
+def irradiance_coefficients(coeffs: ArrayLike) -> np.ndarray:
     """SH coefficients of the DIM, ``E / pi``, from the radiance coefficients ``coeffs``."""
     c = np.asarray(coeffs, dtype=np.float64)
     return convolve(c, clamped_cosine(order_of(c.shape[0])) / math.pi)
 
 
-def blend(coeffs, weights) -> np.ndarray:
+def blend(coeffs: ArrayLike, weights: ArrayLike) -> np.ndarray:
     """Blend the SH coefficients of several probes: ``sum_p w_p c_p / sum_p w_p``.
 
     Irradiance is linear in the environment, so blending coefficients is blending the probes'
@@ -321,7 +324,9 @@ def blend(coeffs, weights) -> np.ndarray:
     return np.tensordot(w / total, c, axes=(-1, 0))
 
 
-def inverse_distance_weights(position, probe_positions, *, power: float = 2.0) -> np.ndarray:
+def inverse_distance_weights(
+    position: ArrayLike, probe_positions: ArrayLike, *, power: float = 2.0
+) -> np.ndarray:
     """Weights of probes for a point: ``1 / distance**power``, normalised; exact at a probe.
 
     Parameters
@@ -356,7 +361,7 @@ def inverse_distance_weights(position, probe_positions, *, power: float = 2.0) -
 RH_C1, RH_C2, RH_C3, RH_C4, RH_C5 = 0.429043, 0.511664, 0.743125, 0.886227, 0.247708
 
 
-def irradiance_matrices(coeffs) -> np.ndarray:
+def irradiance_matrices(coeffs: ArrayLike) -> np.ndarray:
     """Ramamoorthi and Hanrahan's 4x4 matrices M with ``E(n) / pi = n^T M n``, n = (x, y, z, 1).
 
     Parameters

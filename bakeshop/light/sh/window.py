@@ -7,6 +7,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.light.sh.harmonics import (
@@ -55,7 +56,9 @@ class Window(NamedTuple):
         return f"{label}, lambda {self.parameter:.4g}"
 
 
-def window_factors(order: int, kind: str = "hanning", *, width=None, strength=None) -> Window:
+def window_factors(
+    order: int, kind: str = "hanning", *, width: float | None = None, strength: float | None = None
+) -> Window:
     """Per-degree factors of a window that tames the ringing of a truncated SH expansion.
 
     Multiplying the degree-l coefficients by ``w_l`` (:func:`convolve` with the factors) is a
@@ -162,7 +165,7 @@ def _refine_minimum(coeffs: np.ndarray, start: np.ndarray, step: float):
     return float(result.fun), direction(result.x)
 
 
-def minimum(coeffs) -> tuple[float | np.ndarray, np.ndarray]:
+def minimum(coeffs: ArrayLike) -> tuple[float | np.ndarray, np.ndarray]:
     """The minimum of an SH expansion over the sphere, per channel, and where it is.
 
     A dense Fibonacci set of ``1024 (L + 1)^2`` directions finds the basin of the minimum, and
@@ -195,7 +198,7 @@ def minimum(coeffs) -> tuple[float | np.ndarray, np.ndarray]:
     return (float(values[0]), where[0]) if scalar else (values, where)
 
 
-def negative_fraction(coeffs, *, height: int = NEGATIVE_GRID) -> float:
+def negative_fraction(coeffs: ArrayLike, *, height: int = NEGATIVE_GRID) -> float:
     """Fraction of the sphere, by solid angle, where the expansion is negative in any channel.
 
     Integrated on a latlong grid of ``height`` rows with exact texel solid angles (the grid's
@@ -213,7 +216,7 @@ def negative_fraction(coeffs, *, height: int = NEGATIVE_GRID) -> float:
     return float(omega[negative].sum() / (4 * math.pi))
 
 
-def minimal_window(coeffs, *, kernel=None) -> Window:
+def minimal_window(coeffs: ArrayLike, *, kernel: ArrayLike | None = None) -> Window:
     """The least squared-Laplacian window that makes ``convolve(coeffs, kernel)`` non-negative.
 
     Sloan (2008) proposes to window just enough: among the windows
@@ -305,7 +308,13 @@ class IrradianceSH(NamedTuple):
         )
 
 
-def windowed_irradiance(coeffs, *, window: str = "minimal", width=None, strength=None):
+def windowed_irradiance(
+    coeffs: ArrayLike,
+    *,
+    window: str = "minimal",
+    width: float | None = None,
+    strength: float | None = None,
+) -> IrradianceSH:
     """The DIM's SH coefficients (``E / pi``) with a window against ringing.
 
     Parameters

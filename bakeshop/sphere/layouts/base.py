@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.sphere import _maps
@@ -43,11 +46,11 @@ class Layout:
 
     # -- shapes --------------------------------------------------------------------------------
 
-    def shape(self, size) -> tuple[int, ...]:
+    def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
         """The spatial array shape for a user ``size``: an int, or ``(width, height)``."""
         raise NotImplementedError
 
-    def check_shape(self, shape) -> tuple[int, ...]:
+    def check_shape(self, shape: Sequence[int]) -> tuple[int, ...]:
         """Return ``shape`` as a tuple of ints if it is a valid array shape of this layout, else
         raise :class:`~bakeshop.errors.ArgumentError`."""
         shape = tuple(int(n) for n in shape)
@@ -72,14 +75,14 @@ class Layout:
     #: kind number of the layout in the scalar maps (:mod:`bakeshop.sphere.kernels`).
     kind = -1
 
-    def grid(self, shape) -> tuple[int, int, int]:
+    def grid(self, shape: Sequence[int]) -> tuple[int, int, int]:
         """``(h, w, faces)`` of a spatial shape, as the scalar maps take them
         (:mod:`bakeshop.sphere.kernels`): a flat layout's ``(H, W, 1)``, the cube's
         ``(S, S, 6)``."""
         h, w = self.check_shape(shape)
         return h, w, 1
 
-    def directions(self, shape) -> tuple[np.ndarray, np.ndarray]:
+    def directions(self, shape: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
         """Unit directions of the texel centres and the validity mask.
 
         Parameters
@@ -100,7 +103,7 @@ class Layout:
     def _valid(self, shape) -> np.ndarray:
         return np.ones(shape, bool)
 
-    def directions_at(self, coords, shape) -> np.ndarray:
+    def directions_at(self, coords: ArrayLike, shape: Sequence[int]) -> np.ndarray:
         """Unit directions at continuous texel coordinates: the inverse of :meth:`coordinates`.
 
         ``coords`` is ``(..., 2)`` ``(x, y)`` (``(..., 3)`` ``(face, x, y)`` for the cube);
@@ -127,7 +130,7 @@ class Layout:
             c = np.concatenate([f, np.broadcast_to(c, (6, h, w, 2))], axis=-1)
         return c
 
-    def solid_angles(self, shape) -> np.ndarray:
+    def solid_angles(self, shape: Sequence[int]) -> np.ndarray:
         """Solid angle of each texel in steradians, float64 ``shape``; 0 where invalid.
 
         Exact (closed forms, or integrals evaluated to float64 precision); the whole layout
@@ -135,7 +138,7 @@ class Layout:
         """
         raise NotImplementedError
 
-    def coordinates(self, dirs, shape) -> np.ndarray:
+    def coordinates(self, dirs: ArrayLike, shape: Sequence[int]) -> np.ndarray:
         """Continuous texel coordinates of directions.
 
         Parameters
@@ -164,6 +167,6 @@ class Layout:
         """The layout images of this one are sampled in (the cube for crosses and strips)."""
         return self
 
-    def prepare(self, image) -> np.ndarray:
+    def prepare(self, image: np.ndarray) -> np.ndarray:
         """``image`` in :attr:`base` form: the image itself, or the cube of a cross or strip."""
         return image

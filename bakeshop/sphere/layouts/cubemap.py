@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.sphere import _maps
@@ -39,7 +41,7 @@ class Cube(Layout):
     kind = _maps.CUBE
     cubic = True
 
-    def shape(self, size):
+    def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
         if isinstance(size, (tuple, list)):
             w, h = size
             if w != h:
@@ -52,14 +54,14 @@ class Cube(Layout):
         if len(shape) != 3 or shape[0] != 6 or shape[1] != shape[2]:
             raise ArgumentError(f"a cube map is (6, S, S); got spatial shape {shape}")
 
-    def default_size(self, texels):
+    def default_size(self, texels: int) -> int:
         return power_of_two_edge(texels / 6)
 
-    def solid_angles(self, shape):
+    def solid_angles(self, shape: Sequence[int]) -> np.ndarray:
         _, s, _ = self.check_shape(shape)
         return np.broadcast_to(_cube_face_solid_angles(s), shape).copy()
 
-    def grid(self, shape):
+    def grid(self, shape: Sequence[int]) -> tuple[int, int, int]:
         _, s, _ = self.check_shape(shape)
         return s, s, 6
 
@@ -78,7 +80,7 @@ class CubeView(Layout):
         self.name = name
         self.cols, self.rows, _ = _cube.VIEWS[name]
 
-    def shape(self, size):
+    def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
         if isinstance(size, (tuple, list)):
             w, h = size
             if w * self.rows != h * self.cols:
@@ -101,20 +103,20 @@ class CubeView(Layout):
                 f"(H = {self.rows} S, W = {self.cols} S); got (H, W) = {shape}"
             )
 
-    def face_size(self, shape) -> int:
+    def face_size(self, shape: Sequence[int]) -> int:
         return self.check_shape(shape)[0] // self.rows
 
-    def default_size(self, texels):
+    def default_size(self, texels: int) -> int:
         return power_of_two_edge(texels / 6)
 
-    def directions(self, shape):
+    def directions(self, shape: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
         s = self.face_size(shape)
         d = _cube.cube_to_view(CUBE.directions((6, s, s))[0], self.name)
         valid = _cube.cube_to_view(np.ones((6, s, s), bool), self.name, fill=False)
         d[~valid] = (0.0, 0.0, -1.0)
         return d, valid
 
-    def directions_at(self, coords, shape):
+    def directions_at(self, coords: ArrayLike, shape: Sequence[int]) -> np.ndarray:
         s = self.face_size(shape)
         c = np.asarray(coords, dtype=np.float64)
         col = np.clip(np.floor(c[..., 0] / s), 0, self.cols - 1).astype(np.int64)
@@ -130,11 +132,11 @@ class CubeView(Layout):
         d = CUBE.directions_at(np.stack([np.maximum(face, 0), x, y], axis=-1), (6, s, s))
         return np.where((face < 0)[..., None], np.array([0.0, 0.0, -1.0]), d)
 
-    def solid_angles(self, shape):
+    def solid_angles(self, shape: Sequence[int]) -> np.ndarray:
         s = self.face_size(shape)
         return _cube.cube_to_view(CUBE.solid_angles((6, s, s)), self.name)
 
-    def coordinates(self, dirs, shape):
+    def coordinates(self, dirs: ArrayLike, shape: Sequence[int]) -> np.ndarray:
         s = self.face_size(shape)
         c = CUBE.coordinates(dirs, (6, s, s))
         face, x, y = c[..., 0].astype(np.int64), c[..., 1], c[..., 2]
@@ -145,10 +147,10 @@ class CubeView(Layout):
         return np.stack([x, y], axis=-1)
 
     @property
-    def base(self):
+    def base(self) -> Layout:
         return CUBE
 
-    def prepare(self, image):
+    def prepare(self, image: np.ndarray) -> np.ndarray:
         return _cube.view_to_cube(image, self.name)
 
 

@@ -4,6 +4,7 @@ photographed) and the dual paraboloid."""
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -33,7 +34,7 @@ class _Disk(Layout):
     #: G(1): the disk's solid angle over 2 pi.
     g_max = 2.0
 
-    def shape(self, size):
+    def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
         if isinstance(size, (tuple, list)):
             w, h = size
             return self.check_shape((h, w))
@@ -45,7 +46,7 @@ class _Disk(Layout):
             want = "square" if self.disks == 1 else f"{self.disks}:1 (width:height)"
             raise ArgumentError(f"a {self.name} image must be {want}; got (H, W) = {shape}")
 
-    def default_size(self, texels):
+    def default_size(self, texels: int) -> int:
         return max(1, round(np.sqrt(texels / (self.disks * np.pi / 4))))
 
     def _H(self, q):
@@ -60,7 +61,7 @@ class _Disk(Layout):
     def _valid(self, shape):
         return np.concatenate([self._overlap(shape[0])] * self.disks, axis=1)
 
-    def solid_angles(self, shape):
+    def solid_angles(self, shape: Sequence[int]) -> np.ndarray:
         n, _ = self.check_shape(shape)
         omega = np.where(self._overlap(n), _disk_texel_integrals(n, self), 0.0)
         return np.concatenate([omega] * self.disks, axis=1)

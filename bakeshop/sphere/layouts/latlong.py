@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numba
 import numpy as np
 
@@ -23,7 +25,7 @@ class LatLong(Layout):
     name = "latlong"
     kind = _maps.LATLONG
 
-    def shape(self, size):
+    def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
         if isinstance(size, (tuple, list)):
             w, h = size
             return self.check_shape((h, w))
@@ -34,10 +36,10 @@ class LatLong(Layout):
         if len(shape) != 2:
             raise ArgumentError(f"a latlong image is (H, W); got spatial shape {shape}")
 
-    def default_size(self, texels):
+    def default_size(self, texels: int) -> int:
         return max(1, round(np.sqrt(texels / 2)))
 
-    def directions(self, shape):
+    def directions(self, shape: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
         # separable: W + H sines and cosines, then products (docs/BENCHMARKS.md, irradiance;
         # bit-identical to the general path: the same trigonometry as remap's plans)
         shape = self.check_shape(shape)
@@ -45,7 +47,7 @@ class LatLong(Layout):
         _latlong_directions(dirs)
         return dirs, self._valid(shape)
 
-    def solid_angles(self, shape):
+    def solid_angles(self, shape: Sequence[int]) -> np.ndarray:
         h, w = self.check_shape(shape)
         # exact: the band between theta_j and theta_j+1 covers 2 pi (cos theta_j - cos theta_j+1)
         c = np.cos(np.pi * np.arange(h + 1) / h)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -28,7 +29,7 @@ class Octahedral(Layout):
     name = "octahedral"
     kind = _maps.OCTAHEDRAL
 
-    def shape(self, size):
+    def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
         if isinstance(size, (tuple, list)):
             w, h = size
             return self.check_shape((h, w))
@@ -41,10 +42,10 @@ class Octahedral(Layout):
                 f"an octahedral image must be square with an even edge; got (H, W) = {shape}"
             )
 
-    def default_size(self, texels):
+    def default_size(self, texels: int) -> int:
         return max(2, 2 * round(np.sqrt(texels) / 2))
 
-    def solid_angles(self, shape):
+    def solid_angles(self, shape: Sequence[int]) -> np.ndarray:
         n, _ = self.check_shape(shape)
         return _octahedral_solid_angles(n)
 

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.sphere import _maps
@@ -40,7 +43,7 @@ class OpenEXRLatLong(Layout):
     name = "openexr-latlong"
     kind = _maps.OPENEXR_LATLONG
 
-    def shape(self, size):
+    def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
         if isinstance(size, (tuple, list)):
             w, h = size
             return self.check_shape((h, w))
@@ -54,10 +57,10 @@ class OpenEXRLatLong(Layout):
                 f"are the poles); got spatial shape {shape}"
             )
 
-    def default_size(self, texels):
+    def default_size(self, texels: int) -> int:
         return max(2, round(np.sqrt(texels / 2)))
 
-    def solid_angles(self, shape):
+    def solid_angles(self, shape: Sequence[int]) -> np.ndarray:
         h, w = self.check_shape(shape)
         colatitude = np.pi * (_centre_aligned_edges(h) + 1) / 2
         c = np.cos(colatitude)
@@ -83,7 +86,7 @@ class OpenEXRCube(Layout):
     name = "openexr-cube"
     kind = _maps.OPENEXR_CUBE
 
-    def shape(self, size):
+    def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
         if isinstance(size, (tuple, list)):
             w, h = size
             if h != 6 * w:
@@ -102,17 +105,17 @@ class OpenEXRCube(Layout):
                 f"(6 S, S) with S >= 2; got (H, W) = {shape}"
             )
 
-    def default_size(self, texels):
+    def default_size(self, texels: int) -> int:
         return max(2, round(np.sqrt(texels / 6)))
 
-    def grid(self, shape):
+    def grid(self, shape: Sequence[int]) -> tuple[int, int, int]:
         _, s = self.check_shape(shape)
         return s, s, 6
 
-    def face_size(self, shape) -> int:
+    def face_size(self, shape: Sequence[int]) -> int:
         return self.check_shape(shape)[1]
 
-    def directions_at(self, coords, shape):
+    def directions_at(self, coords: ArrayLike, shape: Sequence[int]) -> np.ndarray:
         s = self.face_size(shape)
         c = np.asarray(coords, dtype=np.float64)
         if c.shape[-1] != 2:
@@ -123,7 +126,7 @@ class OpenEXRCube(Layout):
         _maps.directions_at(self.kind, s, s, np.ascontiguousarray(fxy), out)
         return out.reshape(c.shape[:-1] + (3,))
 
-    def coordinates(self, dirs, shape):
+    def coordinates(self, dirs: ArrayLike, shape: Sequence[int]) -> np.ndarray:
         s = self.face_size(shape)
         d = _dirs_array(dirs)
         out = np.empty((d.size // 3, 3))
@@ -131,7 +134,7 @@ class OpenEXRCube(Layout):
         fxy = out.reshape(d.shape[:-1] + (3,))
         return np.stack([fxy[..., 1], fxy[..., 0] * s + fxy[..., 2]], axis=-1)
 
-    def solid_angles(self, shape):
+    def solid_angles(self, shape: Sequence[int]) -> np.ndarray:
         s = self.face_size(shape)
         e = _centre_aligned_edges(s)
         c = _cube_corner(e[None, :], e[:, None])
