@@ -24,6 +24,7 @@ axis convention) is in :data:`Engine.checked`, and ``docs/engines.md`` repeats i
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -80,7 +81,7 @@ class Engine:
     #: the engine's LOD of perceptual roughness r for a chain of ``levels`` levels, or None
     #: when the engine prefilters the environment itself (then bakeshop ships the environment
     #: with plain box-filtered mips and says so).
-    lod_of_roughness: object
+    lod_of_roughness: Callable[[float, int], float] | None
     #: number of levels the engine's mapping assumes (None: any).
     specular_levels: int | None
     #: SH layout name for :func:`sh_export`, or None (the engine computes its own).
@@ -330,13 +331,14 @@ def mip_roughness(e: Engine | str, levels: int) -> np.ndarray | None:
     monotone curve), or None when the engine prefilters the environment itself."""
     if isinstance(e, str):
         e = engine(e)
-    if e.lod_of_roughness is None:
+    lod_of = e.lod_of_roughness
+    if lod_of is None:
         return None
     if levels < 1:
         raise ArgumentError(f"a chain has at least one level, got {levels}")
     if levels == 1:
         return np.zeros(1)
-    top = e.lod_of_roughness(1.0, levels)
+    top = lod_of(1.0, levels)
     out = np.empty(levels)
     out[0] = 0.0  # level 0 is the environment itself
     for m in range(1, levels):
@@ -344,7 +346,7 @@ def mip_roughness(e: Engine | str, levels: int) -> np.ndarray | None:
         lo, hi = 0.0, 1.0
         for _ in range(60):
             mid = 0.5 * (lo + hi)
-            if e.lod_of_roughness(mid, levels) < lod:
+            if lod_of(mid, levels) < lod:
                 lo = mid
             else:
                 hi = mid

@@ -332,6 +332,7 @@ def merge_views(
         first = image if first is None else first
         total = image * w[..., None] if total is None else total + image * w[..., None]
         weights += w
+    assert first is not None and total is not None  # one photograph at least
     seen = weights > 0
     out = np.where(seen[..., None], total / np.where(seen, weights, 1)[..., None], first)
     return out.astype(np.float32), weights.astype(np.float32)

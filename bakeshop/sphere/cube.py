@@ -147,7 +147,7 @@ VIEWS = {
 def view_slots(view: str):
     """Per internal face g: (column, row, flip_x, flip_y) of where and how ``view`` shows it."""
     _, _, slots = VIEWS[view]
-    out = [None] * 6
+    out: list[tuple[int, int, bool, bool] | None] = [None] * 6
     for label, (col, row, rot) in slots.items():
         g, fx, fy = DIRECTX_FACES[label]
         out[g] = (col, row, fx ^ rot, fy ^ rot)

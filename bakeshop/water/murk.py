@@ -104,7 +104,7 @@ XYZ_TO_SRGB = np.array(
 
 
 def _table(name: str) -> tuple[list[str], np.ndarray]:
-    text = resources.files("bakeshop.water").joinpath("data", name).read_text()
+    text = resources.files("bakeshop.water").joinpath("data").joinpath(name).read_text()
     rows = [line for line in text.splitlines() if line and not line.startswith("#")]
     header = rows[0].split(",")
     return header, np.array([[float(v) for v in r.split(",")] for r in rows[1:]])
