@@ -28,6 +28,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
 
@@ -276,7 +277,7 @@ def _lookup_matrix(e: Engine) -> np.ndarray:
     return np.asarray(e.lookup, np.float64)
 
 
-def cube_faces(cube, e: Engine | str) -> np.ndarray:
+def cube_faces(cube: ArrayLike, e: Engine | str) -> np.ndarray:
     """The six faces (OpenGL/Direct3D face order) the engine ``e`` must be given so that its lookup
     ``M d`` finds bakeshop's value for world direction ``d``.
 
@@ -314,7 +315,7 @@ def cube_faces(cube, e: Engine | str) -> np.ndarray:
     return cube[face, y, x].reshape(cube.shape)
 
 
-def panorama(latlong, e: Engine | str) -> np.ndarray:
+def panorama(latlong: ArrayLike, e: Engine | str) -> np.ndarray:
     """Bakeshop's latlong ``(H, W, C)`` rolled into the panorama engine ``e`` samples."""
     if isinstance(e, str):
         e = engine(e)
@@ -354,7 +355,7 @@ def mip_roughness(e: Engine | str, levels: int) -> np.ndarray | None:
     return out
 
 
-def sh_export(coeffs, e: Engine | str) -> dict:
+def sh_export(coeffs: ArrayLike, e: Engine | str) -> dict:
     """Order-2 SH radiance coefficients ``(9, 3)`` (bakeshop's basis and frame) in the layout
     the engine reads.
 

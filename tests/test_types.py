@@ -21,18 +21,17 @@ PACKAGE = ROOT / "bakeshop"
 UNANNOTATED_BASELINE = {
     "bakeshop.buoyancy": 22,
     "bakeshop.data": 1,
-    "bakeshop.engines": 3,
     "bakeshop.errors": 1,
     "bakeshop.figures": 2,
     "bakeshop.huge": 20,
     "bakeshop.image": 3,
     "bakeshop.io": 67,
-    "bakeshop.light": 29,
-    "bakeshop.normals": 21,
-    "bakeshop.photo": 21,
+    "bakeshop.light": 26,
+    "bakeshop.normals": 14,
+    "bakeshop.photo": 15,
     "bakeshop.progress": 3,
-    "bakeshop.sphere": 20,
-    "bakeshop.water": 46,
+    "bakeshop.sphere": 16,
+    "bakeshop.water": 25,
 }
 
 
