@@ -211,11 +211,19 @@ def _bakeshop_error(error: BakeshopError) -> str:
     return f"{path}: {error.reason}" if path else error.reason
 
 
+#: files named one by one in the line of a run that failed after writing some.
+MAX_NAMED = 8
+
+
 def _written(paths: list[Path]) -> str:
     """``'written before it: out/a.hdr, out/b.hdr (2 files)'``; names given once per folder."""
+    paths = list(dict.fromkeys(paths))  # a file rewritten (a bake's manifest) is named once
     if not paths:
         return ""
     folders = {p.parent for p in paths}
+    if len(paths) > MAX_NAMED:  # a bake or a frame sequence: the first ones and the last
+        shown = [str(p) for p in paths[: MAX_NAMED - 2]]
+        return f"; written before it: {', '.join(shown)}, ..., {paths[-1]} ({len(paths)} files)"
     if len(folders) == 1 and len(paths) > 1:
         names = f"in {paths[0].parent}/: " + ", ".join(p.name for p in paths)
     else:

@@ -34,6 +34,9 @@ COMMAND_MODULES = [
     "compress",
     "normals",
     "float",
+    "preview",
+    "view",
+    "bake",
 ]
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}

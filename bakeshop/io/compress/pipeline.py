@@ -304,21 +304,23 @@ def write_compressed(
     paths = []
     report = dict(result.report)
     if result.texture is not None:
+        from bakeshop.io import _intent
         from bakeshop.io.dds import write_dds_blocks
         from bakeshop.io.ktx import write_ktx_blocks
         from bakeshop.io.ktx2 import write_ktx2_blocks
 
-        if suffix == ".dds":
-            write_dds_blocks(target, result.texture)
-        elif suffix == ".ktx2":
-            write_ktx2_blocks(target, result.texture, supercompression=supercompression)
-            report["supercompression"] = supercompression
-        elif suffix == ".ktx":
-            write_ktx_blocks(target, result.texture)
-        else:
-            raise ArgumentError(
-                "a block-compressed texture is written to .dds, .ktx2 or .ktx", target
-            )
+        with _intent.intent(target, "blocks", result.texture):
+            if suffix == ".dds":
+                write_dds_blocks(target, result.texture)
+            elif suffix == ".ktx2":
+                write_ktx2_blocks(target, result.texture, supercompression=supercompression)
+                report["supercompression"] = supercompression
+            elif suffix == ".ktx":
+                write_ktx_blocks(target, result.texture)
+            else:
+                raise ArgumentError(
+                    "a block-compressed texture is written to .dds, .ktx2 or .ktx", target
+                )
         fmt = result.texture.format
         report.update(
             {
