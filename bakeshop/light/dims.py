@@ -16,11 +16,24 @@ import numpy as np
 
 from bakeshop import progress
 from bakeshop.errors import validate_choice
-from bakeshop.light.diffuse import METHODS, cosine_sum, dim_normals, dim_of_environment
-from bakeshop.light.sun import Removal, Sun, split_environment
+from bakeshop.light.diffuse import (
+    METHODS,
+    OUTPUT_BYTES,
+    cosine_sum,
+    dim_normals,
+    dim_of_environment,
+    irradiance_cost,
+)
+from bakeshop.light.sun import COPY_BYTES, Removal, Sun, find_sun_cost, split_environment
+from bakeshop.resources import Cost, require
 from bakeshop.sphere import check_environment, texels_at
 
-__all__ = ["DimPair", "dim_pair", "dim_pair_of"]
+__all__ = ["DimPair", "dim_pair", "dim_pair_cost", "dim_pair_of"]
+
+#: bytes per texel of the probe that :func:`dim_pair` holds beyond one DIM's work (the painted
+#: copy of the probe; measured at 8 + 4 per channel, tests/test_resources.py); the sun's search
+#: goes by strips (:func:`bakeshop.light.sun.find_sun_cost`).
+PAIR_BYTES = 32
 
 
 class DimPair(NamedTuple):
@@ -35,6 +48,27 @@ class DimPair(NamedTuple):
     shadow_probe: np.ndarray
     #: the sun's measurements, or None when the probe has none (then both DIMs are equal).
     sun: Sun | None
+
+
+def dim_pair_cost(
+    shape,
+    layout: str,
+    *,
+    to: str = "latlong",
+    size=(360, 180),
+    method: str = "auto",
+    painted: bool = True,
+) -> Cost:
+    """What :func:`dim_pair` of a probe of ``shape`` in ``layout`` holds at its peak: one DIM's
+    (:func:`bakeshop.light.diffuse.irradiance_cost`), the sun's search
+    (:func:`bakeshop.light.sun.find_sun_cost` without its copy), the second DIM, and with
+    ``painted`` (not for :func:`dim_pair_of`) :data:`PAIR_BYTES` per probe texel."""
+    extra = PAIR_BYTES if painted else 0
+    one = irradiance_cost(shape, layout, to=to, size=size, method=method, extra=extra)
+    search = find_sun_cost(shape, layout)
+    search_memory = search.memory - COPY_BYTES * search.work
+    what = "the DIM pair" + one.what.removeprefix(f"the {to} DIM")
+    return Cost(one.memory + search_memory + OUTPUT_BYTES * one.work, one.work, what)
 
 
 def dim_pair(
@@ -68,6 +102,7 @@ def dim_pair(
         ``(sun_dim, shadow_dim, shadow_probe, sun)``; 2-D results for a 2-D probe.
     """
     validate_choice(method, METHODS, "irradiance method")
+    require(dim_pair_cost(np.shape(image), layout, to=to, size=size, method=method))
     env = check_environment(image, layout)
     lit, shadow, removal = dim_pair_of(
         env, to=to, size=size, method=method, order=order, window=window

@@ -15,6 +15,7 @@ out: ``bakeshop bake-probe`` writes the files.
 
 from __future__ import annotations
 
+import math
 import time
 from typing import NamedTuple
 
@@ -22,14 +23,14 @@ import numpy as np
 
 from bakeshop import progress
 from bakeshop.light import diffuse, sh, specular
-from bakeshop.light.dfg import dfg_table
-from bakeshop.light.dims import dim_pair_of
+from bakeshop.light.dfg import dfg_table, dfg_table_cost
+from bakeshop.light.dims import dim_pair_cost, dim_pair_of
 from bakeshop.light.sun import Removal, Sun
-from bakeshop.sphere import check_environment, remap
+from bakeshop.resources import Cost, require
+from bakeshop.sphere import check_environment, remap, remap_cost, valid_texels
 from bakeshop.sphere import layout as layout_of
-from bakeshop.sphere.area import valid_texels
 
-__all__ = ["ProbeBake", "bake_probe", "contact_sheet", "sheet_exposure"]
+__all__ = ["ProbeBake", "bake_probe", "bake_probe_cost", "contact_sheet", "sheet_exposure"]
 
 
 class ProbeBake(NamedTuple):
@@ -62,6 +63,54 @@ class ProbeBake(NamedTuple):
     #: how the sun is painted out of the probe (flat texel indices and their new colour
     #: values), or None when the probe has none.
     fill: Removal | None = None
+
+
+def default_cube_size(shape, layout: str) -> int:
+    """The environment cube's face size when none is given: the power of two nearest to as many
+    texels as the probe has (a quarter of a latlong's width), at most 2048."""
+    lay = layout_of(layout)
+    texels = valid_texels(lay, tuple(shape[: 3 if lay.cubic else 2]))
+    return min(2048, layout_of("cube").default_size(texels))
+
+
+def bake_probe_cost(
+    shape,
+    layout: str,
+    *,
+    cube_size: int | None = None,
+    dim_size=(360, 180),
+    specular_size: int = 256,
+    mips: int = 9,
+    itemsize: int = 4,
+    shadow_probe: bool = True,
+) -> Cost:
+    """What :func:`bake_probe` of a probe of ``shape`` (with its channel axis) holds at its
+    peak: what it keeps (the cube, the painted probe unless ``shadow_probe`` is False, the
+    chain) plus the largest of its steps
+    (:func:`~bakeshop.sphere.remap_cost`, :func:`~bakeshop.light.dims.dim_pair_cost`,
+    :func:`~bakeshop.light.specular.prefilter_cost`, :func:`~bakeshop.light.dfg.dfg_table_cost`).
+    ``work`` is the chain's (the longest step)."""
+    from bakeshop.sphere import layout as get_layout
+
+    lay = get_layout(layout)
+    spatial = tuple(shape[: 3 if lay.cubic else 2])
+    channels = int(shape[len(spatial)]) if len(shape) > len(spatial) else 1
+    size = default_cube_size(shape, layout) if cube_size is None else cube_size
+    texel = channels * itemsize
+    painted = math.prod(spatial) if shadow_probe else 0  # the copy painted without the sun
+    kept = (6 * size * size + painted + 8 * specular_size**2) * texel
+    steps = [
+        remap_cost(lay, spatial, "cube", size, filter="auto", channels=channels, itemsize=itemsize),
+        dim_pair_cost(shape, layout, to="latlong", size=dim_size, painted=False),
+        specular.prefilter_cost(shape, layout, size=specular_size, mips=mips, itemsize=itemsize),
+        dfg_table_cost(),
+    ]
+    return Cost(
+        kept + max(c.memory for c in steps),
+        steps[2].work,
+        f"the bake of a {lay.name} probe of {math.prod(spatial)} texels (a 6x{size}x{size} "
+        f"cube, a {mips}-level 6x{specular_size}x{specular_size} chain)",
+    )
 
 
 def bake_probe(
@@ -121,10 +170,21 @@ def bake_probe(
         return result
 
     env = check_environment(image, layout)
-    lay, image = env.layout, env.image
+    image = env.image
     if cube_size is None:
-        texels = valid_texels(lay, image.shape[:-1])
-        cube_size = min(2048, layout_of("cube").default_size(texels))
+        cube_size = default_cube_size(image.shape, layout)
+    require(
+        bake_probe_cost(
+            image.shape,
+            layout,
+            cube_size=cube_size,
+            dim_size=dim_size,
+            specular_size=specular_size,
+            mips=mips,
+            itemsize=image.itemsize,
+            shadow_probe=shadow_probe,
+        )
+    )
     lit, shadow, removal = timed("dims", dim_pair_of, env, to="latlong", size=dim_size)
     coeffs = timed("sh", diffuse.sh_coefficients, image, layout, order=sh_order)
     with progress.step("windowing the SH irradiance"):

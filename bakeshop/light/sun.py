@@ -30,7 +30,9 @@ import numba
 import numpy as np
 
 from bakeshop.image import LUMINANCE_WEIGHTS
+from bakeshop.resources import Cost, require
 from bakeshop.sphere import (
+    STRIP_TEXELS,
     Environment,
     Texels,
     check_environment,
@@ -38,6 +40,7 @@ from bakeshop.sphere import (
     texel_strips,
     texels_at,
 )
+from bakeshop.sphere import layout as get_layout
 
 #: the sun's peak must exceed the sky around it (median of a ring) by this factor.
 CONTRAST = 20.0
@@ -53,6 +56,10 @@ GLARE = 2.0
 PLATEAU = 0.9
 #: the filled patch has at most this many pixels on a side.
 PATCH_MAX = 256
+#: Peak bytes per texel of the search (measured at 41 on an RGB latlong,
+#: tests/test_resources.py), and of the painted copy (float32, up to 4 channels).
+SEARCH_BYTES = 64
+COPY_BYTES = 16
 
 
 @dataclass(frozen=True)
@@ -531,6 +538,18 @@ def _split(texels, sampler) -> Removal | None:
     return Removal(sun, index, filled.astype(values.dtype))
 
 
+def find_sun_cost(shape, layout: str) -> Cost:
+    """What :func:`find_sun` (or :func:`remove_sun`) of a probe of ``shape`` in ``layout``
+    holds at its peak: :data:`SEARCH_BYTES` per texel of the strips and caps it reads at once
+    (four :data:`bakeshop.sphere.STRIP_TEXELS` at most: its texels' directions, solid angles
+    and values, the search's work arrays), and :data:`COPY_BYTES` per texel of the probe (the
+    painted copy of :func:`remove_sun`)."""
+    lay = get_layout(layout)
+    n = math.prod(shape[: 3 if lay.cubic else 2])
+    memory = SEARCH_BYTES * min(n, 4 * STRIP_TEXELS) + COPY_BYTES * n
+    return Cost(memory, n, f"the sun's search in a {lay.name} probe of {n} texels")
+
+
 def find_sun(image, layout: str) -> Sun | None:
     """Find and measure the sun of a light probe.
 
@@ -547,6 +566,7 @@ def find_sun(image, layout: str) -> Sun | None:
         None when the probe has no sun (no compact light CONTRAST times brighter than the sky
         around it and DOMINANCE times stronger than any other).
     """
+    require(find_sun_cost(np.shape(image), layout))
     found = split_sun(image, layout)
     return None if found is None else found.sun
 
@@ -568,6 +588,7 @@ def remove_sun(image, layout: str):
         no sun.
     sun : Sun or None
     """
+    require(find_sun_cost(np.shape(image), layout))
     env = check_environment(image, layout)
     found = split_sun(env.image, env.layout)
     out = env.image.copy()  # the fill is fractional: a float copy

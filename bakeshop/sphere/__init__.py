@@ -30,8 +30,17 @@ from bakeshop.sphere.cube import (
 )
 from bakeshop.sphere.layouts import LAYOUT_NAMES, Layout, guess_layout, layout
 from bakeshop.sphere.rotation import as_rotation, rotation_matrix
-from bakeshop.sphere.sampling import FILTERS, auto_filter, remap, remap_shape, sample
+from bakeshop.sphere.sampling import (
+    FILTERS,
+    auto_filter,
+    remap,
+    remap_cost,
+    remap_shape,
+    sample,
+    valid_texels,
+)
 from bakeshop.sphere.texels import (
+    STRIP_TEXELS,
     Environment,
     Texels,
     check_environment,
@@ -44,6 +53,7 @@ from bakeshop.sphere.texels import (
 )
 
 __all__ = [
+    "STRIP_TEXELS",
     "CONVENTIONS",
     "FACE_LABELS",
     "FACE_NAMES",
@@ -64,7 +74,9 @@ __all__ = [
     "guess_layout",
     "layout",
     "remap",
+    "remap_cost",
     "remap_shape",
+    "valid_texels",
     "rotation_matrix",
     "sample",
     "texel_cosines",

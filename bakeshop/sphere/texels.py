@@ -33,7 +33,8 @@ from bakeshop.errors import ArgumentError
 from bakeshop.sphere import _maps
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere.cube import cube_to_view
-from bakeshop.sphere.layouts import Layout, _cube_face_solid_angles, layout
+from bakeshop.sphere.layouts import Layout, layout
+from bakeshop.sphere.layouts.cubemap import _cube_face_solid_angles
 
 #: the most channels an environment may have (RGB and alpha).
 MAX_CHANNELS = 4
@@ -333,7 +334,7 @@ _NO_TRIG = np.zeros((4, 1))
 
 def _cube_rows_solid_angles(s: int, r0: int, r1: int) -> np.ndarray:
     """Solid angles (r1 - r0, s) of rows r0..r1 of a cube's stacked faces (6 s rows): the
-    corner differences of ``layouts._cube_face_solid_angles``, one corner per texel."""
+    corner differences of ``layouts.cubemap._cube_face_solid_angles``, one corner per texel."""
     e = 2 * np.arange(s + 1) / s - 1
     out = np.empty((r1 - r0, s))
     r = r0
@@ -356,7 +357,8 @@ def cube_face_solid_angles(s: int) -> np.ndarray:
 
 def _cube_texel_solid_angles(s: int, j, i) -> np.ndarray:
     """Solid angles of texels (row j, column i) of a cube face of s texels, broadcast: the
-    corner differences of ``layouts._cube_face_solid_angles`` (the same numbers), per texel."""
+    corner differences of ``layouts.cubemap._cube_face_solid_angles`` (the same numbers), per
+    texel."""
     e = 2 * np.arange(s + 1) / s - 1
 
     def corner(y, x):
