@@ -68,9 +68,8 @@ import numpy as np
 from bakeshop import progress
 from bakeshop.errors import ArgumentError
 from bakeshop.resources import Cost, require
-from bakeshop.sphere import check_environment, remap, remap_cost, sample
+from bakeshop.sphere import check_environment, remap, remap_cost, sample, valid_texels
 from bakeshop.sphere import layout as get_layout
-from bakeshop.sphere.area import valid_texels
 from bakeshop.sphere.kernels import cube_face
 
 #: Largest cube face accepted (a 6x4096 RGBA float32 pyramid is already 1.6 GB).

@@ -36,7 +36,12 @@ from bakeshop.sphere._gather import EXCEPTION
 from bakeshop.sphere.cube import FACE_BASES, cube_to_view
 from bakeshop.sphere.layouts import Layout, layout
 from bakeshop.sphere.rotation import key_matrix
-from bakeshop.sphere.texels import cube_face_solid_angles, texel_strips, texels_at
+from bakeshop.sphere.texels import (
+    cube_face_solid_angles,
+    texel_strips,
+    texels_at,
+    valid_texels,
+)
 
 #: largest memory for the per-thread accumulation buffers and for one chunk of unmerged
 #: deposits (fewer threads, smaller chunks above).
@@ -332,15 +337,6 @@ def _box_reduce(fine, omega, k, out):  # pragma: no cover - compiled
                         acc[c] += w * fine[y, x, c]
             for c in range(channels):
                 out[r, i, c] = acc[c] / total if total > 0 else 0.0
-
-
-def valid_texels(lay: Layout | str, shape) -> int:
-    """Texels of a layout's image that see the sphere, without building any per-texel array:
-    exact for latlong, octahedral and cubes (crosses count their six faces), pi/4 of the
-    squares for the disk layouts (within a rim's worth)."""
-    lay = layout(lay)
-    n = int(np.prod(lay.base.shape(lay.face_size(shape)) if lay.base is not lay else shape))
-    return round(n * math.pi / 4) if lay.name in ("angular", "mirrorball", "dual-paraboloid") else n
 
 
 #: the area filter builds its matrix (~100-150 bytes and ~1 us per source texel, balanced over

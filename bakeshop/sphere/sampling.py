@@ -40,7 +40,7 @@ from bakeshop.sphere.area import (
 from bakeshop.sphere.cube import cube_to_view
 from bakeshop.sphere.layouts import Layout, layout
 from bakeshop.sphere.rotation import rotation_key
-from bakeshop.sphere.texels import STRIP_TEXELS, check_environment
+from bakeshop.sphere.texels import STRIP_TEXELS, check_environment, valid_texels
 
 #: the remap filters, ``auto`` the policy between ``area`` and ``bilinear``.
 FILTERS = ("nearest", "bilinear", "area", "auto")
@@ -119,25 +119,6 @@ def auto_filter(src: str | Layout, src_shape, dst: str | Layout, dst_shape) -> F
     in_texels = valid_texels(s, src_shape)
     out_texels = valid_texels(d, dst_shape)
     return "area" if 2 * out_texels <= in_texels else "bilinear"
-
-
-#: Largest shape whose valid texels are counted one by one (a float64 array of solid angles).
-COUNTED_TEXELS = 1 << 22
-
-
-def valid_texels(lay: str | Layout, shape) -> int:
-    """How many texels of a ``shape`` image in layout ``lay`` hold a direction (a disk's
-    inside, a cross's six cells). Counted exactly up to :data:`COUNTED_TEXELS` texels; past
-    that, the layout's valid fraction measured on a small image of it, so that a size is
-    judged (``auto`` filter, default sizes, cost estimates) without allocating its picture."""
-    lay = layout(lay)
-    shape = tuple(int(n) for n in shape)
-    total = math.prod(shape)
-    if total <= COUNTED_TEXELS:
-        return int(np.count_nonzero(lay.solid_angles(shape)))
-    small = lay.shape(lay.default_size(1 << 16))
-    fraction = np.count_nonzero(lay.solid_angles(small)) / math.prod(small)
-    return int(round(fraction * total))
 
 
 def remap_shape(src: str | Layout, src_shape, dst: str | Layout, size=None) -> tuple[int, ...]:

@@ -24,6 +24,7 @@ shape and are cached (:func:`bakeshop.sphere.clear_caches` frees them).
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numba
@@ -453,3 +454,22 @@ def _cosine_kernel(kind, faces, h, w, up, out):  # pragma: no cover - compiled
                 out[row * w + i] = dx * up[0] + dy * up[1] + dz * up[2]
             else:
                 out[row * w + i] = np.nan
+
+
+#: Largest shape whose valid texels are counted one by one (a float64 array of solid angles).
+COUNTED_TEXELS = 1 << 22
+
+
+def valid_texels(lay: str | Layout, shape) -> int:
+    """How many texels of a ``shape`` image in layout ``lay`` hold a direction (a disk's
+    inside, a cross's six cells). Counted exactly up to :data:`COUNTED_TEXELS` texels; past
+    that, the layout's valid fraction measured on a small image of it, so that a size is
+    judged (``auto`` filter, default sizes, cost estimates) without allocating its picture."""
+    lay = layout(lay)
+    shape = tuple(int(n) for n in shape)
+    total = math.prod(shape)
+    if total <= COUNTED_TEXELS:
+        return int(np.count_nonzero(lay.solid_angles(shape)))
+    small = lay.shape(lay.default_size(1 << 16))
+    fraction = np.count_nonzero(lay.solid_angles(small)) / math.prod(small)
+    return int(round(fraction * total))
