@@ -31,7 +31,7 @@ from bakeshop.huge.engine import Engine
 from bakeshop.huge.memory import blocks, plan_blocks, refuse
 from bakeshop.huge.resize import as_reader, resize
 from bakeshop.io.stream import Reader
-from bakeshop.sphere import area, cube_to_view, layout, texel_strips
+from bakeshop.sphere import area, cube_to_view, layout, texel_strips, valid_texels
 from bakeshop.sphere.windows import gather_taps, localise_taps, remap_part_taps, taps_window
 
 #: layouts a chunked remap reads (one image file each, addressed by rows and columns).
@@ -40,15 +40,6 @@ FILTERS = ("auto", "nearest", "bilinear", "area")
 #: bytes per output texel of a tile's task besides its window: taps (16), fractions (8),
 #: local taps (16), the blended texel (4 per channel) and the block (4 per channel).
 _TEXEL_BYTES = 40
-
-
-def valid_texels(name: str, shape) -> int:
-    """Texels of a layout's image that see the sphere, without building any per-texel array:
-    exact for latlong, octahedral and cubes, pi/4 of the square for the disk layouts (within a
-    rim's worth)."""
-    lay = layout(name)
-    n = int(np.prod(lay.base.shape(lay.face_size(shape)) if lay.base is not lay else shape))
-    return round(n * math.pi / 4) if name in ("angular", "mirrorball", "dual-paraboloid") else n
 
 
 def output_shape(src: str, src_shape, dst: str, size=None) -> tuple[int, ...]:
@@ -378,7 +369,7 @@ def remap(
                 raise ArgumentError("the area filter reduces; this output is larger (bilinear)")
             return resize(reader, (dw, dh), engine=engine, weighting="latlong")
         ratio = valid_texels(s.name, src_shape) / valid_texels(d.name, dst_shape)
-        if ratio >= 1:
+        if ratio >= 1:  # k as the in-memory filter takes it (bakeshop.sphere.area.supersampling)
             k = max(1, round(math.sqrt(ratio)))
             out = supersample_tiles(reader, s.name, d.base.name, base_shape, k=k, rotation=rotation,
                                     engine=engine, what=what)  # fmt: skip

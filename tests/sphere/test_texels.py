@@ -151,7 +151,7 @@ def test_strips_and_gathered_texels_are_the_whole_geometry_bit_for_bit(name):
 
 def test_large_cube_faces_compute_their_solid_angles_by_rows_as_the_cached_table_does():
     from bakeshop.sphere import texels_at
-    from bakeshop.sphere.layouts import _cube_face_solid_angles
+    from bakeshop.sphere.layouts.cubemap import _cube_face_solid_angles
     from bakeshop.sphere.texels import cube_face_solid_angles, texel_strips
 
     s = 1100  # beyond the cached tables
