@@ -1,19 +1,6 @@
-"""Shared fixtures: the shared third-party data folder and a clean progress state."""
-
-from pathlib import Path
+"""Shared fixtures: a clean progress state."""
 
 import pytest
-
-#: ``shared/`` lies beside the project's checkout, here and in CI.
-SHARED_DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
-
-
-@pytest.fixture(scope="session")
-def shared_data() -> Path:
-    """``../shared/data``: real third-party probes, EXRs, normal maps and meshes (read-only)."""
-    if not SHARED_DATA.is_dir():
-        pytest.skip("../shared/data is not present")
-    return SHARED_DATA
 
 
 @pytest.fixture(autouse=True)

@@ -4,7 +4,7 @@ Pictures (docs/images/): irradiance_pair.png (a probe, its sun-removed probe, it
 its shadow DIM, and the sun before and after removal), irradiance_methods.png (the relative
 error of ``sh`` L = 2 and of ``auto`` against ``exact``), irradiance_suns.png (what sun
 detection says on every shared probe). Table (printed as Markdown): ``auto``
-and ``sh`` L = 2 against ``exact`` on every probe of ../shared/data/hdr at 360x180.
+and ``sh`` L = 2 against ``exact`` on every probe of tests/data at 360x180.
 
 Run: ``.venv/bin/python docs/images/irradiance_figures.py`` (a few minutes: ``exact`` runs at
 360x180 from each 1024x512 probe).
@@ -23,14 +23,16 @@ import matplotlib.pyplot as plt
 import numpy as np
 from PIL import Image
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # tests.files
+
 import bakeshop.light as ir
 from bakeshop.image import auto_exposure, exposure, to_srgb8
 from bakeshop.io import read_image
 from bakeshop.light.sun import find_sun
 from bakeshop.sphere import layout
+from tests.files import probe_path
 
 HERE = Path(__file__).resolve().parent
-PROBES = Path(__file__).resolve().parents[3] / "shared" / "data" / "hdr"
 NAMES = [
     "quarry_01",
     "rooitou_park",
@@ -120,7 +122,7 @@ def suns_figure():
         ax.axis("off")
         if name is None:
             continue
-        probe = read_image(PROBES / f"{name}_1k.hdr")
+        probe = read_image(probe_path(name))
         found = find_sun(probe, "latlong")
         ax.imshow(picture(probe, auto_exposure(probe)))
         if found is None:
@@ -141,7 +143,7 @@ def table():
     say("| probe | sun | auto RMS | auto max | sh L=2 RMS | sh L=2 max |")
     say("|---|---|---|---|---|---|")
     for name in NAMES:
-        probe = read_image(PROBES / f"{name}_1k.hdr")
+        probe = read_image(probe_path(name))
         exact = ir.irradiance(probe, "latlong", method="exact")
         auto = ir.irradiance(probe, "latlong")
         sh2 = ir.irradiance(probe, "latlong", method="sh", order=2)
@@ -153,7 +155,7 @@ def table():
 
 
 def main():
-    probe = read_image(PROBES / "quarry_01_1k.hdr")
+    probe = read_image(probe_path("quarry_01"))
     pair = pair_figure(probe)
     say(f"sun: {pair.sun.to_dict()}")
     methods_figure(probe)

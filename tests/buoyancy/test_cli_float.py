@@ -5,6 +5,7 @@ import json
 import pytest
 
 from bakeshop.cli.main import main
+from tests.files import DATA
 
 
 def test_float_json_box(capsys):
@@ -20,9 +21,9 @@ def test_float_json_box(capsys):
     assert out["points"] > 0 and out["settle_time_s"] is not None
 
 
-def test_float_mesh_with_plot_mujoco_and_waves(shared_data, tmp_path, capsys):
+def test_float_mesh_with_plot_mujoco_and_waves(tmp_path, capsys):
     plot = tmp_path / "trace.png"
-    code = main(["float", str(shared_data / "meshes" / "spot.obj"), "--size", "1",
+    code = main(["float", str(DATA / "spot.obj"), "--size", "1",
                  "--density", "600", "--resolution", "6", "--seconds", "2", "--waves", "0.1:6:30",
                  "--backend", "mujoco", "--plot", str(plot)])  # fmt: skip
     assert code == 0

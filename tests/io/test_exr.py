@@ -1,4 +1,4 @@
-"""OpenEXR: the shared sample files against OpenImageIO, exact round trips for half and float with
+"""OpenEXR: OpenEXR's sample files against OpenImageIO, exact round trips for half and float with
 every lossless compression, the half overflow rule, channel sets and layers, files written by
 OpenImageIO, and corrupt files (fuzzing included).
 
@@ -19,6 +19,7 @@ from hypothesis import strategies as st
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io import exr, read_image, write_image
+from tests.files import DATA
 from tests.io import fuzzing
 from tests.tolerances import EXR_LOSSY_RTOL
 
@@ -51,12 +52,12 @@ def write_raw(path, channels, header=None):
     return path
 
 
-# --- the shared sample files ---------------------------------------------------------------------
+# --- OpenEXR's sample files -----------------------------------------------------------------------
 
 
 @pytest.mark.parametrize("name", ["KernerEnvLatLong.exr", "OrientationLatLong.exr"])
-def test_shared_files_match_openimageio(shared_data, name):
-    path = shared_data / "exr" / name
+def test_openexr_samples_match_openimageio(name):
+    path = DATA / name
     image, meta = read_image(path, with_metadata=True)
     reference, spec = oiio_read(path)
     assert list(spec.channelnames) == ["R", "G", "B", "A"]
@@ -67,8 +68,8 @@ def test_shared_files_match_openimageio(shared_data, name):
     assert meta["data_window"] == meta["display_window"] == ((0, 0), (1023, 511))
 
 
-def test_tiled_mipmapped_file_reads_its_top_level(shared_data):
-    _, meta = read_image(shared_data / "exr" / "KernerEnvLatLong.exr", with_metadata=True)
+def test_tiled_mipmapped_file_reads_its_top_level():
+    _, meta = read_image(DATA / "KernerEnvLatLong.exr", with_metadata=True)
     assert meta["storage"] == "tiled" and meta["levels"] == "mipmap"
 
 

@@ -16,6 +16,7 @@ from bakeshop.light.specular import (
 )
 from bakeshop.sphere import cube_to_view, layout, remap, sample
 from bakeshop.sphere.kernels import cube_face
+from tests.files import probe_path
 from tests.tolerances import (
     EXACT,
     FIS_MAX,
@@ -60,8 +61,8 @@ def relative_errors(got, ref):
 
 
 @pytest.fixture(scope="module")
-def sunny_cube(shared_data):
-    probe = read_image(shared_data / "hdr" / "quarry_01_1k.hdr")
+def sunny_cube():
+    probe = read_image(probe_path("quarry_01"))
     return remap(probe, "latlong", "cube", 48, filter="area")
 
 
