@@ -7,10 +7,12 @@ rescales them (a number sets the longest side, three numbers set the bounding bo
 
 from __future__ import annotations
 
+import importlib.util
+
 import numpy as np
 import trimesh
 
-from bakeshop.errors import ArgumentError, FormatError, validate_choice
+from bakeshop.errors import ArgumentError, FormatError, UnsupportedError, validate_choice
 
 #: Names of the built-in shapes, in the order the test bench lists them.
 SHAPES = ("box", "sphere", "capsule", "cylinder", "torus", "peep", "hull")
@@ -107,6 +109,10 @@ def closed_mesh(mesh, *, repair: bool = False, path=None):
     body.merge_vertices(merge_tex=True, merge_norm=True)
     body.remove_unreferenced_vertices()
     if not body.is_watertight and repair:
+        if importlib.util.find_spec("networkx") is None:
+            raise UnsupportedError(
+                "repairing a mesh needs networkx: pip install 'bakeshop[buoyancy]'", path
+            )
         trimesh.repair.fill_holes(body)
         body.merge_vertices(merge_tex=True, merge_norm=True)
     if not body.is_watertight:

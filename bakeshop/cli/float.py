@@ -11,6 +11,32 @@ from bakeshop import progress
 from bakeshop.cli._common import INPUT, OUTPUT
 from bakeshop.errors import ArgumentError
 
+#: What each number of the summary means, and what its "-" (JSON null) means.
+SUMMARY = {
+    "volume_m3": ("volume of the body", ""),
+    "mass_kg": ("its mass (volume x --density)", ""),
+    "points": ("sample points that carry its buoyancy", ""),
+    "archimedes_draft_m": (
+        "depth of its lowest point at rest in calm water, exact",
+        "none: it sinks (denser than water)",
+    ),
+    "draft_m": ("measured depth of its lowest point, last quarter of the run", ""),
+    "times_left_water": ("times it came fully out of the water after first entering it", ""),
+    "max_jump_m": ("highest its lowest point rose above the water after that", ""),
+    "settle_time_s": (
+        "when it last strayed over 1 % of its size from where it ended",
+        "never: it still strays over 1 % of its size in the last quarter",
+    ),
+    "heave_omega_rad_s": (
+        "angular frequency of small bobbing, sqrt(rho g A_waterplane / m)",
+        "none: it sinks",
+    ),
+    "omega_dt": (
+        "frequency x time a force is held; the integrator diverges above 2",
+        "none: it sinks",
+    ),
+}
+
 
 def _size(text: str | None):
     if text is None:
@@ -28,7 +54,13 @@ def _size(text: str | None):
 @click.argument("mesh", required=False, type=INPUT)
 @click.option("--shape", help="Built-in shape: box, sphere, capsule, cylinder, torus, peep, hull.")
 @click.option("--size", help="Longest side S, or extents XxYxZ, in metres (default: about 1 m).")
-@click.option("--density", type=float, default=500.0, show_default=True, help="Body, kg/m^3.")
+@click.option(
+    "--density",
+    type=float,
+    default=500.0,
+    show_default=True,
+    help="Density of the body, kg/m^3 (water: 1000).",
+)
 @click.option(
     "--resolution",
     type=int,
@@ -50,9 +82,19 @@ def _size(text: str | None):
     type=click.Choice(["none", "predict", "clamp", "predict+clamp"]),
     default="predict",
     show_default=True,
+    help="What stops the trampolining: 'predict' scales the buoyancy of a sample point by "
+    "--predict-m when the point, moved on by its velocity for --predict-c times the time a force "
+    "is held, would be out of the water; 'clamp' limits the speed to --clamp-speed while the body "
+    "is partly in the water.",
 )
 @click.option(
-    "--damping", type=click.Choice(["team", "drag", "none"]), default="team", show_default=True
+    "--damping",
+    type=click.Choice(["team", "drag", "none"]),
+    default="team",
+    show_default=True,
+    help="Fluid friction: 'team' damps velocity and spin by --linear-damping and "
+    "--angular-damping, scaled by how much of the body is wet; 'drag' is quadratic drag of the "
+    "wet part (--drag-coefficient).",
 )
 @click.option(
     "--linear-damping",
@@ -68,10 +110,35 @@ def _size(text: str | None):
     show_default=True,
     help="Team damping of spin, 1/s.",
 )
-@click.option("--drag-coefficient", type=float, default=1.0, show_default=True)
-@click.option("--predict-c", type=float, default=2.5, show_default=True)
-@click.option("--predict-m", type=float, default=0.1, show_default=True)
-@click.option("--clamp-speed", type=float, default=1.0, show_default=True, help="m/s.")
+@click.option(
+    "--drag-coefficient",
+    type=float,
+    default=1.0,
+    show_default=True,
+    help="C_d of --damping drag, >= 0 (about 1 for a blunt body).",
+)
+@click.option(
+    "--predict-c",
+    type=float,
+    default=2.5,
+    show_default=True,
+    help="How far --stabilize predict looks ahead, in times a force is held; > 1.",
+)
+@click.option(
+    "--predict-m",
+    type=float,
+    default=0.1,
+    show_default=True,
+    help="The factor --stabilize predict puts on the buoyancy of a point about to leave the "
+    "water; between 0 and 1.",
+)
+@click.option(
+    "--clamp-speed",
+    type=float,
+    default=1.0,
+    show_default=True,
+    help="Speed limit of --stabilize clamp, m/s, >= 0.",
+)
 @click.option(
     "--waves",
     "waves",
@@ -93,7 +160,12 @@ def _size(text: str | None):
     "--tilt", type=float, default=0.0, show_default=True, help="Release tilt about X, degrees."
 )
 @click.option(
-    "--backend", type=click.Choice(["builtin", "mujoco"]), default="builtin", show_default=True
+    "--backend",
+    type=click.Choice(["builtin", "mujoco"]),
+    default="builtin",
+    show_default=True,
+    help="Rigid-body integrator: bakeshop's own (no collisions), or MuJoCo, which collides the "
+    "body's convex hull with a floor and a shore (pip install 'bakeshop[buoyancy]').",
 )
 @click.option(
     "--floor", type=float, default=-10.0, show_default=True, help="MuJoCo floor height, m."
@@ -225,8 +297,9 @@ def float_command(
         click.echo(json.dumps(summary))
         return 0
     for key, value in summary.items():
-        text = "-" if value is None else f"{value:.6g}" if isinstance(value, float) else value
-        click.echo(f"{key:20s} {text}")
+        text = f"{value:.6g}" if isinstance(value, float) else str(value)
+        meaning = SUMMARY.get(key, ("", ""))[0 if value is not None else 1]
+        click.echo(f"{key:20s} {text if value is not None else '-':12s} {meaning}".rstrip())
     return 0
 
 
