@@ -39,7 +39,8 @@ def plot_grid(matrix, *, forces: str = "per-frame") -> np.ndarray:
     keys = [k for k in matrix.clearances if k[0] == forces]
     treatments = list(dict.fromkeys(k[1] for k in keys))
     rates = sorted({k[2] for k in keys})
-    fig = new_figure(2.6 * len(rates), 1.7 * len(treatments), dpi=80)
+    height = 1.7 * len(treatments) + 0.3  # inches, with a row of legend below the grid
+    fig = new_figure(2.6 * len(rates), height, dpi=80)
     axes = fig.subplots(len(treatments), len(rates), sharex=True, sharey=True, squeeze=False)
     for i, treatment in enumerate(treatments):
         for j, fps in enumerate(rates):
@@ -54,11 +55,17 @@ def plot_grid(matrix, *, forces: str = "per-frame") -> np.ndarray:
             if j == 0:
                 ax.set_ylabel(treatment, fontsize=8)
             ax.tick_params(labelsize=7)
-    axes[0, -1].legend(fontsize=6, loc="upper right")
+    fig.legend(
+        *axes[0, 0].get_legend_handles_labels(),
+        fontsize=7,
+        loc="lower center",
+        ncol=len(matrix.shapes) + 1,
+        frameon=False,
+    )
     fig.suptitle(
         f"lowest point above water (m) vs time (s), forces {forces}\n"
         "rows: damping + stabiliser; columns: frame rate",
         fontsize=9,
     )
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.3 / height, 1, 1))
     return to_rgb(fig)
