@@ -1,5 +1,6 @@
 """Shared fixtures and hooks: a clean progress state, and a quick exit for xdist workers."""
 
+import atexit
 import gc
 
 import pytest
@@ -27,6 +28,9 @@ def pytest_sessionfinish(session):
     Collecting here, before the worker reports, and freezing what survives (``gc.freeze``: later
     collections skip those objects) brings those collections to milliseconds. Finalizers still
     run while pytest's unraisable-exception hook is installed, so nothing they raise is lost.
+    The frozen objects are released again when the interpreter exits (bindings such as
+    OpenImageIO's report objects still alive then as leaks).
     """
     gc.collect()
     gc.freeze()
+    atexit.register(gc.unfreeze)
