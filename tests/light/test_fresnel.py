@@ -32,6 +32,7 @@ from tests.tolerances import (
     FLAT_WATER_NEAREST_MAX_STEPS,
     FLAT_WATER_OVER_ONE,
     FRESNEL_AMPLITUDE_ATOL,
+    FRESNEL_ROUNDING,
     GL_RUNTIME_RTOL,
     GL_SRGB_FILTER_ATOL,
 )
@@ -418,5 +419,6 @@ def test_flat_water_claim_through_opengl(name):
 def test_reflectance_is_bounded_and_falls_with_cos_property(c1, c2, n):
     lo, hi = sorted((c1, c2))
     r_lo, r_hi = fresnel_dielectric(lo, n), fresnel_dielectric(hi, n)
-    assert 0 <= r_hi <= r_lo <= 1
+    # cosines 1 ulp apart (1.0 and 1 - 1e-16) can round to reflectances 1 ulp the other way
+    assert 0 <= r_hi <= r_lo * (1 + FRESNEL_ROUNDING) and r_lo <= 1
     assert r_hi >= ((n - 1) / (n + 1)) ** 2 - 1e-15
