@@ -21,6 +21,7 @@ def test_float_json_box(capsys):
     assert out["points"] > 0 and out["settle_time_s"] is not None
 
 
+@pytest.mark.slow
 def test_float_mesh_with_plot_mujoco_and_waves(tmp_path, capsys):
     plot = tmp_path / "trace.png"
     code = main(["float", str(DATA / "spot.obj"), "--size", "1",
@@ -32,6 +33,7 @@ def test_float_mesh_with_plot_mujoco_and_waves(tmp_path, capsys):
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+@pytest.mark.slow
 def test_float_matrix_writes_table_csv_and_grid(tmp_path, monkeypatch, capsys):
     from bakeshop.buoyancy import matrix
 

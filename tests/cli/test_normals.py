@@ -103,6 +103,7 @@ def test_combine_layers_with_material_ids(tmp_path):
     assert np.abs(got[:, 24:] - right[:, 24:]).max() < STEP
 
 
+@pytest.mark.slow
 def test_flat_detail_leaves_the_macro_map(tmp_path):
     macro = DATA / "NormalTangentTest_Normal.png"
     flat = write_png(tmp_path / "flat.png", np.broadcast_to([0.0, 0, 1], (4, 4, 3)))

@@ -103,6 +103,7 @@ def test_uniform_environment_stays_uniform(brdf):
         np.testing.assert_allclose(level[..., 1], 0.25, rtol=UNIFORM_RTOL)
 
 
+@pytest.mark.slow
 def test_ggx_matches_brute_force_on_a_sunny_probe(sunny_cube):
     chain = prefilter_ggx(sunny_cube, "cube", size=48, mips=4)
     for m, r in enumerate(mip_roughness(4)[1:], 1):
@@ -110,6 +111,7 @@ def test_ggx_matches_brute_force_on_a_sunny_probe(sunny_cube):
         assert rms < PREFILTER_RMS and worst < PREFILTER_MAX, (m, rms, worst)
 
 
+@pytest.mark.slow
 def test_phong_matches_brute_force_on_a_sunny_probe(sunny_cube):
     chain = prefilter_phong(sunny_cube, "cube", size=48, mips=4)
     for m, e in enumerate(phong_exponents(4)[1:], 1):
@@ -117,6 +119,7 @@ def test_phong_matches_brute_force_on_a_sunny_probe(sunny_cube):
         assert rms < PREFILTER_RMS and worst < PREFILTER_MAX, (m, rms, worst)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("brdf, m", [("ggx", 1), ("ggx", 2), ("phong", 1), ("phong", 2)])
 def test_importance_sampling_alone_matches_brute_force(sunny_cube, monkeypatch, brdf, m):
     # No exact convolution of the rest: the path the narrow lobes of big cubes take.

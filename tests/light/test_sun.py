@@ -166,6 +166,7 @@ def test_sun_json(tmp_path):
     assert json.loads(path.read_text()) == {"sun": None}
 
 
+@pytest.mark.slow
 @settings(max_examples=12, deadline=None)
 @given(
     z=st.floats(-0.99, 0.99),
