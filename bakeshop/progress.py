@@ -1,22 +1,44 @@
 """Progress reporting that library code may call and only the command line switches on.
 
-Library functions wrap long loops in :func:`track` and long single steps in :func:`step`; both
-are silent (and free) unless :func:`enable` was called, which the ``bakeshop`` command does.
+Library functions wrap long loops in :func:`track`, long single steps in :func:`step`, and work
+counted as it completes elsewhere (dask tasks) in :func:`task`; all are silent (and free)
+unless :func:`enable` was called, which the ``bakeshop`` command does.
+
+On a terminal they draw rich progress bars. When the console is not a terminal (stderr sent to a
+log file, a CI job, a render farm's job log), bars would print nothing useful, so each long
+job prints a line every :data:`LOG_INTERVAL` seconds instead, and one when it ends::
+
+    bakeshop: resize 16384x8192 -> 2048x1024: 37% (24/64), 12.4 s elapsed, about 21 s left
+    bakeshop: resize 16384x8192 -> 2048x1024: done in 33.0 s
 """
 
 from __future__ import annotations
 
 import contextlib
+import os
+import threading
+import time
 from collections.abc import Iterable, Iterator
 from typing import TypeVar
 
 T = TypeVar("T")
 
+#: seconds between two log lines when the console is not a terminal (BAKESHOP_LOG_INTERVAL
+#: overrides it).
+LOG_INTERVAL = 5.0
+
 _console = None
+#: the rich Progress on screen (shared by nested tasks) and how many tasks use it.
+_live = None
+_live_users = 0
+_live_lock = threading.Lock()
+#: per thread: progress silenced (code running inside a dask task).
+_local = threading.local()
 
 
 def enable(console=None) -> None:
-    """Show progress bars on ``console`` (a :class:`rich.console.Console`, stderr by default)."""
+    """Show progress on ``console`` (a :class:`rich.console.Console`, stderr by default): bars on
+    a terminal, periodic log lines elsewhere."""
     global _console
     if console is None:
         from rich.console import Console
@@ -29,6 +51,160 @@ def disable() -> None:
     """Silence progress reporting again."""
     global _console
     _console = None
+
+
+def enabled() -> bool:
+    """True when progress is shown in this thread (the command line, not a library call, and
+    not inside a task of a chunked job)."""
+    return _console is not None and not getattr(_local, "quiet", False)
+
+
+@contextlib.contextmanager
+def silenced():
+    """No progress from this thread while the block runs (the chunked engine wraps each task
+    in it: the job reports progress per task, not the library code inside)."""
+    before = getattr(_local, "quiet", False)
+    _local.quiet = True
+    try:
+        yield
+    finally:
+        _local.quiet = before
+
+
+def _interval() -> float:
+    try:
+        value = float(os.environ.get("BAKESHOP_LOG_INTERVAL", LOG_INTERVAL))
+    except ValueError:
+        value = LOG_INTERVAL
+    return value if value > 0 else LOG_INTERVAL
+
+
+def _logging() -> bool:
+    return enabled() and not _console.is_terminal
+
+
+def _seconds(t: float) -> str:
+    if t < 90:
+        return f"{t:.1f} s"
+    if t < 5400:
+        return f"{t / 60:.1f} min"
+    return f"{t / 3600:.1f} h"
+
+
+class Task:
+    """Work of ``total`` units (None: unknown) reported as it completes: :meth:`advance` from any
+    thread. Made by :func:`task`."""
+
+    def __init__(self, description: str, total: int | None):
+        self.description = description
+        self.total = total
+        self.completed = 0
+        self.started = time.perf_counter()
+        self._lock = threading.Lock()
+        self._bar = None
+        self._id = None
+        self._last_log = self.started
+
+    def advance(self, amount: int = 1) -> None:
+        """Count ``amount`` more units done."""
+        with self._lock:
+            self.completed += amount
+            if self._bar is not None:
+                self._bar.update(self._id, completed=self.completed)
+            elif _logging():
+                now = time.perf_counter()
+                if now - self._last_log >= _interval():
+                    self._last_log = now
+                    self._log(now)
+
+    def set_total(self, total: int | None) -> None:
+        """Change the number of units (dask knows it once its graph is built)."""
+        with self._lock:
+            self.total = total
+            if self._bar is not None:
+                self._bar.update(self._id, total=total)
+
+    def line(self, now: float | None = None) -> str:
+        """The log line of the task's state."""
+        now = time.perf_counter() if now is None else now
+        elapsed = now - self.started
+        text = f"bakeshop: {self.description}: "
+        if self.total:
+            fraction = min(1.0, self.completed / self.total)
+            text += f"{100 * fraction:.0f}% ({self.completed}/{self.total}), "
+            text += f"{_seconds(elapsed)} elapsed"
+            if 0 < fraction < 1:
+                text += f", about {_seconds(elapsed * (1 - fraction) / fraction)} left"
+        else:
+            text += f"{_seconds(elapsed)} elapsed"
+        return text
+
+    def _log(self, now: float) -> None:
+        _console.print(self.line(now), markup=False, highlight=False, soft_wrap=True)
+
+
+@contextlib.contextmanager
+def task(description: str, total: int | None = None) -> Iterator[Task]:
+    """A :class:`Task` shown while the block runs: a bar on a terminal, periodic lines in a log
+    (also while nothing advances: a heartbeat every interval), and a closing line in a log."""
+    t = Task(description, total)
+    if not enabled():
+        yield t
+        return
+    if not _logging():
+        with _bar() as bar:
+            t._bar, t._id = bar, bar.add_task(description, total=total)
+            try:
+                yield t
+            finally:
+                bar.remove_task(t._id)
+        return
+    stop = threading.Event()
+
+    def heartbeat():
+        while not stop.wait(_interval()):
+            with t._lock:
+                now = time.perf_counter()
+                if now - t._last_log >= 0.99 * _interval():
+                    t._last_log = now
+                    t._log(now)
+
+    thread = threading.Thread(target=heartbeat, name="bakeshop-progress", daemon=True)
+    thread.start()
+    try:
+        yield t
+    finally:
+        stop.set()
+        thread.join()
+    elapsed = time.perf_counter() - t.started
+    if _console is None or (elapsed < 1.0 and t._last_log == t.started):
+        return  # a short step in a log: no line
+    _console.print(
+        f"bakeshop: {description}: done in {_seconds(elapsed)}",
+        markup=False,
+        highlight=False,
+        soft_wrap=True,
+    )
+
+
+@contextlib.contextmanager
+def _bar():
+    """The Progress on screen, started by the outermost task and shared by nested ones."""
+    global _live, _live_users
+    with _live_lock:
+        if _live is None:
+            _live = _progress()
+            _live.start()
+        _live_users += 1
+        bar = _live
+    try:
+        yield bar
+    finally:
+        with _live_lock:
+            _live_users -= 1
+            if _live_users == 0:
+                _live.stop()
+                _live = None
 
 
 def _progress():
@@ -55,24 +231,28 @@ def _progress():
 
 
 def track(items: Iterable[T], description: str, total: int | None = None) -> Iterator[T]:
-    """Iterate over ``items``, showing a progress bar when progress is enabled."""
-    if _console is None:
+    """Iterate over ``items``, showing progress when progress is enabled."""
+    if not enabled():
         yield from items
         return
     if total is None and hasattr(items, "__len__"):
         total = len(items)
-    with _progress() as bar:
-        task = bar.add_task(description, total=total)
+    with task(description, total) as t:
         for item in items:
             yield item
-            bar.advance(task)
+            t.advance()
 
 
 @contextlib.contextmanager
 def step(description: str):
-    """Show a spinner with elapsed time around one long step when progress is enabled."""
-    if _console is None:
+    """Show a spinner with elapsed time around one long step when progress is enabled (in a
+    log: a line every interval while it runs, and one when it ends)."""
+    if not enabled():
         yield
+        return
+    if _logging() or _live is not None:  # inside a bar: a line of it, not a second display
+        with task(description):
+            yield
         return
     with _console.status(description, spinner="dots"):
         yield

@@ -94,10 +94,12 @@ class ForceModel:
 
     @property
     def predicts(self) -> bool:
+        """True when the predictive stabiliser is on."""
         return self.stabilize in ("predict", "predict+clamp")
 
     @property
     def clamps(self) -> bool:
+        """True when the speed clamp is on."""
         return self.stabilize in ("clamp", "predict+clamp")
 
 

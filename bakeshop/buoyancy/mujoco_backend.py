@@ -13,15 +13,28 @@ therefore reads the state from ``qpos``/``qvel`` and steps with ``mj_step1`` (po
 velocities), sets the forces, then ``mj_step2`` (accelerations and the Euler update). MuJoCo's
 Euler integrator is semi-implicit, like the built-in one; with RK4 (not used) applied forces
 would have to come from ``mjcb_passive`` instead, which is called at each stage.
+
+MuJoCo's warnings (an unstable simulation ...) become Python ``RuntimeWarning`` s: its own
+handler prints them on stdout, mixed into a command's output, and appends them to a
+``MUJOCO_LOG.TXT`` in the working directory. The handler is MuJoCo's, process-wide: it is set
+when a backend is made. A model MuJoCo refuses (a body too small or too light for its inertia)
+is an :class:`~bakeshop.errors.ArgumentError` carrying MuJoCo's reason.
 """
 
 from __future__ import annotations
+
+import warnings
 
 import mujoco
 import numpy as np
 
 from bakeshop.buoyancy.state import State
 from bakeshop.buoyancy.state import quaternion_to_matrix as _rotations
+from bakeshop.errors import ArgumentError
+
+
+def _warn(message: str) -> None:
+    warnings.warn(f"MuJoCo: {message}", RuntimeWarning, stacklevel=2)
 
 
 class MujocoBackend:
@@ -70,7 +83,13 @@ class MujocoBackend:
             shore_slope=shore_slope,
             friction=friction,
         )
-        self.model = mujoco.MjModel.from_xml_string(self.xml)
+        mujoco.set_mju_user_warning(_warn)
+        try:
+            self.model = mujoco.MjModel.from_xml_string(self.xml)
+        except ValueError as e:
+            lines = [line.strip() for line in str(e).splitlines() if line.strip()]
+            reason = "; ".join(lines).removeprefix("Error: ")
+            raise ArgumentError(f"MuJoCo cannot simulate the body: {reason}") from None
         self.data = mujoco.MjData(self.model)
         self._bodies = np.array(
             [

@@ -23,6 +23,7 @@ class State:
     angular_velocity: np.ndarray
 
     def copy(self) -> State:
+        """A deep copy (the arrays copied)."""
         return State(
             self.position.copy(),
             self.quaternion.copy(),

@@ -5,11 +5,14 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import NamedTuple
 
 import click
 import numpy as np
 
+from bakeshop.cli._process import InputPath
 from bakeshop.errors import ArgumentError
+from bakeshop.io import stored_bits
 
 
 def refuse_overwriting_inputs(output: str | os.PathLike, *inputs: str | os.PathLike) -> None:
@@ -32,10 +35,15 @@ def parse_size(text: str) -> tuple[int, int] | int:
     return parts[0] if len(parts) == 1 else (parts[0], parts[1])
 
 
-#: click type for input files: must exist, readable, not a directory.
-INPUT = click.Path(exists=True, dir_okay=False, readable=True, path_type=Path)
+#: click type for input files: a readable regular file (checked when parsed: a directory, named
+#: pipe, device or symbolic link loop fails at once), remembered as one of the run's inputs.
+INPUT = InputPath()
 #: click type for an input environment: one file, or six named with {face} (checked on reading).
-ENVIRONMENT = click.Path(dir_okay=False, path_type=Path)
+ENVIRONMENT = InputPath(patterns=True)
+#: click type for input frames: files or glob patterns (each match checked on reading).
+FRAMES = InputPath(patterns=True)
+#: click type for an input image that may also be a .zarr store (a directory).
+SOURCE = InputPath(stores=True)
 #: click type for output files.
 OUTPUT = click.Path(dir_okay=False, writable=True, path_type=Path)
 #: click type for an output directory (the commands create it when missing).
@@ -109,24 +117,318 @@ def is_ldr(path) -> bool:
     return codec_for(path) not in HDR_CODECS
 
 
-def require_hdr(path) -> None:
-    """Raise :class:`ArgumentError` unless ``path`` is a linear HDR format (.hdr, .exr, .pfm)."""
-    if is_ldr(path):
+# -- pictures: the display rule, bit depth and display-encoded inputs -----------------------------
+
+
+def warn(message: str, path=None) -> None:
+    """One warning line on stderr: ``bakeshop: warning: FILE: message``."""
+    where = f"{path}: " if path is not None else ""
+    click.echo(f"bakeshop: warning: {where}{message}", err=True)
+
+
+def _picture_cap(path) -> int:
+    """The deepest samples a picture format stores: 16 for PNG, 8 for TGA and JPEG."""
+    return 16 if Path(str(path)).suffix.lower() == ".png" else 8
+
+
+def output_bits(
+    path, *, requested: int | None = None, inputs=(), display: bool = False
+) -> tuple[int, str | None]:
+    """The sample depth of a picture file, and a one-line note when it is less than the inputs'.
+
+    The depth follows the inputs: the deepest integer-stored input's (8 or 16); float inputs
+    count as 16 for data (normals, linear values, values kept as stored) but not for a display
+    picture (sRGB from HDR), which is 8-bit unless asked. ``requested`` (``--bits``, ``-O
+    bits=``) wins. The format caps it (PNG 16, TGA and JPEG 8).
+
+    Parameters
+    ----------
+    path : the output file
+    requested : 8, 16 or None
+    inputs : iterable of int or None
+        :func:`bakeshop.io.stored_bits` of each input (None: float).
+    display : bool
+        The output is a display picture made from linear (HDR) values.
+
+    Returns
+    -------
+    (bits, note)
+        ``note`` is None unless precision is reduced below the inputs'.
+    """
+    inputs = list(inputs)
+    integers = [b for b in inputs if b is not None]
+    deepest = max(integers + ([] if display else [16] * (None in inputs)), default=8)
+    cap = _picture_cap(path)
+    if requested is not None:
+        if requested not in (8, 16):
+            raise ArgumentError(f"a picture has 8 or 16 bits per sample, not {requested!r}")
+        if requested > cap:
+            raise ArgumentError(f"{Path(str(path)).suffix} stores 8 bits: write .png for 16", path)
+        bits = requested
+    else:
+        bits = min(deepest, cap)
+    note = None
+    if bits < deepest:
+        why = "as asked" if requested is not None else f"{Path(str(path)).suffix} stores 8 bits"
+        source = "float" if None in inputs and not integers else f"{deepest}-bit"
+        note = f"written with 8 bits per sample ({why}); the input is {source}"
+        if requested is None:
+            note += ": write .png to keep 16"
+    return bits, note
+
+
+class PictureRule(NamedTuple):
+    """The picture options of a command (:func:`picture_options`), parsed."""
+
+    #: stops, or "auto" / "fit".
+    ev: float | str
+    #: "none", "reinhard" or "aces".
+    operator: str
+    #: True: skip the sRGB encoding.
+    linear: bool
+    #: triangular dither at 8 bits.
+    dither: bool
+    #: 8, 16, or None (follow the inputs).
+    bits: int | None
+
+
+def parse_exposure_mode(text: str) -> float | str:
+    """A number of stops (finite, within +-64), ``'auto'`` or ``'fit'``."""
+    from bakeshop.image import EXPOSURE_MODES, check_ev
+
+    t = text.strip().lower()
+    if t in EXPOSURE_MODES:
+        return t
+    try:
+        return check_ev(t)
+    except ArgumentError:
         raise ArgumentError(
-            "this command takes linear HDR input (.hdr, .exr, .pfm); 8-bit pictures hold "
-            "display-encoded values (decode with 'bakeshop convert --srgb-decode' first)",
+            f"invalid exposure {text!r}: a number of stops in [-64, 64], 'auto' or 'fit'"
+        ) from None
+
+
+def picture_options(*, exposure: str = "0", operator: str = "none"):
+    """The display rule's options, shared by every command that can write a picture from HDR
+    data: ``--exposure``, ``--tonemap``, ``--linear``, ``--dither``, ``--bits``. The command
+    receives them as one ``picture`` argument (a :class:`PictureRule`)."""
+    import functools
+
+    options = [
+        click.option(
+            "--exposure",
+            "picture_exposure",
+            default=exposure,
+            show_default=True,
+            metavar="EV|auto|fit",
+            help="Picture outputs (.png .tga .jpg) from HDR data: exposure in stops "
+            "(-64..64), auto (log-average luminance of the valid texels to middle grey) or "
+            "fit (only the brightest 0.1% clip).",
+        ),
+        click.option(
+            "--tonemap",
+            "picture_operator",
+            type=click.Choice(("none", "reinhard", "aces")),
+            default=operator,
+            show_default=True,
+            help="Picture outputs: tone curve after exposure (none clamps at 1).",
+        ),
+        click.option(
+            "--linear",
+            "picture_linear",
+            is_flag=True,
+            help="Picture outputs: store linear values (no sRGB encoding); 16-bit by default.",
+        ),
+        click.option(
+            "--dither",
+            "picture_dither",
+            is_flag=True,
+            help="Picture outputs at 8 bits: triangular dither of +-1 code value (seeded).",
+        ),
+        click.option(
+            "--bits",
+            "picture_bits",
+            type=click.Choice(("8", "16")),
+            help="Picture outputs: bits per sample. Default: the inputs' (16-bit stays "
+            "16-bit); 8 for sRGB pictures of HDR data, 16 for linear ones; TGA and JPEG hold 8.",
+        ),
+    ]
+
+    def decorate(command):
+        @functools.wraps(command)
+        def wrapper(*args, **kwargs):
+            rule = PictureRule(
+                parse_exposure_mode(kwargs.pop("picture_exposure")),
+                kwargs.pop("picture_operator"),
+                kwargs.pop("picture_linear"),
+                kwargs.pop("picture_dither"),
+                None if kwargs.get("picture_bits") is None else int(kwargs["picture_bits"]),
+            )
+            kwargs.pop("picture_bits")
+            return command(*args, picture=rule, **kwargs)
+
+        for option in reversed(options):
+            wrapper = option(wrapper)
+        return wrapper
+
+    return decorate
+
+
+class MadePicture(NamedTuple):
+    """What :func:`make_picture` returns."""
+
+    #: uint8 or uint16 code values.
+    pixels: np.ndarray
+    #: what was done, in one line (for the command's summary).
+    line: str
+    #: the line the file records (``description``).
+    description: str
+    #: the precision note, or None when nothing is lost.
+    note: str | None
+    #: the exposure applied, stops.
+    ev: float
+
+
+def make_picture(
+    image, rule: PictureRule, target, *, weights=None, inputs=(), linear_input: bool = True
+) -> MadePicture:
+    """Apply the one display rule to ``image`` for the picture file ``target``.
+
+    ``linear_input``: the values are linear (HDR, or decoded with --srgb-decode); they get
+    exposure, tone curve, clamping and sRGB encoding (unless ``rule.linear``). Otherwise they
+    are display-encoded values kept as stored (only clamped and quantised), and an exposure or
+    tone curve asked for is refused. ``weights`` meter auto and fit exposure (an environment's
+    solid angles, 0 where a texel does not count). ``inputs`` are the inputs'
+    :func:`bakeshop.io.stored_bits`.
+
+    Returns
+    -------
+    MadePicture
+    """
+    from bakeshop.image import to_picture
+
+    if linear_input:
+        encoding = "linear" if rule.linear else "srgb"
+        bits, note = output_bits(
+            target, requested=rule.bits, inputs=inputs, display=encoding == "srgb"
+        )
+        picture = to_picture(
+            image,
+            ev=rule.ev,
+            operator=rule.operator,
+            encoding=encoding,
+            bits=bits,
+            dither="triangular" if rule.dither else "none",
+            weights=weights,
+        )
+        return MadePicture(picture.pixels, picture.describe(), picture.metadata(), note, picture.ev)
+    if rule.ev != 0 or rule.operator != "none" or rule.linear:
+        raise ArgumentError(
+            "the input holds display-encoded values: --exposure, --tonemap and --linear apply "
+            "to linear data (add --srgb-decode to linearise it first)"
+        )
+    bits, note = output_bits(target, requested=rule.bits, inputs=inputs)
+    picture = to_picture(
+        image, ev=0.0, encoding="linear", bits=bits, dither="triangular" if rule.dither else "none"
+    )
+    line = f"values kept as stored (display-encoded), {bits}-bit"
+    return MadePicture(picture.pixels, line, f"bakeshop: {line}", note, 0.0)
+
+
+def srgb_decode_option(command):
+    """The ``--srgb-decode`` flag of commands that read radiance: linearise 8/16-bit input."""
+    return click.option(
+        "--srgb-decode",
+        is_flag=True,
+        help="An 8/16-bit input (.png .tga .jpg) holds sRGB-encoded values: decode them to "
+        "linear light first (without it they are used as stored, with a warning).",
+    )(command)
+
+
+def linearise(image, path, metadata: dict, decode: bool) -> tuple[np.ndarray, bool]:
+    """``(image, linear)``: an integer-stored input is sRGB-decoded when ``decode``, else kept
+    as stored with one warning (its values are display-encoded, not radiance); ``decode`` on a
+    float input is refused. Alpha is never decoded."""
+    from bakeshop.image import srgb_decode
+
+    integer = stored_bits(metadata) is not None
+    if decode and not integer:
+        raise ArgumentError("--srgb-decode applies to 8/16-bit inputs only", path)
+    if not integer:
+        return image, True
+    if not decode:
+        warn(
+            f"{stored_bits(metadata)}-bit values are display-encoded (sRGB), not linear "
+            "radiance; they are used as stored (--srgb-decode linearises them)",
             path,
+        )
+        return image, False
+    out = np.array(image, dtype=np.float32)
+    colour = 3 if out.shape[-1] >= 3 else out.shape[-1]
+    out[..., :colour] = srgb_decode(out[..., :colour])
+    return out, True
+
+
+def is_picture(path) -> bool:
+    """True when ``path`` (a ``{face}``/``{mip}`` pattern too) names picture files (PNG, TGA,
+    JPEG); False for float formats and cube map containers."""
+    from bakeshop.io import HDR_CODECS, codec_for
+    from bakeshop.io.containers import is_container
+
+    return not is_container(path) and codec_for(path) not in HDR_CODECS
+
+
+def refuse_unused_picture_rule(rule: PictureRule, target) -> None:
+    """Refuse picture options given for an output that is not a picture."""
+    if rule.ev != 0 or rule.operator != "none" or rule.linear or rule.dither or rule.bits:
+        raise ArgumentError(
+            "--exposure, --tonemap, --linear, --dither and --bits apply to picture outputs "
+            "(.png, .tga, .jpg); this output stores floats",
+            target,
         )
 
 
-def parse_exposure(text: str | None) -> float | str | None:
-    """``None``, ``'auto'`` or a number of stops."""
-    if text is None or text.strip().lower() == "auto":
-        return None if text is None else "auto"
-    try:
-        ev = float(text)
-    except ValueError:
-        ev = float("nan")
-    if not np.isfinite(ev):
-        raise ArgumentError(f"invalid exposure {text!r}: a number of stops (EV) or 'auto'")
-    return ev
+def environment_weights(layout: str, spatial_shape, *, up=None) -> np.ndarray:
+    """Metering weights of an environment: each texel's solid angle (0 outside the layout's
+    valid texels: a disk's outside, a cross's empty cells), and 0 below the plane whose
+    normal is ``up`` when given."""
+    from bakeshop import sphere
+
+    lay = sphere.layout("cube" if layout == "faces" else layout)
+    weights = np.array(lay.solid_angles(tuple(spatial_shape)), dtype=np.float64)
+    if up is not None:
+        weights[sphere.texel_cosines(lay, tuple(spatial_shape), up) <= 0] = 0.0
+    return weights
+
+
+def write_any(target, image, rule: PictureRule, *, inputs=(), linear: bool, options=None):
+    """Write ``image`` to ``target`` by the one rule: a picture file through
+    :func:`make_picture` (its precision note warned), a float file with the rule's exposure
+    only (a number of stops, or auto/fit metered on the frame). Returns the line saying what
+    was done to the values, or None when they were written as they are."""
+    from bakeshop.image import choose_exposure, exposure
+    from bakeshop.io import write_image
+
+    options = dict(options or {})
+    if is_picture(target):
+        requested = options.pop("bits", None)
+        if requested is not None and rule.bits is not None and requested != rule.bits:
+            raise ArgumentError("--bits and -O bits= disagree", target)
+        if requested is not None:
+            rule = rule._replace(bits=int(requested))
+        made = make_picture(image, rule, target, inputs=inputs, linear_input=linear)
+        write_image(target, made.pixels, description=made.description, **options)
+        if made.note:
+            warn(made.note, target)
+        return made.line
+    if rule.operator != "none" or rule.linear or rule.dither or rule.bits:
+        raise ArgumentError(
+            "--tonemap, --linear, --dither and --bits apply to picture outputs (.png, .tga, "
+            ".jpg); this output stores floats",
+            target,
+        )
+    if rule.ev == 0:
+        write_image(target, image, **options)
+        return None
+    chosen = choose_exposure(image, rule.ev)
+    write_image(target, exposure(image, chosen.ev), **options)
+    return f"exposure {chosen.ev:+.2f} EV" + ("" if chosen.mode == "fixed" else f" ({chosen.mode})")

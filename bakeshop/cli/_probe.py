@@ -10,19 +10,24 @@ from pathlib import Path
 import click
 
 from bakeshop.cli._common import parse_size
-from bakeshop.io.environment import read_environment
+from bakeshop.errors import ArgumentError
+from bakeshop.io.environment import LAYOUT_ENVMAPS, is_cube, read_environment
 
 #: layouts a single image file can hold (the cube is written as a cross or a strip).
 FILE_LAYOUTS = (
     "latlong",
     "angular",
     "mirrorball",
+    "angular-physical",
+    "mirrorball-physical",
     "octahedral",
     "dual-paraboloid",
     "cross-vertical",
     "cross-horizontal",
     "strip-horizontal",
     "strip-vertical",
+    "openexr-latlong",
+    "openexr-cube",
 )
 
 
@@ -34,8 +39,9 @@ from_option = click.option(
     "--from",
     "src_layout",
     type=click.Choice(FILE_LAYOUTS),
-    help="Layout of IN; guessed from its shape when only one fits (2:1 is latlong). IN may "
-    "also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
+    help="Layout of IN; read from an EXR's envmap attribute (openexr-latlong, openexr-cube), "
+    "else guessed from its shape when only one fits (2:1 is latlong). IN may also be a "
+    ".dds/.ktx/.ktx2 cube or six files with {face}.",
 )
 
 
@@ -76,7 +82,7 @@ order_option = click.option(
 )
 
 
-def timed(compute, image, layout, dst_layout, size, method, order):
+def timed(compute, image, layout, dst_layout, size, method, order, window="minimal"):
     """``(compute(image, layout, to=..., ...), seconds)``: the DIM or the DIM pair, timed."""
     started = time.perf_counter()
     result = compute(
@@ -86,6 +92,7 @@ def timed(compute, image, layout, dst_layout, size, method, order):
         size=output_size(dst_layout, size),
         method=method,
         order=order,
+        window=window,
     )
     return result, time.perf_counter() - started
 
@@ -117,13 +124,51 @@ def sun_lines(sun) -> list[str]:
     ]
 
 
-def read_probe(source: Path | None, layout: str | None, *, convention: str = "opengl"):
-    """``(image, layout, path)`` of the input probe; the embedded default when ``source`` is
-    None (see :func:`bakeshop.io.read_environment`)."""
+def read_probe(
+    source: Path | None,
+    layout: str | None,
+    *,
+    convention: str = "opengl",
+    with_metadata: bool = False,
+):
+    """``(image, layout, path)`` of the input probe (and its file's metadata with
+    ``with_metadata``); the embedded default when ``source`` is None (see
+    :func:`bakeshop.io.read_environment`)."""
     from bakeshop import progress
     from bakeshop.data import default_probe_path
 
     source = default_probe_path() if source is None else source
     with progress.step(f"reading {source.name}"):
-        image, layout, _ = read_environment(source, layout, convention=convention)
-    return image, layout, source
+        (image, layout, _), meta = read_environment(
+            source, layout, convention=convention, with_metadata=True
+        )
+    return (image, layout, source, meta) if with_metadata else (image, layout, source)
+
+
+def picture_layout(layout: str) -> str:
+    """The layout a probe's picture (a painted probe) is written in: a cube as a vertical
+    cross (:func:`bakeshop.io.environment.as_picture`), any other layout as it is."""
+    return "cross-vertical" if is_cube(layout) else layout
+
+
+def check_picture_format(layout: str, fmt: str, source) -> None:
+    """Refuse, before any work, to write a probe picture in OpenEXR's layouts to a format that
+    cannot say so (only an .exr's envmap attribute can)."""
+    if layout in LAYOUT_ENVMAPS and fmt != "exr":
+        raise ArgumentError(
+            f"the probe is {layout} (OpenEXR's mapping, from its envmap attribute), which only "
+            f"an .exr file can say: use --format exr, or convert it first (bakeshop remap "
+            f"{source} probe.hdr --to latlong)",
+            source,
+        )
+
+
+window_option = click.option(
+    "--window",
+    type=click.Choice(("minimal", "hanning", "lanczos", "none")),
+    default="minimal",
+    show_default=True,
+    help="Window of SH irradiance against ringing (method sh, --sh-json, --shader): minimal is "
+    "Sloan's least window that makes it nowhere negative (none when it already is); hanning "
+    "and lanczos are fixed windows of width order+1.",
+)

@@ -9,10 +9,14 @@ import click
 from bakeshop.cli._common import (
     ENVIRONMENT,
     float_format_option,
+    linearise,
     out_dir_option,
     refuse_overwriting_inputs,
+    srgb_decode_option,
 )
-from bakeshop.cli._probe import read_probe
+from bakeshop.cli._probe import check_picture_format, picture_layout, read_probe
+from bakeshop.cli.compress import bake_compressed, describe_quality, quality_options
+from bakeshop.engines import ENGINES
 from bakeshop.io.environment import (
     as_picture,
     describe,
@@ -25,8 +29,9 @@ _from = click.option(
     "--from",
     "src_layout",
     metavar="LAYOUT",
-    help="Layout of IN (latlong, angular, mirrorball, cross-vertical, ...); guessed from its "
-    "shape when only one fits. IN may also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
+    help="Layout of IN (latlong, angular, mirrorball, cross-vertical, ...); an EXR's envmap "
+    "attribute (openexr-latlong, openexr-cube), else guessed from its shape when only one "
+    "fits. IN may also be a .dds/.ktx/.ktx2 cube or six files with {face}.",
 )
 
 
@@ -48,7 +53,16 @@ _from = click.option(
               help="Face size of level 0 of the GGX chain.")  # fmt: skip
 @click.option("--mips", type=click.IntRange(1, 14), default=9, show_default=True,
               help="Levels of the GGX chain (roughness m / (mips - 1)).")  # fmt: skip
-def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_size, mips):
+@srgb_decode_option
+@click.option("--compress", is_flag=True, help="Also write block-compressed (BC6H) files with "
+              "their quality sidecars into DIR/ENGINE/ (generic unless --engine).")  # fmt: skip
+@click.option("--engine", type=click.Choice(sorted(ENGINES)), help="Write the compressed files "
+              "this engine loads (faces, LOD mapping, SH layout; implies --compress).")  # fmt: skip
+@quality_options
+def bake_probe(
+    source, out_dir, src_layout, fmt, container, cube_size, specular_size, mips, srgb_decode,
+    compress, engine, quality_profile, overflow, min_psnr, zstd,
+):  # fmt: skip
     """Bake everything the renderer needs from one probe IN (default: the embedded probe).
 
     \b
@@ -59,22 +73,30 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
                               input gives a vertical cross)
       sun.json                the sun's direction, size, colour and irradiance ({"sun": null}
                               when there is none)
-      sh.json                 order-2 SH radiance coefficients (9 per channel)
+      sh.json                 order-2 SH radiance coefficients (9 per channel), and the
+                              irradiance's, windowed to be nowhere negative
       specular.dds            the GGX mip chain (roughness m/(mips-1)), OpenGL faces
       dfg.dds                 the split-sum DFG table (RG: scale, bias on F0)
-      contact_sheet.png       all of it side by side, tone-mapped
+      contact_sheet.png       all of it side by side, tone-mapped (exposure recorded in it)
+
+    \b
+    With --compress or --engine E, also DIR/E/: the environment and the GGX chain in BC6H
+    (each with a .json quality sidecar) and E's SH file (docs/engines.md).
 
     \b
     Example:
       bakeshop bake-probe -o baked/
       bakeshop bake-probe probe.exr -o baked/ --format exr --container ktx
+      bakeshop bake-probe -o baked/ --engine unity --compress
     """
     from bakeshop.io import ALPHA_EXTENSIONS, write_image, write_json
     from bakeshop.light import bake_probe as bake
-    from bakeshop.light import contact_sheet, sh, sun_document
+    from bakeshop.light import contact_sheet, sh, sheet_exposure, sun_document
 
     out_dir.mkdir(parents=True, exist_ok=True)
-    image, layout, source = read_probe(source, src_layout)
+    image, layout, source, meta = read_probe(source, src_layout, with_metadata=True)
+    check_picture_format(layout, fmt, source)
+    image, _ = linearise(image, source, meta, srgb_decode)
     dropped = image.shape[-1] == 4 and f".{fmt}" not in ALPHA_EXTENSIONS
     if dropped:  # alpha is carried by every step, but .hdr and .pfm store none
         image = image[..., :3]
@@ -100,13 +122,21 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
         write_image(paths["sun_dim"], baked.sun_dim)
         write_image(paths["shadow_dim"], baked.shadow_dim)
         # a cube probe (faces or a container) is painted as a cube: one picture, a cross
-        write_image(paths["shadow_probe"], as_picture(baked.shadow_probe, layout))
+        write_environment(
+            paths["shadow_probe"], as_picture(baked.shadow_probe, layout), picture_layout(layout)
+        )
         write_json(paths["sun"], sun_document(baked.sun))
-        write_json(paths["sh"], sh.to_document(baked.sh))
+        write_json(paths["sh"], sh.to_document(baked.sh, irradiance=baked.sh_irradiance))
         write_chain(paths["specular"], baked.specular, convention="opengl")
         write_table(paths["dfg"], baked.dfg)
     with progress.step("contact sheet"):
-        write_image(paths["sheet"], contact_sheet(baked, image))
+        ev = sheet_exposure(image, layout)
+        write_image(
+            paths["sheet"],
+            contact_sheet(baked, image, ev=ev),
+            description=f"bakeshop display: exposure {ev:+.4f} EV; exposure {ev:+.2f} EV (auto "
+            "over the probe's sphere), ACES, clamped, sRGB, 8-bit",
+        )
     elapsed = time.perf_counter() - started
     t = baked.timings
     s = baked.cube.shape[1]
@@ -127,13 +157,14 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
         ),
         (paths["sun"].name, "the sun" if baked.sun is not None else "no sun found", None),
         (paths["sh"].name, f"SH radiance, {baked.sh.shape[0]} coefficients per channel", t["sh"]),
+        ("", f"SH irradiance: {baked.sh_irradiance.describe()}", None),
         (
             paths["specular"].name,
             f"GGX chain, {len(baked.specular)} levels from 6x{baked.specular[0].shape[1]}",
             t["specular"],
         ),
         (paths["dfg"].name, f"DFG table {baked.dfg.shape[1]}x{baked.dfg.shape[0]}", t["dfg"]),
-        (paths["sheet"].name, "contact sheet", None),
+        (paths["sheet"].name, f"contact sheet, exposure {ev:+.2f} EV (auto), ACES", None),
     ]
     for name, what, seconds in rows:
         took = f"{seconds:6.2f} s" if seconds is not None else ""
@@ -144,6 +175,15 @@ def bake_probe(source, out_dir, src_layout, fmt, container, cube_size, specular_
             f"  sun: direction [{x:.4f}, {y:.4f}, {z:.4f}], "
             f"radius {baked.sun.angular_radius_deg:.2f} deg"
         )
+    if compress or engine:
+        written = bake_compressed(
+            baked, image, layout, out_dir, engine or "generic", specular_size=specular_size,
+            quality_profile=quality_profile, overflow=overflow, min_psnr=min_psnr, zstd=zstd,
+        )  # fmt: skip
+        click.echo(f"  compressed for {ENGINES[engine or 'generic'].title}:")
+        for path, what, report in written:
+            q = f": {describe_quality(report['quality'])}" if report else ""
+            click.echo(f"    {path.relative_to(out_dir)}  {what}{q}")
 
 
 def register(group: click.Group) -> None:

@@ -8,20 +8,25 @@ import numpy as np
 from bakeshop.cli._common import (
     ENVIRONMENT,
     float_format_option,
+    linearise,
     out_dir_option,
     refuse_overwriting_inputs,
+    srgb_decode_option,
 )
 from bakeshop.cli._probe import (
+    check_picture_format,
     from_option,
     method_option,
     order_option,
+    picture_layout,
     read_probe,
     size_option,
     sun_lines,
     timed,
     to_option,
+    window_option,
 )
-from bakeshop.io.environment import as_picture, describe
+from bakeshop.io.environment import as_picture, check_openexr_target, describe
 
 
 @click.command(context_settings={"max_content_width": 100})
@@ -33,7 +38,9 @@ from bakeshop.io.environment import as_picture, describe
 @order_option
 @to_option
 @size_option
-def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
+@window_option
+@srgb_decode_option
+def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size, window, srgb_decode):
     """Make the DIM pair of the probe IN: sun_dim, shadow_dim, shadow_probe and sun.json.
 
     The sun is found and painted out of the probe (shadow_probe, same layout and size as IN,
@@ -49,19 +56,24 @@ def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size):
       bakeshop dims probe.exr -o dims/ --format exr --size 512x256
     """
     from bakeshop import progress
-    from bakeshop.io import write_image, write_json
+    from bakeshop.io import write_environment, write_json
     from bakeshop.light import dim_pair, sun_document
 
     out_dir.mkdir(parents=True, exist_ok=True)
     names = {key: out_dir / f"{key}.{fmt}" for key in ("sun_dim", "shadow_dim", "shadow_probe")}
     for path in (*names.values(), out_dir / "sun.json"):
         refuse_overwriting_inputs(path, source)
-    image, layout, _ = read_probe(source, src_layout)
-    pair, elapsed = timed(dim_pair, image, layout, dst_layout, size, method, order)
+    check_openexr_target(names["sun_dim"], dst_layout)
+    image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
+    check_picture_format(layout, fmt, source)
+    image, _ = linearise(image, source, meta, srgb_decode)
+    pair, elapsed = timed(dim_pair, image, layout, dst_layout, size, method, order, window)
     with progress.step(f"writing {out_dir}"):
-        write_image(names["sun_dim"], pair.sun_dim)
-        write_image(names["shadow_dim"], pair.shadow_dim)
-        write_image(names["shadow_probe"], as_picture(pair.shadow_probe, layout))
+        write_environment(names["sun_dim"], pair.sun_dim, dst_layout)
+        write_environment(names["shadow_dim"], pair.shadow_dim, dst_layout)
+        write_environment(
+            names["shadow_probe"], as_picture(pair.shadow_probe, layout), picture_layout(layout)
+        )
         write_json(out_dir / "sun.json", sun_document(pair.sun))
     click.echo(
         f"wrote {out_dir}: sun_dim.{fmt} and shadow_dim.{fmt} "

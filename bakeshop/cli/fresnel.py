@@ -12,11 +12,13 @@ from bakeshop.cli._common import (
     ENVIRONMENT,
     OUTPUT,
     convention_option,
+    environment_weights,
     is_ldr,
-    parse_exposure,
+    linearise,
+    parse_exposure_mode,
     parse_size,
     refuse_overwriting_inputs,
-    require_hdr,
+    srgb_decode_option,
 )
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import (
@@ -143,10 +145,10 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
 @click.option(
     "--exposure",
     "exposure_text",
-    metavar="EV|auto",
-    help="Exposure in stops applied to the bake; 'auto' lets only the brightest 0.1% "
-    "of the hemisphere (by solid angle: the sun) clip at 1. Default: 0, or auto "
-    "with --ldr.",
+    metavar="EV|auto|fit",
+    help="Exposure applied to the bake: stops (-64..64), fit (only the brightest 0.1% of "
+    "the hemisphere, by solid angle: the sun, clips at 1) or auto (log-average luminance "
+    "above the horizon to middle grey). Default: 0, or fit with --ldr.",
 )
 @click.option(
     "--ldr", is_flag=True, help="Write 8-bit sRGB (PNG, TGA): exposure, clamp, sRGB encode, round."
@@ -166,6 +168,7 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
     help="Also measure the bake: 8-bit baked vs runtime path on flat water, and the "
     "fresnel error on normal-mapped water for RMS slopes 0.02 to 0.3.",
 )
+@srgb_decode_option
 def fresnel(
     source,
     target,
@@ -181,6 +184,7 @@ def fresnel(
     seed,
     convention,
     report,
+    srgb_decode,
 ):
     """Bake the fresnel reflectance of flat water into an environment map.
 
@@ -191,8 +195,10 @@ def fresnel(
     (R = 0.02 looking straight down) and only the sun clips. Directions below the plane are
     written as --below says.
 
-    --ldr writes 8-bit sRGB (IEC 61966-2-1) after --exposure (auto by default), optionally
-    dithered; otherwise the bake is written as float (.exr, .hdr, .pfm). --layout cube writes
+    --ldr writes 8-bit sRGB (IEC 61966-2-1) after --exposure (fit by default), optionally
+    dithered, by the display rule of every command (docs/tonemap.md) with the exposure metered
+    above the horizon only, and recorded in the file; otherwise the bake is written as float
+    (.exr, .hdr, .pfm). --layout cube writes
     the six faces an engine loads (OpenGL order and orientation, or --convention directx), as
     six pictures or one float .dds/.ktx/.ktx2 cube map.
 
@@ -204,45 +210,58 @@ def fresnel(
       bakeshop fresnel sky.exr water.dds --layout cube --size 512 --below mirror
     """
     from bakeshop import progress, sphere
+    from bakeshop.image import choose_exposure, to_picture
     from bakeshop.image import exposure as apply_exposure
-    from bakeshop.image import to_srgb8
     from bakeshop.light.fresnel import (
         RMS_SLOPES,
         bake_fresnel,
         flat_water_error,
-        ldr_exposure,
         normal_mapped_error,
         schlick_error,
     )
 
     refuse_overwriting_inputs(target, source)
-    if not is_container(source):  # a container holds floats
-        require_hdr(source)
     up_axis = parse_axis(up)
-    ev = parse_exposure(exposure_text)
+    if exposure_text is None:
+        ev = "fit" if ldr else 0.0
+    else:
+        ev = parse_exposure_mode(exposure_text)
     if dither and not ldr:
         raise ArgumentError("--dither applies to --ldr output only")
 
-    image, src, _ = read_environment(source, src_layout, convention=convention)
+    (image, src, _), meta = read_environment(
+        source, src_layout, convention=convention, with_metadata=True
+    )
+    image, _ = linearise(image, source, meta, srgb_decode)
     dst = dst_layout or src
     _check_output(target, dst, ldr)
     if dst != src or size is not None:
         wanted = parse_size(size) if size else None
         image = sphere.remap(image, src, dst, wanted, filter="auto")
     baked = bake_fresnel(image, dst, ior=ior, up=up_axis, below=below)
-    if ev == "auto" or (ev is None and ldr):
-        ev = ldr_exposure(baked, dst, up=up_axis)
-    ev = ev or 0.0
-    out = apply_exposure(baked, ev)
+    # metered over the texels above the water plane: the lower half holds no reflection
+    weights = environment_weights(dst, baked.shape[:-1], up=up_axis)
+    description = None
     if ldr:
-        out = to_srgb8(out, dither="triangular" if dither else "none", seed=seed)
-    written = write_environment(target, out, dst, convention=convention)
+        shown = to_picture(
+            baked,
+            ev=ev,
+            dither="triangular" if dither else "none",
+            seed=seed,
+            weights=weights,
+        )
+        out, ev, description = shown.pixels, shown.ev, shown.metadata()
+        encoding = shown.describe()
+    else:
+        ev = choose_exposure(baked, ev, weights=weights).ev
+        out = apply_exposure(baked, ev)
+        encoding = f"exposure {ev:+.2f} EV, float"
+    written = write_environment(target, out, dst, convention=convention, description=description)
 
-    encoding = "8-bit sRGB" + (", dithered" if dither else "") if ldr else "float"
     where = str(written[0]) if len(written) == 1 else f"{len(written)} faces ({target})"
     click.echo(
         f"wrote {where}: {describe(out, dst)}, fresnel ior {ior:g} "
-        f"up {up}, below horizon {below}, exposure {ev:+.2f} EV, {encoding}"
+        f"up {up}, below horizon {below}, {encoding}"
     )
     if report:
         flat = flat_water_error(

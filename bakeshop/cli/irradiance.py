@@ -7,7 +7,15 @@ import click
 from bakeshop.cli._common import (
     ENVIRONMENT,
     OUTPUT,
+    environment_weights,
+    is_picture,
+    linearise,
+    make_picture,
+    picture_options,
     refuse_overwriting_inputs,
+    refuse_unused_picture_rule,
+    srgb_decode_option,
+    warn,
 )
 from bakeshop.cli._probe import (
     from_option,
@@ -17,9 +25,11 @@ from bakeshop.cli._probe import (
     size_option,
     timed,
     to_option,
+    window_option,
 )
 from bakeshop.errors import ArgumentError
-from bakeshop.io.environment import describe
+from bakeshop.io import stored_bits
+from bakeshop.io.environment import check_openexr_target, describe
 
 
 @click.command(context_settings={"max_content_width": 100})
@@ -39,14 +49,39 @@ from bakeshop.io.environment import describe
     "--shader",
     type=OUTPUT,
     help="Also write a GLSL (.glsl) or HLSL (.hlsl) function returning the DIM value from 9 "
-    "SH coefficients (Ramamoorthi and Hanrahan's quadratic form).",
+    "SH coefficients (Ramamoorthi and Hanrahan's quadratic form), windowed (--window).",
 )
-def irradiance(source, target, src_layout, method, order, dst_layout, size, sh_json, shader):
+@window_option
+@srgb_decode_option
+@picture_options()
+def irradiance(
+    source,
+    target,
+    src_layout,
+    method,
+    order,
+    dst_layout,
+    size,
+    sh_json,
+    shader,
+    window,
+    srgb_decode,
+    picture,
+):
     """Compute the diffuse irradiance map (DIM) of the probe IN and write it to OUT.
 
     A DIM texel holds E(n) / pi for the surface normal n it looks along: the radiance that a
     white Lambertian surface facing n reflects (a uniform sky of 1 gives 1). The default method
     is exact to 0.1% RMS from the full-resolution probe, in seconds.
+
+    SH irradiance (--method sh, --sh-json, --shader) rings: a sunny probe's order-2 DIM goes
+    negative opposite the sun. --window (default minimal: Sloan's least window that makes it
+    non-negative) tames it; the negative fraction is reported with and without the window, and
+    sh.json keeps the raw radiance coefficients beside the windowed irradiance.
+
+    A picture OUT (.png .tga .jpg) follows the display rule (docs/tonemap.md: --exposure,
+    --tonemap, sRGB or --linear, --bits). A picture IN holds display-encoded values: used as
+    stored, with a warning, unless --srgb-decode linearises them.
 
     \b
     Example:
@@ -54,8 +89,9 @@ def irradiance(source, target, src_layout, method, order, dst_layout, size, sh_j
       bakeshop irradiance probe.exr dim.exr --to cross-vertical --size 32
       bakeshop irradiance probe.hdr dim_sh.hdr --method sh --order 2 --sh-json sh.json
       bakeshop irradiance probe.hdr dim.hdr --shader irradiance.glsl
+      bakeshop irradiance probe.hdr dim.png --exposure auto
     """
-    from bakeshop.io import write_image, write_json, write_text
+    from bakeshop.io import write_environment, write_image, write_json, write_text
     from bakeshop.light import irradiance as compute_dim
     from bakeshop.light import sh, sh_coefficients
 
@@ -64,23 +100,51 @@ def irradiance(source, target, src_layout, method, order, dst_layout, size, sh_j
         refuse_overwriting_inputs(out, source)
     if shader is not None and shader.suffix.lower() not in (".glsl", ".hlsl"):
         raise ArgumentError("the shader file must end in .glsl or .hlsl", shader)
-    image, layout, _ = read_probe(source, src_layout)
-    dim, elapsed = timed(compute_dim, image, layout, dst_layout, size, method, order)
-    write_image(target, dim)
+    check_openexr_target(target, dst_layout)
+    picture_out = is_picture(target)
+    if not picture_out:
+        refuse_unused_picture_rule(picture, target)
+    image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
+    image, linear = linearise(image, source, meta, srgb_decode)
+    dim, elapsed = timed(compute_dim, image, layout, dst_layout, size, method, order, window)
+    made = None
+    if picture_out:
+        weights = environment_weights(dst_layout, dim.shape[:-1])
+        made = make_picture(
+            dim, picture, target, weights=weights, inputs=[stored_bits(meta)], linear_input=linear
+        )
+        write_image(target, made.pixels, description=made.description)
+    else:
+        write_environment(target, dim, dst_layout)
     click.echo(
         f"wrote {target}: {describe(dim, dst_layout)} DIM (E/pi) of {source.name} "
         f"({describe(image, layout)}), method {method}"
         + (f" order {order}" if method == "sh" else "")
         + f", {elapsed:.2f} s"
     )
+    if method == "sh":
+        report = sh.windowed_irradiance(sh_coefficients(image, layout, order=order), window=window)
+        click.echo(f"  SH irradiance: {report.describe()}")
+    if made is not None:
+        click.echo(f"  picture: {made.line}")
+        if made.note:
+            warn(made.note, target)
     if extras:
         coeffs = sh_coefficients(image, layout, order=max(order, 2) if shader else order)
         if sh_json is not None:
-            write_json(sh_json, sh.to_document(coeffs[: (order + 1) ** 2]))
-            click.echo(f"wrote {sh_json}: {(order + 1) ** 2} SH radiance coefficients per channel")
+            kept = coeffs[: (order + 1) ** 2]
+            windowed = sh.windowed_irradiance(kept, window=window)
+            write_json(sh_json, sh.to_document(kept, irradiance=windowed))
+            click.echo(
+                f"wrote {sh_json}: {(order + 1) ** 2} SH radiance coefficients per channel and "
+                f"the windowed irradiance ({windowed.describe()})"
+            )
         if shader is not None:
-            write_text(shader, sh.shader_snippet(coeffs, language=shader.suffix.lower()[1:]))
-            click.echo(f"wrote {shader}: bakeshop_irradiance(n) from 9 SH coefficients")
+            code = sh.shader_snippet(coeffs, language=shader.suffix.lower()[1:], window=window)
+            write_text(shader, code)
+            click.echo(
+                f"wrote {shader}: bakeshop_irradiance(n) from 9 SH coefficients, {window} window"
+            )
 
 
 def register(group: click.Group) -> None:

@@ -1,7 +1,8 @@
 """Entry point of the ``bakeshop`` command (click for parsing, rich for progress).
 
 Each command group lives in its own module of this package, which exposes ``register(group)``;
-:data:`COMMAND_MODULES` lists them in the order ``--help`` shows them.
+:data:`COMMAND_MODULES` lists them in the order ``--help`` shows them. How a run behaves as a
+process (signals, the one error line, warnings) is :mod:`bakeshop.cli._process`.
 """
 
 from __future__ import annotations
@@ -12,13 +13,15 @@ import sys
 import click
 
 from bakeshop import __version__, progress
-from bakeshop.errors import BakeshopError
+from bakeshop.cli._process import ByteSize, run
 
 COMMAND_MODULES = [
     "info",
     "convert",
     "resize",
     "remap",
+    "merge",
+    "unwrap",
     "irradiance",
     "sun",
     "dims",
@@ -26,7 +29,9 @@ COMMAND_MODULES = [
     "dfg",
     "bake_probe",
     "fresnel",
+    "water",
     "tonemap",
+    "compress",
     "normals",
     "float",
 ]
@@ -41,43 +46,46 @@ class _Ordered(click.Group):
 
 @click.group(cls=_Ordered, context_settings=CONTEXT)
 @click.version_option(__version__, "--version", prog_name="bakeshop")
-@click.option("--quiet", "-q", is_flag=True, help="No progress bars.")
-def cli(quiet: bool):
+@click.option(
+    "--quiet", "-q", is_flag=True, help="No progress bars (shown only when stderr is a terminal)."
+)
+@click.option(
+    "--max-decoded",
+    type=ByteSize(),
+    metavar="SIZE",
+    help="Largest image one input file may decode to, e.g. 8G (default: 1 GiB, or 256 bytes "
+    "per byte of the file when that is more; a larger result is refused as a possible "
+    "decompression bomb).",
+)
+def cli(quiet: bool, max_decoded: int | None):
     """The content pipeline of a real-time renderer: HDR light probes, panoramas and cube maps,
     diffuse irradiance, fresnel bakes, normal maps and buoyancy.
 
-    Run 'bakeshop COMMAND --help' for what each command does, with an example.
+    Run 'bakeshop COMMAND --help' for what each command does, with an example. Errors are one
+    line on stderr (exit status 2); SIGINT and SIGTERM clean up and exit 130 and 143.
+
+    \b
+    Example:
+      bakeshop info probe.hdr
+      bakeshop --max-decoded 8G convert flat_16k_mask.png mask.exr
     """
-    if not quiet:
-        progress.enable()
+    if not quiet and sys.stderr.isatty():
+        progress.enable()  # elsewhere rich leaves a blank line, a second line beside an error
+    if max_decoded is not None:
+        from bakeshop.io import decode_budget
+
+        click.get_current_context().with_resource(decode_budget(max_decoded))
 
 
 for _name in COMMAND_MODULES:
     importlib.import_module(f"bakeshop.cli.{_name}").register(cli)
 
 
-def error(message: str) -> int:
-    """Print ``bakeshop: error: message`` on stderr and return the exit status 2."""
-    click.echo(f"bakeshop: error: {message}", err=True)
-    return 2
-
-
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; bad input and bad arguments exit 2 with one line, no traceback."""
+    """Run the command line. Bad input and bad arguments exit 2 with one line on stderr and no
+    traceback; SIGINT, SIGTERM and SIGHUP clean up and exit 128 + the signal number."""
     try:
-        return cli.main(args=argv, prog_name="bakeshop", standalone_mode=False) or 0
-    except BakeshopError as e:
-        return error(str(e))
-    except click.UsageError as e:
-        where = e.ctx.command_path if e.ctx is not None else "bakeshop"
-        return error(f"{e.format_message()} (see '{where} --help')")
-    except click.ClickException as e:
-        return error(e.format_message())
-    except (click.Abort, KeyboardInterrupt):
-        click.echo("bakeshop: interrupted", err=True)
-        return 130
-    except OSError as e:
-        return error(f"{e.filename}: {e.strerror}" if e.filename else str(e))
+        return run(cli, argv)
     finally:
         progress.disable()
 

@@ -10,14 +10,19 @@ import numpy as np
 from bakeshop.cli._common import (
     INPUT,
     OUTPUT,
+    is_picture,
+    output_bits,
     parse_options,
     parse_size,
     refuse_overwriting_inputs,
+    warn,
     writer_option,
 )
+from bakeshop.engines import ENGINES
 from bakeshop.errors import ArgumentError
+from bakeshop.io import stored_bits
 from bakeshop.normals.blend import DEFAULT_METHOD, METHODS
-from bakeshop.normals.encoding import CONVENTIONS, ENCODINGS
+from bakeshop.normals.encoding import CONVENTIONS, ENCODINGS, read_normal_map
 
 CONTEXT = {"max_content_width": 100}
 
@@ -44,7 +49,8 @@ _encoding = click.option(
     "files that store the components in [-1, 1].",
 )
 _writer = writer_option(
-    "A writer option for OUT, repeatable: PNG bits=8|16; EXR pixel_type=half|float."
+    "A writer option for OUT, repeatable: PNG bits=8|16 (default: the inputs' depth, 16 for "
+    "float inputs); EXR pixel_type=half|float."
 )
 
 
@@ -126,8 +132,9 @@ def _parse_layer(spec: str) -> dict:
     return layer
 
 
-def _build_layers(shape, settings, method_convention, encoding):
-    """Read each layer's detail map and mask into DetailLayer objects."""
+def _build_layers(shape, settings, method_convention, encoding, depths=None):
+    """Read each layer's detail map and mask into DetailLayer objects; each detail map's
+    :func:`~bakeshop.io.stored_bits` is appended to ``depths``."""
     from bakeshop.io import read_image
     from bakeshop.normals.tiling import DetailLayer, mask_weights
 
@@ -136,7 +143,11 @@ def _build_layers(shape, settings, method_convention, encoding):
         convention = s.get("convention") or method_convention
         if convention not in CONVENTIONS:
             raise ArgumentError(f"unknown convention {convention!r} for layer", s["path"])
-        detail = read_normal_map(s["path"], convention=convention, encoding=encoding)
+        detail, bits = read_normal_map(
+            s["path"], convention=convention, encoding=encoding, with_bits=True
+        )
+        if depths is not None:
+            depths.append(bits)
         mask = None
         if s.get("mask"):
             mask = mask_weights(read_image(s["mask"]), shape, ids=_ids(s["ids"]) or None)
@@ -161,31 +172,37 @@ def _build_layers(shape, settings, method_convention, encoding):
     return layers
 
 
-def read_normal_map(
-    path, *, convention: str = "gl", encoding: str = "packed", channels: str = "xyz"
-) -> np.ndarray:
-    """A normal-map file as ``(H, W, 3)`` float32 unit vectors in the OpenGL frame
-    (:func:`bakeshop.normals.decode_normals` of :func:`bakeshop.io.read_image`)."""
-    from bakeshop.io import read_image
-    from bakeshop.normals.encoding import decode_normals
-
-    image = read_image(path)
-    try:
-        return decode_normals(image, convention=convention, encoding=encoding, channels=channels)
-    except ArgumentError as e:
-        raise ArgumentError(e.reason, path) from None
-
-
 def write_normal_map(
     path, normals, *, convention: str = "gl", encoding: str = "packed", channels: str = "xyz",
-    **options,
-) -> None:  # fmt: skip
-    """Write unit normals (OpenGL frame) in an encoding; ``options`` go to the codec."""
+    inputs=(), **options,
+) -> int | None:  # fmt: skip
+    """Write unit normals (OpenGL frame) in an encoding; ``options`` go to the codec.
+
+    A picture file's depth follows ``inputs`` (the inputs' sample depths: 8, 16, None for
+    floats; see :func:`~bakeshop.cli._common.output_bits`) unless ``bits=`` is given, and a
+    reduction below the inputs' is said in one warning line. Returns the bits written (None
+    for a float file)."""
+    from bakeshop.cli._common import is_picture
     from bakeshop.io import write_image
     from bakeshop.normals.encoding import encode_normals
 
     values = encode_normals(normals, convention=convention, encoding=encoding, channels=channels)
+    bits = None
+    if is_picture(path):
+        requested = options.pop("bits", None)
+        bits, note = output_bits(
+            path, requested=None if requested is None else int(requested), inputs=inputs
+        )
+        if Path(path).suffix.lower() == ".png":
+            options["bits"] = bits
+        if note:
+            warn(note, path)
     write_image(path, values.astype(np.float32, copy=False), **options)
+    return bits
+
+
+def _depth_text(bits: int | None) -> str:
+    return "float" if bits is None else f"{bits}-bit"
 
 
 @click.group(context_settings=CONTEXT)
@@ -245,6 +262,11 @@ def normals():
 @_detail_convention
 @_encoding
 @_writer
+@click.option("--compress", is_flag=True, help="Write OUT (.dds, .ktx2, .ktx) block-compressed "
+              "with its mip chain: BC5 (x, y; z rebuilt) unless --engine says otherwise, with "
+              "its angular error in OUT.json.")  # fmt: skip
+@click.option("--engine", type=click.Choice(sorted(ENGINES)), help="Compress for this engine: "
+              "its normal-map format and green convention (implies --compress).")  # fmt: skip
 def combine(
     macro,
     detail,
@@ -261,6 +283,8 @@ def combine(
     detail_convention,
     encoding,
     options,
+    compress,
+    engine,
 ):
     """Blend tileable DETAIL normal maps onto the MACRO normal map; write OUT.
 
@@ -292,14 +316,42 @@ def combine(
     refuse_overwriting_inputs(
         out, macro, *(s["path"] for s in settings), *(s["mask"] for s in settings if s.get("mask"))
     )
-    base = read_normal_map(macro, convention=convention, encoding=encoding)
-    built = _build_layers(base.shape[:2], settings, detail_convention or convention, encoding)
-    result = apply_layers(base, built, method=method)
-    write_normal_map(
-        out, result, convention=convention, encoding=encoding, **parse_options(options)
+    base, macro_bits = read_normal_map(
+        macro, convention=convention, encoding=encoding, with_bits=True
     )
+    depths = [macro_bits]
+    built = _build_layers(
+        base.shape[:2], settings, detail_convention or convention, encoding, depths
+    )
+    result = apply_layers(base, built, method=method)
     h, w = result.shape[:2]
-    click.echo(f"wrote {out}: {w}x{h}, {len(built)} detail layer(s) blended with {method}")
+    if compress or engine:
+        from bakeshop.cli.compress import describe_quality, write_levels
+        from bakeshop.io.compress.pipeline import box_mips
+
+        preset = ENGINES[engine] if engine else None
+        conv = preset.normal_convention if preset else convention
+        fmt = preset.normal_format if preset else "bc5"
+        levels = box_mips(result, cube=False, normals=True)
+        _, report = write_levels(out, levels, fmt, cube=False, normals=True,
+                                 normal_convention=conv, extra={"engine": engine})  # fmt: skip
+        click.echo(
+            f"wrote {out}: {w}x{h} {fmt} ({conv}), {len(levels)} levels, {len(built)} detail "
+            f"layer(s) blended with {method}; {describe_quality(report['quality'])}"
+        )
+        return
+    bits = write_normal_map(
+        out,
+        result,
+        convention=convention,
+        encoding=encoding,
+        inputs=depths,
+        **parse_options(options),
+    )
+    click.echo(
+        f"wrote {out}: {w}x{h} {_depth_text(bits)}, {len(built)} detail layer(s) blended with "
+        f"{method}"
+    )
 
 
 @normals.command(context_settings=CONTEXT)
@@ -402,11 +454,15 @@ def transfer(
     refuse_overwriting_inputs(out, mesh, detail, *([macro] if macro else []))
     base = None
     shape = None
+    depths = []
     if size is not None:
         wanted = parse_size(size)
         shape = (wanted, wanted) if isinstance(wanted, int) else (wanted[1], wanted[0])
     if macro is not None:
-        base = read_normal_map(macro, convention=convention, encoding=encoding)
+        base, macro_bits = read_normal_map(
+            macro, convention=convention, encoding=encoding, with_bits=True
+        )
+        depths.append(macro_bits)
         if shape is not None and shape != base.shape[:2]:
             raise ArgumentError(
                 f"--size {size} differs from the macro map's {base.shape[1]}x{base.shape[0]}",
@@ -415,7 +471,10 @@ def transfer(
         shape = base.shape[:2]
     elif shape is None:
         raise ArgumentError("give --size (or --macro, whose size is used)")
-    d = read_normal_map(detail, convention=detail_convention or convention, encoding=encoding)
+    d, detail_bits = read_normal_map(
+        detail, convention=detail_convention or convention, encoding=encoding, with_bits=True
+    )
+    depths.append(detail_bits)
     m = load_mesh(mesh)
     result, covered = transfer_detail(
         m,
@@ -432,13 +491,18 @@ def transfer(
     )
     if base is not None:
         result = blend(base, result, method=method)
-    write_normal_map(
-        out, result, convention=convention, encoding=encoding, **parse_options(options)
+    bits = write_normal_map(
+        out,
+        result,
+        convention=convention,
+        encoding=encoding,
+        inputs=depths,
+        **parse_options(options),
     )
     h, w = shape
     click.echo(
-        f"wrote {out}: {w}x{h}, {len(m.faces)} triangles, {covered.mean():.1%} of texels "
-        f"covered, {projection} projection"
+        f"wrote {out}: {w}x{h} {_depth_text(bits)}, {len(m.faces)} triangles, "
+        f"{covered.mean():.1%} of texels covered, {projection} projection"
         + (f", blended with {method}" if base is not None else "")
     )
 
@@ -480,7 +544,7 @@ def from_height(height, out, strength, derivative, no_wrap, channel, convention,
     from bakeshop.normals.height import height_to_normal
 
     refuse_overwriting_inputs(out, height)
-    image = read_image(height)
+    image, meta = read_image(height, with_metadata=True)
     if not 0 <= channel < image.shape[2]:
         raise ArgumentError(
             f"--channel {channel}: the file has {image.shape[2]} channel(s)", height
@@ -488,10 +552,17 @@ def from_height(height, out, strength, derivative, no_wrap, channel, convention,
     n = height_to_normal(
         image[:, :, channel], strength=strength, derivative=derivative, wrap=not no_wrap
     )
-    write_normal_map(out, n, convention=convention, encoding=encoding, **parse_options(options))
+    bits = write_normal_map(
+        out,
+        n,
+        convention=convention,
+        encoding=encoding,
+        inputs=[stored_bits(meta)],
+        **parse_options(options),
+    )
     click.echo(
-        f"wrote {out}: {n.shape[1]}x{n.shape[0]} normals ({derivative}, strength "
-        f"{strength:g}, {'clamped' if no_wrap else 'wrapped'} edges)"
+        f"wrote {out}: {n.shape[1]}x{n.shape[0]} {_depth_text(bits)} normals ({derivative}, "
+        f"strength {strength:g}, {'clamped' if no_wrap else 'wrapped'} edges)"
     )
 
 
@@ -576,7 +647,7 @@ def convert(
     from bakeshop.normals.encoding import convert_normal_map
 
     refuse_overwriting_inputs(target, source)
-    image = read_image(source)
+    image, meta = read_image(source, with_metadata=True)
     if image.shape[2] < 3 and not xy:
         raise ArgumentError("a normal map needs at least three channels (or --xy)", source)
     values = convert_normal_map(
@@ -587,8 +658,21 @@ def convert(
         channels="xy" if xy else "xyz",
         renormalize=renormalize,
     )
-    write_image(target, values, **parse_options(options))
-    click.echo(f"wrote {target}: {source_convention} -> {target_convention}")
+    writer_options = parse_options(options)
+    bits = None
+    if is_picture(target):
+        requested = writer_options.pop("bits", None)
+        bits, note = output_bits(
+            target,
+            requested=None if requested is None else int(requested),
+            inputs=[stored_bits(meta)],
+        )
+        if target.suffix.lower() == ".png":
+            writer_options["bits"] = bits
+        if note:
+            warn(note, target)
+    write_image(target, values, **writer_options)
+    click.echo(f"wrote {target}: {_depth_text(bits)}, {source_convention} -> {target_convention}")
 
 
 def register(group: click.Group) -> None:

@@ -10,7 +10,16 @@ from bakeshop.cli._common import (
     ENVIRONMENT,
     OUTPUT,
     convention_option,
+    environment_weights,
+    is_picture,
+    linearise,
+    make_picture,
+    picture_options,
     refuse_overwriting_inputs,
+    refuse_unused_picture_rule,
+    srgb_decode_option,
+    stored_bits,
+    warn,
 )
 from bakeshop.cli._probe import read_probe
 from bakeshop.errors import ArgumentError
@@ -58,7 +67,22 @@ _float32 = click.option(
               help="Importance samples per texel (narrow lobes; wide ones are exact).")  # fmt: skip
 @_convention
 @_float32
-def prefilter(source, target, brdf, exponent, size, mips, src_layout, samples, convention, float32):
+@srgb_decode_option
+@picture_options()
+def prefilter(
+    source,
+    target,
+    brdf,
+    exponent,
+    size,
+    mips,
+    src_layout,
+    samples,
+    convention,
+    float32,
+    srgb_decode,
+    picture,
+):
     """Prefilter the environment IN into a glossy-reflection cube mip chain OUT.
 
     GGX (the split-sum approximation of UE4): level m has roughness m / (mips - 1), so level 0
@@ -66,6 +90,8 @@ def prefilter(source, target, brdf, exponent, size, mips, src_layout, samples, c
     textureLod(env, R, roughness * (mips - 1)) and multiplies by the DFG table (bakeshop dfg).
     Phong: cmft's exponent per level, or one lobe with --exponent. OUT is one .dds, .ktx or
     .ktx2 file holding the whole chain, or a name with {mip} (and {face} for six face files).
+    Picture files per level (.png .tga .jpg) follow the display rule (docs/tonemap.md), with
+    one exposure for every level (metered on level 0 with --exposure auto or fit).
 
     \b
     Example:
@@ -84,7 +110,11 @@ def prefilter(source, target, brdf, exponent, size, mips, src_layout, samples, c
         raise ArgumentError("--exponent makes one level (one lobe); leave out --mips")
     if mips is None:
         mips = 1 if exponent is not None else min(9, size.bit_length())
-    image, layout, _ = read_probe(source, src_layout)
+    picture_out = is_picture(target)
+    if not picture_out:
+        refuse_unused_picture_rule(picture, target)
+    image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
+    image, linear = linearise(image, source, meta, srgb_decode)
     started = time.perf_counter()
     if brdf == "ggx":
         chain = specular.prefilter_ggx(image, layout, size=size, mips=mips, samples=samples)
@@ -96,13 +126,41 @@ def prefilter(source, target, brdf, exponent, size, mips, src_layout, samples, c
         )
         what = f"Phong exponent {exponent:g}" if exponent else "Phong, cmft's exponents"
     elapsed = time.perf_counter() - started
-    paths = write_chain(target, chain, convention=convention, float32=float32)
+    made = None
+    if picture_out:
+        pictures = []
+        for level in chain:  # level 0 sets the exposure; every level gets the same
+            rule = picture if made is None else picture._replace(ev=made.ev)
+            made_level = make_picture(
+                level,
+                rule,
+                target,
+                weights=environment_weights("cube", level.shape[:-1]),
+                inputs=[stored_bits(meta)],
+                linear_input=linear,
+            )
+            made = made or made_level
+            pictures.append(made_level.pixels)
+        chain_out = pictures
+    else:
+        chain_out = chain
+    paths = write_chain(
+        target,
+        chain_out,
+        convention=convention,
+        float32=float32,
+        description=None if made is None else made.description,
+    )
     where = target if len(paths) == 1 else f"{len(paths)} files ({paths[0].name} ...)"
     click.echo(
         f"wrote {where}: {len(chain)} levels of 6x{size} down to 6x{chain[-1].shape[1]} "
         f"({what}; {convention} faces) from {source.name} ({describe(image, layout)}), "
         f"{elapsed:.2f} s"
     )
+    if made is not None:
+        click.echo(f"  pictures: {made.line} (level 0)")
+        if made.note:
+            warn(made.note, target)
 
 
 def register(group: click.Group) -> None:

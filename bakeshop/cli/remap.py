@@ -10,12 +10,23 @@ from bakeshop.cli._common import (
     ENVIRONMENT,
     OUTPUT,
     convention_option,
+    environment_weights,
+    is_picture,
+    linearise,
+    make_picture,
     parse_size,
+    picture_options,
     refuse_overwriting_inputs,
+    refuse_unused_picture_rule,
+    srgb_decode_option,
+    warn,
 )
+from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 from bakeshop.errors import ArgumentError
+from bakeshop.io import stored_bits
 from bakeshop.io.environment import (
     FACES,
+    check_openexr_target,
     describe,
     is_container,
     is_cube,
@@ -36,11 +47,13 @@ def _check_target(target: Path, layout: str) -> None:
             raise ArgumentError(
                 "a cube is written as six files: put {face} in the output name (sky_{face}.exr "
                 "gives sky_posx.exr ... sky_negz.exr), write one .dds, .ktx or .ktx2 file, or "
-                "choose a cross or strip (--to cross-vertical)",
+                "choose a cross or strip (--to cross-vertical) or OpenEXR's cube environment "
+                "(--to openexr-cube)",
                 target,
             )
     elif "{face}" in str(target):
         raise ArgumentError(f"{{face}} in the output name needs --to faces, not {layout}", target)
+    check_openexr_target(target, layout)
 
 
 @click.command(context_settings={"max_content_width": 100})
@@ -50,8 +63,9 @@ def _check_target(target: Path, layout: str) -> None:
     "--from",
     "src",
     type=click.Choice(_layouts()),
-    help="Layout of SOURCE. Default: guessed from its shape (2:1 latlong, 3:4 and 4:3 crosses, "
-    "6:1 and 1:6 strips; a square image is ambiguous: name it).",
+    help="Layout of SOURCE. Default: an EXR's envmap attribute (openexr-latlong, openexr-cube), "
+    "else guessed from its shape (2:1 latlong, 3:4 and 4:3 crosses, 6:1 and 1:6 strips; a "
+    "square image is ambiguous: name it).",
 )
 @click.option("--to", "dst", type=click.Choice(_layouts()), required=True, help="Layout of TARGET.")
 @click.option(
@@ -60,7 +74,7 @@ def _check_target(target: Path, layout: str) -> None:
     metavar="N|WxH",
     help="Output size: WxH for a latlong (360x180) or N (its height), one edge for square "
     "layouts, the face edge for cubes, crosses and strips. Default: about as many texels as "
-    "SOURCE.",
+    "SOURCE (a power-of-two face edge for cubes, crosses and strips).",
 )
 @click.option(
     "--filter",
@@ -86,16 +100,43 @@ def _check_target(target: Path, layout: str) -> None:
     is_flag=True,
     help="{face} is px, nx, py, ny, pz, nz instead of posx, negx, posy, negy, posz, negz.",
 )
-def remap(source, target, src, dst, size_text, filter_name, rotate, convention, short_face_names):
+@srgb_decode_option
+@picture_options()
+@memory_option
+@scheduler_option
+def remap(
+    source,
+    target,
+    src,
+    dst,
+    size_text,
+    filter_name,
+    rotate,
+    convention,
+    short_face_names,
+    srgb_decode,
+    picture,
+    memory,
+    scheduler,
+):
     """Convert the panorama SOURCE from one layout to another and write TARGET.
 
-    Layouts: latlong (equirectangular), angular (Debevec light probe), mirrorball, octahedral,
+    Layouts: latlong (equirectangular), angular (Debevec light probe) and mirrorball as HDRShop
+    reads them (centre forward, -Z), angular-physical and mirrorball-physical (the exact
+    reflection in a ball you photographed: centre +Z, behind the camera), octahedral,
     dual-paraboloid, cube maps as six files (faces: {face} in the name, or one .dds/.ktx/.ktx2
     file) and as pictures: cross-vertical, cross-horizontal, strip-horizontal,
-    strip-vertical. Crosses and strips are drawn as HDRShop and cmft draw them (seen from
-    inside the cube, unmirrored, the centre looking forward); six face files follow
+    strip-vertical; OpenEXR's environments openexr-latlong and openexr-cube (.exr only, with
+    their envmap attribute). Crosses and strips are drawn as HDRShop and cmft draw them (seen
+    from inside the cube, unmirrored, the centre looking forward); six face files follow
     --convention. Seams are filtered across (cube edges, latlong poles). See
-    docs/panoramas.md.
+    docs/panoramas.md and docs/conventions.md.
+
+    A picture TARGET (.png .tga .jpg) of HDR data follows the display rule of every command
+    (docs/tonemap.md): --exposure (default 0 EV), --tonemap (default none: clamp at 1), sRGB
+    encoding (or --linear), 8 bits (16 with --bits 16, or when the input has 16), said in one
+    line and recorded in the file. A picture SOURCE holds display-encoded values: they are
+    remapped as stored (with a warning) unless --srgb-decode linearises them.
 
     \b
     Example:
@@ -104,6 +145,14 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
       bakeshop remap sky.exr sky_{face}.exr --to faces --size 1024 --convention directx
       bakeshop remap sky_{face}.hdr sky.exr --from faces --to latlong --rotate 90,0,0
       bakeshop remap sky.ktx2 sky.hdr --to latlong
+      bakeshop remap KernerEnvCube.exr kerner.hdr --to latlong
+      bakeshop remap sky.hdr sky_env.exr --to openexr-cube --size 512
+      bakeshop remap probe.hdr preview.png --to cross-vertical --exposure auto --tonemap aces
+      bakeshop remap pano_32k.pfm sky_{face}.exr --to faces --size 2048 --memory 2GB
+
+    A panorama larger than memory (a flat layout in .pfm, .hdr, .exr, .tif or .zarr) is
+    remapped tile by tile within --memory, each tile reading only its window of the source
+    (docs/huge-images.md); nearest and bilinear give the in-memory result bit for bit.
     """
     from bakeshop import progress, sphere
 
@@ -117,10 +166,24 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
             rotation = []
         if len(rotation) != 3:
             raise ArgumentError(f"--rotate takes YAW,PITCH,ROLL in degrees; got {rotate!r}")
+    picture_out = is_picture(target)
+    if not picture_out:
+        refuse_unused_picture_rule(picture, target)
+    if "{face}" not in str(source) and chunked(source, memory, scheduler):
+        if picture_out or srgb_decode:
+            raise ArgumentError(
+                "a panorama larger than memory is remapped to a float file (.pfm, .hdr, .exr, "
+                ".zarr): make the picture from the result",
+                target,
+            )
+        _remap_chunked(source, target, src, dst, size_text, filter_name, rotation, convention,
+                       short_face_names, memory, scheduler)  # fmt: skip
+        return
     with progress.step(f"reading {source}"):
-        image, src, how = read_environment(
-            source, src, convention=convention, short=short_face_names
+        (image, src, how), meta = read_environment(
+            source, src, convention=convention, short=short_face_names, with_metadata=True
         )
+    image, linear = linearise(image, source, meta, srgb_decode)
     dst_name = "cube" if dst == FACES else dst
     size = None if size_text is None else parse_size(size_text)
     if filter_name == "auto":
@@ -129,12 +192,58 @@ def remap(source, target, src, dst, size_text, filter_name, rotate, convention, 
         filter_name = sphere.auto_filter(src, src_shape, dst_name, dst_shape)
     with progress.step(f"remapping {src} -> {dst_name} ({filter_name})"):
         out = sphere.remap(image, src, dst_name, size, filter=filter_name, rotation=rotation)
+    made = None
+    if picture_out:
+        weights = environment_weights(dst_name, out.shape[:-1])
+        made = make_picture(
+            out, picture, target, weights=weights, inputs=[stored_bits(meta)], linear_input=linear
+        )
     with progress.step(f"writing {target}"):
-        written = write_environment(target, out, dst, convention=convention, short=short_face_names)
+        written = write_environment(
+            target,
+            out if made is None else made.pixels,
+            dst,
+            convention=convention,
+            short=short_face_names,
+            description=None if made is None else made.description,
+        )
     where = written[0] if len(written) == 1 else f"{written[0]} ... {written[-1].name}"
     click.echo(
         f"wrote {where}: {describe(out, dst_name)} from {describe(image, src)} "
         f"({how}), {filter_name}" + (f", rotated {rotate}" if rotate else "")
+    )
+    if made is not None:
+        click.echo(f"  picture: {made.line}")
+        if made.note:
+            warn(made.note, target)
+
+
+def _remap_chunked(source, target, src, dst, size_text, filter_name, rotation, convention,
+                   short, memory, scheduler) -> None:  # fmt: skip
+    from bakeshop import sphere
+    from bakeshop.huge import remap as remap_chunked
+    from bakeshop.io.stream import open_image
+
+    reader = open_image(source)
+    h, w, _ = reader.shape
+    how = "given"
+    if src is None:
+        guesses = sphere.guess_layout(h, w)
+        if len(guesses) != 1:
+            raise ArgumentError(
+                f"cannot tell the layout of a {w}x{h} image; name it with --from", source
+            )
+        src, how = guesses[0], f"guessed from its {w}x{h} shape"
+    dst_name = "cube" if dst == FACES else dst
+    size = None if size_text is None else parse_size(size_text)
+    with engine(memory, scheduler) as eng:
+        out = remap_chunked(reader, src, dst_name, size, filter=filter_name, rotation=rotation,
+                            engine=eng)  # fmt: skip
+    written = write_environment(target, out, dst, convention=convention, short=short)
+    where = written[0] if len(written) == 1 else f"{written[0]} ... {written[-1].name}"
+    click.echo(
+        f"wrote {where}: {describe(out, dst_name)} from {src} {w}x{h} ({how}), "
+        f"{filter_name}, chunked"
     )
 
 

@@ -5,15 +5,19 @@ from __future__ import annotations
 import click
 
 from bakeshop.cli._common import (
-    INPUT,
     OUTPUT,
+    SOURCE,
     parse_size,
+    picture_options,
     refuse_overwriting_inputs,
+    write_any,
 )
+from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
+from bakeshop.io import stored_bits
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("source", type=INPUT)
+@click.argument("source", type=SOURCE)
 @click.argument("target", type=OUTPUT)
 @click.option(
     "--size",
@@ -21,31 +25,67 @@ from bakeshop.cli._common import (
     metavar="WxH",
     help="Output size; a single W keeps the aspect ratio (height rounded).",
 )
-def resize(source, target, size):
+@picture_options()
+@memory_option
+@scheduler_option
+def resize(source, target, size, picture, memory, scheduler):
     """Resize SOURCE to TARGET with energy-preserving area resampling.
 
     Each output texel is the exact mean of the input over its footprint (the exact box filter
     for integer factors, area-weighted otherwise), so the image's mean is preserved to float32
     rounding: the way to bring huge artist images down to real-time sizes without losing or
     gaining light. Values are resampled as stored: resize linear (HDR) data, not sRGB pictures.
+    An 8/16-bit TARGET keeps the depth of an 8/16-bit SOURCE; from float data it follows the
+    display rule of every command (docs/tonemap.md: --exposure, --tonemap, sRGB, --bits).
+
+    Images larger than memory (.pfm, .hdr, .exr, .tif, .zarr) are resized block by block within
+    --memory, bit-identical to the in-memory result; a .zarr, .tif, .pfm, .hdr or .exr output is
+    written by strips, so it may be larger than memory too (docs/huge-images.md).
 
     \b
     Example:
       bakeshop resize probe_12k.exr probe_4k.exr --size 4096x2048
       bakeshop resize probe.hdr small.hdr --size 360
+      bakeshop resize pano_64k.zarr pano_8k.exr --size 8192 --memory 2GB
     """
     from bakeshop.image import resize_area
-    from bakeshop.io import read_image, write_image
+    from bakeshop.io import read_image
 
     refuse_overwriting_inputs(target, source)
     wanted = parse_size(size)
-    image = read_image(source)
+    if chunked(source, memory, scheduler):
+        _resize_chunked(source, target, wanted, memory, scheduler)
+        return
+    image, meta = read_image(source, with_metadata=True)
     h, w = image.shape[:2]
     if isinstance(wanted, int):
         wanted = (wanted, max(1, round(h * wanted / w)))
     out = resize_area(image, wanted)
-    write_image(target, out)
-    click.echo(f"wrote {target}: {w}x{h} -> {wanted[0]}x{wanted[1]} (mean preserved)")
+    bits = stored_bits(meta)
+    line = write_any(target, out, picture, inputs=[bits], linear=bits is None)
+    click.echo(
+        f"wrote {target}: {w}x{h} -> {wanted[0]}x{wanted[1]} (mean preserved)"
+        + (f"; {line}" if line else "")
+    )
+
+
+def _resize_chunked(source, target, wanted, memory, scheduler) -> None:
+    from bakeshop.huge import resize_to_file
+    from bakeshop.io.stream import open_image
+
+    reader = open_image(source)
+    h, w, _ = reader.shape
+    if isinstance(wanted, int):
+        wanted = (wanted, max(1, round(h * wanted / w)))
+    with engine(memory, scheduler) as eng:
+        if target.suffix.lower() in (".zarr", ".tif", ".tiff", ".pfm", ".hdr", ".exr"):
+            resize_to_file(reader, target, wanted, engine=eng)
+        else:
+            from bakeshop.huge import resize as resize_chunked
+            from bakeshop.io import write_image
+
+            write_image(target, resize_chunked(reader, wanted, engine=eng))
+    click.echo(f"wrote {target}: {w}x{h} -> {wanted[0]}x{wanted[1]} (mean preserved, chunked)")
 
 
 def register(group: click.Group) -> None:

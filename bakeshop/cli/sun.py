@@ -8,6 +8,8 @@ import click
 
 from bakeshop.cli._common import (
     ENVIRONMENT,
+    linearise,
+    srgb_decode_option,
 )
 from bakeshop.cli._probe import (
     from_option,
@@ -20,7 +22,8 @@ from bakeshop.cli._probe import (
 @click.argument("source", metavar="IN", type=ENVIRONMENT)
 @from_option
 @click.option("--json", "as_json", is_flag=True, help="Print sun.json instead.")
-def sun(source, src_layout, as_json):
+@srgb_decode_option
+def sun(source, src_layout, as_json, srgb_decode):
     """Find the sun of the probe IN and print its direction, size, colour and irradiance.
 
     The sun is the brightest compact light that stands well above the sky around it and
@@ -35,7 +38,8 @@ def sun(source, src_layout, as_json):
     """
     from bakeshop.light.sun import find_sun
 
-    image, layout, _ = read_probe(source, src_layout)
+    image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
+    image, _ = linearise(image, source, meta, srgb_decode)
     found = find_sun(image, layout)
     if as_json:
         click.echo(json.dumps({"sun": None} if found is None else found.to_dict(), indent=1))

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import glob
-import os
 import re
 import string
 from pathlib import Path
@@ -11,12 +10,19 @@ from pathlib import Path
 import click
 
 from bakeshop.cli._common import (
-    is_ldr,
-    parse_exposure,
+    FRAMES,
+    environment_weights,
+    is_picture,
+    linearise,
+    output_bits,
+    parse_exposure_mode,
     refuse_overwriting_inputs,
-    require_hdr,
+    srgb_decode_option,
+    warn,
 )
+from bakeshop.cli._probe import FILE_LAYOUTS
 from bakeshop.errors import ArgumentError
+from bakeshop.io import check_input, stored_bits
 
 
 def _natural_key(path: str):
@@ -28,16 +34,15 @@ def expand_inputs(patterns) -> list[Path]:
     """Input frames in order: each argument is a file or a glob pattern, whose matches are
     sorted by name with numbers in numeric order (frame_2 before frame_10)."""
     frames: list[Path] = []
-    for p in patterns:
+    for p in map(str, patterns):
         if glob.has_magic(p):
             matches = sorted(glob.glob(p), key=_natural_key)
             if not matches:
                 raise ArgumentError("no file matches this pattern", p)
             frames.extend(Path(m) for m in matches)
-        elif os.path.isfile(p):
-            frames.append(Path(p))
         else:
-            raise ArgumentError("no such file", p)
+            check_input(p)
+            frames.append(Path(p))
     return frames
 
 
@@ -59,7 +64,7 @@ def frame_paths(target: str, count: int) -> list[Path]:
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("inputs", nargs=-1, required=True, metavar="IN...")
+@click.argument("inputs", nargs=-1, required=True, metavar="IN...", type=FRAMES)
 @click.argument("target", metavar="OUT")
 @click.option(
     "--operator",
@@ -74,9 +79,17 @@ def frame_paths(target: str, count: int) -> list[Path]:
     "exposure_text",
     default="auto",
     show_default=True,
-    metavar="EV|auto",
-    help="Exposure in stops, or auto: centre-weighted log-average luminance mapped "
-    "to --key, adapting over a sequence.",
+    metavar="EV|auto|fit",
+    help="Exposure in stops (-64..64), auto (centre-weighted log-average luminance of the "
+    "texels that hold light mapped to --key, adapting over a sequence) or fit (only the "
+    "brightest 0.1% clip).",
+)
+@click.option(
+    "--from",
+    "layout",
+    type=click.Choice(FILE_LAYOUTS),
+    help="Meter IN as an environment in this layout: texels weighted by solid angle, only the "
+    "layout's valid ones (not a disk's outside or a cross's empty cells).",
 )
 @click.option(
     "--center-weight",
@@ -120,6 +133,12 @@ def frame_paths(target: str, count: int) -> list[Path]:
     help="Sequence: adaptation time constant (s) when the scene gets darker.",
 )
 @click.option("--dither", is_flag=True, help="Triangular dither of +-1 code value (seeded).")
+@click.option(
+    "--bits",
+    type=click.Choice(("8", "16")),
+    help="Bits per sample of OUT (16: PNG only). Default 8, or 16 for 16-bit inputs.",
+)
+@srgb_decode_option
 def tonemap(
     inputs,
     target,
@@ -132,13 +151,19 @@ def tonemap(
     tau_brighter,
     tau_darker,
     dither,
+    layout,
+    bits,
+    srgb_decode,
 ):
     """Tone-map HDR images (one or a sequence of frames) to 8-bit sRGB pictures.
 
     Each frame: exposure (a fixed EV, or auto), the tone operator, clamp to [0, 1], sRGB
-    encoding (IEC 61966-2-1) and rounding to 8 bits; OUT is .png, .tga or .jpg. Auto exposure
+    encoding (IEC 61966-2-1) and rounding to 8 bits: the display rule of every command
+    (docs/tonemap.md); OUT is .png, .tga or .jpg and records the exposure. Auto exposure
     meters the centre-weighted log-average luminance (Reinhard 2002 eq. 1, weights favouring
-    the centre of the frame) and maps it to --key; over a sequence the exposure adapts
+    the centre of the frame; with --from, solid angles over the layout's valid texels) and
+    maps it to --key, leaving out texels that are black in every channel (no light: a cross's
+    empty cells, a fresnel bake's lower half); over a sequence the exposure adapts
     exponentially, with time constant --tau-brighter when the scene gets brighter and
     --tau-darker when it gets darker (63% of a step after one time constant). IN may be
     several files or a quoted glob (matches in name order, numbers numerically); a sequence
@@ -149,35 +174,34 @@ def tonemap(
       bakeshop tonemap probe.hdr preview.png --operator reinhard --white 8
       bakeshop tonemap 'shots/frame_*.exr' out/frame_{frame:04d}.png --operator aces
       bakeshop tonemap probe.hdr dark.png --operator none --exposure -3
+      bakeshop tonemap cross.exr cross.png --from cross-vertical
     """
     from bakeshop import progress
-    from bakeshop.image import (
-        adapt_exposure,
-        auto_exposure,
-        to_srgb8,
-    )
-    from bakeshop.image import tonemap as apply_tonemap
+    from bakeshop.image import adapt_exposure, choose_exposure, to_picture
     from bakeshop.io import read_image, write_image
 
     frames = expand_inputs(inputs)
-    for frame in frames:
-        require_hdr(frame)
     outputs = frame_paths(target, len(frames))
     for out in outputs:
-        if not is_ldr(out):
-            raise ArgumentError("tonemap writes 8-bit sRGB pictures: use .png, .tga or .jpg", out)
+        if not is_picture(out):
+            raise ArgumentError("tonemap writes pictures: use .png, .tga or .jpg", out)
         refuse_overwriting_inputs(out, *frames)
     if len(set(outputs)) != len(outputs):
         raise ArgumentError("the output pattern gives several frames the same name", target)
-    ev_fixed = parse_exposure(exposure_text)
+    ev_fixed = parse_exposure_mode(exposure_text)
     adapted = None
     evs = []
+    shown = None
     for path, out in progress.track(
         list(zip(frames, outputs, strict=True)), "tone mapping", total=len(frames)
     ):
-        image = read_image(path)
-        if ev_fixed == "auto":
-            target_ev = auto_exposure(image, center_weight=center_weight, key=key)
+        image, meta = read_image(path, with_metadata=True)
+        image, _ = linearise(image, path, meta, srgb_decode)
+        weights = None if layout is None else environment_weights(layout, image.shape[:2])
+        if isinstance(ev_fixed, str):
+            target_ev = choose_exposure(
+                image, ev_fixed, weights=weights, key=key, center_weight=center_weight
+            ).ev
             adapted = adapt_exposure(
                 [target_ev],
                 frame_time=1.0 / fps,
@@ -188,13 +212,31 @@ def tonemap(
             ev = float(adapted)
         else:
             ev = ev_fixed
-        display = apply_tonemap(image, ev=ev, operator=operator, white=white)
-        write_image(out, to_srgb8(display, dither="triangular" if dither else "none"))
+        depth, note = output_bits(
+            out,
+            requested=None if bits is None else int(bits),
+            inputs=[stored_bits(meta)],
+            display=True,
+        )
+        shown = to_picture(
+            image,
+            ev=ev,
+            operator=operator,
+            white=white,
+            bits=depth,
+            dither="triangular" if dither else "none",
+            weights=weights,
+        )
+        how = "" if not isinstance(ev_fixed, str) else f" ({ev_fixed}, adapted)"
+        write_image(out, shown.pixels, description=shown.metadata() + how)
+        if note:
+            warn(note, out)
         evs.append(ev)
-    how = "auto" if ev_fixed == "auto" else "fixed"
+    how = ev_fixed if isinstance(ev_fixed, str) else "fixed"
     span = f"{evs[0]:+.2f} EV" if len(evs) == 1 else f"{min(evs):+.2f} to {max(evs):+.2f} EV"
     dest = outputs[0] if len(outputs) == 1 else f"{len(outputs)} frames ({target})"
-    click.echo(f"wrote {dest}: {operator}, {how} exposure {span}, 8-bit sRGB")
+    rule = shown.describe().split(", ", 1)[1]  # the rule after the exposure, as for the others
+    click.echo(f"wrote {dest}: {operator}, {how} exposure {span}; {rule}")
 
 
 def register(group: click.Group) -> None:

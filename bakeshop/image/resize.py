@@ -5,10 +5,17 @@ exact fractional overlaps), so the mean of the image, its "energy", is preserved
 sizes. For integer factors this is the exact box filter; otherwise it is the area-weighted
 filter (the same definition as OpenCV's ``INTER_AREA`` and Photoshop's "average" downsampling).
 The filter is separable, ``out = A_y @ image @ A_x.T`` with sparse overlap matrices, so the cost is
-O(H_in * W_in * C) multiply-adds: one read of the input, numba-parallel over output rows.
+O(H_in * W_in * C) multiply-adds: one read of the input, numba-parallel over output rows, each
+output row accumulated in float64 (one row of scratch per thread, no image-sized temporary).
+
+Any rectangle of the output can be computed from the window of the input that its footprint
+covers (:func:`area_footprint`, :func:`resize_area_part`) with the same arithmetic in the same
+order, so a resize computed in parts (:mod:`bakeshop.huge`) is bit-identical to the whole.
 """
 
 from __future__ import annotations
+
+import functools
 
 import numba
 import numpy as np
@@ -17,6 +24,7 @@ import scipy.sparse as sp
 from bakeshop.errors import ArgumentError
 
 
+@functools.lru_cache(maxsize=8)
 def area_weights(n_in: int, n_out: int) -> sp.csr_matrix:
     """Sparse ``(n_out, n_in)`` matrix of box-filter weights along one axis.
 
@@ -37,7 +45,17 @@ def area_weights(n_in: int, n_out: int) -> sp.csr_matrix:
         np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
     )
     overlap = np.minimum(hi[rows], (cols + 1) * n_out) - np.maximum(lo[rows], cols * n_out)
-    return sp.csr_matrix((overlap / n_in, (rows, cols)), shape=(n_out, n_in))
+    matrix = sp.csr_matrix((overlap / n_in, (rows, cols)), shape=(n_out, n_in))
+    for a in (matrix.data, matrix.indices, matrix.indptr):
+        a.setflags(write=False)  # cached: shared by every caller
+    return matrix
+
+
+def area_footprint(n_in: int, n_out: int, start: int, stop: int) -> tuple[int, int]:
+    """The input texels ``[lo, hi)`` that output texels ``[start, stop)`` of a resize from
+    ``n_in`` to ``n_out`` texels (along one axis) read: ``lo = floor(start n_in / n_out)``,
+    ``hi = ceil(stop n_in / n_out)``."""
+    return start * n_in // n_out, -(-stop * n_in // n_out)
 
 
 def resize_area(image, size: tuple[int, int]) -> np.ndarray:
@@ -74,17 +92,68 @@ def resize_area(image, size: tuple[int, int]) -> np.ndarray:
         src = src.astype(np.float32)
     if (h, w) == (height, width):
         out = src.copy()
-    elif h % height == 0 and w % width == 0:
-        fy, fx = h // height, w // width
-        out = np.empty((height, width, src.shape[2]), src.dtype)
-        _box(src, fy, fx, out)
     else:
-        ay, ax = area_weights(h, height), area_weights(w, width)
-        tmp = np.zeros((height, w, src.shape[2]), src.dtype)
-        _rows(src, ay.indptr, ay.indices, ay.data, tmp)
-        out = np.zeros((height, width, src.shape[2]), src.dtype)
-        _columns(tmp, ax.indptr, ax.indices, ax.data, out)
+        out = resize_area_part(src, (h, w), (width, height))
     return out.reshape((height, width) + a.shape[2:])
+
+
+def resize_area_part(
+    window, full_shape, size, *, rows=None, cols=None, origin=(0, 0)
+) -> np.ndarray:
+    """Output rows ``rows`` and columns ``cols`` of :func:`resize_area` of an image of which
+    only ``window`` is given: the same values, bit for bit, as the same part of the whole.
+
+    Parameters
+    ----------
+    window : (h, w, C) float array
+        The texels ``[y0, y0 + h) x [x0, x0 + w)`` of the whole image, ``origin = (y0, x0)``;
+        they must cover the part's footprint (:func:`area_footprint` along each axis).
+    full_shape : (int, int)
+        The whole image's (H, W).
+    size : (int, int)
+        The whole output's (width, height).
+    rows, cols : (int, int), optional
+        ``(start, stop)`` of the part along each axis (default: the whole output).
+    origin : (int, int)
+        Where ``window`` starts in the whole image.
+
+    Returns
+    -------
+    (rows, cols, C) array of the window's float type
+        Accumulated in float64, rounded once.
+    """
+    (h, w), (width, height) = (int(n) for n in full_shape), (int(n) for n in size)
+    i0, i1 = (0, height) if rows is None else rows
+    j0, j1 = (0, width) if cols is None else cols
+    y0, x0 = origin
+    src = np.asarray(window)
+    (ly, hy), (lx, hx) = area_footprint(h, height, i0, i1), area_footprint(w, width, j0, j1)
+    if ly < y0 or lx < x0 or hy > y0 + src.shape[0] or hx > x0 + src.shape[1]:
+        raise ArgumentError(
+            f"the window at {origin} of shape {src.shape[:2]} does not cover the footprint "
+            f"rows {ly}..{hy}, columns {lx}..{hx} of output rows {i0}..{i1}, columns {j0}..{j1}"
+        )
+    out = np.empty((i1 - i0, j1 - j0, src.shape[2]), src.dtype)
+    if h % height == 0 and w % width == 0:
+        fy, fx = h // height, w // width
+        _box(src[ly - y0 : hy - y0, lx - x0 : hx - x0], fy, fx, out)
+    else:
+        ay, ax = area_weights(h, height)[i0:i1], area_weights(w, width)[j0:j1]
+        resample_separable(src, (ay.indptr, ay.indices - y0, ay.data),
+                           (ax.indptr, ax.indices - x0, ax.data), out)  # fmt: skip
+    return out
+
+
+def resample_separable(src, rows, cols, out) -> np.ndarray:
+    """``out[i, j] = sum_k sum_l Ay[i, k] Ax[j, l] src[k, l]``, accumulated in float64.
+
+    ``rows = (indptr, indices, weights)`` is ``Ay`` in CSR form (``len(indptr) = out rows +
+    1``, indices into ``src``'s rows), ``cols`` is ``Ax`` (indices into its columns); the sums
+    run over each CSR row in its stored order. Numba-parallel over output rows; one float64 row
+    of scratch per output row. Returns ``out``.
+    """
+    _separable(src, rows[0], rows[1], rows[2], cols[0], cols[1], cols[2], out)
+    return out
 
 
 @numba.njit(parallel=True, cache=True)
@@ -101,20 +170,18 @@ def _box(src, fy, fx, out):
 
 
 @numba.njit(parallel=True, cache=True)
-def _rows(src, indptr, indices, weights, out):
+def _separable(src, ry, ky, wy, rx, kx, wx, out):  # pragma: no cover - compiled
+    width, channels = src.shape[1], src.shape[2]
     for i in numba.prange(out.shape[0]):
-        for t in range(indptr[i], indptr[i + 1]):
-            k, wgt = indices[t], weights[t]
-            for j in range(out.shape[1]):
-                for c in range(out.shape[2]):
-                    out[i, j, c] += wgt * src[k, j, c]
-
-
-@numba.njit(parallel=True, cache=True)
-def _columns(src, indptr, indices, weights, out):
-    for r in numba.prange(out.shape[0]):
-        for i in range(out.shape[1]):
-            for t in range(indptr[i], indptr[i + 1]):
-                k, wgt = indices[t], weights[t]
-                for c in range(out.shape[2]):
-                    out[r, i, c] += wgt * src[r, k, c]
+        row = np.zeros((width, channels))
+        for t in range(ry[i], ry[i + 1]):
+            k, wgt = ky[t], wy[t]
+            for x in range(width):
+                for c in range(channels):
+                    row[x, c] += wgt * src[k, x, c]
+        for j in range(out.shape[1]):
+            for c in range(channels):
+                acc = 0.0
+                for t in range(rx[j], rx[j + 1]):
+                    acc += wx[t] * row[kx[t], c]
+                out[i, j, c] = acc

@@ -26,7 +26,8 @@ from pathlib import Path
 import numpy as np
 
 from bakeshop.errors import BakeshopError, FormatError, UnsupportedError
-from bakeshop.io._files import atomic_path
+from bakeshop.io._files import atomic_path, check_input, open_input, record_writes
+from bakeshop.io.budget import DECODE_FLOOR, DECODE_RATIO, decode_budget
 from bakeshop.io.containers import CONTAINERS, read_container, write_container
 from bakeshop.io.documents import read_json, write_json, write_text
 from bakeshop.io.environment import (
@@ -45,6 +46,7 @@ CODECS: dict[str, tuple[str, ...]] = {
     "tga": (".tga",),
     "exr": (".exr",),
     "ldr": (".png", ".jpg", ".jpeg"),
+    "tiff": (".tif", ".tiff"),
 }
 
 #: codecs that store floating-point values; the others store 8- or 16-bit integers that the
@@ -52,7 +54,7 @@ CODECS: dict[str, tuple[str, ...]] = {
 HDR_CODECS = frozenset({"pfm", "rgbe", "exr"})
 
 #: extensions whose formats store an alpha channel (PFM, Radiance and JPEG store none).
-ALPHA_EXTENSIONS = frozenset({".tga", ".exr", ".png"})
+ALPHA_EXTENSIONS = frozenset({".tga", ".exr", ".png", ".tif", ".tiff"})
 
 #: bytes read from the head of a file to recognise its format.
 SNIFF_BYTES = 64
@@ -60,17 +62,23 @@ SNIFF_BYTES = 64
 __all__ = [
     "ALPHA_EXTENSIONS",
     "CODECS",
+    "DECODE_FLOOR",
+    "DECODE_RATIO",
     "CONTAINERS",
     "HDR_CODECS",
     "EnvironmentFile",
     "atomic_path",
+    "check_input",
     "codec_for",
+    "decode_budget",
     "load_mesh",
     "read_container",
     "read_environment",
     "read_image",
     "read_json",
+    "record_writes",
     "sniff_format",
+    "stored_bits",
     "write_chain",
     "write_container",
     "write_environment",
@@ -97,6 +105,15 @@ def codec_for(path: str | os.PathLike) -> str:
     )
 
 
+def stored_bits(metadata: dict) -> int | None:
+    """Bits of an integer-stored file's samples (8 or 16; fewer count as 8), None for floats."""
+    stored = str(metadata.get("stored", ""))
+    if not stored.startswith("uint"):
+        return None
+    digits = "".join(ch for ch in stored if ch.isdigit())
+    return 16 if int(digits or 8) > 8 else 8
+
+
 def sniff_format(head: bytes) -> str | None:
     """The codec whose magic bytes match ``head``, or None (TGA has no magic and never matches)."""
     for name in CODECS:
@@ -105,16 +122,28 @@ def sniff_format(head: bytes) -> str | None:
     return None
 
 
-def read_image(path: str | os.PathLike, *, with_metadata: bool = False, **options):
+def read_image(
+    path: str | os.PathLike,
+    *,
+    with_metadata: bool = False,
+    max_decoded: int | None = None,
+    **options,
+):
     """Read an image file as a float32 ``(H, W, C)`` array.
 
     Parameters
     ----------
     path : path-like
-        The file; its extension picks the codec (see :data:`CODECS`).
+        The file; its extension picks the codec (see :data:`CODECS`). It must be a regular
+        file: a directory, named pipe, device or symbolic link loop is refused at once
+        (:func:`check_input`).
     with_metadata : bool
         Also return a dict of what the file says beyond the pixels: at least ``format`` and
         ``stored`` (the sample type in the file), plus codec-specific entries.
+    max_decoded : int, optional
+        Bytes the file may decode to. Default: the budget in force
+        (:func:`decode_budget`), normally ``max(DECODE_FLOOR, DECODE_RATIO * file size)``:
+        1 GiB, or 256 bytes per byte of file when that is more (see :mod:`bakeshop.io.budget`).
     **options
         Passed to the codec's reader (for example ``raw=True`` for Radiance files, which keeps
         the stored values instead of dividing by the file's EXPOSURE).
@@ -127,12 +156,13 @@ def read_image(path: str | os.PathLike, *, with_metadata: bool = False, **option
     Raises
     ------
     bakeshop.errors.BakeshopError
-        Unknown extension, a file that is another format than its name says, or a truncated,
-        corrupt or absurdly large file.
+        Unknown extension, not a regular file, a file that is another format than its name
+        says, a truncated, corrupt or absurdly large file, or one that would decode to more
+        than the budget.
     """
     name = codec_for(path)
     try:
-        with open(path, "rb") as f:
+        with open_input(path) as f:
             head = f.read(SNIFF_BYTES)
     except OSError as e:
         raise BakeshopError(e.strerror or str(e), path) from None
@@ -149,7 +179,11 @@ def read_image(path: str | os.PathLike, *, with_metadata: bool = False, **option
         if name != "tga":
             raise FormatError(f"not a {codec.NAME} file (bad magic bytes)", path)
     try:
-        image, meta = codec.read(Path(path), **options)
+        if max_decoded is None:
+            image, meta = codec.read(Path(path), **options)
+        else:
+            with decode_budget(max_decoded):
+                image, meta = codec.read(Path(path), **options)
     except BakeshopError as e:
         if e.path is None:
             e.path = os.fspath(path)

@@ -10,6 +10,10 @@ from bakeshop.io._files import MAX_SIDE
 #: Sample types the containers store, by name.
 DTYPES = {"float16": np.dtype("<f2"), "float32": np.dtype("<f4")}
 
+#: Unsigned normalised samples (a stored c reads as c / 255), for data textures such as
+#: two-channel normal maps, the input of BC5. Float values are quantised as the PNG writer does.
+UNORM_DTYPES = {"unorm8": np.dtype("u1")}
+
 #: Most mip levels a texture may have (a 2^20 side has 21).
 MAX_LEVELS = 21
 
@@ -19,7 +23,7 @@ def mip_size(size: int, level: int) -> int:
     return max(1, size >> level)
 
 
-def check_levels(mips) -> tuple[list[np.ndarray], bool]:
+def check_levels(mips, *, array: bool = False) -> tuple[list[np.ndarray], bool]:
     """Validate a mip chain and return it as a list of float arrays plus whether it is a cube.
 
     Parameters
@@ -28,10 +32,13 @@ def check_levels(mips) -> tuple[list[np.ndarray], bool]:
         Level 0 first. Each level is ``(H, W, C)`` (a 2-D texture; ``(H, W)`` is one channel) or
         ``(6, S, S, C)`` (a cube map in OpenGL face order), C in 1..4, level ``m`` of size
         ``max(1, size0 >> m)`` per side, all with the same channels.
+    array : bool
+        The levels are texture arrays: ``(L, H, W, C)`` (or ``(L, H, W)``), L >= 1 layers of
+        2-D textures, the same L in every level.
 
     Returns
     -------
-    levels : list of arrays of shape (H, W, C) or (6, S, S, C)
+    levels : list of arrays of shape (H, W, C), (6, S, S, C) or (L, H, W, C)
     cube : bool
     """
     if isinstance(mips, np.ndarray) or not len(mips):
@@ -39,13 +46,23 @@ def check_levels(mips) -> tuple[list[np.ndarray], bool]:
     if len(mips) > MAX_LEVELS:
         raise ArgumentError(f"at most {MAX_LEVELS} mip levels, got {len(mips)}")
     first = np.asarray(mips[0])
-    cube = first.ndim == 4
+    cube = first.ndim == 4 and not array
+    layers = first.shape[0] if array and first.ndim in (3, 4) else None
     levels = []
     for m, level in enumerate(mips):
         a = np.asarray(level)
         if a.dtype.kind not in "fiu":
             raise ArgumentError(f"mip {m}: cannot store {a.dtype} samples as floats")
-        if cube:
+        if array:
+            if a.ndim == 3:
+                a = a[..., None]
+            if a.ndim != 4 or a.shape[0] != layers or layers < 1:
+                raise ArgumentError(
+                    f"mip {m} of a texture array must be (L, H, W, C) with the same L >= 1 "
+                    f"in every level; got {a.shape}"
+                )
+            shape = a.shape[1:3]
+        elif cube:
             if a.ndim != 4 or a.shape[0] != 6 or a.shape[1] != a.shape[2]:
                 raise ArgumentError(f"mip {m} of a cube map must be (6, S, S, C); got {a.shape}")
             shape = a.shape[1:3]
@@ -77,7 +94,12 @@ def check_levels(mips) -> tuple[list[np.ndarray], bool]:
 
 
 def encode(level: np.ndarray, dtype: np.dtype) -> np.ndarray:
-    """``level`` as little-endian ``dtype`` samples; half clamps finite values to +-65504."""
+    """``level`` as little-endian ``dtype`` samples; half clamps finite values to +-65504;
+    unorm8 stores uint8 input as it is and quantises floats in [0, 1] to round(v * 255)."""
+    if dtype == UNORM_DTYPES["unorm8"]:
+        from bakeshop.io._quantize import float_to_unsigned
+
+        return float_to_unsigned(level, 8)
     if dtype == DTYPES["float16"]:
         from bakeshop.io.exr import to_half
 

@@ -52,7 +52,7 @@ def float_to_unsigned(image: np.ndarray, bits: int, path=None) -> np.ndarray:
 
 @numba.njit(cache=True, parallel=True)
 def _quantize(values, top, out):  # pragma: no cover - compiled
-    """out = rint(clip(v, 0, 1) * top), NaN -> 0, in one pass."""
+    """Out = rint(clip(v, 0, 1) * top), NaN -> 0, in one pass."""
     scale = np.float32(top)
     for i in numba.prange(values.size):
         v = values[i]

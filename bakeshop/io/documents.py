@@ -1,12 +1,21 @@
-"""Small text documents written beside the images: JSON sidecars and shader snippets."""
+"""Small text documents written beside the images: JSON sidecars (sun, SH, camera responses,
+quality reports) and shader snippets; read with clear errors, written atomically."""
 
 from __future__ import annotations
 
 import json
+import math
 import os
 
-from bakeshop.errors import FormatError
+import numpy as np
+
+from bakeshop.errors import BakeshopError, FormatError
 from bakeshop.io._files import atomic_path
+
+__all__ = ["read_json", "write_json", "write_text"]
+
+#: a document larger than this is not one of bakeshop's.
+MAX_BYTES = 64 << 20
 
 
 def write_text(path: str | os.PathLike, text: str) -> None:
@@ -16,17 +25,43 @@ def write_text(path: str | os.PathLike, text: str) -> None:
             f.write(text if text.endswith("\n") else text + "\n")
 
 
-def write_json(path: str | os.PathLike, document) -> None:
-    """Write a JSON document (plain dicts, lists, numbers and strings) to ``path`` atomically,
-    indented by one space per level."""
-    write_text(path, json.dumps(document, indent=1))
+def _plain(value):
+    """Numpy scalars and arrays as Python numbers and lists, paths as strings, non-finite
+    floats as null (JSON has neither NaN nor infinity)."""
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _plain(value.tolist())
+    if isinstance(value, np.generic):
+        return _plain(value.item())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    return value
 
 
-def read_json(path: str | os.PathLike):
-    """Read a JSON document; :class:`~bakeshop.errors.FormatError` naming the file when it is
-    not one."""
+def write_json(path: str | os.PathLike, document: dict) -> None:
+    """Write a JSON object to ``path`` atomically, indented by one space per level; numpy
+    values become plain numbers and lists, NaN and infinities null."""
+    write_text(path, json.dumps(_plain(document), indent=1, allow_nan=False))
+
+
+def read_json(path: str | os.PathLike) -> dict:
+    """Read a JSON object from ``path``; :class:`~bakeshop.errors.FormatError` naming the file
+    when it is not one (or is larger than :data:`MAX_BYTES`)."""
     try:
+        size = os.path.getsize(path)
+        if size > MAX_BYTES:
+            raise FormatError(f"{size} bytes is too large for a JSON document", path)
         with open(path, encoding="utf-8") as f:
-            return json.load(f)
-    except (ValueError, UnicodeDecodeError) as e:
-        raise FormatError(f"not a JSON document ({e})", path) from None
+            doc = json.load(f)
+    except OSError as e:
+        raise BakeshopError(e.strerror or str(e), path) from None
+    except (UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise FormatError(f"not a JSON document: {e}", path) from None
+    if not isinstance(doc, dict):
+        raise FormatError("the JSON document is not an object", path)
+    return doc

@@ -8,6 +8,11 @@ map; cube mip chains; and 2-D lookup tables.
 
 A cube in memory is bakeshop's ``(6, S, S, C)`` in OpenGL order and orientation; in files it
 is the face set of an engine ``convention`` (:func:`bakeshop.sphere.cube_to_faces`).
+
+OpenEXR environments say their mapping in the standard ``envmap`` attribute (``ImfEnvmap.h``):
+``latlong`` and ``cube`` are read as bakeshop's layouts ``openexr-latlong`` and
+``openexr-cube`` (the exact mappings the header defines, see docs/conventions.md), and an
+environment written in one of them to an .exr file carries the attribute.
 """
 
 from __future__ import annotations
@@ -19,6 +24,7 @@ from typing import NamedTuple
 import numpy as np
 
 from bakeshop.errors import ArgumentError
+from bakeshop.io._files import check_input
 from bakeshop.io.containers import is_container, read_container, write_container
 
 #: the placeholder a file name uses for the six faces of a cube (``env_{face}.hdr``).
@@ -27,6 +33,9 @@ FACE_FIELD = "{face}"
 FACES = "faces"
 #: the placeholder for the level of a mip chain written as one file per level.
 MIP_FIELD = "{mip}"
+#: OpenEXR ``envmap`` attribute value -> the bakeshop layout that is its mapping, and back.
+ENVMAP_LAYOUTS = {"latlong": "openexr-latlong", "cube": "openexr-cube"}
+LAYOUT_ENVMAPS = {layout: envmap for envmap, layout in ENVMAP_LAYOUTS.items()}
 
 
 class EnvironmentFile(NamedTuple):
@@ -92,7 +101,8 @@ def read_environment(
     *,
     convention: str = "opengl",
     short: bool = False,
-) -> EnvironmentFile:
+    with_metadata: bool = False,
+):
     """Read an environment: one image file, six ``{face}`` files, or a .dds/.ktx/.ktx2 cube.
 
     Parameters
@@ -101,19 +111,30 @@ def read_environment(
         One image (any layout), a name with ``{face}`` (six files, see :func:`face_paths`), or
         a cube map container (its level 0 is read).
     layout : str, optional
-        The layout of a single image (:data:`bakeshop.sphere.LAYOUT_NAMES`); guessed from its
-        shape when None (:func:`guess_input_layout`). Face files and containers are cubes
-        (``"cube"`` or ``"faces"``).
+        The layout of a single image (:data:`bakeshop.sphere.LAYOUT_NAMES`). When None: an
+        OpenEXR file's ``envmap`` attribute if it has one (``latlong`` is ``openexr-latlong``,
+        ``cube`` is ``openexr-cube``), else guessed from the shape
+        (:func:`guess_input_layout`). A layout given overrides the attribute (``how`` says
+        so). Face files and containers are cubes (``"cube"`` or ``"faces"``).
     convention : {"opengl", "vulkan", "directx"}
         The engine face set of face files and containers (:func:`bakeshop.sphere.faces_to_cube`).
     short : bool
         ``{face}`` stands for px ... nz instead of posx ... negz.
+    with_metadata : bool
+        Also return what the file says (:func:`bakeshop.io.read_image`'s metadata; the first
+        face's for six files, with ``"stored"`` the deepest of the six; the container's).
 
     Returns
     -------
     EnvironmentFile
         ``(image, layout, how)``; a cube is bakeshop's internal ``(6, S, S, C)``.
+    metadata : dict, only with ``with_metadata=True``
     """
+    env, meta = _read_environment(path, layout, convention, short)
+    return (env, meta) if with_metadata else env
+
+
+def _read_environment(path, layout, convention, short) -> tuple[EnvironmentFile, dict]:
     from bakeshop import sphere
     from bakeshop.io import read_image
 
@@ -121,28 +142,30 @@ def read_environment(
     if FACE_FIELD in str(path):
         if layout is not None and not is_cube(layout):
             raise ArgumentError(f"a {{face}} input is six cube faces, not {layout}", path)
-        faces = []
+        faces, metas = [], []
         for face_path in face_paths(path, short=short):
-            if not face_path.is_file():
-                raise ArgumentError("missing cube face file", face_path)
-            faces.append(read_image(face_path))
+            check_input(face_path)
+            face, meta = read_image(face_path, with_metadata=True)
+            faces.append(face)
+            metas.append(meta)
         shapes = {f.shape for f in faces}
         if len(shapes) != 1 or faces[0].shape[0] != faces[0].shape[1]:
             raise ArgumentError(
                 f"the six faces must be square and equal; got {sorted(shapes)}", path
             )
         cube = sphere.faces_to_cube(np.stack(faces), convention=convention)
-        return EnvironmentFile(cube, "cube", "six face files")
-    if not path.is_file():
-        raise ArgumentError("no such file", path)
+        meta = dict(metas[0], stored=max((m["stored"] for m in metas), key=_depth), files=6)
+        return EnvironmentFile(cube, "cube", "six face files"), meta
+    check_input(path)
     if is_container(path):
         mips, meta = read_container(path)
         if not meta.get("cube"):
             raise ArgumentError("this texture is not a cube map", path)
         faces = _without_padding(mips[0])
         cube = sphere.faces_to_cube(faces, convention=convention)
-        return EnvironmentFile(cube, "cube", "a cube map file")
-    image = read_image(path)
+        return EnvironmentFile(cube, "cube", "a cube map file"), dict(meta)
+    image, meta = read_image(path, with_metadata=True)
+    envmap = ENVMAP_LAYOUTS.get(meta.get("envmap"))
     if layout is not None and is_cube(layout):
         raise ArgumentError(
             "a cube input is six files (put {face} in the name), a .dds, .ktx or .ktx2 file, "
@@ -154,10 +177,29 @@ def read_environment(
             sphere.layout(layout).check_shape(image.shape[:2])
         except ArgumentError as e:
             raise ArgumentError(e.reason, path) from None
-        return EnvironmentFile(image, layout, "given")
+        if envmap is not None and envmap != layout:
+            how = f"given, over its envmap attribute ({envmap})"
+            return EnvironmentFile(image, layout, how), meta
+        return EnvironmentFile(image, layout, "given"), meta
+    if envmap is not None:
+        try:
+            sphere.layout(envmap).check_shape(image.shape[:2])
+        except ArgumentError as e:
+            raise ArgumentError(f"its envmap attribute says {meta['envmap']}, but {e.reason}",
+                                path) from None  # fmt: skip
+        return EnvironmentFile(image, envmap, f"its envmap attribute is {meta['envmap']}"), meta
     guessed = guess_input_layout(image, path)
     h, w = image.shape[:2]
-    return EnvironmentFile(image, guessed, f"guessed from its {w}x{h} shape")
+    return EnvironmentFile(image, guessed, f"guessed from its {w}x{h} shape"), meta
+
+
+def _depth(stored: str) -> int:
+    """Sort key of a stored sample type: an integer type's bits; floats (half, float32, rgbe)
+    above every integer type."""
+    text = str(stored)
+    if text.startswith("uint"):
+        return int("".join(ch for ch in text if ch.isdigit()) or 0)
+    return 1000
 
 
 def _without_padding(faces: np.ndarray) -> np.ndarray:
@@ -176,6 +218,7 @@ def write_environment(
     convention: str = "opengl",
     short: bool = False,
     float32: bool = False,
+    description: str | None = None,
 ) -> list[Path]:
     """Write an environment; a cube to six ``{face}`` files or one .dds/.ktx/.ktx2 file, as the
     engine ``convention`` loads it.
@@ -187,12 +230,18 @@ def write_environment(
     image : array
         In ``layout``: ``(H, W, C)``, or ``(6, S, S, C)`` for the cube.
     layout : str
-        Any of :data:`bakeshop.sphere.LAYOUT_NAMES`, or ``"faces"`` (a cube).
+        Any of :data:`bakeshop.sphere.LAYOUT_NAMES`, or ``"faces"`` (a cube). OpenEXR's layouts
+        ``openexr-latlong`` and ``openexr-cube`` are written to .exr files only, with their
+        ``envmap`` attribute (``latlong``, ``cube``): in any other format they would read back
+        as another layout.
     convention : {"opengl", "vulkan", "directx"}
     short : bool
         ``{face}`` becomes px ... nz.
     float32 : bool
         Containers: store 32-bit floats (default: half floats unless a value overflows them).
+    description : str, optional
+        A line recorded in each picture file (PNG, JPEG, TGA: see :mod:`bakeshop.io.ldr`),
+        such as how a picture's exposure was chosen; other formats ignore it.
 
     Returns
     -------
@@ -203,8 +252,13 @@ def write_environment(
     from bakeshop.io import write_image
 
     path = Path(path)
+    check_openexr_target(path, layout)
+    if layout in LAYOUT_ENVMAPS:
+        write_image(path, image, envmap=LAYOUT_ENVMAPS[layout])
+        return [path]
+    options = _picture_options(path, description)
     if not is_cube(layout):
-        write_image(path, image)
+        write_image(path, image, **options)
         return [path]
     faces = sphere.cube_to_faces(image, convention=convention)
     if is_container(path):
@@ -218,8 +272,31 @@ def write_environment(
         )
     paths = face_paths(path, short=short)
     for face_path, face in zip(paths, faces, strict=True):
-        write_image(face_path, face)
+        write_image(face_path, face, **options)
     return paths
+
+
+def check_openexr_target(path: str | os.PathLike, layout: str) -> None:
+    """Refuse to write OpenEXR's layouts (``openexr-latlong``, ``openexr-cube``) anywhere but an
+    .exr file: only its ``envmap`` attribute says how to read them (commands call this before
+    any work, :func:`write_environment` again when writing)."""
+    from bakeshop.io import codec_for
+
+    if layout in LAYOUT_ENVMAPS and codec_for(path) != "exr":
+        raise ArgumentError(
+            f"{layout} is OpenEXR's environment mapping: write it to an .exr file (its envmap "
+            "attribute says how to read it), or convert to another layout",
+            path,
+        )
+
+
+def _picture_options(path: Path, description: str | None) -> dict:
+    """``{"description": ...}`` for the formats that record one (PNG, JPEG, TGA), else ``{}``."""
+    from bakeshop.io import HDR_CODECS, codec_for
+
+    if description is None or is_container(path) or codec_for(path) in HDR_CODECS:
+        return {}
+    return {"description": description}
 
 
 def check_chain_path(path: str | os.PathLike) -> None:
@@ -234,12 +311,18 @@ def check_chain_path(path: str | os.PathLike) -> None:
 
 
 def write_chain(
-    path: str | os.PathLike, chain, *, convention: str = "opengl", float32: bool = False
+    path: str | os.PathLike,
+    chain,
+    *,
+    convention: str = "opengl",
+    float32: bool = False,
+    description: str | None = None,
 ) -> list[Path]:
     """Write a cube mip chain (a list of ``(6, S, S, C)`` levels, level 0 first): one
     .dds/.ktx/.ktx2 file, or files per level (``{mip}`` in the name) with six faces each
     (``{face}``) or one vertical cross each. Returns the paths written; a container holds
-    float16 unless ``float32`` or a value would overflow it."""
+    float16 unless ``float32`` or a value would overflow it. ``description`` is recorded in
+    picture files (see :func:`write_environment`)."""
     from bakeshop import sphere
     from bakeshop.io import write_image
 
@@ -253,9 +336,12 @@ def write_chain(
     for m, level in enumerate(chain):
         name = Path(str(path).replace(MIP_FIELD, str(m)))
         if FACE_FIELD in str(name):
-            paths += write_environment(name, level, "cube", convention=convention)
+            paths += write_environment(
+                name, level, "cube", convention=convention, description=description
+            )
         else:
-            write_image(name, sphere.cube_to_view(level, "cross-vertical"))
+            cross = sphere.cube_to_view(level, "cross-vertical")
+            write_image(name, cross, **_picture_options(name, description))
             paths.append(name)
     return paths
 

@@ -14,8 +14,14 @@ Y, A                   (H, W, 4): Y copied to R, G and B, then A
 any single channel     (H, W, 1) (a depth ``Z``, a mask ...)
 =====================  =========================================
 
-Other channels of the part are listed in the metadata as ``ignored_channels``. Luminance-chroma
-(``RY``, ``BY``) and sub-sampled channels are refused rather than read wrongly.
+Other channels of the part are listed in the metadata as ``ignored_channels`` and never
+converted or kept: the first part is read through OpenEXR's frame-buffer interface
+(``OpenEXR.InputFile``), which fills only the channels asked for, in blocks of rows converted
+straight into the float32 image (the peak is the image plus one block). Another part is read
+with ``OpenEXR.File``, which decodes every channel of every part, and so is the first part by
+bindings that no longer offer ``InputFile`` (deprecated in OpenEXR 3.3+); the decode budget
+(:mod:`bakeshop.io.budget`) counts every channel from the header before anything is decoded.
+Luminance-chroma (``RY``, ``BY``) and sub-sampled channels are refused rather than read wrongly.
 
 Writing stores half floats by default (``pixel_type="float"`` for 32-bit), as scanlines with
 the named compression. Half holds magnitudes up to 65504: finite values beyond are *clamped* to
@@ -32,6 +38,7 @@ import os
 import sys
 import tempfile
 
+import Imath  # the frame-buffer interface's pixel types, shipped with the OpenEXR bindings
 import numpy as np
 import OpenEXR
 
@@ -43,6 +50,7 @@ from bakeshop.errors import (
     validate_choice,
 )
 from bakeshop.io._files import MAX_PIXELS, check_dimensions
+from bakeshop.io.budget import check_decode
 
 NAME = "OpenEXR"
 MAGIC = b"\x76\x2f\x31\x01"
@@ -58,9 +66,19 @@ COMPRESSIONS = {
 LOSSLESS = ("none", "rle", "zips", "zip", "piz", "zstd", "htj2k256", "htj2k32")
 
 PIXEL_TYPES = {"half": np.float16, "float": np.float32}
+#: values of the standard ``envmap`` attribute (``ImfEnvmap.h``): an environment's mapping.
+ENVMAPS = {"latlong": OpenEXR.Envmap.ENVMAP_LATLONG, "cube": OpenEXR.Envmap.ENVMAP_CUBE}
 HALF_MAX = 65504.0
 
 _STORED = {np.dtype(np.float16): "half", np.dtype(np.float32): "float", np.dtype(np.uint32): "uint"}
+_FLOAT = Imath.PixelType(Imath.PixelType.FLOAT)
+#: float32 bytes converted per block of rows when reading the first part.
+_BLOCK_BYTES = 8 << 20
+#: rows per block are a multiple of this: every scanline compression's chunk height (1 to 256
+#: rows) divides it, so no chunk is decompressed twice.
+_CHUNK_ROWS = 256
+#: bytes per stored sample assumed when a header does not say (float and uint; half is 2).
+_SAMPLE_BYTES = 4
 
 
 def sniff(head: bytes) -> bool:
@@ -155,12 +173,37 @@ def _headers(path) -> list[dict] | None:
 
 
 def _pixels(path, part: int, names: list[str]) -> dict[str, np.ndarray] | None:
-    """The pixel arrays of the named channels of one part."""
+    """The pixel arrays of the named channels of one part (every channel of every part is
+    decoded: ``OpenEXR.File`` reads whole files)."""
     f = OpenEXR.File(os.fspath(path), separate_channels=True)
     if part >= len(f.parts):
         return None
     channels = f.channels(part)
     return {n: channels[n].pixels for n in names if n in channels}
+
+
+def _first_part(path, names: list[str], window) -> tuple[np.ndarray, dict[str, str]]:
+    """The named channels of the first part as a float32 ``(H, W, len(names))`` image, and
+    the stored type of each, read through the frame buffer: only those channels are filled,
+    converted to float by OpenEXR itself, block of rows by block of rows."""
+    (x0, y0), (x1, y1) = window
+    width, height = x1 - x0 + 1, y1 - y0 + 1
+    f = OpenEXR.InputFile(os.fspath(path))
+    try:
+        described = f.header()["channels"]
+        types = {n: str(described[n].type).lower() for n in names}
+        image = np.empty((height, width, len(names)), np.float32)
+        rows = max(1, _BLOCK_BYTES // (width * 4 * len(names)) // _CHUNK_ROWS) * _CHUNK_ROWS
+        for top in range(0, height, rows):
+            count = min(rows, height - top)
+            planes = f.channels(names, _FLOAT, y0 + top, y0 + top + count - 1)
+            for i, plane in enumerate(planes):
+                image[top : top + count, :, i] = np.frombuffer(plane, np.float32).reshape(
+                    count, width
+                )
+    finally:
+        f.close()
+    return image, types
 
 
 def _window(box) -> tuple[tuple[int, int], tuple[int, int]]:
@@ -265,21 +308,28 @@ def read(
                 "bakeshop reads only full-resolution channels"
             )
 
-    pixels = _library(_pixels, path, part, names)
-    missing = [n for n in names if n not in pixels]
-    if missing:
-        raise FormatError(_reason([f"channels {missing} could not be read"]))
-    planes = [pixels[n] for n in names]
-    height, width = planes[0].shape[:2]
-    if any(p.shape != (height, width) for p in planes):
-        raise FormatError(_reason(["channels of different sizes"]))
-    if grey_alpha:
-        planes = [planes[0], planes[0], planes[0], planes[1]]
-    image = np.empty((height, width, len(planes)), np.float32)
-    for i, plane in enumerate(planes):
-        image[:, :, i] = plane
+    width, height = x1 - x0 + 1, y1 - y0 + 1
+    unique = list(dict.fromkeys(names))
+    order = [names[0]] * 3 + [names[1]] if grey_alpha else names  # the image's channels
+    # What the decoder inflates: every channel of the part, or of every part when a later part
+    # is read (OpenEXR.File decodes them all); and the float32 image returned.
+    stored = sum(_samples(h) for h in (headers if part > 0 else [header])) * _SAMPLE_BYTES
+    check_decode(stored + width * height * len(order) * 4, os.path.getsize(path))
+    if part == 0 and hasattr(OpenEXR, "InputFile"):  # deprecated in the bindings, still there
+        planes, types = _library(_first_part, path, unique, header["data_window"])
+        image = planes[:, :, [unique.index(n) for n in order]] if grey_alpha else planes
+    else:
+        pixels = _library(_pixels, path, part, unique)
+        missing = [n for n in unique if n not in pixels]
+        if missing:
+            raise FormatError(_reason([f"channels {missing} could not be read"]))
+        if any(pixels[n].shape != (height, width) for n in unique):
+            raise FormatError(_reason(["channels of different sizes"]))
+        image = np.empty((height, width, len(order)), np.float32)
+        for i, n in enumerate(order):
+            image[:, :, i] = pixels[n]
+        types = {n: _STORED.get(pixels[n].dtype, str(pixels[n].dtype)) for n in unique}
 
-    types = {n: _STORED.get(pixels[n].dtype, str(pixels[n].dtype)) for n in names}
     meta = {
         "stored": "/".join(sorted(set(types.values()))),
         "channel_types": types,
@@ -300,6 +350,13 @@ def read(
     return image, meta
 
 
+def _samples(header: dict) -> int:
+    """Stored samples of one part: each channel's (sub-sampled) pixel count, summed."""
+    (x0, y0), (x1, y1) = header["data_window"]
+    width, height = x1 - x0 + 1, y1 - y0 + 1
+    return sum(-(-width // xs) * -(-height // ys) for _, xs, ys in header["channels"])
+
+
 def to_half(image: np.ndarray) -> np.ndarray:
     """Convert to float16, clamping finite values beyond +-65504 (NaN and +-Inf kept).
 
@@ -314,7 +371,14 @@ def to_half(image: np.ndarray) -> np.ndarray:
     return half
 
 
-def write(path, image, *, pixel_type: str = "half", compression: str = "zip") -> None:
+def write(
+    path,
+    image,
+    *,
+    pixel_type: str = "half",
+    compression: str = "zip",
+    envmap: str | None = None,
+) -> None:
     """Write an image as a scanline OpenEXR file.
 
     Parameters
@@ -330,9 +394,16 @@ def write(path, image, *, pixel_type: str = "half", compression: str = "zip") ->
         ``"piz"``, ``"zstd"``, ``"htj2k256"``, ``"htj2k32"`` are lossless; ``"pxr24"`` is
         lossless for half but rounds float to 24 bits; ``"b44"``, ``"b44a"``, ``"dwaa"``,
         ``"dwab"`` are lossy.
+    envmap : {"latlong", "cube"}, optional
+        Write the standard ``envmap`` attribute: the image is an environment in OpenEXR's
+        latitude-longitude or cube mapping (``ImfEnvmap.h``; bakeshop's layouts
+        ``openexr-latlong`` and ``openexr-cube``, which :func:`bakeshop.io.write_environment`
+        writes with it).
     """
     validate_choice(pixel_type, tuple(PIXEL_TYPES), "EXR pixel type")
     validate_choice(compression, tuple(COMPRESSIONS), "EXR compression")
+    if envmap is not None:
+        validate_choice(envmap, tuple(ENVMAPS), "EXR envmap")
     a = np.asarray(image)
     if a.dtype.kind not in "fiu":
         raise ArgumentError(f"cannot write {a.dtype} samples to OpenEXR")
@@ -340,6 +411,8 @@ def write(path, image, *, pixel_type: str = "half", compression: str = "zip") ->
     names = {1: "Y", 3: "RGB", 4: "RGBA"}[a.shape[2]]
     channels = {n: np.ascontiguousarray(a[:, :, i]) for i, n in enumerate(names)}
     header = {"compression": COMPRESSIONS[compression], "type": OpenEXR.scanlineimage}
+    if envmap is not None:
+        header["envmap"] = ENVMAPS[envmap]
     try:
         OpenEXR.File(header, channels).write(os.fspath(path))
     except MemoryError:

@@ -19,7 +19,15 @@ Rows are stored in the order OpenGL uploads them (row 0 at t = 0), which is bake
 cube faces are exactly bakeshop's internal (OpenGL) cube. Sample types ``float16`` (default)
 and ``float32``, 1 to 4 channels; half clamps finite values beyond +-65504.
 
-The reader takes what this writer writes (any byte order, uncompressed float formats only).
+Block-compressed textures (:class:`bakeshop.io.compress.BlockTexture`) are written by
+:func:`write_ktx_blocks` for engines and loaders that still take KTX 1 (three.js' KTXLoader,
+older Android and WebGL pipelines): glType 0, glTypeSize 1, glFormat 0, glInternalFormat the
+compressed format (GL_COMPRESSED_RGB_BPTC_UNSIGNED_FLOAT 0x8E8F, GL_COMPRESSED_RGBA_BPTC_UNORM
+0x8E8C, GL_COMPRESSED_RG_RGTC2 0x8DBD, ...), glBaseInternalFormat its base format, and per level
+``imageSize`` (the bytes of one face) then each face's blocks.
+
+The reader takes what these writers write (any byte order): float formats as they are, block
+formats decoded with bakeshop's own decoders (:func:`read_ktx`) or kept (:func:`read_ktx_blocks`).
 """
 
 from __future__ import annotations
@@ -30,7 +38,7 @@ import struct
 import numpy as np
 
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
-from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload
+from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
 from bakeshop.io._levels import (
     DTYPES,
     MAX_LEVELS,
@@ -63,7 +71,7 @@ _FIELDS = struct.Struct("<13I")
 _HEADER_SIZE = len(IDENTIFIER) + _FIELDS.size
 ORIENTATION = b"KTXorientation\x00S=r,T=d\x00"
 
-__all__ = ["write_ktx", "read_ktx", "sniff"]
+__all__ = ["write_ktx", "write_ktx_blocks", "read_ktx", "read_ktx_blocks", "sniff"]
 
 
 def sniff(head: bytes) -> bool:
@@ -116,9 +124,52 @@ def write_ktx(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None:
                 f.write(np.ascontiguousarray(data).tobytes())
 
 
+def write_ktx_blocks(path: str | os.PathLike, texture) -> None:
+    """Write a block-compressed texture (:class:`bakeshop.io.compress.BlockTexture`) as KTX 1.1.
+
+    Parameters
+    ----------
+    path : path-like
+        Written atomically.
+    texture : BlockTexture
+        A cube map (faces in OpenGL order) or a 2-D texture.
+    """
+    fmt = texture.format
+    kv = struct.pack("<I", len(ORIENTATION)) + ORIENTATION
+    kv += bytes(_pad4(len(kv)) - len(kv))
+    fields = _FIELDS.pack(
+        ENDIANNESS, 0, 1, 0, fmt.gl, fmt.gl_base, texture.width, texture.height, 0, 0,
+        texture.faces, len(texture.levels), len(kv),
+    )  # fmt: skip
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        f.write(IDENTIFIER + fields + kv)
+        for m in range(len(texture.levels)):
+            f.write(struct.pack("<I", texture.face_bytes(m)))
+            f.write(texture.levels[m])  # block sizes are multiples of 8: no padding
+
+
+@names_its_file
+def read_ktx_blocks(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
+    """Read a block-compressed KTX 1 file without decoding it.
+
+    Returns
+    -------
+    texture : bakeshop.io.compress.BlockTexture
+    metadata : dict
+        As :func:`read_ktx` returns it.
+    """
+    texture, metadata = _read(path, max_pixels, decode=False)
+    if texture is None:
+        raise UnsupportedError("this KTX file is not block-compressed; read it with read_ktx")
+    return texture, metadata
+
+
 @names_its_file
 def read_ktx(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
-    """Read an uncompressed float KTX 1.1 file (a cube map or a 2-D texture with its mips).
+    """Read a KTX 1.1 file (a cube map or a 2-D texture with its mips) as float mips.
+
+    Float files are returned as stored; block-compressed files are decoded with bakeshop's own
+    decoders (:func:`bakeshop.io.compress.decode_image`).
 
     Returns
     -------
@@ -126,17 +177,23 @@ def read_ktx(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
         Level 0 first; ``(6, S, S, C)`` per level for a cube map, ``(H, W, C)`` for a 2-D
         texture; row 0 is the first row in the file (t = 0).
     metadata : dict
-        ``format`` ("KTX"), ``stored`` ("float16" or "float32"), ``cube`` (bool),
-        ``gl_internal_format`` (int) and ``key_values`` (dict of str to bytes).
+        ``format`` ("KTX"), ``stored`` ("float16", "float32" or a block format's name),
+        ``cube`` (bool), ``gl_internal_format`` (int) and ``key_values`` (dict of str to bytes).
 
     Raises
     ------
     bakeshop.errors.FormatError
         Not a KTX 1 file, an inconsistent header, or fewer bytes than the header promises.
     bakeshop.errors.UnsupportedError
-        Compressed or integer formats, 3-D textures and texture arrays.
+        Integer and other formats, 3-D textures and texture arrays.
     """
-    with open(path, "rb") as f:
+    return _read(path, max_pixels, decode=True)
+
+
+def _read(path, max_pixels: int, decode: bool):
+    from bakeshop.io.compress.formats import FORMATS, level_bytes
+
+    with open_input(path) as f:
         data = f.read()
     if len(data) < _HEADER_SIZE or not sniff(data):
         raise FormatError("not a KTX 1 file (bad identifier)")
@@ -146,15 +203,21 @@ def read_ktx(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     (_, gl_type, type_size, gl_format, internal, _, width, height, depth, array_elements, faces,
      mip_count, kv_bytes) = struct.unpack_from(order + "13I", data, 12)  # fmt: skip
     match = [k for k, v in GL_INTERNAL_FORMATS.items() if v == internal]
-    if not match:
+    block = next((f for f in FORMATS.values() if f.gl == internal), None)
+    if not match and block is None:
         raise UnsupportedError(
-            f"glInternalFormat 0x{internal:04X} is not supported (only uncompressed float formats)"
+            f"glInternalFormat 0x{internal:04X} is not supported (only float and "
+            "BC1/3/4/5/6H/7 formats)"
         )
-    dtype, channels = match[0]
-    if gl_type != _GL_TYPES[dtype] or type_size != DTYPES[dtype].itemsize:
-        raise FormatError(f"glType 0x{gl_type:04X} does not match glInternalFormat")
-    if gl_format != GL_FORMATS[channels]:
-        raise FormatError(f"glFormat 0x{gl_format:04X} does not match glInternalFormat")
+    if block is not None:
+        if gl_type != 0 or gl_format != 0:
+            raise FormatError("a compressed KTX file must have glType and glFormat 0")
+    else:
+        dtype, channels = match[0]
+        if gl_type != _GL_TYPES[dtype] or type_size != DTYPES[dtype].itemsize:
+            raise FormatError(f"glType 0x{gl_type:04X} does not match glInternalFormat")
+        if gl_format != GL_FORMATS[channels]:
+            raise FormatError(f"glFormat 0x{gl_format:04X} does not match glInternalFormat")
     if depth or array_elements:
         raise UnsupportedError("3-D textures and texture arrays are not supported")
     if faces not in (1, 6):
@@ -169,8 +232,33 @@ def read_ktx(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
         raise FormatError(f"{levels} mip levels is more than a {width}x{height} texture has")
     check_payload(kv_bytes, len(data) - _HEADER_SIZE, "key/value data")
     key_values = _key_values(data[_HEADER_SIZE : _HEADER_SIZE + kv_bytes], order)
-    stored = np.dtype(order + DTYPES[dtype].char)
     offset = _HEADER_SIZE + kv_bytes
+    metadata = {
+        "format": NAME,
+        "stored": block.name if block is not None else dtype,
+        "cube": cube,
+        "gl_internal_format": internal,
+        "key_values": key_values,
+    }
+    if block is not None:
+        from bakeshop.io.compress.texture import BlockTexture
+
+        raw = []
+        for m in range(levels):
+            size = level_bytes(block, mip_size(width, m), mip_size(height, m))
+            check_payload(4, len(data) - offset, "mip level size")
+            image_size = struct.unpack_from(order + "I", data, offset)[0]
+            if image_size != size:
+                raise FormatError(f"mip {m}: imageSize {image_size}, expected {size}")
+            offset += 4
+            check_payload(faces * size, len(data) - offset, f"mip {m}")
+            raw.append(data[offset : offset + faces * size])
+            offset += faces * size
+        texture = BlockTexture(block, width, height, cube, tuple(raw))
+        return (texture.decode() if decode else texture), metadata
+    if not decode:
+        return None, metadata
+    stored = np.dtype(order + DTYPES[dtype].char)
     mips = []
     for m in range(levels):
         h, w = mip_size(height, m), mip_size(width, m)
@@ -187,13 +275,6 @@ def read_ktx(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
             level[face] = rows[:, :row].copy().view(stored).reshape(h, w, channels)
             offset += image_size
         mips.append(level if cube else level[0])
-    metadata = {
-        "format": NAME,
-        "stored": dtype,
-        "cube": cube,
-        "gl_internal_format": internal,
-        "key_values": key_values,
-    }
     return mips, metadata
 
 

@@ -55,6 +55,7 @@ from PIL import Image
 from bakeshop.errors import ArgumentError, BakeshopError, FormatError, UnsupportedError
 from bakeshop.io._files import MAX_PIXELS, check_dimensions
 from bakeshop.io._quantize import float_to_unsigned, unsigned_to_float
+from bakeshop.io.budget import check_decode
 
 NAME = "PNG/JPEG"
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -225,13 +226,16 @@ def _expand_grey_alpha(values: np.ndarray) -> np.ndarray:
 
 
 def _open_with_pillow(data: bytes, max_pixels: int) -> Image.Image:
-    """Decode with Pillow: its decompression-bomb limit and bakeshop's size limits both apply."""
+    """Decode with Pillow: its decompression-bomb limit and bakeshop's size limits and decode
+    budget all apply (the budget counts the float32 image: 4 channels for a palette)."""
     try:
         with warnings.catch_warnings():
             # bakeshop checks the size against its own limits; Pillow's warning adds nothing
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
             image = Image.open(io.BytesIO(data))
             check_dimensions(*image.size, max_pixels=max_pixels)
+            bands = 4 if image.mode in ("P", "PA") else len(image.getbands())
+            check_decode(image.size[0] * image.size[1] * bands * 4, len(data))
             image.load()
         return image
     except BakeshopError:
@@ -286,7 +290,9 @@ def read(path, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
         ``"uint1"``/``"uint2"``/``"uint4"`` for low-depth grey PNG), ``bits``, ``colour``
         (the file's colour type), ``icc_profile`` (bool); for PNG ``srgb`` (an sRGB chunk),
         ``gamma`` (the gAMA value, if any), ``interlaced`` and ``dropped_chunks``; for JPEG
-        ``progressive`` and ``exif_orientation`` (the EXIF orientation is reported, not applied).
+        ``progressive`` and ``exif_orientation`` (the EXIF orientation is reported, not applied);
+        ``description`` when the file has one (a PNG ``Description`` text chunk, a JPEG
+        comment), as bakeshop records how a picture was made.
     """
     data = Path(path).read_bytes()
     if data.startswith(PNG_MAGIC):
@@ -309,6 +315,12 @@ def _read_png(data: bytes, max_pixels: int) -> tuple[np.ndarray, dict]:
     kinds = {kind for kind, *_ in chunks}
     colour_name = COLOUR_TYPES[header["colour"]][0]
     colour, depth = header["colour"], header["depth"]
+    # the float32 image (RGBA for grey + alpha, palettes with alpha and colour keys) and the
+    # inflated scanlines, before anything is inflated
+    channels = {0: 1, 2: 3, 3: 3, 4: 4, 6: 4}[colour]
+    if b"tRNS" in kinds:
+        channels = 4
+    check_decode(header["width"] * header["height"] * channels * 4 + needed, len(data))
     if depth == 16 and colour in (2, 4, 6):
         values = _decode_png16(data, header, chunks)
         if colour == 4:
@@ -339,6 +351,10 @@ def _read_png(data: bytes, max_pixels: int) -> tuple[np.ndarray, dict]:
     for kind, s, e in chunks:
         if kind == b"gAMA" and e - s - 12 == 4:
             meta["gamma"] = struct.unpack_from(">I", data, s + 8)[0] / 100000
+        elif kind == b"tEXt":
+            keyword, _, text = data[s + 8 : e - 4].partition(b"\0")
+            if keyword == b"Description":
+                meta["description"] = text.decode("latin-1")
     return unsigned_to_float(values, bits), meta
 
 
@@ -356,6 +372,9 @@ def _read_jpeg(data: bytes, max_pixels: int) -> tuple[np.ndarray, dict]:
     }
     if orientation is not None:
         meta["exif_orientation"] = int(orientation)
+    comment = image.info.get("comment")
+    if comment:
+        meta["description"] = comment.decode("utf-8", "replace")
     return unsigned_to_float(values, bits), meta
 
 
@@ -413,7 +432,7 @@ def _chunk(kind: bytes, payload: bytes) -> bytes:
     )
 
 
-def _write_png(path, values: np.ndarray, bits: int, compression: int) -> None:
+def _write_png(path, values: np.ndarray, bits: int, compression: int, description=None) -> None:
     height, width, channels = values.shape
     colour = {1: 0, 3: 2, 4: 6}[channels]
     rows = values.astype(">u2") if bits == 16 else values
@@ -428,6 +447,9 @@ def _write_png(path, values: np.ndarray, bits: int, compression: int) -> None:
     with open(path, "wb") as f:
         f.write(PNG_MAGIC)
         f.write(_chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, bits, colour, 0, 0, 0)))
+        if description is not None:  # a tEXt chunk, keyword "Description" (PNG spec 11.3.4.2)
+            text = description.encode("latin-1", "replace").replace(b"\0", b" ")
+            f.write(_chunk(b"tEXt", b"Description\0" + text))
         for i in range(0, len(idat), 1 << 20):
             f.write(_chunk(b"IDAT", idat[i : i + (1 << 20)]))
         f.write(_chunk(b"IEND", b""))
@@ -440,6 +462,7 @@ def write(
     bits: int | None = None,
     compression: int | None = None,
     quality: int | None = None,
+    description: str | None = None,
 ) -> None:
     """Write a PNG or JPEG file (chosen by the extension of ``path``).
 
@@ -456,6 +479,9 @@ def write(
         zlib level (default 6). Lossless at every level.
     quality : int 1-100, JPEG only
         Default 95. JPEG stores 8 bits, no alpha (C = 4 is refused).
+    description : str, optional
+        A line of text kept in the file (PNG: a ``tEXt`` chunk with the keyword
+        ``Description``; JPEG: a comment segment), read back as ``description``.
     """
     is_png = Path(path).suffix.lower() == ".png"
     image = np.asarray(image)
@@ -469,7 +495,7 @@ def write(
         compression = 6 if compression is None else compression
         if not isinstance(compression, (int, np.integer)) or not 0 <= compression <= 9:
             raise ArgumentError(f"PNG compression must be an integer 0-9, not {compression!r}")
-        _write_png(path, float_to_unsigned(image, bits), bits, int(compression))
+        _write_png(path, float_to_unsigned(image, bits), bits, int(compression), description)
         return
     if bits not in (None, 8) or compression is not None:
         raise ArgumentError("JPEG stores 8 bits and takes quality=, not bits= or compression=")
@@ -480,4 +506,5 @@ def write(
         raise ArgumentError("JPEG has no alpha channel; drop it or write PNG")
     values = float_to_unsigned(image, 8)
     picture = Image.fromarray(values[..., 0] if values.shape[2] == 1 else values)
-    picture.save(path, format="JPEG", quality=int(quality), subsampling=0)
+    extra = {} if description is None else {"comment": description.encode("utf-8")}
+    picture.save(path, format="JPEG", quality=int(quality), subsampling=0, **extra)

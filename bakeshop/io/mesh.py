@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from bakeshop.errors import ArgumentError, FormatError
+from bakeshop.io._files import check_input
 
 #: extensions :func:`load_mesh` reads.
 MESH_EXTENSIONS = (".obj", ".stl", ".ply", ".off", ".gltf", ".glb")
@@ -157,6 +158,7 @@ def load_mesh(path: str | os.PathLike) -> Mesh:
         raise FormatError(
             f"unsupported mesh extension {ext!r}; use one of {', '.join(MESH_EXTENSIONS)}", path
         )
+    check_input(path)
     gltf = ext in (".gltf", ".glb")
     try:
         if gltf:

@@ -12,13 +12,13 @@ The header tokens are separated by any whitespace; ``#`` comments up to the end 
 skipped between tokens (netpbm-style, which some writers emit), and a CR LF after the scale
 (files written in text mode on Windows) is recognised by the file's size.
 
-Reading maps the file into memory (``numpy.memmap``, copy-on-write): a file in the machine's byte
-order is returned as a flipped view of the map, so opening a multi-gigabyte PFM costs no copy and
-no time until pixels are touched; the array is writable and writes stay private to the process.
-A file in the other byte order is converted into a native float32 array in memory (one copy:
-code downstream expects native float32, not a byte-swapped dtype). The mapped file must not be
-truncated in place while the array lives (bakeshop's own writes rename a new file over the old
-one, which is safe); ``memmap=False`` reads into memory instead.
+Reading copies the pixels into a native float32 array in memory, in blocks of rows flipped and
+byte-swapped (when the file's order is not the machine's) on the way in: the peak is the image
+plus one block. Files are never memory-mapped: a mapped file that another program truncates
+while the array lives kills the process with SIGBUS at the first touch of a vanished page, with
+no message and no way to catch it, and a map saves nothing here (every pixel is read anyway, by
+the time an image has been used). A file that shrinks while it is being read is a
+:class:`FormatError`.
 
 ``PF4`` is a four-channel extension written by a few tools (not part of the original format); it
 is read but never written: bakeshop writes only the two standard kinds.
@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import math
 import os
-import sys
 
 import numpy as np
 
@@ -42,9 +41,10 @@ _MAGIC_OF = {3: "PF", 1: "Pf"}
 _WHITESPACE = b" \t\r\n\v\f"
 #: a header longer than this (comments included) is not a PFM header.
 _MAX_HEADER = 1 << 16
-#: rows converted per block, so neither reading nor writing holds a second copy of the image.
+#: rows converted per block when writing, so writing holds no second copy of the image.
 _BLOCK_ROWS = 256
-_NATIVE = "<" if sys.byteorder == "little" else ">"
+#: bytes read per block (whole rows, at least one), reused: reading holds no second copy either.
+_READ_BLOCK_BYTES = 8 << 20
 
 
 def sniff(head: bytes) -> bool:
@@ -121,55 +121,48 @@ def _header(path: str | os.PathLike, max_pixels: int) -> dict:
     }
 
 
-def read(path: str | os.PathLike, *, memmap: bool = True, max_pixels: int = MAX_PIXELS):
-    """Read a PFM file.
+def read(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
+    """Read a PFM file into memory.
 
     Parameters
     ----------
     path : path-like
-    memmap : bool
-        True (default): a file in the machine's byte order is returned as a copy-on-write view
-        of a memory map of the file (no copy; pixels are read from disk when touched). False:
-        the pixels are read into memory. Files in the other byte order are always converted into
-        memory.
     max_pixels : int
         Largest accepted width * height.
 
     Returns
     -------
     image : (H, W, C) float32
-        C is 3 for ``PF``, 1 for ``Pf``, 4 for ``PF4``; row 0 is the top of the picture (the
-        file's last row).
+        Native byte order, C-contiguous. C is 3 for ``PF``, 1 for ``Pf``, 4 for ``PF4``; row 0
+        is the top of the picture (the file's last row).
     metadata : dict
         ``format`` ('PFM'), ``stored`` ('float32'), ``byteorder`` ('<' little-endian, '>'
-        big-endian), ``scale`` (the magnitude of the header's scale) and ``memmap`` (whether the
-        array is a view of the file).
+        big-endian) and ``scale`` (the magnitude of the header's scale).
     """
     header = _header(path, max_pixels)
     height, width, channels = shape = header["height"], header["width"], header["channels"]
     stored = np.dtype(header["byteorder"] + "f4")
-    native = header["byteorder"] == _NATIVE
-    if native and memmap:
-        mapped = np.memmap(path, dtype=stored, mode="c", offset=header["offset"], shape=shape)
-        image = mapped.view(np.ndarray)[::-1]
-    else:
-        # Blocks of rows, flipped and converted to native order on the way in: the peak memory is
-        # the image plus one block.
-        image = np.empty(shape, np.float32)
-        with open(path, "rb") as f:
-            f.seek(header["offset"])
-            for top in range(0, height, _BLOCK_ROWS):
-                rows = min(_BLOCK_ROWS, height - top)
-                block = np.fromfile(f, dtype=stored, count=rows * width * channels)
-                if block.size != rows * width * channels:
-                    raise FormatError("truncated PFM pixel data")
-                image[height - top - rows : height - top] = block.reshape(rows, width, -1)[::-1]
+    row = width * channels
+    rows = max(1, min(height, _READ_BLOCK_BYTES // (4 * row)))
+    image = np.empty(shape, np.float32)
+    block = np.empty(rows * row, stored)
+    with open(path, "rb") as f:
+        f.seek(header["offset"])
+        for top in range(0, height, rows):
+            count = min(rows, height - top)
+            part = block[: count * row]
+            if f.readinto(part.view(np.uint8)) != part.nbytes:
+                raise FormatError(
+                    "truncated PFM pixel data: the file is shorter than its header says (it "
+                    "was truncated while being read)"
+                )
+            # file rows run bottom to top: this block lands reversed, above the previous one
+            image[height - top - count : height - top] = part.reshape(count, width, -1)[::-1]
     metadata = {
         "format": NAME,
         "stored": "float32",
         "byteorder": header["byteorder"],
         "scale": header["scale"],
-        "memmap": bool(native and memmap),
     }
     return image, metadata
 

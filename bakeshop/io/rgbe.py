@@ -32,6 +32,7 @@ import numpy as np
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
+from bakeshop.io.budget import check_decode
 
 NAME = "Radiance HDR"
 
@@ -293,6 +294,9 @@ def read(path: str | os.PathLike, *, raw: bool = False, max_pixels: int = MAX_PI
     facts, offset = _header(data)
     width, height = facts["width"], facts["height"]
     check_dimensions(width, height, 3, max_pixels=max_pixels)
+    # Old-style runs repeat a pixel up to 2**24 times per 12 bytes: bound the decode by the
+    # file's size before any pass over the runs (the dry pass below included).
+    check_decode(width * height * 3 * 4, data.size)
     nscan, scanlen = (height, width) if facts["ymajor"] else (width, height)
     available = data.size - offset
     check_payload(4 * nscan, available, "scanlines (at least 4 bytes each)")

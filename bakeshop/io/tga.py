@@ -42,6 +42,7 @@ import numpy as np
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError, validate_choice
 from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
 from bakeshop.io._quantize import float_to_unsigned, unsigned_to_float
+from bakeshop.io.budget import check_decode
 
 NAME = "TGA"
 HEADER = struct.Struct("<BBBHHBHHHHBB")
@@ -259,6 +260,9 @@ def read(path, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
         bpp = (depth + 7) // 8
         count = width * height
         available = size - f.tell()
+        # RLE packets repeat a pixel 128 times: the float32 image (at most 4 channels) and the
+        # unpacked bytes must fit the budget for a file of this size
+        check_decode(count * (4 * 4 + bpp), size)
         if h["rle"]:
             check_payload(-(-count // 128) * (1 + bpp), available, "RLE pixel data (at least)")
             data = np.fromfile(f, np.uint8)
@@ -285,7 +289,7 @@ def read(path, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
         "alpha_bits": alpha_bits,
     }
     if image_id:
-        meta["image_id"] = image_id.decode("latin-1")
+        meta["image_id"] = meta["description"] = image_id.decode("latin-1")
     if h["map_type"] == 1:
         meta["colormap"] = {"first": h["map_first"], "length": h["map_len"], "bits": h["map_bits"]}
 
@@ -318,7 +322,9 @@ def read(path, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
     return np.ascontiguousarray(image), meta
 
 
-def write(path, image, *, rle: bool = False, origin: str = "top-left") -> None:
+def write(
+    path, image, *, rle: bool = False, origin: str = "top-left", description: str | None = None
+) -> None:
     """Write an 8-bit grey, 24-bit RGB or 32-bit RGBA TGA file.
 
     Parameters
@@ -332,6 +338,9 @@ def write(path, image, *, rle: bool = False, origin: str = "top-left") -> None:
     origin : {"top-left", "bottom-left"}
         Row order in the file; readers that honour the descriptor (all of them should) show
         the same picture either way.
+    description : str, optional
+        Stored in the image ID field (at most 255 Latin-1 bytes; longer text is cut), read
+        back as ``description``.
     """
     validate_choice(origin, ("top-left", "bottom-left"), "TGA origin")
     height, width, channels = image.shape
@@ -347,8 +356,12 @@ def write(path, image, *, rle: bool = False, origin: str = "top-left") -> None:
     rows = np.ascontiguousarray(u8).reshape(height, width * channels)
     image_type = (3 if channels == 1 else 2) + (8 if rle else 0)
     descriptor = (8 if channels == 4 else 0) | (0x20 if origin == "top-left" else 0)
-    header = HEADER.pack(0, 0, image_type, 0, 0, 0, 0, 0, width, height, 8 * channels, descriptor)
+    image_id = b"" if description is None else description.encode("latin-1", "replace")[:255]
+    header = HEADER.pack(
+        len(image_id), 0, image_type, 0, 0, 0, 0, 0, width, height, 8 * channels, descriptor
+    )
     with open(path, "wb") as f:
         f.write(header)
+        f.write(image_id)
         f.write(_rle(rows, width, channels) if rle else rows)
         f.write(struct.pack("<II", 0, 0) + FOOTER_SIGNATURE)

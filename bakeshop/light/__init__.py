@@ -15,7 +15,7 @@ from bakeshop.light.dfg import dfg_table
 from bakeshop.light.diffuse import METHODS, cosine_sum, irradiance, sh_coefficients
 from bakeshop.light.dims import DimPair, dim_pair
 from bakeshop.light.fresnel import WATER_IOR, bake_fresnel, fresnel_dielectric
-from bakeshop.light.probe import ProbeBake, bake_probe, contact_sheet
+from bakeshop.light.probe import ProbeBake, bake_probe, contact_sheet, sheet_exposure
 from bakeshop.light.specular import prefilter_ggx, prefilter_phong, source_cube
 from bakeshop.light.sun import Sun, find_sun, remove_sun, sun_document
 
@@ -38,6 +38,7 @@ __all__ = [
     "prefilter_phong",
     "remove_sun",
     "sh_coefficients",
+    "sheet_exposure",
     "source_cube",
     "sun_document",
 ]

@@ -421,6 +421,7 @@ def irradiance(
     size=(360, 180),
     method: str = "auto",
     order: int = 2,
+    window: str = "minimal",
 ) -> np.ndarray:
     """The DIM (``E / pi``) of an environment, in any layout and size.
 
@@ -439,6 +440,10 @@ def irradiance(
         See the module docstring. ``auto`` is exact within 0.1 % RMS / 0.5 % max.
     order : int
         SH order for ``method="sh"`` (2: the classic 9 coefficients per channel).
+    window : {"minimal", "hanning", "lanczos", "none"}
+        The window of ``method="sh"`` against ringing
+        (:func:`bakeshop.light.sh.windowed_irradiance`): by default the least one that makes
+        the DIM nowhere negative.
 
     Returns
     -------
@@ -450,7 +455,7 @@ def irradiance(
     shape, normals, valid = dim_normals(to, size)
     if method == "sh":
         coeffs = sh.project(t.values, t.dirs, t.omega, order=order)
-        dim = sh.evaluate(sh.irradiance_coefficients(coeffs), normals)
+        dim = sh.evaluate(sh.windowed_irradiance(coeffs, window=window).coefficients, normals)
     else:
         dim = dim_of(t.values, t.dirs, t.omega, normals, method)
     dim[~valid] = 0

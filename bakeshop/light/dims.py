@@ -46,6 +46,7 @@ def dim_pair(
     size=(360, 180),
     method: str = "auto",
     order: int = 2,
+    window: str = "minimal",
 ) -> DimPair:
     """The sun DIM, the shadow DIM, the sun-removed probe and the sun, from one probe.
 
@@ -59,7 +60,7 @@ def dim_pair(
     image : (..., C) array_like
         The probe in ``layout`` (see :func:`bakeshop.sphere.check_environment`).
     layout : str
-    to, size, method, order
+    to, size, method, order, window
         As for :func:`bakeshop.light.irradiance`.
 
     Returns
@@ -80,7 +81,7 @@ def dim_pair(
         values[removal.index, : removal.filled.shape[1]] = removal.filled
     if method == "sh":
         coeffs = sh.project(values, t.dirs, t.omega, order=order)
-        shadow = sh.evaluate(sh.irradiance_coefficients(coeffs), normals)
+        shadow = sh.evaluate(sh.windowed_irradiance(coeffs, window=window).coefficients, normals)
     else:
         shadow = dim_of(values, t.dirs, t.omega, normals, method)
     lit = shadow

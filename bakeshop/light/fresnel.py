@@ -21,7 +21,7 @@ import numpy as np
 
 from bakeshop import progress, sphere
 from bakeshop.errors import ArgumentError, validate_choice
-from bakeshop.image import exposure, srgb_decode, to_srgb8
+from bakeshop.image import CLIP_FRACTION, exposure, fit_exposure, srgb_decode, to_srgb8
 from bakeshop.sphere import check_environment, texel_cosines
 
 #: Index of refraction of water at visible wavelengths (about 20 C, 589 nm).
@@ -234,7 +234,7 @@ def bake_fresnel(
 
 @numba.njit(cache=True, parallel=True)
 def _apply_reflectance(cos, n, image, out, colour):
-    """out = image * R(cos) where cos >= 0, 0 below the plane; alpha kept; NaN cos: all 0."""
+    """Out = image * R(cos) where cos >= 0, 0 below the plane; alpha kept; NaN cos: all 0."""
     for p in numba.prange(cos.size):
         c = cos[p]
         r = _reflectance(c, n) if c >= 0.0 else 0.0
@@ -245,7 +245,7 @@ def _apply_reflectance(cos, n, image, out, colour):
 
 
 #: Fraction of the reflected hemisphere's solid angle that the automatic LDR exposure lets clip.
-LDR_CLIP_FRACTION = 1e-3
+LDR_CLIP_FRACTION = CLIP_FRACTION
 
 
 def ldr_exposure(
@@ -256,6 +256,8 @@ def ldr_exposure(
     Returns ``-log2(q)`` where q is the solid-angle weighted (1 - ``clip_fraction``) quantile
     of the largest colour channel over the texels above the plane: after exposure everything
     but the brightest ``clip_fraction`` of the reflected hemisphere (by solid angle) is <= 1.
+    This is the display rule's ``fit`` exposure (:func:`bakeshop.image.fit_exposure`) metered
+    above the horizon.
     The default 0.1% (6.3 msr) is about 90 sun discs: the sun and its aureole clip, the sky
     does not.
 
@@ -270,22 +272,17 @@ def ldr_exposure(
     -------
     float, stops
     """
-    if not 0.0 < clip_fraction < 1.0:
-        raise ArgumentError(f"clip fraction must be in (0, 1), got {clip_fraction}")
     env = check_environment(baked, layout)
     a, lay = env.image, env.layout
-    weight = lay.solid_angles(a.shape[:-1])
-    keep = texel_cosines(lay, a.shape[:-1], up) > 0
-    peak = np.max(a[..., : min(a.shape[-1], 3)], axis=-1)[keep].astype(np.float64)
-    w = weight[keep]
-    if peak.size == 0 or not np.any(peak > 0):
-        raise ArgumentError("the environment is black above the plane: no exposure fits it")
-    order = np.argsort(peak)
-    cdf = np.cumsum(w[order])
-    q = peak[order][np.searchsorted(cdf, (1.0 - clip_fraction) * cdf[-1])]
-    if not q > 0:
-        q = peak[peak > 0].min()
-    return float(-np.log2(q))
+    weights = np.where(texel_cosines(lay, a.shape[:-1], up) > 0, lay.solid_angles(a.shape[:-1]), 0)
+    try:
+        return fit_exposure(a, weights=weights, clip_fraction=clip_fraction)
+    except ArgumentError as e:
+        if "clip fraction" in e.reason:
+            raise
+        raise ArgumentError(
+            "the environment is black above the plane: no exposure fits it"
+        ) from None
 
 
 def hemisphere_directions(count: int, up=(0.0, 1.0, 0.0)) -> np.ndarray:

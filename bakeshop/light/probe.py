@@ -21,13 +21,14 @@ from typing import NamedTuple
 import numpy as np
 
 from bakeshop import progress
-from bakeshop.light import diffuse, specular
+from bakeshop.light import diffuse, sh, specular
 from bakeshop.light.dfg import dfg_table
 from bakeshop.light.dims import dim_pair
 from bakeshop.light.sun import Sun
 from bakeshop.sphere import check_environment
+from bakeshop.sphere import layout as layout_of
 
-__all__ = ["ProbeBake", "bake_probe", "contact_sheet"]
+__all__ = ["ProbeBake", "bake_probe", "contact_sheet", "sheet_exposure"]
 
 
 class ProbeBake(NamedTuple):
@@ -43,8 +44,11 @@ class ProbeBake(NamedTuple):
     shadow_probe: np.ndarray
     #: the sun, or None when the probe has none.
     sun: Sun | None
-    #: ((order + 1)^2, C) float64: SH radiance coefficients.
+    #: ((order + 1)^2, C) float64: SH radiance coefficients (raw, unwindowed).
     sh: np.ndarray
+    #: the DIM's SH coefficients as shown and exported: windowed just enough to be nowhere
+    #: negative (:func:`bakeshop.light.sh.windowed_irradiance`), with the negative fractions.
+    sh_irradiance: sh.IrradianceSH
     #: list of (6, S_m, S_m, C) float32: the GGX mip chain, roughness m / (mips - 1).
     specular: list
     #: (N, N, 2) float32: the DFG table (scale, bias on F0).
@@ -83,7 +87,8 @@ def bake_probe(
     specular_size, mips : int
         Level 0 face size and number of levels of the GGX chain.
     sh_order : int
-        Order of the SH coefficients.
+        Order of the SH coefficients (their irradiance is windowed with Sloan's minimal
+        non-negative window, :func:`bakeshop.light.sh.minimal_window`).
     dfg_size : int
         Side of the DFG table.
 
@@ -103,11 +108,13 @@ def bake_probe(
     lay, image = env.layout, env.image
     if cube_size is None:
         texels = int(np.count_nonzero(lay.solid_angles(image.shape[:-1])))
-        cube_size = int(min(2048, 2 ** round(np.log2(max(1.0, np.sqrt(texels / 6))))))
+        cube_size = min(2048, layout_of("cube").default_size(texels))
     with progress.step("environment cube map"):
         cube = timed("cube", specular.source_cube, image, layout, size=cube_size)
     pair = timed("dims", dim_pair, image, layout, to="latlong", size=dim_size)
     coeffs = timed("sh", diffuse.sh_coefficients, image, layout, order=sh_order)
+    with progress.step("windowing the SH irradiance"):
+        windowed = sh.windowed_irradiance(coeffs)
     chain = timed("specular", specular.prefilter_ggx, image, layout, size=specular_size, mips=mips)
     with progress.step("DFG table"):
         table = timed("dfg", dfg_table, dfg_size)
@@ -118,6 +125,7 @@ def bake_probe(
         shadow_probe=env.shaped(pair.shadow_probe),
         sun=pair.sun,
         sh=coeffs,
+        sh_irradiance=windowed,
         specular=[env.shaped(level) for level in chain],
         dfg=table,
         layout=layout,
@@ -139,14 +147,31 @@ def _to_latlong(image, layout: str, height: int) -> np.ndarray:
     return _rgb(remap(image, layout, "latlong", height, filter="area"))
 
 
-def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndarray:
+def sheet_exposure(probe, layout: str, *, thumb_height: int = 128) -> float:
+    """The exposure (EV) of :func:`contact_sheet`: the probe's log-average luminance over the
+    sphere (solid-angle weighted, texels that are exactly black left out) mapped to middle
+    grey, metered on the sheet's latlong thumbnail."""
+    from bakeshop.image import auto_exposure
+    from bakeshop.sphere import layout as get_layout
+
+    env = _to_latlong(probe, layout, thumb_height)
+    lat = get_layout("latlong")
+    weights = lat.solid_angles(env.shape[:2])
+    lit = (env != 0).any(axis=-1)
+    if lit.any():
+        weights = np.where(lit, weights, 0.0)
+    return auto_exposure(env, weights=weights)
+
+
+def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128, ev=None) -> np.ndarray:
     """A labelled overview of a bake: ``(H, W, 3)`` uint8 sRGB (draw it, or save it as PNG).
 
-    Every HDR panel is shown as a latlong, at one exposure (the probe's centre-weighted
-    log-average mapped to middle grey) through the ACES filmic curve, so that panels compare:
-    the probe, its cube faces (vertical cross, as HDRShop and cmft draw them), the probe without
-    its sun, the sun and shadow DIMs, the irradiance of the SH coefficients, each GGX level,
-    and the DFG table (scale in red, bias in green, linear).
+    Every HDR panel is shown as a latlong, at one exposure (``ev``; default
+    :func:`sheet_exposure`: the probe's log-average over the sphere mapped to middle grey)
+    through the ACES filmic curve, so that panels compare: the probe, its cube faces (vertical
+    cross, as HDRShop and cmft draw them), the probe without its sun, the sun and shadow DIMs,
+    the irradiance of the SH coefficients (windowed as exported: ``bake.sh_irradiance``), each
+    GGX level, and the DFG table (scale in red, bias in green, linear).
 
     Parameters
     ----------
@@ -155,20 +180,23 @@ def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndar
         The probe that was baked, in ``bake.layout``.
     thumb_height : int
         Height of each latlong thumbnail in pixels.
+    ev : float, optional
+        Exposure in stops.
     """
     from bakeshop.figures import new_figure, to_rgb
-    from bakeshop.image import auto_exposure, to_srgb8, tonemap
-    from bakeshop.light import sh
+    from bakeshop.image import to_picture
     from bakeshop.sphere import cube_to_view, layout
 
     env = _to_latlong(probe, bake.layout, thumb_height)
-    ev = auto_exposure(env)
+    if ev is None:
+        ev = sheet_exposure(probe, bake.layout, thumb_height=thumb_height)
 
     def show(img):
-        return to_srgb8(tonemap(_rgb(img), ev=ev, operator="aces"))
+        return to_picture(_rgb(img), ev=ev, operator="aces").pixels
 
     dirs, _ = layout("latlong").directions(layout("latlong").shape(thumb_height))
-    sh_dim = sh.evaluate(sh.irradiance_coefficients(bake.sh), dirs)
+    irr = bake.sh_irradiance
+    sh_dim = sh.evaluate(irr.coefficients, dirs)
     sun = bake.sun
     sun_text = (
         "no sun" if sun is None else "sun at [" + ", ".join(f"{v:.2f}" for v in sun.direction) + "]"
@@ -182,7 +210,11 @@ def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndar
         ),
         ("sun DIM (E/pi)", show(bake.sun_dim)),
         ("shadow DIM (E/pi)", show(bake.shadow_dim)),
-        (f"SH irradiance (order {sh.order_of(bake.sh.shape[0])})", show(sh_dim)),
+        (
+            f"SH irradiance (order {sh.order_of(bake.sh.shape[0])}, {irr.window.name} window)\n"
+            f"< 0 on {100 * irr.negative:.1f}% (unwindowed {100 * irr.negative_raw:.1f}%)",
+            show(sh_dim),
+        ),
     ]
     levels = len(bake.specular)
     for m, level in enumerate(bake.specular):
@@ -190,7 +222,7 @@ def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128) -> np.ndar
         thumb = _to_latlong(level, "cube", thumb_height)
         panels.append((f"GGX mip {m} ({level.shape[1]}px), roughness {r:.3g}", show(thumb)))
     rg = np.concatenate([bake.dfg, np.zeros_like(bake.dfg[..., :1])], axis=-1)
-    panels.append(("DFG: scale (R), bias (G)", to_srgb8(np.clip(rg, 0, 1))))
+    panels.append(("DFG: scale (R), bias (G)", to_picture(rg, encoding="srgb").pixels))
     cols = 4
     rows = -(-len(panels) // cols)
     fig = new_figure(cols * 3.2, rows * 1.9, dpi=100)

@@ -523,7 +523,7 @@ def mip_roughness(mips: int) -> np.ndarray:
 
 
 def phong_exponents(mips: int, *, gloss_scale: float = 10.0, gloss_bias: float = 1.0):
-    """cmft's Phong exponent of each level: ``2^(gloss_scale g + gloss_bias)``,
+    """Cmft's Phong exponent of each level: ``2^(gloss_scale g + gloss_bias)``,
     ``g = 1 - m / (mips - 1)`` (2048 down to 2 with the defaults)."""
     g = 1 - mip_roughness(mips)
     return 2.0 ** (gloss_scale * g + gloss_bias)

@@ -247,16 +247,15 @@ def _detect(lum, dirs, omega) -> _Candidate | None:
     return sun
 
 
-def _harmonic_fill(image, layout, centre, radius, pitch):
-    """Fill the disk of angular ``radius`` around ``centre`` harmonically from its surroundings.
+def _harmonic_fill(sampler, centre, radius, pitch):
+    """Fill the disk of angular ``radius`` around ``centre`` harmonically from its surroundings,
+    sampled by ``sampler`` (directions (..., 3) -> bilinear values (..., C)).
 
     Returns a function mapping directions inside the disk to filled values.
     """
     from scipy import sparse
     from scipy.ndimage import map_coordinates
     from scipy.sparse.linalg import splu
-
-    from bakeshop.sphere import sample
 
     t1, t2 = _tangent_frame(centre)
     extent = math.tan(min(radius + 4 * pitch, math.radians(80)))
@@ -267,7 +266,7 @@ def _harmonic_fill(image, layout, centre, radius, pitch):
     uu, vv = np.meshgrid(u, u, indexing="xy")
     dirs = centre + uu[..., None] * t1 + vv[..., None] * t2
     dirs /= np.linalg.norm(dirs, axis=-1, keepdims=True)
-    patch = np.asarray(sample(image, layout, dirs, filter="bilinear"), dtype=np.float64)
+    patch = np.asarray(sampler(dirs), dtype=np.float64)
     if patch.ndim == 2:
         patch = patch[..., None]
     unknown = np.hypot(uu, vv) < math.tan(radius)
@@ -319,21 +318,34 @@ class Removal:
     filled: np.ndarray
 
 
-def split_texels(t: Texels) -> Removal | None:
+def split_texels(t: Texels, *, sampler=None) -> Removal | None:
     """Find the sun among an environment's texels (:func:`bakeshop.sphere.texels`) and compute
     its fill: the texel-level form of :func:`remove_sun`, for callers that already hold the
     texels. Only the colour channels (the first three, or the one) are looked at and filled;
-    alpha is left alone. None when there is no sun."""
+    alpha is left alone. None when there is no sun.
+
+    ``t`` may hold only some texels of an environment (a chunked job passes the window around
+    the brightest texel, and around its rival): the result is the same as from all of them
+    when they include every texel within the sun's measurement reach. Then ``sampler`` (a
+    function of directions (..., 3) giving the environment's bilinear samples of its colour
+    channels, (..., colour)) stands in for ``t.environment``, which may be None."""
     colour = min(3, t.values.shape[1])
     values, dirs, omega = t.values[:, :colour], t.dirs, t.omega
-    env = t.environment
-    image, layout = env.image[..., :colour], env.layout
+    if sampler is None:
+        from bakeshop.sphere import sample
+
+        env = t.environment
+        image, layout = env.image[..., :colour], env.layout
+
+        def sampler(d):
+            return sample(image, layout, d, filter="bilinear")
+
     cand = _detect(luminance(values), dirs, omega)
     if cand is None:
         return None
     centre = cand.centre
     index = cand.near[dirs[cand.near] @ centre > math.cos(cand.mask_radius)]
-    fill = _harmonic_fill(image, layout, centre, cand.mask_radius, cand.pitch)
+    fill = _harmonic_fill(sampler, centre, cand.mask_radius, cand.pitch)
     filled = np.minimum(fill(dirs[index]), values[index])  # removing light never adds any
     excess = values[index].astype(np.float64) - filled
     energy = excess * omega[index, None]

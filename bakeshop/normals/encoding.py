@@ -333,3 +333,24 @@ def check_normals(
         length_tolerance=float(length_tolerance),
         worst=worst,
     )
+
+
+def read_normal_map(
+    path,
+    *,
+    convention: str = "gl",
+    encoding: str = "packed",
+    channels: str = "xyz",
+    with_bits: bool = False,
+):
+    """A normal-map file as ``(H, W, 3)`` float32 unit vectors in the OpenGL frame
+    (:func:`decode_normals` of :func:`bakeshop.io.read_image`); with
+    ``with_bits`` also the file's sample depth (8, 16, or None for floats)."""
+    from bakeshop.io import read_image, stored_bits
+
+    image, meta = read_image(path, with_metadata=True)
+    try:
+        normals = decode_normals(image, convention=convention, encoding=encoding, channels=channels)
+    except ArgumentError as e:
+        raise ArgumentError(e.reason, path) from None
+    return (normals, stored_bits(meta)) if with_bits else normals

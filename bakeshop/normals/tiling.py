@@ -105,7 +105,7 @@ def mip_chain(image) -> MipChain:
 
 @numba.njit(cache=True, inline="always")
 def _bilinear_add(texels, base, h, w, x, y, wrap, weight, out):
-    """out += weight * bilinear sample at texel coordinates (x, y) of the (h, w) level whose
+    """Out += weight * bilinear sample at texel coordinates (x, y) of the (h, w) level whose
     first texel is texels[base]."""
     x -= 0.5
     y -= 0.5
@@ -136,7 +136,7 @@ def _bilinear_add(texels, base, h, w, x, y, wrap, weight, out):
 
 @numba.njit(cache=True, inline="always")
 def trilinear_add(texels, offsets, shapes, x, y, lod, wrap, out):
-    """out += trilinear sample of a packed :class:`MipChain` (numba device function).
+    """Out += trilinear sample of a packed :class:`MipChain` (numba device function).
 
     (x, y) are level-0 texel coordinates (texel (i, j)'s centre is (i + 0.5, j + 0.5)) and lod
     is log2 of the footprint in level-0 texels; the two nearest levels are blended.

@@ -5,12 +5,16 @@
 >>> dirs, valid = L.directions(L.shape(256))          # (256, 512, 3), (256, 512)
 >>> omega = L.solid_angles(L.shape(256))               # sums to 4 pi
 
-Layouts: ``latlong``, ``angular`` (Debevec light probe), ``mirrorball``, ``cube`` (internal
-``(6, S, S, C)``, OpenGL order and orientation), the cube's pictures ``cross-vertical``,
-``cross-horizontal``, ``strip-horizontal``, ``strip-vertical``, ``octahedral`` and
-``dual-paraboloid``. Every spherical function takes ``(image, layout)`` and checks it with
-:func:`check_environment` (one rule for shapes, channels and values). See docs/panoramas.md
-for pictures and docs/conventions.md for the conventions.
+Layouts: ``latlong``, ``angular`` (Debevec light probe) and ``mirrorball`` as HDRShop reads
+them (centre forward, -Z), ``angular-physical`` and ``mirrorball-physical`` (the exact
+reflection in a photographed ball, centre +Z), ``cube`` (internal ``(6, S, S, C)``, OpenGL
+order and orientation), the cube's pictures ``cross-vertical``, ``cross-horizontal``,
+``strip-horizontal``, ``strip-vertical``, ``octahedral``, ``dual-paraboloid``, and OpenEXR's
+environment maps ``openexr-latlong`` and ``openexr-cube`` (``ImfEnvmap.h``). Every spherical
+function takes ``(image, layout)`` and checks it with :func:`check_environment` (one rule for
+shapes, channels and values). See docs/panoramas.md for pictures and docs/conventions.md for
+the conventions. :mod:`bakeshop.sphere.windows` computes a part of a remap from a window of
+its source (images larger than memory, :mod:`bakeshop.huge`).
 """
 
 from bakeshop.sphere._cache import cache_info, clear_caches

@@ -12,16 +12,19 @@ import numpy as np
 from bakeshop.sphere._gather import EXCEPTION, block
 from bakeshop.sphere._maps import (
     ANGULAR,
+    ANGULAR_PHYSICAL,
     CUBE,
     DUAL_PARABOLOID,
     LATLONG,
     OCTAHEDRAL,
+    OPENEXR_LATLONG,
     coordinates,
     direction,
+    is_cubic,
     resolve,
     rotate,
 )
-from bakeshop.sphere.cube import FACE_BASES
+from bakeshop.sphere.cube import FACE_BASES, OPENEXR_FACE_BASES
 
 #: the area filter averages (splats) where a destination texel is at least this many source
 #: texels across, interpolates bilinearly where it is at most one, and blends between.
@@ -34,6 +37,7 @@ AREA_COVERAGE = 0.75
 AREA_MAX_PARTS = 2048
 
 _BASES = np.ascontiguousarray(FACE_BASES)
+_EXR_BASES = np.ascontiguousarray(OPENEXR_FACE_BASES)
 _jit = numba.njit(cache=True, error_model="numpy")
 
 
@@ -55,12 +59,16 @@ def _local(kind, h, w, x, y, z, cf, cx, cy):
     differences: a cube's face plane extended, a latlong's longitude unwrapped, an octahedral
     map unfolded over its edges, a paraboloid continued into the other hemisphere and an
     angular map through its rim."""
-    if kind == CUBE:
+    if is_cubic(kind):
         fi = int(cf)
-        n = x * _BASES[fi, 0, 0] + y * _BASES[fi, 0, 1] + z * _BASES[fi, 0, 2]
-        sc = (x * _BASES[fi, 1, 0] + y * _BASES[fi, 1, 1] + z * _BASES[fi, 1, 2]) / n
-        tc = (x * _BASES[fi, 2, 0] + y * _BASES[fi, 2, 1] + z * _BASES[fi, 2, 2]) / n
-        return (sc + 1) / 2 * w, (tc + 1) / 2 * h
+        bases = _BASES if kind == CUBE else _EXR_BASES
+        n = x * bases[fi, 0, 0] + y * bases[fi, 0, 1] + z * bases[fi, 0, 2]
+        sc = (x * bases[fi, 1, 0] + y * bases[fi, 1, 1] + z * bases[fi, 1, 2]) / n
+        tc = (x * bases[fi, 2, 0] + y * bases[fi, 2, 1] + z * bases[fi, 2, 2]) / n
+        if kind == CUBE:
+            return (sc + 1) / 2 * w, (tc + 1) / 2 * h
+        # OpenEXR's faces: +-1 at the first and last texel centres
+        return (sc + 1) / 2 * (w - 1) + 0.5, (tc + 1) / 2 * (h - 1) + 0.5
     if kind == DUAL_PARABOLOID:
         n = h
         disk = min(max(math.floor(cx / n), 0), 1)
@@ -72,6 +80,9 @@ def _local(kind, h, w, x, y, z, cf, cx, cy):
     _, u, v = coordinates(kind, h, w, x, y, z)
     if kind == LATLONG:
         return u - w * math.floor((u - cx) / w + 0.5), v
+    if kind == OPENEXR_LATLONG:
+        # a turn is w - 1 columns (the last repeats the first's meridian)
+        return u - (w - 1) * math.floor((u - cx) / (w - 1) + 0.5), v
     best_u, best_v = u, v
     if kind == OCTAHEDRAL:
         n = w
@@ -86,12 +97,13 @@ def _local(kind, h, w, x, y, z, cf, cx, cy):
                     cu = n - u
                 if (cu - cx) ** 2 + (cv - cy) ** 2 < (best_u - cx) ** 2 + (best_v - cy) ** 2:
                     best_u, best_v = cu, cv
-    elif kind == ANGULAR:
+    elif kind == ANGULAR or kind == ANGULAR_PHYSICAL:
         n = h
         a, b = 2 * u / n - 1, 1 - 2 * v / n
         r = math.hypot(a, b)
         if r > 0:
-            # through the rim (-Z) the map continues at radius 2 - r on the opposite side
+            # through the rim (+Z; -Z for the physical variant) the map continues at radius
+            # 2 - r on the opposite side
             k = (r - 2) / r
             cu, cv = (a * k + 1) / 2 * n, (1 - b * k) / 2 * n
             if (cu - cx) ** 2 + (cv - cy) ** 2 < (u - cx) ** 2 + (v - cy) ** 2:
@@ -101,7 +113,7 @@ def _local(kind, h, w, x, y, z, cf, cx, cy):
 
 @_jit
 def _half_texel_trig(h, w):
-    """sin and cos of a latlong's longitude at every half texel (row 0, 1) and of its
+    """Sin and cos of a latlong's longitude at every half texel (row 0, 1) and of its
     colatitude (rows 2, 3): ``direction`` at (k/2, l/2) without trigonometry."""
     trig = np.empty((4, 2 * max(h, w) + 1))
     for k in range(2 * w + 1):

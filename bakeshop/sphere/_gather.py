@@ -10,15 +10,14 @@ import numba
 import numpy as np
 
 from bakeshop.sphere._maps import (
-    ANGULAR,
-    CUBE,
-    DUAL_PARABOLOID,
     LATLONG,
-    MIRRORBALL,
     coordinates,
     direction,
+    is_cubic,
+    is_disk,
     latlong_trig,
     latlong_xy,
+    nearest_texel,
     resolve,
     rotate,
     valid,
@@ -35,7 +34,7 @@ def _taps(kind, h, w, f, x, y, nearest, index, frac, p):
             index[p, k] = -1
         return
     if nearest:
-        index[p, 0] = resolve(kind, h, w, f, int(math.floor(x)), int(math.floor(y)), x)
+        index[p, 0] = nearest_texel(kind, h, w, f, x, y)
         return
     xs, ys = x - 0.5, y - 0.5
     x0, y0 = math.floor(xs), math.floor(ys)
@@ -67,9 +66,9 @@ def block(kind, h, w, f, i0, j0, size):
     texel (a, b) is simply that index + b w + a."""
     if i0 < 0 or j0 < 0 or i0 + size > w or j0 + size > h:
         return -1
-    if kind == CUBE:
+    if is_cubic(kind):
         return (int(f) * h + j0) * w + i0
-    if kind == ANGULAR or kind == MIRRORBALL or kind == DUAL_PARABOLOID:
+    if is_disk(kind):
         n = h
         li = i0 % n
         if li + size > n:
@@ -132,9 +131,7 @@ def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, base, frac, src, out
             if not valid(dkind, dh, dw, f, i, j) or not (abs(sx) < 1e18 and abs(sy) < 1e18):
                 base[p] = -1
             elif nearest:
-                base[p] = resolve(
-                    skind, sh, sw, sf[i], int(math.floor(sx)), int(math.floor(sy)), sx
-                )
+                base[p] = nearest_texel(skind, sh, sw, sf[i], sx, sy)
             else:
                 xf, yf = sx - 0.5, sy - 0.5
                 x0, y0 = math.floor(xf), math.floor(yf)

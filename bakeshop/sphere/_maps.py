@@ -15,16 +15,60 @@ import math
 import numba
 import numpy as np
 
-from bakeshop.sphere.cube import FACE_BASES
+from bakeshop.sphere.cube import FACE_BASES, OPENEXR_FACE_BASES
 
-LATLONG, ANGULAR, MIRRORBALL, DUAL_PARABOLOID, OCTAHEDRAL, CUBE = range(6)
+(
+    LATLONG,
+    ANGULAR,
+    MIRRORBALL,
+    DUAL_PARABOLOID,
+    OCTAHEDRAL,
+    CUBE,
+    ANGULAR_PHYSICAL,
+    MIRRORBALL_PHYSICAL,
+    OPENEXR_LATLONG,
+    OPENEXR_CUBE,
+) = range(10)
 
 #: a disk texel is valid when it reaches this far (in r^2) into the disk: texels that only
 #: touch the rim (solid angle below ~1e-13 of the texel's) are left out.
 DISK_OVERLAP_EPS = 1e-9
 
 _BASES = np.ascontiguousarray(FACE_BASES)
+_EXR_BASES = np.ascontiguousarray(OPENEXR_FACE_BASES)
 _jit = numba.njit(cache=True, error_model="numpy")
+
+
+@numba.njit(cache=True, inline="always")
+def is_disk(kind):
+    """Whether layout ``kind`` is made of disks (angular, mirror ball, dual paraboloid)."""
+    return (
+        kind == ANGULAR
+        or kind == MIRRORBALL
+        or kind == DUAL_PARABOLOID
+        or kind == ANGULAR_PHYSICAL
+        or kind == MIRRORBALL_PHYSICAL
+    )
+
+
+@numba.njit(cache=True, inline="always")
+def is_cubic(kind):
+    """Whether layout ``kind`` is six square faces (``h = w = S``, face axis ``f``): the
+    OpenGL cube and OpenEXR's cube environment."""
+    return kind == CUBE or kind == OPENEXR_CUBE
+
+
+@numba.njit(cache=True, inline="always")
+def _cube_scale(kind, n):
+    """Texel centres per face edge minus what the face coordinate's [-1, 1] spans in texels:
+    OpenGL's faces span their S texels' outer edges, OpenEXR's their first and last texel
+    centres (ImfEnvmap: position ``p`` of ``S`` is ``2 p / (S - 1) - 1``)."""
+    return n if kind == CUBE else n - 1
+
+
+@numba.njit(cache=True, inline="always")
+def _cube_offset(kind):
+    return 0.0 if kind == CUBE else 0.5
 
 
 # --- arctangent -------------------------------------------------------------------------------
@@ -48,8 +92,8 @@ _SQRT3 = math.sqrt(3.0)
 def atan2(y, x):
     """``math.atan2(y, x)`` within 2e-14 rad (signed zeros as libm; NaN or infinite input: NaN).
 
-    Branch-free (selects only), so that loops over it vectorise: ~2 ns per call in a loop
-    against ~15 ns for libm's. Reduction to ``t = min / max`` in [0, 1], then to
+    Branch-free (selects only), so that loops over it vectorise (its speed against libm's is in
+    docs/BENCHMARKS.md, remap). Reduction to ``t = min / max`` in [0, 1], then to
     ``|t| <= tan(pi/12)`` by ``atan(t) = pi/6 + atan((sqrt(3) t - 1) / (t + sqrt(3)))``, then a
     degree-13 odd polynomial.
     """
@@ -82,16 +126,23 @@ def latlong_xy(h, w, x, y, z):
 @_jit
 def _disk_direction(kind, a, b, disk):
     """Direction of disk point (a, b) (b up); valid beyond the rim for angular (theta > pi) and
-    dual-paraboloid (the other hemisphere); the mirror ball is clamped to its rim."""
+    dual-paraboloid (the other hemisphere); the mirror ball is clamped to its rim.
+
+    Angular and mirror ball: ``(a/r sin theta, b/r sin theta, -cos theta)`` (HDRShop: centre
+    -Z), ``theta = pi r`` (angular) or ``r = sin(theta / 2)`` (mirror ball); their physical
+    variants have ``+cos theta`` (centre +Z)."""
     r2 = a * a + b * b
-    if kind == ANGULAR:
+    if kind == ANGULAR or kind == ANGULAR_PHYSICAL:
         r = math.sqrt(r2)
         s = math.pi if r == 0.0 else math.sin(math.pi * r) / r
-        return a * s, b * s, math.cos(math.pi * r)
-    if kind == MIRRORBALL:
+        c = math.cos(math.pi * r)
+        # HDRShop: the centre looks forward (-Z); the physical reflection: behind (+Z)
+        return a * s, b * s, c if kind == ANGULAR_PHYSICAL else -c
+    if kind == MIRRORBALL or kind == MIRRORBALL_PHYSICAL:
         r2 = min(r2, 1.0)
         nz = math.sqrt(1.0 - r2)
-        return 2 * nz * a, 2 * nz * b, 1.0 - 2 * r2
+        c = 1.0 - 2 * r2
+        return 2 * nz * a, 2 * nz * b, c if kind == MIRRORBALL_PHYSICAL else -c
     k = 1.0 / (1.0 + r2)
     side = -1.0 if disk == 0 else 1.0
     return -side * 2 * a * k, 2 * b * k, side * (1.0 - r2) * k
@@ -116,13 +167,23 @@ def direction(kind, h, w, f, x, y):
         theta = math.pi * y / h
         st = math.sin(theta)
         return st * math.sin(phi), math.cos(theta), -st * math.cos(phi)
-    if kind == CUBE:
-        sc = 2 * x / w - 1
-        tc = 2 * y / h - 1
+    if kind == OPENEXR_LATLONG:
+        # ImfEnvmap: the first and last columns' centres are longitude +pi and -pi, the first
+        # and last rows' latitude +pi/2 and -pi/2; longitude 0 is +Z, pi/2 is +X
+        lon = -2 * math.pi * ((x - 0.5) / (w - 1) - 0.5)
+        lat = -math.pi * ((y - 0.5) / (h - 1) - 0.5)
+        cl = math.cos(lat)
+        return math.sin(lon) * cl, math.sin(lat), math.cos(lon) * cl
+    if is_cubic(kind):
+        n = _cube_scale(kind, w)
+        o = _cube_offset(kind)
+        sc = 2 * (x - o) / n - 1
+        tc = 2 * (y - o) / n - 1
         fi = min(max(int(f), 0), 5)
-        dx = _BASES[fi, 0, 0] + sc * _BASES[fi, 1, 0] + tc * _BASES[fi, 2, 0]
-        dy = _BASES[fi, 0, 1] + sc * _BASES[fi, 1, 1] + tc * _BASES[fi, 2, 1]
-        dz = _BASES[fi, 0, 2] + sc * _BASES[fi, 1, 2] + tc * _BASES[fi, 2, 2]
+        bases = _BASES if kind == CUBE else _EXR_BASES
+        dx = bases[fi, 0, 0] + sc * bases[fi, 1, 0] + tc * bases[fi, 2, 0]
+        dy = bases[fi, 0, 1] + sc * bases[fi, 1, 1] + tc * bases[fi, 2, 1]
+        dz = bases[fi, 0, 2] + sc * bases[fi, 1, 2] + tc * bases[fi, 2, 2]
     elif kind == OCTAHEDRAL:
         dx, dy, dz = _octahedron_point(2 * x / w - 1, 2 * y / h - 1)
     else:
@@ -146,6 +207,13 @@ def direction(kind, h, w, f, x, y):
 @_jit
 def cube_face(x, y, z):
     """OpenGL's major-axis rule: (face, sc, tc), sc and tc in [-1, 1] (ties: x, then y)."""
+    return _major_face(_BASES, x, y, z)
+
+
+@_jit
+def _major_face(bases, x, y, z):
+    """(face, sc, tc) of the face table ``bases`` (``N + sc U + tc V``) by the major axis; the
+    face order and tie rule are OpenGL's and ImfEnvmap's alike (ties: x, then y)."""
     ax, ay, az = abs(x), abs(y), abs(z)
     if ax >= ay and ax >= az:
         f, ma = (0 if x >= 0 else 1), ax
@@ -155,8 +223,8 @@ def cube_face(x, y, z):
         f, ma = (4 if z >= 0 else 5), az
     if ma == 0:
         ma = 1.0
-    sc = (x * _BASES[f, 1, 0] + y * _BASES[f, 1, 1] + z * _BASES[f, 1, 2]) / ma
-    tc = (x * _BASES[f, 2, 0] + y * _BASES[f, 2, 1] + z * _BASES[f, 2, 2]) / ma
+    sc = (x * bases[f, 1, 0] + y * bases[f, 1, 1] + z * bases[f, 1, 2]) / ma
+    tc = (x * bases[f, 2, 0] + y * bases[f, 2, 1] + z * bases[f, 2, 2]) / ma
     return f, sc, tc
 
 
@@ -166,9 +234,15 @@ def coordinates(kind, h, w, x, y, z):
     if kind == LATLONG:
         u, v = latlong_xy(h, w, x, y, z)
         return 0, u, v
-    if kind == CUBE:
-        f, sc, tc = cube_face(x, y, z)
-        return f, (sc + 1) / 2 * w, (tc + 1) / 2 * h
+    if kind == OPENEXR_LATLONG:
+        lon = atan2(x, z)
+        lat = atan2(y, math.sqrt(x * x + z * z))
+        return 0, (0.5 - lon / (2 * math.pi)) * (w - 1) + 0.5, (0.5 - lat / math.pi) * (h - 1) + 0.5
+    if is_cubic(kind):
+        f, sc, tc = _major_face(_BASES if kind == CUBE else _EXR_BASES, x, y, z)
+        n = _cube_scale(kind, w)
+        o = _cube_offset(kind)
+        return f, (sc + 1) / 2 * n + o, (tc + 1) / 2 * n + o
     if kind == OCTAHEDRAL:
         norm1 = abs(x) + abs(y) + abs(z)
         if norm1 == 0:
@@ -181,13 +255,15 @@ def coordinates(kind, h, w, x, y, z):
         return 0, (px + 1) / 2 * w, (pz + 1) / 2 * h
     n = h
     disk = 0
-    if kind == ANGULAR or kind == MIRRORBALL:
+    if kind != DUAL_PARABOLOID:
         rho = math.sqrt(x * x + y * y)
-        if kind == ANGULAR:
-            r = math.atan2(rho, z) / math.pi
+        # the component along the centre's direction: -z (HDRShop), +z (physical)
+        zc = z if kind == ANGULAR_PHYSICAL or kind == MIRRORBALL_PHYSICAL else -z
+        if kind == ANGULAR or kind == ANGULAR_PHYSICAL:
+            r = math.atan2(rho, zc) / math.pi
         else:
-            norm = math.sqrt(rho * rho + z * z)
-            zn = z / norm if norm > 0 else 1.0
+            norm = math.sqrt(rho * rho + zc * zc)
+            zn = zc / norm if norm > 0 else 1.0
             r = math.sqrt(min(max((1 - zn) / 2, 0.0), 1.0))
         # (cos, sin) of the azimuth atan2(y, x); along the axis (0, 0)'s azimuth, 0
         a, b = (r * x / rho, r * y / rho) if rho > 0 else (r, 0.0)
@@ -210,7 +286,7 @@ def coordinates(kind, h, w, x, y, z):
 @_jit
 def valid(kind, h, w, f, i, j):
     """Whether texel (f, i, j) holds data: disk texels must overlap the open disk."""
-    if kind == ANGULAR or kind == MIRRORBALL or kind == DUAL_PARABOLOID:
+    if is_disk(kind):
         n = h
         li = i % n
         ta = max(abs(2 * (li + 0.5) / n - 1) - 1 / n, 0.0)
@@ -231,7 +307,18 @@ def resolve(kind, h, w, f, i, j, x):
             i += w // 2
             j = min(max(j, 0), h - 1)
         return j * w + i % w
-    if kind == CUBE:
+    if kind == OPENEXR_LATLONG:
+        if 0 <= i < w and 0 <= j < h:
+            return j * w + i
+        turn = w - 1  # the last column repeats the first's meridian
+        if j < 0 or j >= h:
+            # rows 0 and h - 1 are the poles: beyond one, the row as far from it, half a turn
+            # away (to the nearest column when the turn is odd)
+            j = -j if j < 0 else 2 * (h - 1) - j
+            j = min(max(j, 0), h - 1)
+            i += turn // 2
+        return j * w + i % turn
+    if is_cubic(kind):
         s = w
         out_i = i < 0 or i >= s
         out_j = j < 0 or j >= s
@@ -239,21 +326,27 @@ def resolve(kind, h, w, f, i, j, x):
             return (int(f) * s + j) * s + i
         if out_i and out_j:
             return -1
-        # OpenGL's seamless rule: the texel across the edge at the same place along it
-        sc = 2 * (i + 0.5) / s - 1
-        tc = 2 * (j + 0.5) / s - 1
-        eps = 1e-9
-        if out_i:
-            sc = math.copysign(1 + eps, sc)
-        else:
-            tc = math.copysign(1 + eps, tc)
         fi = int(f)
-        dx = _BASES[fi, 0, 0] + sc * _BASES[fi, 1, 0] + tc * _BASES[fi, 2, 0]
-        dy = _BASES[fi, 0, 1] + sc * _BASES[fi, 1, 1] + tc * _BASES[fi, 2, 1]
-        dz = _BASES[fi, 0, 2] + sc * _BASES[fi, 1, 2] + tc * _BASES[fi, 2, 2]
-        g, gs, gt = cube_face(dx, dy, dz)
-        gi = min(max(int(math.floor((gs + 1) / 2 * s)), 0), s - 1)
-        gj = min(max(int(math.floor((gt + 1) / 2 * s)), 0), s - 1)
+        bases = _BASES if kind == CUBE else _EXR_BASES
+        n = _cube_scale(kind, s)
+        o = _cube_offset(kind)
+        sc = 2 * (i + 0.5 - o) / n - 1
+        tc = 2 * (j + 0.5 - o) / n - 1
+        if kind == CUBE:
+            # OpenGL's seamless rule: the texel across the edge at the same place along it
+            eps = 1e-9
+            if out_i:
+                sc = math.copysign(1 + eps, sc)
+            else:
+                tc = math.copysign(1 + eps, tc)
+        # (OpenEXR's edge texels lie on the edge, shared by both faces: the texel one step
+        # beyond is the other face's second row, where the face plane extended looks)
+        dx = bases[fi, 0, 0] + sc * bases[fi, 1, 0] + tc * bases[fi, 2, 0]
+        dy = bases[fi, 0, 1] + sc * bases[fi, 1, 1] + tc * bases[fi, 2, 1]
+        dz = bases[fi, 0, 2] + sc * bases[fi, 1, 2] + tc * bases[fi, 2, 2]
+        g, gs, gt = _major_face(bases, dx, dy, dz)
+        gi = min(max(int(math.floor((gs + 1) / 2 * n + o)), 0), s - 1)
+        gj = min(max(int(math.floor((gt + 1) / 2 * n + o)), 0), s - 1)
         return (g * s + gj) * s + gi
     if kind == OCTAHEDRAL:
         n = w
@@ -276,8 +369,9 @@ def resolve(kind, h, w, f, i, j, x):
         return j * w + li + disk * n
     r = math.hypot(a, b)
     # beyond the rim: the disk texel that looks where this one would (the formula continued);
-    # the mirror ball's whole rim looks at -Z, so there the texel radially inside stands in
-    if kind == MIRRORBALL:
+    # the mirror ball's whole rim looks one way (+Z; -Z for the physical variant), so there
+    # the texel radially inside stands in
+    if kind == MIRRORBALL or kind == MIRRORBALL_PHYSICAL:
         pull = max(0.0, 1 - 1.5 / n) / r
         a *= pull
         b *= pull
@@ -286,6 +380,17 @@ def resolve(kind, h, w, f, i, j, x):
     ci = min(max(int(math.floor(cx)), 0), w - 1)
     cj = min(max(int(math.floor(cy)), 0), h - 1)
     return cj * w + ci
+
+
+@_jit
+def nearest_texel(kind, h, w, f, x, y):
+    """Flat index of the texel containing the point at coordinates (f, x, y) (``resolve`` of
+    its integer texel); a cube face owns its far edges, so that a direction on a cube edge or
+    corner (where OpenEXR's cube puts texel centres) finds its face's texel."""
+    i, j = int(math.floor(x)), int(math.floor(y))
+    if is_cubic(kind):
+        i, j = min(i, w - 1), min(j, h - 1)
+    return resolve(kind, h, w, f, i, j, x)
 
 
 # --- drivers ------------------------------------------------------------------------------------
@@ -318,7 +423,7 @@ def rotate(rot, x, y, z):
 
 @_jit
 def latlong_trig(h, w):
-    """sin and cos of a latlong's longitude at every column centre (rows 0, 1) and of its
+    """Sin and cos of a latlong's longitude at every column centre (rows 0, 1) and of its
     colatitude at every row centre (rows 2, 3): its directions are their products."""
     trig = np.empty((4, max(h, w)))
     for i in range(w):

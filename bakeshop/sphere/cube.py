@@ -48,6 +48,23 @@ FACE_BASES = np.array(
     dtype=np.float64,
 )
 
+#: (N, U, V) per face of OpenEXR's cube environment (``ImfEnvmap.h``, ``envmap = cube``), U to
+#: the right of the stored face and V down it: each face is the world seen from inside the cube,
+#: unmirrored in our right-handed frame (+X: +Y up, +Z right; +Y: +Z up, +X right; -Y: -Z up),
+#: which is OpenGL's face mirrored left-right (+/-X, +/-Z) or up-down (+/-Y), in the same order.
+#: Unlike OpenGL's, its face coordinates reach +-1 at the first and last texel *centres*.
+OPENEXR_FACE_BASES = np.array(
+    [
+        [[1, 0, 0], [0, 0, 1], [0, -1, 0]],
+        [[-1, 0, 0], [0, 0, -1], [0, -1, 0]],
+        [[0, 1, 0], [1, 0, 0], [0, 0, -1]],
+        [[0, -1, 0], [1, 0, 0], [0, 0, 1]],
+        [[0, 0, 1], [-1, 0, 0], [0, -1, 0]],
+        [[0, 0, -1], [1, 0, 0], [0, -1, 0]],
+    ],
+    dtype=np.float64,
+)
+
 #: directx face F = internal face g mirrored: F -> (g, flip left-right, flip up-down).
 DIRECTX_FACES = (
     (0, True, False),

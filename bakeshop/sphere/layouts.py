@@ -43,6 +43,14 @@ def _dirs_array(dirs) -> np.ndarray:
     return d
 
 
+def power_of_two_edge(area: float) -> int:
+    """The power of two nearest (in log scale) to ``sqrt(area)``: the default edge of cube faces,
+    so that a cube's texels number about ``6 * area`` and every mip level halves exactly
+    (296 texels becomes 256, 326 becomes 256, 400 becomes 512)."""
+    edge = float(np.sqrt(max(float(area), 1.0)))
+    return int(2 ** round(np.log2(edge)))
+
+
 class Layout:
     """A panorama layout. Get one with :func:`layout` (``layout("latlong")``)."""
 
@@ -76,7 +84,8 @@ class Layout:
         raise NotImplementedError
 
     def default_size(self, texels: int) -> int:
-        """The size (for :meth:`shape`) whose valid texels number about ``texels``."""
+        """The size (for :meth:`shape`) whose valid texels number about ``texels`` (for cubes,
+        crosses and strips: the nearest power-of-two face edge, :func:`power_of_two_edge`)."""
         raise NotImplementedError
 
     # -- the three operations --------------------------------------------------------------------
@@ -210,9 +219,8 @@ class LatLong(Layout):
         return max(1, round(np.sqrt(texels / 2)))
 
     def directions(self, shape):
-        # separable: W + H sines and cosines, then products (0.03-0.08 s at 12.6 Mtexels where
-        # the general path takes 0.4-2 s; bit-identical to it: the same trigonometry as remap's
-        # plans)
+        # separable: W + H sines and cosines, then products (docs/BENCHMARKS.md, irradiance;
+        # bit-identical to the general path: the same trigonometry as remap's plans)
         shape = self.check_shape(shape)
         dirs = np.empty(shape + (3,))
         _latlong_directions(dirs)
@@ -324,10 +332,13 @@ def _disk_texel_integrals(n: int, lay: _Disk) -> np.ndarray:
 
 
 class Angular(_Disk):
-    """Debevec's light probe: ``theta = pi r`` from +Z; centre +Z, rim -Z.
+    """Debevec's light probe as HDRShop reads it: ``theta = pi r`` from the centre, which looks
+    forward (-Z); the rim looks behind (+Z), right of centre is +X, above is +Y.
 
-    ``(u, v)`` of a direction: ``(Dx, Dy) acos(Dz) / (pi sqrt(Dx^2 + Dy^2))``. Solid angle
-    density ``dOmega/dA = pi sin(pi r) / r``.
+    ``d = (a/r sin theta, b/r sin theta, -cos theta)``. In HDRShop's own left-handed frame (z
+    forward, our ``(x, y, -z)``) this is Debevec's ``(u, v) = (Dx, Dy) acos(Dz) / (pi sqrt(Dx^2 +
+    Dy^2))``, so Debevec's probes and HDRShop's conversions of them (the crosses of his gallery)
+    agree with bakeshop's. Solid angle density ``dOmega/dA = pi sin(pi r) / r``.
     """
 
     name = "angular"
@@ -338,15 +349,35 @@ class Angular(_Disk):
         return (np.pi**2 / 2) * np.sinc(np.sqrt(q) / 2) ** 2
 
 
+class AngularPhysical(Angular):
+    """The angular map of a mirror ball's physical reflection: a camera looking along -Z sees
+    behind itself (+Z) at the centre, so ``d = (a/r sin theta, b/r sin theta, +cos theta)``:
+    the z-mirror image of :class:`Angular` (HDRShop's), for matching a photographed set."""
+
+    name = "angular-physical"
+    kind = _maps.ANGULAR_PHYSICAL
+
+
 class MirrorBall(_Disk):
-    """A photographed mirror ball: normal ``n = (a, b, sqrt(1 - r^2))``, camera looking along
-    -Z, ``d = reflect((0, 0, -1), n)``; centre +Z, rim -Z. ``dOmega/dA = 4`` everywhere."""
+    """A mirror ball as HDRShop reads it: the same centre and axes as :class:`Angular` (centre
+    forward, -Z; right +X; up +Y), with ``r = sin(theta / 2)`` for the angle ``theta`` from the
+    centre (a ball seen from far away), so ``r = sin(45 deg)`` right of centre is +X:
+    ``d = (2 n_z a, 2 n_z b, -(1 - 2 r^2))``, ``n_z = sqrt(1 - r^2)``. ``dOmega/dA = 4``."""
 
     name = "mirrorball"
     kind = _maps.MIRRORBALL
 
     def _H(self, q):
         return np.full_like(q, 2.0)
+
+
+class MirrorBallPhysical(MirrorBall):
+    """A photographed mirror ball's exact reflection: normal ``n = (a, b, sqrt(1 - r^2))``,
+    camera looking along -Z, ``d = reflect((0, 0, -1), n) = (2 n_z a, 2 n_z b, 1 - 2 r^2)``;
+    centre +Z (behind the camera), rim -Z. The z-mirror image of :class:`MirrorBall`."""
+
+    name = "mirrorball-physical"
+    kind = _maps.MIRRORBALL_PHYSICAL
 
 
 class DualParaboloid(_Disk):
@@ -444,6 +475,135 @@ def _octahedral_solid_angles(n: int) -> np.ndarray:
     return omega
 
 
+# --- OpenEXR's environment maps --------------------------------------------------------------
+
+
+def _centre_aligned_edges(n: int) -> np.ndarray:
+    """The cell edges, in [-1, 1], of ``n`` samples whose first and last lie on -1 and 1: the
+    midpoints between samples, and the ends (the end samples' cells are half as wide)."""
+    e = (2 * np.arange(n + 1) - 1) / (n - 1) - 1
+    e[0], e[-1] = -1.0, 1.0
+    return e
+
+
+class OpenEXRLatLong(Layout):
+    """OpenEXR's latitude-longitude environment (``envmap = latlong``, ``ImfEnvmap.h``).
+
+    Texel centres, not edges, reach the ends: column ``i`` of ``W`` has longitude
+    ``lon = pi (1 - 2 i / (W - 1))`` (+pi to -pi) and row ``j`` of ``H`` latitude
+    ``lat = pi (1/2 - j / (H - 1))`` (+pi/2 to -pi/2); ``d = (sin lon cos lat, sin lat,
+    cos lon cos lat)``: longitude 0 is +Z (the centre column), pi/2 is +X (a quarter to the
+    left of the centre), the first and last rows are the poles and the first and last columns
+    the same meridian (-Z). It is bakeshop's latlong turned half a turn, on a texel grid half
+    a texel off both ways (a resampling, never a reordering).
+
+    Each texel covers the part of the sphere nearer to its centre than to its neighbours'
+    along each axis (its cell between midpoints), so the pole rows and the two seam columns are
+    half cells: solid angles are exact and sum to 4*pi. Sizes are at least 2 x 2.
+    """
+
+    name = "openexr-latlong"
+    kind = _maps.OPENEXR_LATLONG
+
+    def shape(self, size):
+        if isinstance(size, (tuple, list)):
+            w, h = size
+            return self.check_shape((h, w))
+        n = int(size)
+        return self.check_shape((n, 2 * n))
+
+    def _check(self, shape):
+        if len(shape) != 2 or min(shape) < 2:
+            raise ArgumentError(
+                "an openexr-latlong image is (H, W) with H, W >= 2 (its first and last rows "
+                f"are the poles); got spatial shape {shape}"
+            )
+
+    def default_size(self, texels):
+        return max(2, round(np.sqrt(texels / 2)))
+
+    def solid_angles(self, shape):
+        h, w = self.check_shape(shape)
+        colatitude = np.pi * (_centre_aligned_edges(h) + 1) / 2
+        c = np.cos(colatitude)
+        band = c[:-1] - c[1:]
+        width = np.pi * np.diff(_centre_aligned_edges(w))
+        return band[:, None] * width[None, :]
+
+
+class OpenEXRCube(Layout):
+    """OpenEXR's cube environment (``envmap = cube``, ``ImfEnvmap.h``): six ``S x S`` faces
+    stacked top to bottom in the order +X, -X, +Y, -Y, +Z, -Z, an ``(6 S, S)`` picture.
+
+    Each face is the world seen from inside the cube, unmirrored (right-handed): +X has +Y up
+    and +Z right, -X +Y up and -Z right, +Y +Z up and +X right, -Y -Z up and +X right, +Z +Y up
+    and -X right, -Z +Y up and +X right (:data:`~bakeshop.sphere.cube.OPENEXR_FACE_BASES`).
+    Texel centres reach the cube's edges: texel ``i`` of a face is at face coordinate
+    ``2 i / (S - 1) - 1``, so neighbouring faces both hold the samples along their shared edge
+    (each texel's solid angle is its cell's on its own face: exact, summing to 4*pi).
+    Coordinates are ``(x, y)`` in the stacked picture; the scalar maps see six faces
+    (:meth:`grid` is ``(S, S, 6)``). Faces are at least 2 x 2.
+    """
+
+    name = "openexr-cube"
+    kind = _maps.OPENEXR_CUBE
+
+    def shape(self, size):
+        if isinstance(size, (tuple, list)):
+            w, h = size
+            if h != 6 * w:
+                raise ArgumentError(
+                    f"an openexr-cube is six square faces stacked (height 6 x width); got size "
+                    f"{w}x{h}"
+                )
+            size = w
+        n = int(size)
+        return self.check_shape((6 * n, n))
+
+    def _check(self, shape):
+        if len(shape) != 2 or shape[0] != 6 * shape[1] or shape[1] < 2:
+            raise ArgumentError(
+                "an openexr-cube image is six square faces stacked top to bottom, (H, W) = "
+                f"(6 S, S) with S >= 2; got (H, W) = {shape}"
+            )
+
+    def default_size(self, texels):
+        return max(2, round(np.sqrt(texels / 6)))
+
+    def grid(self, shape):
+        _, s = self.check_shape(shape)
+        return s, s, 6
+
+    def face_size(self, shape) -> int:
+        return self.check_shape(shape)[1]
+
+    def directions_at(self, coords, shape):
+        s = self.face_size(shape)
+        c = np.asarray(coords, dtype=np.float64)
+        if c.shape[-1] != 2:
+            raise ArgumentError(f"{self.name} coordinates must be (..., 2)")
+        face = np.clip(np.floor(c[..., 1] / s), 0, 5)
+        fxy = np.stack([face, c[..., 0], c[..., 1] - face * s], axis=-1).reshape(-1, 3)
+        out = np.empty((len(fxy), 3))
+        _maps.directions_at(self.kind, s, s, np.ascontiguousarray(fxy), out)
+        return out.reshape(c.shape[:-1] + (3,))
+
+    def coordinates(self, dirs, shape):
+        s = self.face_size(shape)
+        d = _dirs_array(dirs)
+        out = np.empty((d.size // 3, 3))
+        _maps.coordinates_of(self.kind, s, s, np.ascontiguousarray(d.reshape(-1, 3)), out)
+        out = out.reshape(d.shape[:-1] + (3,))
+        return np.stack([out[..., 1], out[..., 0] * s + out[..., 2]], axis=-1)
+
+    def solid_angles(self, shape):
+        s = self.face_size(shape)
+        e = _centre_aligned_edges(s)
+        c = _cube_corner(e[None, :], e[:, None])
+        face = c[1:, 1:] - c[:-1, 1:] - c[1:, :-1] + c[:-1, :-1]
+        return np.tile(face, (6, 1))
+
+
 # --- cube ---------------------------------------------------------------------------------
 
 
@@ -485,7 +645,7 @@ class Cube(Layout):
             raise ArgumentError(f"a cube map is (6, S, S); got spatial shape {shape}")
 
     def default_size(self, texels):
-        return max(1, round(np.sqrt(texels / 6)))
+        return power_of_two_edge(texels / 6)
 
     def solid_angles(self, shape):
         _, s, _ = self.check_shape(shape)
@@ -537,7 +697,7 @@ class CubeView(Layout):
         return self.check_shape(shape)[0] // self.rows
 
     def default_size(self, texels):
-        return max(1, round(np.sqrt(texels / 6)))
+        return power_of_two_edge(texels / 6)
 
     def directions(self, shape):
         s = self.face_size(shape)
@@ -592,9 +752,13 @@ _LAYOUTS: dict[str, Layout] = {
         LatLong(),
         Angular(),
         MirrorBall(),
+        AngularPhysical(),
+        MirrorBallPhysical(),
         CUBE,
         Octahedral(),
         DualParaboloid(),
+        OpenEXRLatLong(),
+        OpenEXRCube(),
         *(CubeView(v) for v in _cube.VIEWS),
     )
 }
@@ -618,10 +782,12 @@ def layout(name: str) -> Layout:
 def guess_layout(height: int, width: int) -> list[str]:
     """Layouts whose images have this shape, the likely one first.
 
-    A 2:1 image is taken for a latlong (a dual-paraboloid map has the same shape: name it); a
-    square is ambiguous (angular, mirror ball or octahedral) and every candidate is returned,
-    so that the caller can ask; 3:4, 4:3, 6:1 and 1:6 are the cube's crosses and strips. An
-    empty list means no layout has that shape.
+    A 2:1 image is taken for a latlong (a dual-paraboloid map and OpenEXR's latlong have the
+    same shape: name them, or let an .exr's envmap attribute say); a square is ambiguous
+    (angular, mirror ball, octahedral, or a probe's physical variant) and every candidate is
+    returned, so that the caller can ask; 3:4, 4:3, 6:1 and 1:6 are the cube's crosses and
+    strips (1:6 is also OpenEXR's cube, which its envmap attribute names). An empty list means
+    no layout has that shape.
     """
     h, w = int(height), int(width)
     if h < 1 or w < 1:
@@ -629,7 +795,9 @@ def guess_layout(height: int, width: int) -> list[str]:
     if w == 2 * h:
         return ["latlong"]
     if w == h:
-        return ["angular", "mirrorball", "octahedral"] if h % 2 == 0 else ["angular", "mirrorball"]
+        disks = ["angular", "mirrorball"]
+        physical = ["angular-physical", "mirrorball-physical"]
+        return disks + (["octahedral"] if h % 2 == 0 else []) + physical
     for name in _cube.VIEWS:
         lay = _LAYOUTS[name]
         if h * lay.cols == w * lay.rows and h % lay.rows == 0:

@@ -100,7 +100,7 @@ def auto_filter(src: str | Layout, src_shape, dst: str | Layout, dst_shape) -> F
 def remap_shape(src: str | Layout, src_shape, dst: str | Layout, size=None) -> tuple[int, ...]:
     """The spatial shape :func:`remap` gives an image of spatial ``src_shape`` in layout
     ``src`` converted to ``dst`` at ``size`` (None: about as many valid texels as the
-    source has)."""
+    source has; a power-of-two face edge for cubes, crosses and strips)."""
     s, d = layout(src), layout(dst)
     if size is None:
         size = d.default_size(int(np.count_nonzero(s.solid_angles(src_shape))))
@@ -128,7 +128,7 @@ def remap(
     size : int or (int, int), optional
         Output size as for :meth:`Layout.shape`: a latlong's height or ``(width, height)``, a
         square layout's edge, a cube's (or cross's) face edge. Default: about as many valid
-        texels as the source has.
+        texels as the source has (a cube's face edge: the nearest power of two).
     filter : {"bilinear", "nearest", "area", "auto"}
         ``area`` is for downsampling (see Notes); ``auto`` chooses (:func:`auto_filter`).
     rotation : (yaw, pitch, roll) degrees or (3, 3) array, optional

@@ -3,7 +3,9 @@
 Pictures (docs/images/): irradiance_pair.png (a probe, its sun-removed probe, its sun DIM and
 its shadow DIM, and the sun before and after removal), irradiance_methods.png (the relative
 error of ``sh`` L = 2 and of ``auto`` against ``exact``), irradiance_suns.png (what sun
-detection says on every shared probe). Table (printed as Markdown): ``auto``
+detection says on every test probe), irradiance_sh_windows.png (the order-2 SH DIM of the
+embedded default probe under each window, with its negative fraction and error; ``python
+irradiance_figures.py windows`` makes this one alone). Table (printed as Markdown): ``auto``
 and ``sh`` L = 2 against ``exact`` on every probe of tests/data at 360x180.
 
 Run: ``.venv/bin/python docs/images/irradiance_figures.py`` (a few minutes: ``exact`` runs at
@@ -154,7 +156,52 @@ def table():
         say(f"| {name} | {found} | {a_rms:.1e} | {a_max:.1e} | {s_rms:.1e} | {s_max:.1e} |")
 
 
+def windows_figure():
+    """The default probe's order-2 SH DIM, raw and under each window, against the exact DIM."""
+    from bakeshop.data import default_probe_path
+    from bakeshop.light import sh
+
+    probe = read_image(default_probe_path())
+    exact = ir.irradiance(probe, "latlong", size=(256, 128))
+    lay = layout("latlong")
+    dirs, _ = lay.directions((128, 256))
+    omega = lay.solid_angles((128, 256))
+    coeffs = ir.sh_coefficients(probe, "latlong", order=2)
+    ev = float(np.log2(0.18 / np.average(exact.mean(axis=-1), weights=omega)))
+    fig, axes = plt.subplots(2, 3, figsize=(10.5, 4.5), dpi=DPI)
+    panels = [("exact DIM (method auto)", exact)]
+    for window in ("none", "hanning", "lanczos", "minimal"):
+        irr = sh.windowed_irradiance(coeffs, window=window)
+        dim = sh.evaluate(irr.coefficients, dirs)
+        rms = np.sqrt(np.average(((dim - exact) ** 2).mean(-1), weights=omega))
+        rms /= np.sqrt(np.average((exact**2).mean(-1), weights=omega))
+        factors = ", ".join(f"{v:.3f}" for v in irr.window.factors)
+        title = (
+            f"SH L=2, {window} window ({factors})\n"
+            f"< 0 on {100 * irr.negative:.2f}% of the sphere, RMS error {100 * rms:.1f}%"
+        )
+        say(f"| {window} | {factors} | {100 * irr.negative:.2f}% | {100 * rms:.1f}% |")
+        panels.append((title, dim))
+    negative = sh.evaluate(sh.irradiance_coefficients(coeffs), dirs).min(axis=-1) < 0
+    for ax, (title, dim) in zip(axes.flat, panels, strict=False):
+        shown = picture(np.maximum(dim, 0), ev)
+        if title.startswith("SH L=2, none"):
+            shown = shown.copy()
+            shown[negative] = (255, 0, 255)  # where the raw DIM is below zero
+            title += " (magenta)"
+        ax.imshow(shown)
+        ax.set_title(title, fontsize=7.5)
+        ax.axis("off")
+    axes.flat[-1].axis("off")
+    fig.tight_layout()
+    save(fig, "irradiance_sh_windows.png")
+
+
 def main():
+    if sys.argv[1:] == ["windows"]:
+        windows_figure()
+        return
+    windows_figure()
     probe = read_image(probe_path("quarry_01"))
     pair = pair_figure(probe)
     say(f"sun: {pair.sun.to_dict()}")

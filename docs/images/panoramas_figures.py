@@ -33,6 +33,9 @@ PICTURES = {
     "latlong": ("latlong", (512, 256)),
     "angular": ("angular", 256),
     "mirrorball": ("mirrorball", 256),
+    "angular_physical": ("angular-physical", 256),
+    "mirrorball_physical": ("mirrorball-physical", 256),
+    "openexr_latlong": ("openexr-latlong", (512, 256)),
     "octahedral": ("octahedral", 256),
     "dual_paraboloid": ("dual-paraboloid", 192),
     "cross_horizontal": ("cross-horizontal", 96),
@@ -95,6 +98,18 @@ def main() -> None:
             slots,
             "cross-vertical\n(left-handed slots, centre forward)",
             "cross_vertical",
+        )  # fmt: skip
+    )
+    e = 64
+    stacked = sphere.remap(probe, "latlong", "openexr-cube", e, filter="area")
+    written.append(
+        labelled(
+            np.concatenate(np.split(stacked, 6, axis=0), axis=1),
+            "openexr-cube",
+            e,
+            {(k, 0): lab for k, lab in enumerate(sphere.FACE_LABELS)},
+            "openexr-cube (its faces, top to bottom in the file)",
+            "openexr_cube",
         )  # fmt: skip
     )
     cube = sphere.remap(probe, "latlong", "cube", s, filter="area")

@@ -113,12 +113,18 @@ def test_fresnel_bad_arguments(sky, tmp_path, capsys):
         assert main(["fresnel", str(path), *extra]) == 2
         err = capsys.readouterr().err
         assert err.startswith("bakeshop: error: ") and err.count("\n") == 1
+    # an 8-bit picture where radiance is expected: one warning line, or --srgb-decode
     picture = tmp_path / "picture.png"
-    write_image(picture, np.zeros((8, 16, 3), np.uint8))
-    assert main(["fresnel", str(picture), str(tmp_path / "c.exr")]) == 2
-    assert "linear HDR" in capsys.readouterr().err
-    assert main(["tonemap", str(picture), str(tmp_path / "c.png")]) == 2
-    assert "linear HDR" in capsys.readouterr().err
+    write_image(picture, np.full((8, 16, 3), 0.5, np.float32))
+    for command, out in (("fresnel", "c.exr"), ("tonemap", "c.png")):
+        assert main([command, str(picture), str(tmp_path / out)]) == 0
+        err = capsys.readouterr().err
+        lines = [line for line in err.splitlines() if line.strip()]
+        assert len(lines) == 1 and "display-encoded" in err and "--srgb-decode" in err
+        assert main([command, str(picture), str(tmp_path / out), "--srgb-decode"]) == 0
+        assert capsys.readouterr().err.strip() == ""  # no warning
+    assert main(["fresnel", str(path), str(tmp_path / "d.exr"), "--srgb-decode"]) == 2
+    assert "8/16-bit inputs only" in capsys.readouterr().err
     square = tmp_path / "square.exr"
     write_image(square, np.ones((8, 8, 3), np.float32))
     assert main(["fresnel", str(square), str(tmp_path / "b.exr")]) == 2

@@ -67,7 +67,8 @@ def test_convert_hdr_to_png_applies_exposure_and_srgb(hdr_image, tmp_path, capsy
     path, image = hdr_image
     out = tmp_path / "preview.png"
     assert main(["convert", str(path), str(out), "--exposure", "-2"]) == 0
-    assert "sRGB-encoded" in capsys.readouterr().out
+    said = capsys.readouterr().out
+    assert "exposure -2.00 EV, clamped" in said and "sRGB, 8-bit" in said
     # independent check: OpenImageIO reads the PNG; the sRGB curve written from its definition
     buf = oiio.ImageBuf(str(out))
     stored = buf.get_pixels(oiio.UINT8).astype(np.float64) / 255

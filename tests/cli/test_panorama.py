@@ -131,3 +131,42 @@ def test_missing_face_file(tmp_path, capsys):
     argv = ["remap", str(tmp_path / "x_{face}.exr"), str(tmp_path / "o.exr"), "--to", "latlong"]
     assert main(argv) == 2
     assert "x_posx.exr" in capsys.readouterr().err
+
+
+def test_openexr_cube_is_read_by_its_attribute_and_written_with_it(tmp_path, capsys):
+    """An .exr with envmap = cube converts as OpenEXR's cube (not as a strip), and an output in
+    OpenEXR's layouts carries the attribute; a format that cannot say so is refused before any
+    work, in one line."""
+    dirs, _ = layout("openexr-cube").directions((96, 16))
+    source = tmp_path / "env.exr"
+    write_image(source, smooth(dirs), pixel_type="float", envmap="cube")
+    out = tmp_path / "ll.exr"
+    argv = ["-q", "remap", str(source), str(out), "--to", "latlong", "--size", "16", "--filter",
+            "bilinear"]  # fmt: skip
+    assert main(argv) == 0
+    assert "envmap attribute is cube" in capsys.readouterr().out
+    want = smooth(layout("latlong").directions((16, 32))[0])
+    np.testing.assert_allclose(read_image(out), want, atol=0.05)
+    env = tmp_path / "back.exr"
+    argv = ["-q", "remap", str(out), str(env), "--to", "openexr-latlong", "--size", "16"]
+    assert main(argv) == 0
+    assert read_image(env, with_metadata=True)[1]["envmap"] == "latlong"
+    capsys.readouterr()
+    bad = tmp_path / "back.hdr"
+    assert main(["remap", str(out), str(bad), "--to", "openexr-latlong"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "back.hdr" in err and ".exr" in err and not bad.exists()
+
+
+def test_physical_probe_layouts_on_the_command_line(tmp_path, capsys):
+    dirs, _ = layout("mirrorball-physical").directions((64, 64))
+    ball = tmp_path / "ball.exr"
+    write_image(ball, smooth(dirs), pixel_type="float")
+    out = tmp_path / "sky.exr"
+    argv = ["-q", "remap", str(ball), str(out), "--from", "mirrorball-physical", "--to",
+            "latlong", "--size", "16"]  # fmt: skip
+    assert main(argv) == 0
+    sky = read_image(out)
+    d = layout("latlong").directions((16, 32))[0]
+    front = d[..., 2] > -0.7  # away from the ball's rim (ahead of the camera)
+    assert np.abs(sky - smooth(d))[front].max() < 0.05

@@ -129,7 +129,7 @@ def test_broken_files(tmp_path):
         "magic.dds": (b"XXXX" + data[4:], FormatError),
         "huge.dds": (data[:12] + struct.pack("<2I", 1 << 20, 1 << 20) + data[20:], FormatError),
         "levels.dds": (data[:28] + struct.pack("<I", 40) + data[32:], FormatError),
-        "bc1.dds": (data[:128] + struct.pack("<I", 71) + data[132:], UnsupportedError),
+        "bgra8.dds": (data[:128] + struct.pack("<I", 87) + data[132:], UnsupportedError),
         "array.dds": (data[:140] + struct.pack("<I", 2) + data[144:], UnsupportedError),
     }
     for name, (content, error) in cases.items():

@@ -55,22 +55,37 @@ def write_raw(path, channels, header=None):
 # --- OpenEXR's sample files -----------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("name", ["KernerEnvLatLong.exr", "OrientationLatLong.exr"])
+#: OpenEXR's environment sample pairs as stored in tests/data/exr (top level only, RGB, zip
+#: scanlines), and the Kerner latlong exactly as published (tiled, mip-mapped, RGBA).
+SAMPLES = {
+    "KernerEnvLatLong.exr": ((512, 1024), "RGB", "latlong"),
+    "KernerEnvCube.exr": ((1536, 256), "RGB", "cube"),
+    "OrientationLatLong.exr": ((512, 1024), "RGB", "latlong"),
+    "OrientationCube.exr": ((3072, 512), "RGB", "cube"),
+    "KernerEnvLatLong_published.exr": ((512, 1024), "RGBA", "latlong"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(SAMPLES))
 def test_openexr_samples_match_openimageio(name):
-    path = DATA / name
+    (height, width), channels, envmap = SAMPLES[name]
+    path = DATA / "exr" / name
     image, meta = read_image(path, with_metadata=True)
     reference, spec = oiio_read(path)
-    assert list(spec.channelnames) == ["R", "G", "B", "A"]
-    assert image.shape == (512, 1024, 4) and image.dtype == np.float32
+    assert list(spec.channelnames) == list(channels)
+    assert image.shape == (height, width, len(channels)) and image.dtype == np.float32
     assert same_bits(image, reference)
     assert meta["stored"] == "half" and meta["compression"] == "zip"
-    assert meta["channels"] == ["R", "G", "B", "A"] and meta["envmap"] == "latlong"
-    assert meta["data_window"] == meta["display_window"] == ((0, 0), (1023, 511))
+    assert meta["channels"] == list(channels) and meta["envmap"] == envmap
+    assert meta["data_window"] == meta["display_window"] == ((0, 0), (width - 1, height - 1))
 
 
 def test_tiled_mipmapped_file_reads_its_top_level():
-    _, meta = read_image(DATA / "KernerEnvLatLong.exr", with_metadata=True)
+    path = DATA / "exr" / "KernerEnvLatLong_published.exr"
+    image, meta = read_image(path, with_metadata=True)
     assert meta["storage"] == "tiled" and meta["levels"] == "mipmap"
+    # the reduced copy kept the same top-level R, G, B halves, bit for bit
+    assert same_bits(image[..., :3], read_image(DATA / "exr" / "KernerEnvLatLong.exr"))
 
 
 # --- writing: round trips, compressions, overflow ------------------------------------------------
@@ -354,3 +369,31 @@ def test_random_bytes(scratch, data):
 @given(st.integers(0, 2), fuzzing.edits(400, min_size=1))
 def test_mutations_of_valid_files(scratch, seed_files, which, changes):
     fuzzing.decode(scratch, fuzzing.mutate(seed_files[which], changes))
+
+
+@pytest.mark.parametrize(
+    "channels, count",
+    [
+        ({c: hdr_image(5, 7, 1)[..., 0].astype(np.float16) for c in "RGBA"}, 4),
+        ({"Y": hdr_image(5, 7, 1)[..., 0], "A": np.full((5, 7), 0.5, np.float16)}, 4),
+        (
+            {
+                "R": hdr_image(5, 7, 1)[..., 0],
+                "G": np.full((5, 7), 2, np.uint32),
+                "B": np.zeros((5, 7), np.float16),
+                "extra.Z": np.ones((5, 7), np.float32),
+            },
+            3,
+        ),
+    ],  # fmt: skip
+    ids=["half RGBA", "Y A", "mixed types and an ignored channel"],
+)
+def test_frame_buffer_and_whole_file_reads_agree(tmp_path, monkeypatch, channels, count):
+    """The first part is read through the frame buffer (only the channels returned); the whole
+    file interface, which bindings without ``InputFile`` fall back to, gives the same."""
+    path = write_raw(tmp_path / "a.exr", channels, {"dataWindow": ((3, -2), (9, 2))})
+    image, meta = read_image(path, with_metadata=True)
+    monkeypatch.delattr(OpenEXR, "InputFile")
+    whole, whole_meta = read_image(path, with_metadata=True)
+    assert same_bits(image, whole) and image.shape == (5, 7, count)
+    assert meta == whole_meta

@@ -102,7 +102,8 @@ def test_broken_files(tmp_path):
         "magic.ktx": (b"\x00" + data[1:], FormatError),
         "endian.ktx": (data[:12] + b"\x00\x00\x00\x00" + data[16:], FormatError),
         "huge.ktx": (data[:36] + struct.pack("<2I", 1 << 20, 1 << 20) + data[44:], FormatError),
-        "bc6h.ktx": (data[:28] + struct.pack("<I", 0x8E8F) + data[32:], UnsupportedError),
+        "rgba8.ktx": (data[:28] + struct.pack("<I", 0x8058) + data[32:], UnsupportedError),
+        "bc6h.ktx": (data[:28] + struct.pack("<I", 0x8E8F) + data[32:], FormatError),
         "faces.ktx": (data[:52] + struct.pack("<I", 5) + data[56:], FormatError),
         "kv.ktx": (data[:60] + struct.pack("<I", 1 << 30) + data[64:], FormatError),
     }

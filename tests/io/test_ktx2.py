@@ -121,8 +121,8 @@ def test_broken_files(tmp_path):
         "truncated.ktx2": (data[:-2], FormatError),
         "magic.ktx2": (b"\x00" + data[1:], FormatError),
         "huge.ktx2": (data[:20] + struct.pack("<2I", 1 << 20, 1 << 20) + data[28:], FormatError),
-        "bc6h.ktx2": (data[:12] + struct.pack("<I", 143) + data[16:], UnsupportedError),
-        "zstd.ktx2": (data[:44] + struct.pack("<I", 2) + data[48:], UnsupportedError),
+        "srgb8.ktx2": (data[:12] + struct.pack("<I", 43) + data[16:], UnsupportedError),
+        "basislz.ktx2": (data[:44] + struct.pack("<I", 1) + data[48:], UnsupportedError),
         "faces.ktx2": (data[:36] + struct.pack("<I", 5) + data[40:], FormatError),
         "index.ktx2": (data[:80] + struct.pack("<Q", 1 << 40) + data[88:], FormatError),
     }

@@ -176,9 +176,13 @@ def test_bake_every_layout_agrees_with_its_texel_directions(name):
     shape = lay.shape(12)
     rng = np.random.default_rng(1)
     env = rng.uniform(0.5, 2.0, size=(*shape, 4))
+    dirs, valid = lay.directions(shape)
+    if name.startswith("openexr"):
+        # OpenEXR's maps hold the seam, poles and cube edges twice: values must agree there
+        # (a mirrored direction on a cube edge may be looked up in either face)
+        env[..., :3] = 1.25 + 0.5 * dirs
     up = np.array([0.3, 0.9, -0.2])
     out = bake_fresnel(env, name, up=up, ior=1.4)
-    dirs, valid = lay.directions(shape)
     cos = dirs @ (up / np.linalg.norm(up))
     factor = np.where(valid & (cos >= 0), fresnel_from_amplitudes(np.clip(cos, 0, 1), 1.4), 0)
     grazing = np.abs(cos) < 1e-12  # on the plane: the sign of a rounded dot product decides
@@ -192,7 +196,10 @@ def test_bake_every_layout_agrees_with_its_texel_directions(name):
     flipped = dirs[lower] - 2 * cos[lower, None] * u
     fetched = sphere.sample(env, name, flipped)[:, :3]
     want = fetched * fresnel_from_amplitudes(-cos[lower], 1.4)[:, None]
-    np.testing.assert_allclose(mirror[lower][:, :3], want, rtol=1e-12)
+    # (on an OpenEXR cube edge either face may be read: the same values, at bilinear fractions
+    # rounded to float32 from two float64 positions, 2^-24 of a texel apart)
+    rtol = 1e-7 if name.startswith("openexr") else 1e-12
+    np.testing.assert_allclose(mirror[lower][:, :3], want, rtol=rtol)
     np.testing.assert_array_equal(mirror[~lower & ~grazing], out[~lower & ~grazing])
 
 

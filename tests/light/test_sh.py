@@ -186,7 +186,7 @@ def test_json_round_trip_and_errors(tmp_path):
 @pytest.mark.parametrize("language", ["glsl", "hlsl"])
 def test_shader_snippet(language):
     c = np.random.default_rng(8).normal(size=(9, 3))
-    text = sh.shader_snippet(c, language=language)
+    text = sh.shader_snippet(c, language=language, window="none")
     assert "bakeshop_irradiance" in text and text.count("BAKESHOP_SH_M") >= 6
     assert ("mat4" in text) == (language == "glsl")
     # the emitted numbers are the matrices
@@ -245,7 +245,7 @@ def test_glsl_snippet_compiles_and_agrees_on_a_real_opengl_driver():
     import moderngl
 
     c = np.random.default_rng(13).normal(size=(9, 3))
-    snippet = sh.shader_snippet(c, language="glsl")
+    snippet = sh.shader_snippet(c, language="glsl", window="none")
     source = (
         "#version 330\n"
         + snippet

@@ -66,7 +66,7 @@ CASES = [
     ("latlong", 512, [0.05, 0.99, 0.08], 3.0, [500, 500, 450]),  # at the pole
     ("latlong", 512, [0.9, -0.1, 0.3], 1.5, [80.0, 60.0, 40.0]),  # faint, below the horizon
     ("cube", 256, [0.7, 0.69, 0.2], 1.0, [2e4, 2e4, 2e4]),  # near a cube corner
-    ("angular", 800, [0.2, 0.4, -0.89], 1.5, [1e4, 9e3, 8e3]),  # near the rim
+    ("angular", 800, [0.2, 0.4, 0.89], 1.5, [1e4, 9e3, 8e3]),  # near the rim (behind, +Z)
 ]
 
 

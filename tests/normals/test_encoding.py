@@ -5,7 +5,7 @@ import imageio
 import numpy as np
 import pytest
 
-from bakeshop.cli.normals import read_normal_map, write_normal_map
+from bakeshop.cli.normals import write_normal_map
 from bakeshop.errors import ArgumentError
 from bakeshop.normals.encoding import (
     check_normals,
@@ -14,6 +14,7 @@ from bakeshop.normals.encoding import (
     decode_normals,
     encode_normals,
     normalize,
+    read_normal_map,
 )
 from tests import tolerances as tol
 from tests.files import DATA

@@ -17,6 +17,10 @@ from tests.tolerances import (
 
 SIZES = {name: (1, 2, 7, 16, 33) for name in LAYOUT_NAMES}
 SIZES["octahedral"] = (2, 8, 16, 34)
+# OpenEXR's maps put texel centres on the poles, seams and cube edges: at least 2 texels
+SIZES["openexr-latlong"] = SIZES["openexr-cube"] = (2, 3, 7, 16, 33)
+#: the layouts made of disks.
+DISKS = ("angular", "mirrorball", "angular-physical", "mirrorball-physical", "dual-paraboloid")
 
 
 def centres(shape):
@@ -27,12 +31,22 @@ def centres(shape):
 
 
 def inside(lay, shape):
-    """Texels whose centres lie in the layout's domain (disk rim texels excepted)."""
+    """Texels whose centres lie in the layout's domain and map back to themselves alone (disk
+    rim texels, and OpenEXR's texels on poles, seams and cube edges, excepted)."""
     dirs, valid = lay.directions(shape)
-    if lay.name in ("angular", "mirrorball", "dual-paraboloid"):
+    if lay.name in DISKS:
         n = shape[0]
         t = 2 * (np.arange(n) + 0.5) / n - 1
         valid = valid & np.tile(t[None, :] ** 2 + t[:, None] ** 2 <= 1, (1, shape[1] // n))
+    if lay.name == "openexr-latlong":
+        valid = valid.copy()
+        valid[[0, -1]] = False
+        valid[:, -1] = False
+    if lay.name == "openexr-cube":
+        s = shape[1]
+        edge = np.zeros((s, s), bool)
+        edge[[0, -1]] = edge[:, [0, -1]] = True
+        valid = valid & ~np.tile(edge, (6, 1))
     return valid
 
 
@@ -95,16 +109,26 @@ def direction_at(name, x, y, shape):
     if name == "latlong":
         phi, theta = 2 * np.pi * (u - 0.5), np.pi * v
         return np.array([np.sin(theta) * np.sin(phi), np.cos(theta), -np.sin(theta) * np.cos(phi)])
+    a, b = 2 * u - 1, 1 - 2 * v
+    r = np.hypot(a, b)
     if name == "angular":
-        a, b = 2 * u - 1, 1 - 2 * v
-        r = np.hypot(a, b)
+        # DESIGN.md (HDRShop's): theta = pi r from the centre, which looks forward (-Z)
         th = np.pi * r
-        return np.array([a / r * np.sin(th), b / r * np.sin(th), np.cos(th)])
+        return np.array([a / r * np.sin(th), b / r * np.sin(th), -np.cos(th)])
     if name == "mirrorball":
-        a, b = 2 * u - 1, 1 - 2 * v
+        # the same centre, r = sin(theta / 2)
+        th = 2 * np.arcsin(r)
+        return np.array([a / r * np.sin(th), b / r * np.sin(th), -np.cos(th)])
+    if name in ("angular-physical", "mirrorball-physical"):
+        # a ball photographed by a camera looking along -Z reflects the view ray about its normal
         n = np.array([a, b, np.sqrt(1 - a * a - b * b)])
         view = np.array([0, 0, -1.0])
-        return view - 2 * view.dot(n) * n
+        ball = view - 2 * view.dot(n) * n
+        if name == "mirrorball-physical":
+            return ball
+        # the angular map of the same reflection: angle from the centre (+Z) linear in r
+        th = np.pi * r
+        return np.array([a / r * np.sin(th), b / r * np.sin(th), np.cos(th)])
     raise AssertionError(name)
 
 
@@ -117,13 +141,27 @@ def direction_at(name, x, y, shape):
         ("latlong", (1.0, 0.5), (0, 0, 1)),  # the seam: u = 1 (u = 0 is the same)
         ("latlong", (0.3, 0.0), (0, 1, 0)),
         ("latlong", (0.3, 1.0), (0, -1, 0)),
-        ("angular", (0.5, 0.5), (0, 0, 1)),
+        # HDRShop's probes: the centre looks forward, right is +X, up is +Y, the rim behind
+        ("angular", (0.5, 0.5), (0, 0, -1)),
         ("angular", (0.75, 0.5), (1, 0, 0)),  # Debevec: r = acos(Dz) / pi = 1/2
         ("angular", (0.5, 0.25), (0, 1, 0)),
         ("angular", (0.25, 0.5), (-1, 0, 0)),
-        ("mirrorball", (0.5, 0.5), (0, 0, 1)),
-        ("mirrorball", (0.5 + np.sqrt(0.5) / 2, 0.5), (1, 0, 0)),  # normal at 45 degrees
+        ("angular", (1.0, 0.5), (0, 0, 1)),
+        ("angular", (0.5, 1.0), (0, 0, 1)),
+        ("mirrorball", (0.5, 0.5), (0, 0, -1)),
+        ("mirrorball", (0.5 + np.sqrt(0.5) / 2, 0.5), (1, 0, 0)),  # r = sin(45 degrees)
         ("mirrorball", (0.5, 0.5 - np.sqrt(0.5) / 2), (0, 1, 0)),
+        ("mirrorball", (0.5 - np.sqrt(0.5) / 2, 0.5), (-1, 0, 0)),
+        ("mirrorball", (0.0, 0.5), (0, 0, 1)),
+        # the physical reflection: the z-mirror image (the camera, +Z, at the centre)
+        ("angular-physical", (0.5, 0.5), (0, 0, 1)),
+        ("angular-physical", (0.75, 0.5), (1, 0, 0)),
+        ("angular-physical", (0.5, 0.25), (0, 1, 0)),
+        ("angular-physical", (0.0, 0.5), (0, 0, -1)),
+        ("mirrorball-physical", (0.5, 0.5), (0, 0, 1)),
+        ("mirrorball-physical", (0.5 + np.sqrt(0.5) / 2, 0.5), (1, 0, 0)),  # normal at 45 deg
+        ("mirrorball-physical", (0.5, 0.5 - np.sqrt(0.5) / 2), (0, 1, 0)),
+        ("mirrorball-physical", (0.5, 0.0), (0, 0, -1)),
         ("octahedral", (0.5, 0.5), (0, 1, 0)),
         ("octahedral", (1.0, 0.5), (1, 0, 0)),
         ("octahedral", (0.5, 0.0), (0, 0, -1)),
@@ -148,11 +186,14 @@ def test_landmarks(name, xy, expected):
     back = lay.coordinates(np.array(expected, float), shape)
     np.testing.assert_allclose(lay.directions_at(back, shape), expected, atol=1e-12)
     unique = not (expected[1] != 0 and name == "latlong") and expected != (0, -1, 0)
-    if unique and not (expected == (0, 0, -1) and name in ("angular", "mirrorball")):
+    rim = (0, 0, -1) if name.endswith("-physical") else (0, 0, 1)
+    if unique and not (expected == rim and name in DISKS):
         np.testing.assert_allclose(back, pos, atol=1e-9)
 
 
-@pytest.mark.parametrize("name", ["latlong", "angular", "mirrorball"])
+@pytest.mark.parametrize(
+    "name", ["latlong", "angular", "mirrorball", "angular-physical", "mirrorball-physical"]
+)
 def test_directions_follow_design_formulas(name):
     lay = layout(name)
     shape = lay.shape(16)
@@ -189,15 +230,19 @@ def test_latlong_separable_directions_match_the_per_texel_formula():
 
 
 def test_angular_matches_debevec_formula():
-    """(u, v) = (Dx, Dy) acos(Dz) / (pi sqrt(Dx^2 + Dy^2)), u right, v up from the centre."""
+    """Debevec's (u, v) = (Dx, Dy) acos(Dz) / (pi sqrt(Dx^2 + Dy^2)), u right and v up from the
+    centre, holds in HDRShop's left-handed frame (z forward: D = (x, y, -z) of ours) for
+    ``angular`` and in ours for ``angular-physical``."""
     rng = np.random.default_rng(0)
     d = rng.normal(size=(1000, 3))
     d /= np.linalg.norm(d, axis=1, keepdims=True)
-    k = np.arccos(d[:, 2]) / (np.pi * np.hypot(d[:, 0], d[:, 1]))
     n = 100
-    c = layout("angular").coordinates(d, (n, n))
-    np.testing.assert_allclose(c[:, 0] / n * 2 - 1, d[:, 0] * k, atol=1e-12)
-    np.testing.assert_allclose(1 - c[:, 1] / n * 2, d[:, 1] * k, atol=1e-12)
+    for name, frame in (("angular", [1, 1, -1]), ("angular-physical", [1, 1, 1])):
+        dh = d * frame
+        k = np.arccos(dh[:, 2]) / (np.pi * np.hypot(dh[:, 0], dh[:, 1]))
+        c = layout(name).coordinates(d, (n, n))
+        np.testing.assert_allclose(c[:, 0] / n * 2 - 1, dh[:, 0] * k, atol=1e-12)
+        np.testing.assert_allclose(1 - c[:, 1] / n * 2, dh[:, 1] * k, atol=1e-12)
 
 
 def test_cube_face_table():
@@ -305,6 +350,8 @@ DENSITIES = {
     # dOmega / dA on each layout's natural (a, b) square [-1, 1]^2 (interior texels only)
     "angular": lambda a, b: np.pi * np.sin(np.pi * np.hypot(a, b)) / np.hypot(a, b),
     "mirrorball": lambda a, b: 4.0 + 0 * a,
+    "angular-physical": lambda a, b: np.pi * np.sin(np.pi * np.hypot(a, b)) / np.hypot(a, b),
+    "mirrorball-physical": lambda a, b: 4.0 + 0 * a,
     "dual-paraboloid": lambda a, b: 4 / (1 + a * a + b * b) ** 2,
     "octahedral": lambda a, c: 1 / np.linalg.norm(oct_point(a, c), axis=-1) ** 3,
     "cube": lambda x, y: 1 / (1 + x * x + y * y) ** 1.5,
@@ -323,7 +370,7 @@ def test_solid_angles_sum_to_4pi(name):
         assert np.all(omega[valid] > 0) and np.all(omega[~valid] == 0)
 
 
-@pytest.mark.parametrize("name", ["angular", "mirrorball", "dual-paraboloid", "octahedral", "cube"])
+@pytest.mark.parametrize("name", [*DISKS, "octahedral", "cube"])
 def test_texel_solid_angles_match_quadrature_of_the_density(name):
     lay = layout(name)
     n = 16
@@ -336,7 +383,7 @@ def test_texel_solid_angles_match_quadrature_of_the_density(name):
     for j in range(n):
         for i in range(n):
             a0, a1, c0, c1 = e[i], e[i + 1], e[j], e[j + 1]
-            if name in ("angular", "mirrorball", "dual-paraboloid"):
+            if name in DISKS:
                 if max(abs(a0), abs(a1)) ** 2 + max(abs(c0), abs(c1)) ** 2 > 1:
                     continue
             if name == "octahedral":
@@ -360,7 +407,7 @@ def test_latlong_band_matches_quadrature():
         np.testing.assert_allclose(omega[j], exact, rtol=SPHERE_TEXEL_OMEGA_RTOL)
 
 
-@pytest.mark.parametrize("name", ["angular", "mirrorball", "dual-paraboloid", "octahedral"])
+@pytest.mark.parametrize("name", [*DISKS, "octahedral"])
 def test_rim_and_fold_texels_are_sums_of_their_subtexels(name):
     """Texels cut by the rim or a fold have no smooth density: each must equal the sum of its
     2 x 2 sub-texels at twice the resolution (different corners, the same exact integral)."""
@@ -374,8 +421,10 @@ def test_rim_and_fold_texels_are_sums_of_their_subtexels(name):
 
 
 @pytest.mark.parametrize(
-    "name", ["latlong", "angular", "octahedral", "dual-paraboloid", "cross-vertical"]
-)
+    "name",
+    ["latlong", "angular", "mirrorball-physical", "octahedral", "dual-paraboloid",
+     "cross-vertical", "openexr-latlong", "openexr-cube"],
+)  # fmt: skip
 def test_solid_angles_match_monte_carlo_binning(name):
     """Uniform random directions binned by coordinates: counts / total * 4 pi ~ solid angle."""
     lay = layout(name)
@@ -432,5 +481,8 @@ def test_guess_layout():
     assert guess_layout(768, 1024) == ["cross-horizontal"]
     assert guess_layout(64, 384) == ["strip-horizontal"]
     assert guess_layout(384, 64) == ["strip-vertical"]
-    assert set(guess_layout(512, 512)) == {"angular", "mirrorball", "octahedral"}
+    assert guess_layout(512, 512) == [
+        "angular", "mirrorball", "octahedral", "angular-physical", "mirrorball-physical"
+    ]  # fmt: skip
+    assert "octahedral" not in guess_layout(511, 511)
     assert guess_layout(100, 333) == []

@@ -15,6 +15,7 @@ from bakeshop.sphere import (
     cube_to_view,
     layout,
     remap,
+    remap_shape,
     rotation_matrix,
     sample,
 )
@@ -50,9 +51,12 @@ SOURCES = {  # sizes giving texels of about 0.3 degrees
     "cube": 300,
     "angular": 1200,
     "mirrorball": 1200,
+    "mirrorball-physical": 1200,
     "octahedral": 600,
     "dual-paraboloid": 600,
     "cross-vertical": 300,
+    "openexr-latlong": 600,
+    "openexr-cube": 300,
 }
 
 
@@ -67,10 +71,12 @@ def test_smooth_environment_into_every_layout(src, filter):
         dirs, valid = d.directions(d.shape(24))
         assert out.shape == d.shape(24) + (3,) and out.dtype == np.float32
         err = np.abs(out - smooth(dirs)).max(axis=-1)
-        if src == "mirrorball":
-            # the mirror ball squeezes the back hemisphere into its rim: only -Z's neighbourhood
-            # is poorly sampled (a physical limit of the photograph, not of the filter)
-            valid = valid & (dirs[..., 2] > -0.9)
+        if src.startswith("mirrorball"):
+            # the mirror ball squeezes a hemisphere into its rim: only the neighbourhood of the
+            # rim's direction (+Z; -Z for the physical variant) is poorly sampled (a physical
+            # limit of the photograph, not of the filter)
+            rim = -1 if src == "mirrorball-physical" else 1
+            valid = valid & (rim * dirs[..., 2] < 0.9)
         assert err[valid].max() < bound, (dst, err[valid].max())
         assert np.all(out[~d.directions(d.shape(24))[1]] == 0)
 
@@ -225,7 +231,12 @@ def test_types_and_channel_axis():
     cube = remap(img, "latlong", "cube", 8)
     cross = remap(img, "latlong", "cross-vertical", 8)
     np.testing.assert_array_equal(cross, cube_to_view(cube, "cross-vertical"))
-    assert remap(img, "latlong", "cube").shape == (6, 18, 18, 3)  # default: same texel count
+    # default: about the same texel count, as a power-of-two face (sqrt(64 * 32 / 6) = 18.5)
+    assert remap(img, "latlong", "cube").shape == (6, 16, 16, 3)
+    for texels, edge in ((6 * 296**2, 256), (6 * 326**2, 256), (6 * 400**2, 512), (1, 1)):
+        for name in ("cube", "cross-vertical", "strip-horizontal"):
+            assert layout(name).default_size(texels) == edge
+    assert remap_shape("latlong", (512, 1024), "cross-vertical") == (1024, 768)
     dirs = np.random.default_rng(0).normal(size=(4, 5, 3))
     assert sample(img, "latlong", dirs).shape == (4, 5, 3)
     assert sample(img[..., 0], "latlong", dirs[0, 0]).shape == ()
@@ -292,6 +303,9 @@ def probe():
         ("strip-horizontal", 32, SPHERE_AREA_ENERGY_RTOL),
         ("mirrorball", 128, SPHERE_AREA_ENERGY_RTOL),
         ("mirrorball", 64, SPHERE_AREA_ENERGY_RTOL),
+        ("mirrorball-physical", 64, SPHERE_AREA_ENERGY_RTOL),
+        ("openexr-latlong", 64, SPHERE_AREA_ENERGY_RTOL),
+        ("openexr-cube", 48, SPHERE_AREA_ENERGY_RTOL),
     ],
 )
 def test_area_filter_preserves_the_energy_of_a_real_probe(probe, dst, size, rtol):
@@ -322,7 +336,12 @@ def test_area_filter_preserves_the_energy_of_a_one_texel_sun_where_the_output_is
 
 @pytest.mark.parametrize(
     ("dst", "size"),
-    [("cube", 64), ("angular", 128), pytest.param("octahedral", 128, marks=pytest.mark.slow)],
+    [
+        ("cube", 64),
+        ("angular", 128),
+        ("angular-physical", 128),
+        pytest.param("octahedral", 128, marks=pytest.mark.slow),
+    ],
 )
 def test_area_filter_is_the_area_average_of_a_brute_force_supersampling(probe, dst, size):
     """Reference: every output texel cut into 16 x 16 sub-texels, each looking the (piecewise
@@ -380,11 +399,13 @@ def test_area_filter_preserves_the_energy_of_a_sun_at_the_zenith(row):
         )
 
 
-@pytest.mark.parametrize("src", ["latlong", "cube", "octahedral", "angular"])
+@pytest.mark.parametrize(
+    "src", ["latlong", "cube", "octahedral", "angular", "openexr-latlong", "openexr-cube"]
+)
 def test_area_filter_preserves_energy_of_noise_with_rotation(src):
     rng = np.random.default_rng(4)
     lay = layout(src)
-    shape = lay.shape(96 if src != "latlong" else 128)
+    shape = lay.shape(128 if src.endswith("latlong") else 96)
     img = (rng.random(shape + (2,)) ** 4).astype(np.float32)
     img[~lay.directions(shape)[1]] = 0
     for dst, size, rtol in [
@@ -392,12 +413,17 @@ def test_area_filter_preserves_energy_of_noise_with_rotation(src):
         ("latlong", 24, SPHERE_AREA_ENERGY_RTOL),
         ("octahedral", 24, SPHERE_AREA_ENERGY_RTOL),
         ("mirrorball", 32, SPHERE_AREA_ENERGY_RTOL),
+        ("openexr-cube", 16, SPHERE_AREA_ENERGY_RTOL),
     ]:
         out = remap(img, src, dst, size, filter="area", rotation=(30, 20, 10))
         np.testing.assert_allclose(energy(out, dst), energy(img, src), rtol=rtol)
 
 
-@pytest.mark.parametrize("dst", ["cube", "latlong", "angular", "mirrorball", "dual-paraboloid"])
+@pytest.mark.parametrize(
+    "dst",
+    ["cube", "latlong", "angular", "mirrorball", "dual-paraboloid", "openexr-latlong",
+     "openexr-cube"],
+)  # fmt: skip
 def test_area_filter_keeps_a_uniform_environment_uniform(dst):
     """Down and up: the filter is a weighted mean, so a constant stays exactly constant."""
     for size in (8, 200):

@@ -1,0 +1,53 @@
+"""The options of the commands that run on images larger than memory (``--memory``,
+``--scheduler``) and the rule for when they take the chunked path."""
+
+from __future__ import annotations
+
+import os
+
+import click
+
+memory_option = click.option(
+    "--memory",
+    metavar="SIZE",
+    help="Memory bound of the job (and of each dask worker's tasks), e.g. 2GB or 1.5GiB; the "
+    "job is cut into blocks that fit, or refused before it starts with the size it needs. "
+    "Default: half of the memory available now (or BAKESHOP_MEMORY).",
+)
+scheduler_option = click.option(
+    "--scheduler",
+    metavar="ADDRESS",
+    help="Run the blocks on a dask.distributed cluster, tcp://HOST:PORT (its workers must see "
+    "the input file: a shared disk; .zarr is best). Default: BAKESHOP_SCHEDULER, else threads "
+    "on this machine.",
+)
+
+
+def engine(memory: str | None, scheduler: str | None):
+    """The :class:`bakeshop.huge.Engine` of the options."""
+    from bakeshop.huge import Engine
+
+    return Engine(scheduler, memory)
+
+
+def chunked(source, memory: str | None, scheduler: str | None) -> bool:
+    """True when a command should run chunked: asked for (--memory, --scheduler,
+    BAKESHOP_SCHEDULER), or the input is a chunked store (.zarr, .tif), or its decoded pixels
+    would take more than a quarter of the memory bound."""
+    from bakeshop.io.stream import STREAM_CODECS
+
+    suffix = str(source).lower().rsplit(".", 1)[-1]
+    if f".{suffix}" in STREAM_CODECS["zarr"] + STREAM_CODECS["tiff"]:
+        return True
+    if memory is not None or scheduler is not None or os.environ.get("BAKESHOP_SCHEDULER"):
+        return True
+    if not any(f".{suffix}" in exts for exts in STREAM_CODECS.values()):
+        return False
+    from bakeshop.huge.memory import resolve_memory
+    from bakeshop.io.stream import open_image
+
+    try:
+        reader = open_image(source)
+    except Exception:  # the in-memory reader says what is wrong with the file
+        return False
+    return reader.nbytes > resolve_memory(None) // 4
