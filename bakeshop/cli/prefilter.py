@@ -52,7 +52,9 @@ _float32 = click.option(
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("source", metavar="IN", type=ENVIRONMENT)
 @click.argument("target", metavar="OUT", type=OUTPUT)
-@click.option("--brdf", type=click.Choice(("ggx", "phong")), default="ggx", show_default=True)
+@click.option("--brdf", type=click.Choice(("ggx", "phong")), default="ggx", show_default=True,
+              help="ggx: a mip chain, roughness rising with the level (split-sum, with the dfg "
+              "table); phong: one Phong lobe (--exponent).")  # fmt: skip
 @click.option(
     "--exponent",
     type=click.FloatRange(min=0, min_open=True),
