@@ -15,7 +15,7 @@ $(BIN)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install -q --upgrade pip
 	$(BIN)/pip install -q -e .
-	@echo "compiling the main job's numba kernels (once, about 2 minutes)"
+	@echo "compiling the main job's numba kernels (once: about 2 minutes of CPU, see docs/install.md)"
 	rm -rf $(VENV)/warm-up
 	$(BIN)/bakeshop -q bake-probe -o $(VENV)/warm-up > /dev/null
 	rm -rf $(VENV)/warm-up
