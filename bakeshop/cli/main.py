@@ -13,6 +13,7 @@ import sys
 import click
 
 from bakeshop import __version__, progress
+from bakeshop.cli._common import guard_outputs
 from bakeshop.cli._process import ByteSize, run
 
 COMMAND_MODULES = [
@@ -34,6 +35,9 @@ COMMAND_MODULES = [
     "compress",
     "normals",
     "float",
+    "preview",
+    "view",
+    "bake",
 ]
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
@@ -55,7 +59,7 @@ class _Ordered(click.Group):
     metavar="SIZE",
     help="Largest image one input file may decode to, e.g. 8G (default: 1 GiB, or 256 bytes "
     "per byte of the file when that is more; a larger result is refused as a possible "
-    "decompression bomb).",
+    "decompression bomb); 1 byte to 1 EiB.",
 )
 def cli(quiet: bool, max_decoded: int | None):
     """The content pipeline of a real-time renderer: HDR light probes, panoramas and cube maps,
@@ -79,6 +83,8 @@ def cli(quiet: bool, max_decoded: int | None):
 
 for _name in COMMAND_MODULES:
     importlib.import_module(f"bakeshop.cli.{_name}").register(cli)
+# before any command runs, none of its outputs may be one of its inputs (bakeshop.cli._common)
+guard_outputs(cli)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -30,7 +30,15 @@ from bakeshop.sphere.cube import (
 )
 from bakeshop.sphere.layouts import LAYOUT_NAMES, Layout, guess_layout, layout
 from bakeshop.sphere.rotation import as_rotation, rotation_matrix
-from bakeshop.sphere.sampling import FILTERS, auto_filter, remap, remap_shape, sample
+from bakeshop.sphere.sampling import (
+    FILTERS,
+    auto_filter,
+    remap,
+    remap_cost,
+    remap_shape,
+    sample,
+    valid_texels,
+)
 from bakeshop.sphere.texels import (
     Environment,
     Texels,
@@ -61,7 +69,9 @@ __all__ = [
     "guess_layout",
     "layout",
     "remap",
+    "remap_cost",
     "remap_shape",
+    "valid_texels",
     "rotation_matrix",
     "sample",
     "texel_cosines",
