@@ -8,7 +8,7 @@ import click
 import numpy as np
 
 from bakeshop.cli._common import is_picture, output_bits, parse_options, warn, writer_option
-from bakeshop.cli._normal_layers import build_layers, parse_layer
+from bakeshop.cli._normal_layers import build_layers, parse_layer, placement_options
 from bakeshop.cli._numbers import Integer, Number, Size
 from bakeshop.cli._paths import INPUT, OUTPUT, parse_size, refuse_overwriting_inputs
 from bakeshop.engines import ENGINES
