@@ -7,7 +7,8 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import OUT_DIR, Number, Size
+from bakeshop.cli._numbers import Number, Size
+from bakeshop.cli._paths import OUT_DIR
 from bakeshop.cli.water._group import CONTEXT, water
 
 

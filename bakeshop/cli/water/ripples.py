@@ -9,7 +9,8 @@ import click
 import numpy as np
 
 from bakeshop import progress
-from bakeshop.cli._common import OUT_DIR, Integer, Number, Numbers
+from bakeshop.cli._numbers import Integer, Number, Numbers
+from bakeshop.cli._paths import OUT_DIR
 from bakeshop.cli.water._group import CONTEXT, RIPPLE_TEXEL_BYTES, water
 from bakeshop.cli.water._sets import (
     TextureSet,
