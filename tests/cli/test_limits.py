@@ -287,11 +287,15 @@ def test_hostile_numbers_are_refused_in_one_line(words, param, inputs, capfd):
         assert any(f"'{name}'" in err for name in named), (args, err)
 
 
+#: the numeric options of the commands that run to an end (a server serves until interrupted)
+RUNS = [(w, p) for w, p in NUMERIC if not (w and w[0] in SERVES)]
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("words, param", NUMERIC, ids=IDS)
+@pytest.mark.parametrize(
+    "words, param", RUNS, ids=[f"{' '.join(w) or 'bakeshop'}:{p.opts[0]}" for w, p in RUNS]
+)
 def test_edge_numbers_run_or_are_refused_in_one_line(words, param, inputs, capfd):
-    if words and words[0] in SERVES:
-        pytest.skip(f"{words[0]} serves until it is interrupted")
     for value in EDGES:
         args = run_with(words, param, value, inputs)
         status, err, elapsed = run(args, capfd)
