@@ -42,7 +42,7 @@ import numba
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-SOURCE = ROOT.parent / "shared" / "data" / "hdr" / "quarry_01_1k.hdr"
+SOURCE = ROOT / "tests" / "data" / "quarry_01_1k.hdr"
 WIDTH, HEIGHT = 5020, 2510
 DIM = (360, 180)
 JOBS = ["pair", "auto", "sh2", "exact-90x45", "exact-full", "brute", "command"]

@@ -1,10 +1,11 @@
 """Time specular prefiltering: the GGX and Phong cube mip chains (6x256, 9 levels).
 
-Inputs: Poly Haven's Rooitou Park probe (``../shared/data/hdr/rooitou_park_1k.hdr``, 1024x512,
-a visible sun) as it is and upsampled to 4096x2048 (bilinear). Each case runs in a fresh
-process, warmed on a tiny input first (numba compilation is cached on disk), and reports the
-best of 3 wall times, the CPU time of that run (both cores count), the time spent remapping the
-latlong to the source cube, the peak traced numpy memory and the process's peak RSS.
+Inputs: Poly Haven's Rooitou Park probe (the embedded default probe,
+``bakeshop/data/default_probe.hdr``, 1024x512, a visible sun) as it is and upsampled to 4096x2048
+(bilinear). Each case runs in a fresh process, warmed on a tiny input first (numba compilation is
+cached on disk), and reports the best of 3 wall times, the CPU time of that run (both cores count),
+the time spent remapping the latlong to the source cube, the peak traced numpy memory and the
+process's peak RSS.
 
 The peer is cmft (C++, Phong only), which is not installed here: its figures are the ones the
 issue quotes, measured with cmft's radiance filter (Phong, 6x256, 9 mips) on a 2-core machine:
@@ -29,8 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-SHARED = Path(__file__).resolve().parents[2] / "shared" / "data"
-PROBE = SHARED / "hdr" / "rooitou_park_1k.hdr"
+PROBE = Path(__file__).resolve().parents[1] / "bakeshop" / "data" / "default_probe.hdr"
 #: cmft's radiance filter (Phong, 6x256, 9 mips), as quoted in the issue: input width -> s.
 CMFT_PHONG = {4096: 50.0, 1024: 3.0}
 SIZE, MIPS = 256, 9

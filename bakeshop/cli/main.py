@@ -13,7 +13,7 @@ import sys
 import click
 
 from bakeshop import __version__, progress
-from bakeshop.cli._common import guard_outputs
+from bakeshop.cli._paths import guard_outputs
 from bakeshop.cli._process import ByteSize, run
 
 COMMAND_MODULES = [

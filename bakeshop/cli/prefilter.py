@@ -7,22 +7,19 @@ import time
 import click
 
 from bakeshop.cli._common import (
-    ENVIRONMENT,
-    OUTPUT_CHAIN,
-    Integer,
-    Number,
     convention_option,
     environment_weights,
     is_picture,
     linearise,
     make_picture,
     picture_options,
-    refuse_overwriting_inputs,
     refuse_unused_picture_rule,
     srgb_decode_option,
     stored_bits,
     warn,
 )
+from bakeshop.cli._numbers import Integer, Number
+from bakeshop.cli._paths import ENVIRONMENT, OUTPUT_CHAIN, refuse_overwriting_inputs
 from bakeshop.cli._probe import read_probe
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import (
@@ -54,7 +51,9 @@ _float32 = click.option(
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("source", metavar="IN", type=ENVIRONMENT)
 @click.argument("target", metavar="OUT", type=OUTPUT_CHAIN)
-@click.option("--brdf", type=click.Choice(("ggx", "phong")), default="ggx", show_default=True)
+@click.option("--brdf", type=click.Choice(("ggx", "phong")), default="ggx", show_default=True,
+              help="ggx: a mip chain, roughness rising with the level (split-sum, with the dfg "
+              "table); phong: one Phong lobe (--exponent).")  # fmt: skip
 @click.option(
     "--exponent",
     type=Number(0, 1e8, low_open=True),

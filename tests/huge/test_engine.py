@@ -76,6 +76,7 @@ def test_area_remap_to_other_layouts_is_the_supersampled_area_filter(monkeypatch
     assert np.allclose(_energy(out, dst), _energy(a, "latlong"), rtol=SUPERSAMPLE_ENERGY, atol=0)
 
 
+@pytest.mark.slow
 def test_sh_is_the_sum_of_strips():
     a = _probe()
     ref = light.sh_coefficients(a, "latlong", order=3)

@@ -9,7 +9,8 @@ import click
 import numpy as np
 
 from bakeshop import progress
-from bakeshop.cli._common import OUT_DIR, Integer, Number
+from bakeshop.cli._numbers import Integer, Number
+from bakeshop.cli._paths import OUT_DIR
 from bakeshop.cli.water._group import CONTEXT, GATHER_LIMIT, water
 from bakeshop.cli.water._sets import (
     TextureSet,
