@@ -8,42 +8,48 @@ display transforms (exposure, sRGB, tone mapping, metering and adaptation).
 >>> shown.pixels, shown.describe()                         # uint8 codes, what was done
 """
 
-from bakeshop.image.display import (
-    ACES_FITS,
-    CLIP_FRACTION,
-    DITHERS,
-    ENCODINGS,
-    EXPOSURE_MODES,
-    MAX_EV,
-    MIDDLE_GREY,
-    TONE_OPERATORS,
-    Exposure,
-    Picture,
-    aces_filmic,
-    adapt_exposure,
-    auto_exposure,
-    check_ev,
-    choose_exposure,
-    encode_picture,
-    exposure,
-    fit_exposure,
-    log_average_luminance,
-    metering_weights,
-    reinhard,
-    srgb_decode,
-    srgb_encode,
-    to_picture,
-    to_srgb8,
-    tonemap,
+from bakeshop._lazy import export_lazily
+
+# names load from their module when first read (numba and scipy only with resize and display)
+export_lazily(
+    __name__,
+    {
+        "ACES_FITS": "display",
+        "CLIP_FRACTION": "display",
+        "DITHERS": "display",
+        "ENCODINGS": "display",
+        "EXPOSURE_MODES": "display",
+        "MAX_EV": "display",
+        "MIDDLE_GREY": "display",
+        "TONE_OPERATORS": "display",
+        "Exposure": "display",
+        "Picture": "display",
+        "aces_filmic": "display",
+        "adapt_exposure": "display",
+        "auto_exposure": "display",
+        "check_ev": "display",
+        "choose_exposure": "display",
+        "encode_picture": "display",
+        "exposure": "display",
+        "fit_exposure": "display",
+        "log_average_luminance": "display",
+        "metering_weights": "display",
+        "reinhard": "display",
+        "srgb_decode": "display",
+        "srgb_encode": "display",
+        "to_picture": "display",
+        "to_srgb8": "display",
+        "tonemap": "display",
+        "area_footprint": "resize",
+        "area_weights": "resize",
+        "resample_separable": "resize",
+        "resize_area": "resize",
+        "resize_area_part": "resize",
+        "LUMINANCE_WEIGHTS": "statistics",
+        "describe": "statistics",
+        "luminance": "statistics",
+    },
 )
-from bakeshop.image.resize import (
-    area_footprint,
-    area_weights,
-    resample_separable,
-    resize_area,
-    resize_area_part,
-)
-from bakeshop.image.statistics import LUMINANCE_WEIGHTS, describe, luminance
 
 __all__ = [
     "ACES_FITS",

@@ -38,6 +38,7 @@ from bakeshop.io.environment import (
     write_table,
 )
 from bakeshop.io.mesh import load_mesh
+from bakeshop.io.store import ArrayStore, user_store
 
 #: codec module -> the file extensions it owns.
 CODECS: dict[str, tuple[str, ...]] = {
@@ -61,6 +62,7 @@ SNIFF_BYTES = 64
 
 __all__ = [
     "ALPHA_EXTENSIONS",
+    "ArrayStore",
     "CODECS",
     "DECODE_FLOOR",
     "DECODE_RATIO",
@@ -79,6 +81,7 @@ __all__ = [
     "record_writes",
     "sniff_format",
     "stored_bits",
+    "user_store",
     "write_chain",
     "write_container",
     "write_environment",

@@ -17,27 +17,41 @@ the conventions. :mod:`bakeshop.sphere.windows` computes a part of a remap from 
 its source (images larger than memory, :mod:`bakeshop.huge`).
 """
 
-from bakeshop.sphere._cache import cache_info, clear_caches
-from bakeshop.sphere.cube import (
-    CONVENTIONS,
-    FACE_LABELS,
-    FACE_NAMES,
-    FACE_NAMES_SHORT,
-    cube_to_faces,
-    cube_to_view,
-    faces_to_cube,
-    view_to_cube,
-)
-from bakeshop.sphere.layouts import LAYOUT_NAMES, Layout, guess_layout, layout
-from bakeshop.sphere.rotation import as_rotation, rotation_matrix
-from bakeshop.sphere.sampling import FILTERS, auto_filter, remap, remap_shape, sample
-from bakeshop.sphere.texels import (
-    Environment,
-    Texels,
-    check_environment,
-    texel_cosines,
-    texel_geometry,
-    texels,
+from bakeshop._lazy import export_lazily
+
+# names load from their module when first read (numba only with the kernels that need it)
+export_lazily(
+    __name__,
+    {
+        "cache_info": "_cache",
+        "clear_caches": "_cache",
+        "persist_caches": "_cache",
+        "CONVENTIONS": "cube",
+        "FACE_LABELS": "cube",
+        "FACE_NAMES": "cube",
+        "FACE_NAMES_SHORT": "cube",
+        "cube_to_faces": "cube",
+        "cube_to_view": "cube",
+        "faces_to_cube": "cube",
+        "view_to_cube": "cube",
+        "guess_layout": "_guess",
+        "LAYOUT_NAMES": "layouts",
+        "Layout": "layouts",
+        "layout": "layouts",
+        "as_rotation": "rotation",
+        "rotation_matrix": "rotation",
+        "FILTERS": "sampling",
+        "auto_filter": "sampling",
+        "remap": "sampling",
+        "remap_shape": "sampling",
+        "sample": "sampling",
+        "Environment": "texels",
+        "Texels": "texels",
+        "check_environment": "texels",
+        "texel_cosines": "texels",
+        "texel_geometry": "texels",
+        "texels": "texels",
+    },
 )
 
 __all__ = [
@@ -60,6 +74,7 @@ __all__ = [
     "faces_to_cube",
     "guess_layout",
     "layout",
+    "persist_caches",
     "remap",
     "remap_shape",
     "rotation_matrix",
