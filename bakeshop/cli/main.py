@@ -23,11 +23,17 @@ from bakeshop.cli._process import ByteSize, record_command_writes, run
 COMMANDS: dict[str, tuple[str, str]] = {
     "info": (
         "info",
-        "Describe image files: format, size, channels, stored type, per-channel min/max/mean, NaN/Inf counts, dynamic range in...",
+        (
+            "Describe image files: format, size, channels, stored type, per-channel min/max/mean, "
+            "NaN/Inf counts, dynamic range in..."
+        ),
     ),
     "convert": (
         "convert",
-        "Convert SOURCE to TARGET, any supported format to any other (by extension: .hdr .pfm .exr .tga .png .jpg).",
+        (
+            "Convert SOURCE to TARGET, any supported format to any other (by extension: .hdr .pfm "
+            ".exr .tga .png .jpg)."
+        ),
     ),
     "resize": (
         "resize",
@@ -43,7 +49,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
     ),
     "unwrap": (
         "unwrap",
-        "Unwrap photographs of a mirror ball (BALLS: one, or two taken about 90 degrees apart around the vertical) into one...",
+        (
+            "Unwrap photographs of a mirror ball (BALLS: one, or two taken about 90 degrees apart "
+            "around the vertical) into one..."
+        ),
     ),
     "irradiance": (
         "irradiance",
@@ -75,7 +84,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
     ),
     "water": (
         "water",
-        "Water textures an engine loads: tileable, time-looping ocean normal maps (with heights, slopes, displacement and...",
+        (
+            "Water textures an engine loads: tileable, time-looping ocean normal maps (with "
+            "heights, slopes, displacement and..."
+        ),
     ),
     "tonemap": (
         "tonemap",
@@ -87,11 +99,17 @@ COMMANDS: dict[str, tuple[str, str]] = {
     ),
     "normals": (
         "normals",
-        "Tangent-space normal maps: combine macro and micro detail correctly, transfer a tileable detail into a mesh's UV...",
+        (
+            "Tangent-space normal maps: combine macro and micro detail correctly, transfer a "
+            "tileable detail into a mesh's UV..."
+        ),
     ),
     "float": (
         "float",
-        "Float a mesh or a built-in shape in water and measure it: volume, mass, sample points, the exact Archimedes draft,...",
+        (
+            "Float a mesh or a built-in shape in water and measure it: volume, mass, sample points,"
+            " the exact Archimedes draft,..."
+        ),
     ),
 }
 

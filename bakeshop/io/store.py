@@ -6,9 +6,9 @@ line hands :mod:`bakeshop.sphere` a :class:`ArrayStore` in the user's cache dire
 (:func:`user_store`), and a second run at the same sizes reads the matrix instead of building
 it.
 
-A file holds the key it was saved under, the arrays (an uncompressed ``.npz``) and the CRC-32 of
-each array's bytes, checked when it is read. A file that is truncated, corrupt, or holds another key is
-deleted and reported missing, so its entry is rebuilt. Files are written to a temporary beside
+A file holds the key it was saved under, the arrays (an uncompressed ``.npz``) and the CRC-32
+of each array's bytes, checked when it is read. A file that is truncated, corrupt, or holds
+another key is deleted and reported missing, so its entry is rebuilt. Files are written to a temporary beside
 their place and renamed over it (atomic on POSIX and Windows), so two processes saving the same
 key at once leave one whole file and a reader never sees half of one. The directory is kept
 under its budget by deleting the least recently used files (reading a file touches it).
@@ -86,7 +86,7 @@ class ArrayStore:
     """Tuples of arrays by string key in ``directory``, at most ``budget`` bytes of files.
 
     Failures to read or write are never errors (a cache is only a shortcut): :meth:`load`
-    returns None and :meth:`save` returns False, and the counters say what happened.
+    returns None and :meth:`put` returns False, and the counters say what happened.
     """
 
     def __init__(self, directory: str | os.PathLike, budget: int = DEFAULT_BUDGET):
@@ -124,7 +124,7 @@ class ArrayStore:
         self.loads += 1
         return arrays
 
-    def save(self, key: str, arrays: Sequence[np.ndarray]) -> bool:
+    def put(self, key: str, arrays: Sequence[np.ndarray]) -> bool:
         """Keep ``arrays`` under ``key`` (replacing what was there); False when they exceed the
         budget alone or cannot be written (a read-only or full disk)."""
         if sum(np.asarray(a).nbytes for a in arrays) > self.budget:

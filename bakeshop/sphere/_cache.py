@@ -28,7 +28,7 @@ class Store(Protocol):
 
     def load(self, key: str) -> tuple[np.ndarray, ...] | None: ...
 
-    def save(self, key: str, arrays: Sequence[np.ndarray]) -> bool: ...
+    def put(self, key: str, arrays: Sequence[np.ndarray]) -> bool: ...
 
 
 #: the store of the persisted caches (None: each process builds its own).
@@ -87,7 +87,7 @@ class ByteBoundedCache:
         value = build()
         self.builds += 1
         if store is not None:
-            store.save(disk_key, value)
+            store.put(disk_key, value)
         return self.put(key, value)
 
     def get(self, key: Hashable) -> tuple | None:

@@ -26,7 +26,7 @@ def arrays(seed: int = 0, n: int = 1000):
 def test_saved_arrays_load_equal_read_only_and_under_their_key_only(tmp_path):
     store = ArrayStore(tmp_path, 1 << 20)
     saved = arrays()
-    assert store.save("plan|a", saved)
+    assert store.put("plan|a", saved)
     loaded = store.load("plan|a")
     assert len(loaded) == 3
     for a, b in zip(saved, loaded, strict=True):
@@ -44,7 +44,7 @@ def test_a_damaged_file_is_reported_missing_and_deleted(tmp_path, damage):
     """A truncated, bit-flipped or empty file, or one holding another key (a hash collision),
     loads as missing and is deleted, so the entry is rebuilt and saved anew."""
     store = ArrayStore(tmp_path, 1 << 20)
-    store.save("k", arrays())
+    store.put("k", arrays())
     path = store.path("k")
     data = bytearray(path.read_bytes())
     if damage == "truncate":
@@ -55,24 +55,24 @@ def test_a_damaged_file_is_reported_missing_and_deleted(tmp_path, damage):
     elif damage == "empty":
         path.write_bytes(b"")
     else:
-        store.save("other", arrays(1))
+        store.put("other", arrays(1))
         os.replace(store.path("other"), path)
     assert store.load("k") is None
     assert store.corrupt == 1 and not path.exists()
-    assert store.save("k", arrays()) and store.load("k") is not None
+    assert store.put("k", arrays()) and store.load("k") is not None
 
 
 def test_the_least_recently_used_files_go_beyond_the_budget(tmp_path):
     one = sum(a.nbytes for a in arrays())
     store = ArrayStore(tmp_path, int(3.5 * one))  # three files fit (with their headers), not four
     for i, key in enumerate("abc"):
-        store.save(key, arrays(i))
+        store.put(key, arrays(i))
         os.utime(store.path(key), (1000 + i, 1000 + i))  # a, b, c from oldest to newest
     store.load("a")  # now the most recent: b is the oldest
-    store.save("d", arrays(3))
+    store.put("d", arrays(3))
     assert [store.load(k) is not None for k in "abcd"] == [True, False, True, True]
     assert store.nbytes() <= store.budget
-    assert not store.save("huge", (np.zeros(store.budget + 1, np.uint8),))
+    assert not store.put("huge", (np.zeros(store.budget + 1, np.uint8),))
 
 
 def test_stale_temporaries_are_removed_and_fresh_ones_kept(tmp_path):
@@ -82,7 +82,7 @@ def test_stale_temporaries_are_removed_and_fresh_ones_kept(tmp_path):
         p.write_bytes(b"partial")
     old = time.time() - STALE_SECONDS - 60
     os.utime(stale, (old, old))
-    store.save("k", arrays())
+    store.put("k", arrays())
     assert not stale.exists() and fresh.exists()
 
 
@@ -90,7 +90,7 @@ def test_an_unwritable_directory_is_no_error(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_bytes(b"")
     store = ArrayStore(blocker / "cache", 1 << 20)  # a directory under a file: cannot exist
-    assert not store.save("k", arrays()) and store.failures == 1
+    assert not store.put("k", arrays()) and store.failures == 1
     assert store.load("k") is None
 
 
@@ -105,7 +105,7 @@ def test_two_processes_saving_the_same_key_at_once_leave_one_valid_file(tmp_path
         store = ArrayStore({str(tmp_path)!r}, 1 << 28)
         value = np.full(2_000_000, int(sys.argv[1]), np.int64)
         for _ in range(5):
-            assert store.save("same", (value,))
+            assert store.put("same", (value,))
         """
     )
     procs = [subprocess.Popen([sys.executable, "-c", script, str(i)]) for i in (1, 2)]

@@ -48,6 +48,7 @@ def test_every_persisted_cache_exists():
     assert set(PERSISTED) <= set(_CACHES)
 
 
+@pytest.mark.slow  # fresh processes: numba's cached kernels load in each
 def test_a_second_process_at_the_same_sizes_reads_the_matrix(tmp_path):
     first = child(tmp_path)
     second = child(tmp_path)
@@ -59,6 +60,7 @@ def test_a_second_process_at_the_same_sizes_reads_the_matrix(tmp_path):
     assert len(list(tmp_path.glob("*.npz"))) == 2
 
 
+@pytest.mark.slow  # fresh processes: numba's cached kernels load in each
 def test_a_corrupt_matrix_file_is_rebuilt_with_the_same_result(tmp_path):
     first = child(tmp_path)
     (path,) = tmp_path.glob("*.npz")
@@ -69,6 +71,7 @@ def test_a_corrupt_matrix_file_is_rebuilt_with_the_same_result(tmp_path):
     assert child(tmp_path)["loads"] == 1  # the rebuilt file is whole
 
 
+@pytest.mark.slow  # fresh processes: numba's cached kernels load in each
 def test_two_processes_building_the_same_matrix_at_once_leave_one_valid_file(tmp_path):
     procs = [
         subprocess.Popen(
