@@ -6,12 +6,12 @@ line hands :mod:`bakeshop.sphere` a :class:`ArrayStore` in the user's cache dire
 (:func:`user_store`), and a second run at the same sizes reads the matrix instead of building
 it.
 
-A file holds the key it was saved under, the arrays (an uncompressed ``.npz``) and the CRC-32
-of each array's bytes, checked when it is read. A file that is truncated, corrupt, or holds
-another key is deleted and reported missing, so its entry is rebuilt. Files are written to a temporary beside
-their place and renamed over it (atomic on POSIX and Windows), so two processes saving the same
-key at once leave one whole file and a reader never sees half of one. The directory is kept
-under its budget by deleting the least recently used files (reading a file touches it).
+A file holds the key it was saved under, the arrays (an uncompressed ``.npz``) and the CRC-32 of
+each array's bytes, checked when it is read. A file that is truncated, corrupt, or holds another
+key is deleted and reported missing, so its entry is rebuilt. Files are written to a temporary
+beside their place and renamed over it (atomic on POSIX and Windows), so two processes saving
+the same key at once leave one whole file and a reader never sees half of one. The directory is
+kept under its budget by deleting the least recently used files (reading a file touches it).
 
 Environment: ``BAKESHOP_CACHE_DIR`` (default: the platform's user cache directory, as
 platformdirs names it: ``$XDG_CACHE_HOME/bakeshop`` or ``~/.cache/bakeshop`` on Linux,
