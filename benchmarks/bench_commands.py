@@ -1,0 +1,211 @@
+"""Whole process against whole process: the commands a user types, bakeshop and its peers, in
+the same run, alternated.
+
+Every figure is a fresh process from start to exit (start-up, decoding the input, the work,
+encoding the outputs), timed by wall clock and by CPU time (user + system, every thread:
+steadier than wall time when other work shares the cores). Peers (see ``peers.py``): Filament's
+``cmgen`` on PATH (Debian: ``apt-get install libfilament-tools``) and cmft when ``CMFT`` names
+its binary. A peer that is absent is reported as not measured.
+
+Jobs (input: Poly Haven's Quarry 01, 1024x512, upsampled bilinearly to 4096x2048 for "4k"):
+
+- ``start``: ``bakeshop --version``, ``--help``, ``info`` of the 1k probe (.hdr and .exr);
+- ``dim-1k``, ``dim-4k``: diffuse irradiance. bakeshop ``irradiance`` (``auto``: exact to the
+  bound of docs/irradiance.md, a 128x64 latlong DIM); cmgen ``--sh=3 --sh-irradiance`` (9 SH
+  coefficients, approximate); cmft ``--filter irradiance`` (its SH-based cube, approximate);
+- ``ggx-4k``: a 6x256 cube mip chain of 9 levels. bakeshop ``prefilter`` (GGX); cmgen
+  ``--ibl-ld`` (GGX, importance sampled); cmft ``--filter radiance`` (Phong, source faces 256);
+- ``faces-4k``: the latlong as six 1024x1024 faces. bakeshop ``remap --to faces``; cmgen
+  ``--extract``; cmft ``--filter none``.
+
+bakeshop runs twice per job where it builds a geometry plan: "cold" with an empty plan cache (a
+new cache directory per run) and warm (the user cache directory of a previous run: a second
+run at the same sizes). numba's compiled kernels are on disk in both (see README for a first
+run after install).
+
+Usage: ``python benchmarks/bench_commands.py [--repeats N] [JOB ...]`` (default: every job,
+N = 3 for ``start`` and the 1k jobs, 1 for the 4k ones; several minutes on 2 cores).
+``CMFT=/path/to/cmftRelease`` adds cmft.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import peers
+
+ROOT = Path(__file__).resolve().parents[1]
+BAKESHOP = str(ROOT / ".venv" / "bin" / "bakeshop")
+SOURCE = peers.shared_data() / "hdr" / "quarry_01_1k.hdr"
+JOBS = ["start", "dim-1k", "dim-4k", "ggx-4k", "faces-4k"]
+THREADS = 2  # cmft's CPU threads: the machine's cores
+
+
+def prepare(work: Path) -> None:
+    """The 1k probe as .hdr and .exr, and the 4k one as .hdr."""
+    import cv2
+
+    from bakeshop.io import read_image, write_image
+
+    probe = read_image(SOURCE)
+    write_image(work / "probe_1k.hdr", probe)
+    write_image(work / "probe_1k.exr", probe)
+    big = cv2.resize(probe, (4096, 2048), interpolation=cv2.INTER_LINEAR)
+    write_image(work / "probe_4k.hdr", np.maximum(big, 0))
+
+
+def cmft(run: peers.Peers, source: Path, out: Path, *options: str) -> list[str]:
+    return [
+        run.path("cmft"),
+        "--input",
+        str(source),
+        *options,
+        "--useOpenCL",
+        "false",
+        "--numCpuProcessingThreads",
+        str(THREADS),
+        "--outputNum",
+        "1",
+        "--output0",
+        str(out),
+    ]
+
+
+def contenders(job: str, work: Path, run: peers.Peers) -> dict[str, list[str] | tuple]:
+    """Name -> command line (or ``("cold", command)``: run with an empty plan cache)."""
+    if job == "start":
+        return {
+            "bakeshop --version": [BAKESHOP, "--version"],
+            "bakeshop --help": [BAKESHOP, "--help"],
+            "bakeshop info (1k .hdr)": [BAKESHOP, "info", str(work / "probe_1k.hdr")],
+            "bakeshop info (1k .exr)": [BAKESHOP, "info", str(work / "probe_1k.exr")],
+        }
+    size = job.split("-")[1]
+    src = work / f"probe_{size}.hdr"
+    out = work / f"out_{job}"
+    out.mkdir(exist_ok=True)
+    found: dict = {}
+    if job.startswith("dim"):
+        found["bakeshop irradiance"] = [
+            BAKESHOP,
+            "-q",
+            "irradiance",
+            str(src),
+            str(out / "dim.hdr"),
+        ]
+        if run.present("cmgen"):
+            found["cmgen --sh=3 --sh-irradiance"] = [
+                run.path("cmgen"), "-q", "--sh=3", "--sh-irradiance",
+                f"--sh-output={out / 'sh.txt'}", str(src),
+            ]  # fmt: skip
+        if run.present("cmft"):
+            found["cmft irradiance"] = cmft(
+                run, src, out / "cmft_irr", "--filter", "irradiance", "--srcFaceSize", "0",
+                "--dstFaceSize", "0", "--output0params", "hdr,rgbe,latlong",
+            )  # fmt: skip
+    elif job.startswith("ggx"):
+        cmd = [BAKESHOP, "-q", "prefilter", str(src), str(out / "ggx.dds"), "--size", "256",
+               "--mips", "9"]  # fmt: skip
+        found["bakeshop prefilter (plan cache cold)"] = ("cold", cmd)
+        found["bakeshop prefilter"] = cmd
+        if run.present("cmgen"):
+            found["cmgen --ibl-ld (GGX)"] = [
+                run.path("cmgen"), "-q", "--format=hdr", "--size=256",
+                f"--ibl-ld={out / 'cmgen'}", str(src),
+            ]  # fmt: skip
+        if run.present("cmft"):
+            found["cmft radiance (Phong, src 256)"] = cmft(
+                run, src, out / "cmft_rad", "--filter", "radiance", "--srcFaceSize", "256",
+                "--dstFaceSize", "256", "--excludeBase", "false", "--mipCount", "9",
+                "--glossScale", "10", "--glossBias", "1", "--lightingModel", "phongbrdf",
+                "--edgeFixup", "none", "--output0params", "dds,rgba16f,cubemap",
+            )  # fmt: skip
+    else:
+        cmd = [BAKESHOP, "-q", "remap", str(src), str(out / "f_{face}.hdr"), "--to", "faces",
+               "--size", "1024"]  # fmt: skip
+        found["bakeshop remap --to faces (plan cache cold)"] = ("cold", cmd)
+        found["bakeshop remap --to faces"] = cmd
+        if run.present("cmgen"):
+            found["cmgen --extract"] = [
+                run.path("cmgen"), "-q", "--format=hdr", "--size=1024",
+                f"--extract={out / 'cmgen'}", str(src),
+            ]  # fmt: skip
+        if run.present("cmft"):
+            found["cmft (filter none)"] = cmft(
+                run, src, out / "cmft_faces", "--filter", "none", "--dstFaceSize", "1024",
+                "--output0params", "hdr,rgbe,facelist",
+            )  # fmt: skip
+    return found
+
+
+def timer(command, cache: Path):
+    """A contender for :func:`peers.alternate`: the command in a fresh process."""
+    if isinstance(command, tuple):  # cold: a new, empty plan cache for each run
+        _, cmd = command
+
+        def cold():
+            fresh = Path(tempfile.mkdtemp(dir=cache.parent))
+            try:
+                return peers.run_process(cmd, env=dict(os.environ, BAKESHOP_CACHE_DIR=str(fresh)))
+            finally:
+                shutil.rmtree(fresh, ignore_errors=True)
+
+        return cold
+    env = dict(os.environ, BAKESHOP_CACHE_DIR=str(cache))
+    env.pop("BAKESHOP_CACHE_BYTES", None)
+    return lambda: peers.run_process(command, env=env)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("jobs", nargs="*", metavar="JOB", help=", ".join(JOBS))
+    parser.add_argument("--repeats", type=int, default=None)
+    args = parser.parse_args()
+    jobs = args.jobs or JOBS
+    if set(jobs) - set(JOBS):
+        parser.error(f"unknown jobs {sorted(set(jobs) - set(JOBS))}; jobs: {', '.join(JOBS)}")
+    run = peers.Peers(["cmgen", "cmft"])
+    print(f"machine: {peers.machine()}; input {SOURCE.name}")
+    results: dict[str, dict] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(tmp)
+        cache = work / "plan-cache"
+        prepare(work)
+        for job in jobs:
+            repeats = args.repeats or (1 if job.endswith("4k") else 3)
+            found = contenders(job, work, run)
+            # a warm-up of each bakeshop command fills the plan cache (and numba's), untimed
+            for name, command in found.items():
+                if name.startswith("bakeshop") and not isinstance(command, tuple):
+                    timer(command, cache)()
+            timed = peers.alternate({n: timer(c, cache) for n, c in found.items()}, repeats)
+            for name in timed:
+                for peer in ("cmgen", "cmft"):
+                    if name.startswith(peer):
+                        run.measured(peer, job)
+            results[job] = timed
+            print(f"\n{job} ({repeats} run{'s' if repeats > 1 else ''} each, alternated)")
+            print("| command | wall s | CPU s | wall / bakeshop's | CPU / bakeshop's |")
+            print("|---|---|---|---|---|")
+            # against bakeshop's warm run (its plan cache filled by an earlier run)
+            ours = [r for n, r in timed.items() if n.startswith("bakeshop") and "cold" not in n][-1]
+            for name, r in timed.items():
+                ratios = (
+                    "- | -"
+                    if job == "start"
+                    else f"{r['wall'] / ours['wall']:.2f} | {r['cpu'] / ours['cpu']:.2f}"
+                )
+                print(f"| {name} | {peers.spread(r)} | {peers.spread(r, 'cpu')} | {ratios} |")
+    print("\n" + json.dumps(results))
+    run.finish()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
