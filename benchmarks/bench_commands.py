@@ -13,6 +13,9 @@ Jobs (input: Poly Haven's Quarry 01, 1024x512, upsampled bilinearly to 4096x2048
 - ``dim-1k``, ``dim-4k``: diffuse irradiance. bakeshop ``irradiance`` (``auto``: exact to the
   bound of docs/irradiance.md, a 128x64 latlong DIM); cmgen ``--sh=3 --sh-irradiance`` (9 SH
   coefficients, approximate); cmft ``--filter irradiance`` (its SH-based cube, approximate);
+- ``dims-12mp``: the same on the team's probe size, 5020x2510 (12.6 MP), with bakeshop's
+  ``dims`` (the sun found and painted out, the sun DIM and the shadow DIM, four files) beside
+  its single ``irradiance``;
 - ``ggx-4k``: a 6x256 cube mip chain of 9 levels. bakeshop ``prefilter`` (GGX); cmgen
   ``--ibl-ld`` (GGX, importance sampled); cmft ``--filter radiance`` (Phong, source faces 256);
 - ``faces-4k``: the latlong as six 1024x1024 faces. bakeshop ``remap --to faces``; cmgen
@@ -24,7 +27,7 @@ run at the same sizes). numba's compiled kernels are on disk in both (see README
 run after install).
 
 Usage: ``python benchmarks/bench_commands.py [--repeats N] [JOB ...]`` (default: every job,
-N = 3 for ``start`` and the 1k jobs, 1 for the 4k ones; several minutes on 2 cores).
+N = 3 for ``start`` and the 1k jobs, 1 for the larger ones; several minutes on 2 cores).
 ``CMFT=/path/to/cmftRelease`` adds cmft.
 """
 
@@ -44,12 +47,14 @@ import peers
 ROOT = Path(__file__).resolve().parents[1]
 BAKESHOP = str(ROOT / ".venv" / "bin" / "bakeshop")
 SOURCE = peers.shared_data() / "hdr" / "quarry_01_1k.hdr"
-JOBS = ["start", "dim-1k", "dim-4k", "ggx-4k", "faces-4k"]
+JOBS = ["start", "dim-1k", "dim-4k", "dims-12mp", "ggx-4k", "faces-4k"]
+#: input name -> (width, height).
+SIZES = {"1k": (1024, 512), "4k": (4096, 2048), "12mp": (5020, 2510)}
 THREADS = 2  # cmft's CPU threads: the machine's cores
 
 
 def prepare(work: Path) -> None:
-    """The 1k probe as .hdr and .exr, and the 4k one as .hdr."""
+    """The 1k probe as .hdr and .exr, and the larger ones as .hdr (bilinear upsampling)."""
     import cv2
 
     from bakeshop.io import read_image, write_image
@@ -57,8 +62,10 @@ def prepare(work: Path) -> None:
     probe = read_image(SOURCE)
     write_image(work / "probe_1k.hdr", probe)
     write_image(work / "probe_1k.exr", probe)
-    big = cv2.resize(probe, (4096, 2048), interpolation=cv2.INTER_LINEAR)
-    write_image(work / "probe_4k.hdr", np.maximum(big, 0))
+    for name, size in SIZES.items():
+        if name != "1k":
+            big = cv2.resize(probe, size, interpolation=cv2.INTER_LINEAR)
+            write_image(work / f"probe_{name}.hdr", np.maximum(big, 0))
 
 
 def cmft(run: peers.Peers, source: Path, out: Path, *options: str) -> list[str]:
@@ -92,6 +99,9 @@ def contenders(job: str, work: Path, run: peers.Peers) -> dict[str, list[str] | 
     out = work / f"out_{job}"
     out.mkdir(exist_ok=True)
     found: dict = {}
+    if job.startswith("dims"):
+        found["bakeshop dims (sun + shadow DIMs)"] = [BAKESHOP, "-q", "dims", str(src), "-o",
+                                                      str(out / "dims")]  # fmt: skip
     if job.startswith("dim"):
         found["bakeshop irradiance"] = [
             BAKESHOP,
@@ -179,7 +189,7 @@ def main() -> None:
         cache = work / "plan-cache"
         prepare(work)
         for job in jobs:
-            repeats = args.repeats or (1 if job.endswith("4k") else 3)
+            repeats = args.repeats or (3 if job in ("start", "dim-1k") else 1)
             found = contenders(job, work, run)
             # a warm-up of each bakeshop command fills the plan cache (and numba's), untimed
             for name, command in found.items():
