@@ -89,7 +89,8 @@ class Peers:
         lines = []
         for name, where in self.where.items():
             if where is None:
-                how = "set CMFT=/path/to/cmft" if KNOWN[name][0] == "env" else "not installed"
+                kind, key = KNOWN[name]
+                how = f"set {key}=/path/to/{name}" if kind == "env" else "not installed"
                 lines.append(f"{name}: not measured (absent: {how})")
             elif self.figures[name]:
                 lines.append(f"{name}: measured in this run ({', '.join(self.figures[name])})")
