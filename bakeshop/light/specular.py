@@ -350,6 +350,31 @@ def _lobe_kernel(dirs, src_dirs, src_omega, src_values, ggx, param, cos_cut, acc
         total[p] = t
 
 
+@numba.njit(cache=True, parallel=True)
+def _lobe_columns(dirs, omega, src_dirs, ggx, param, cos_cut, columns):
+    """columns[j] = sum_p w(n_p . l_j) Omega_p: the lobe around source direction l_j summed
+    over the output texels (``_lobe_kernel``'s weights, the other way round)."""
+    for j in numba.prange(src_dirs.shape[0]):
+        lx, ly, lz = src_dirs[j, 0], src_dirs[j, 1], src_dirs[j, 2]
+        t = 0.0
+        for p in range(dirs.shape[0]):
+            nl = dirs[p, 0] * lx + dirs[p, 1] * ly + dirs[p, 2] * lz
+            if nl <= cos_cut:
+                continue
+            if ggx:
+                q = 0.5 * (1.0 + nl) * (param - 1.0) + 1.0
+                t += nl / (q * q) * omega[p]
+            else:
+                t += nl**param * omega[p]
+        columns[j] = t
+
+
+#: A lobe whose half-width is under this many output texels is too narrow for the output grid
+#: to sample (a texel centre can sit between the peak and its neighbours): the bright texels
+#: are then normalised over the grid itself, so each deposits exactly its energy. Above it the
+#: grid's sum of the lobe is within a fraction of a percent of the analytic integral.
+RESOLVED_LOBE_TEXELS = 1.0
+
 #: The exact sums skip directions where the lobe is below this fraction of its peak (GGX's tail
 #: beyond it holds less than about 1e-5 of its energy; Phong's far less).
 LOBE_CUTOFF = 1e-10
@@ -465,20 +490,47 @@ def _convolve(source: _Source, size: int, lobe: _Lobe) -> np.ndarray:
         _filter_kernel(dirs, lobe.samples, *source.pyramid, LOD_BIAS, _LOG2_FIT, rgba)
         out = rgba[:, :channels]
     if len(source.bright_dirs):
-        acc, total = np.zeros((n, channels)), np.zeros(n)
-        _lobe_kernel(
-            dirs,
-            source.bright_dirs,
-            source.bright_omega,
-            source.bright_values,
-            lobe.ggx,
-            lobe.param,
-            lobe.cos_cut,
-            acc,
-            total,
-        )
-        out += acc / lobe.norm
+        out += _bright_part(source, dirs, size, lobe)
     return out.reshape(6, size, size, channels).astype(np.float32)
+
+
+def _bright_part(source: _Source, dirs: np.ndarray, size: int, lobe: _Lobe) -> np.ndarray:
+    """The bright texels' share of each output texel, ``sum_j L_j Omega_j w(n.l_j) / N_j``.
+
+    ``N_j`` is the lobe's integral: analytic where the output grid resolves the lobe; where it
+    does not (a half-width under :data:`RESOLVED_LOBE_TEXELS` texels: a mirror-like level),
+    the lobe's sum over the output texels, so texel j deposits exactly its energy
+    ``L_j Omega_j`` (a point-sampled narrow lobe would multiply a sun by up to
+    ``Omega_j / (pi alpha^2)``, or miss it). A texel whose lobe reaches no output centre goes
+    whole to the nearest one.
+    """
+    count, channels = len(source.bright_dirs), source.channels
+    norms = np.full(count, lobe.norm)
+    if lobe.half_width < RESOLVED_LOBE_TEXELS * math.pi / (2 * size):
+        omega = get_layout("cube").solid_angles((6, size, size)).reshape(-1)
+        _lobe_columns(dirs, omega, source.bright_dirs, lobe.ggx, lobe.param, lobe.cos_cut, norms)
+    reached = norms > 0
+    values = np.where(
+        reached[:, None], source.bright_values / np.where(reached, norms, 1)[:, None], 0
+    )
+    acc, total = np.zeros((dirs.shape[0], channels)), np.zeros(dirs.shape[0])
+    _lobe_kernel(
+        dirs,
+        source.bright_dirs,
+        source.bright_omega,
+        values,
+        lobe.ggx,
+        lobe.param,
+        lobe.cos_cut,
+        acc,
+        total,
+    )
+    if not reached.all():
+        missed = np.flatnonzero(~reached)
+        nearest = np.argmax(source.bright_dirs[missed] @ dirs.T, axis=1)
+        energy = source.bright_values[missed] * source.bright_omega[missed, None]
+        np.add.at(acc, nearest, energy / omega[nearest, None])
+    return acc
 
 
 # --- public API ----------------------------------------------------------------------------------

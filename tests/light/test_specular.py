@@ -21,6 +21,7 @@ from tests.tolerances import (
     FIS_MAX,
     FIS_RMS,
     FLOAT32_VALUE,
+    PREFILTER_ENERGY_RTOL,
     PREFILTER_MAX,
     PREFILTER_RMS,
     UNIFORM_RTOL,
@@ -154,6 +155,23 @@ def test_a_point_light_gives_the_normalised_lobe(monkeypatch):
     norm = 2 * np.pi * integrate.quad(lambda c: d(c) * c, 0, 1, epsabs=0, epsrel=1e-10)[0]
     got = prefilter_ggx(cube, "cube", size=s, mips=3, roughness=[0, 0.1, r])[2][..., 0]
     np.testing.assert_allclose(got, energy * d(nl) * nl / norm, rtol=1e-4, atol=1e-6)
+
+
+@pytest.mark.parametrize("r", [0.01, 0.03, 0.08])
+@pytest.mark.parametrize("out_size", [32, 16])
+def test_a_sun_under_a_mirror_like_lobe_keeps_its_energy(monkeypatch, r, out_size):
+    # A lobe narrower than a texel cannot be point-sampled: the sun must land whole in the
+    # texels around it (energy L w, as the closed form), never multiplied by w / (pi alpha^2)
+    # (a 1e4 sun came out as 5e7) nor lost between texel centres.
+    monkeypatch.setattr(specular, "BRIGHT_RATIO", 1e-9)
+    s = 32
+    cube = np.zeros((6, s, s, 1), np.float32)
+    cube[1, 5, 20] = 1e4
+    energy = 1e4 * CUBE.solid_angles((6, s, s))[1, 5, 20]
+    level = prefilter_ggx(cube, "cube", size=s, mips=2, roughness=[r, r])[s // out_size - 1]
+    got = float(np.sum(level[..., 0] * CUBE.solid_angles((6, out_size, out_size))))
+    assert got == pytest.approx(energy, rel=PREFILTER_ENERGY_RTOL)
+    assert level.max() <= 1e4 * (s / out_size) ** 2 * (1 + PREFILTER_ENERGY_RTOL)
 
 
 def test_bilinear_lookup_agrees_with_the_sphere_sampler():
