@@ -12,16 +12,22 @@ $(BIN)/.installed: pyproject.toml
 	$(BIN)/pip install -q -e '.[test]'
 	touch $@
 
-# System libraries for the OpenGL conformance tests (EGL + Mesa's llvmpipe), installed when missing.
+# System libraries for the OpenGL conformance tests (EGL + Mesa's llvmpipe) and Debian's Chromium
+# for the browser viewer's tests (WebGL2 on SwiftShader), installed when missing.
 sysdeps:
 	@dpkg -s libegl1 libgl1-mesa-dri libegl-mesa0 >/dev/null 2>&1 || { \
 	  if [ "$$(id -u)" = 0 ]; then \
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
 	      apt-get install -y -qq libegl1 libgl1-mesa-dri libegl-mesa0 >/dev/null; \
 	  else echo "note: install libegl1 libgl1-mesa-dri libegl-mesa0 (as root) for the OpenGL tests"; fi; }
+	@command -v chromium >/dev/null 2>&1 || { \
+	  if [ "$$(id -u)" = 0 ]; then \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; \
+	  else echo "note: install chromium (as root) for the browser viewer's tests"; fi; }
 
 demo: $(BIN)/.installed
 	$(BIN)/bakeshop bake-probe -o demo
+	$(BIN)/bakeshop preview demo --scene all || echo "note: no preview pictures (bakeshop preview needs libEGL and Mesa: make sysdeps)"
 
 test: $(BIN)/.installed sysdeps
 	$(BIN)/python -m pytest -n 2 -q

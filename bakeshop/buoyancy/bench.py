@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bakeshop import progress
 from bakeshop.buoyancy.forces import ForceModel
 from bakeshop.buoyancy.hydrostatics import waterplane_area
 from bakeshop.buoyancy.mass import make_body, pack
@@ -45,13 +46,15 @@ def float_body(
     release_height: float = 0.0,
     tilt: float = 0.0,
     backend: str = "builtin",
+    repair: bool = False,
+    path=None,
     **backend_options,
 ) -> BenchResult:
     """Float a mesh or built-in shape once and measure it.
 
-    ``mesh`` is a closed body (:func:`~bakeshop.buoyancy.shapes.closed_mesh` of what
-    :func:`bakeshop.io.load_mesh` reads), in metres; ``size`` rescales it (see
-    :func:`~bakeshop.buoyancy.shapes.resize`).
+    ``mesh`` is what :func:`bakeshop.io.load_mesh` reads, in metres, closed here by
+    :func:`~bakeshop.buoyancy.shapes.closed_mesh` (with ``repair``; errors name ``path``);
+    ``size`` rescales it (see :func:`~bakeshop.buoyancy.shapes.resize`).
 
     ``tilt`` (degrees) turns the body about the X axis before release; ``release_height`` is
     the height (m) of its lowest point above the water then. ``omega_dt`` in the summary is the
@@ -60,12 +63,16 @@ def float_body(
     """
     if (mesh is None) == (shape is None):
         raise ArgumentError("give either a mesh or a built-in shape, not both or neither")
-    mesh = make_shape(shape, size=size) if shape is not None else resize(closed_mesh(mesh), size)
+    if shape is not None:
+        mesh = make_shape(shape, size=size)
+    else:
+        mesh = resize(closed_mesh(mesh, repair=repair, path=path), size)
     if not np.isfinite(tilt):
         raise ArgumentError(f"tilt must be a finite number of degrees, got {tilt}")
     model = ForceModel() if model is None else model
     water = Water() if water is None else water
-    body = make_body(mesh, density, resolution=resolution)
+    with progress.step(f"mass and sample points ({resolution} cells along the longest side)"):
+        body = make_body(mesh, density, resolution=resolution)
     fleet = pack([body])
     start = release(
         fleet, water, height=release_height, quaternions=[axis_angle_quaternion((1, 0, 0), tilt)]

@@ -48,7 +48,10 @@ class Body:
     def hull_vertices(self) -> np.ndarray:
         """(V, 3) vertices of the convex hull, body frame: the lowest point of the body is the
         lowest of these."""
-        return np.array(self.mesh.convex_hull.vertices, dtype=np.float64)
+        from scipy.spatial import ConvexHull
+
+        points = np.asarray(self.mesh.vertices, dtype=np.float64)
+        return points[np.sort(ConvexHull(points).vertices)]
 
 
 def make_body(mesh, density: float, *, resolution: int = 10, subsamples: int = 4) -> Body:

@@ -10,7 +10,14 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
+from bakeshop import progress
 from bakeshop.errors import ArgumentError, FormatError, validate_choice
+from bakeshop.resources import Cost, require
+
+#: Peak bytes per triangle of closing a mesh and making its body (trimesh's processed mesh,
+#: its edge tables and normals, then the body's voxel sample points and convex hull): measured
+#: at 520 for the closing and 754 with the body, on a 1.3-million-triangle icosphere.
+FACE_BYTES = 800
 
 #: Names of the built-in shapes, in the order the test bench lists them.
 SHAPES = ("box", "sphere", "capsule", "cylinder", "torus", "peep", "hull")
@@ -101,7 +108,19 @@ def closed_mesh(mesh, *, repair: bool = False, path=None):
     vertices = getattr(mesh, "positions", None)
     if vertices is None:
         vertices = mesh.vertices
-    body = trimesh.Trimesh(np.asarray(vertices), np.asarray(mesh.faces), process=True)
+    cost = require(closed_mesh_cost(len(mesh.faces)), path)
+    with progress.step(f"closing the mesh ({cost.work:,} triangles)"):
+        return _closed(vertices, mesh.faces, repair, path)
+
+
+def closed_mesh_cost(faces: int) -> Cost:
+    """What :func:`closed_mesh` of a mesh of ``faces`` triangles holds at its peak
+    (:data:`FACE_BYTES` per triangle); ``work`` is in triangles."""
+    return Cost(FACE_BYTES * faces, faces, f"closing a mesh of {faces:,} triangles")
+
+
+def _closed(vertices, faces, repair: bool, path):
+    body = trimesh.Trimesh(np.asarray(vertices), np.asarray(faces), process=True)
     if not np.all(np.isfinite(body.vertices)):
         raise FormatError("the mesh has non-finite vertex coordinates", path)
     body.merge_vertices(merge_tex=True, merge_norm=True)

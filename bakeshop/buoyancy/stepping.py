@@ -17,14 +17,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bakeshop import progress
 from bakeshop.buoyancy.forces import ForceModel, evaluate
 from bakeshop.buoyancy.state import State, quaternion_to_matrix
 from bakeshop.errors import ArgumentError, BakeshopError, validate_choice
+from bakeshop.resources import Cost, require
 
 FORCE_MODES = ("per-substep", "per-frame")
 BACKENDS = ("builtin", "mujoco")
-#: Longest simulation accepted, in solver steps (a typo should not run for a day).
+#: Longest simulation accepted, in solver steps and in frames (a typo should not run for a day).
 MAX_STEPS = 5_000_000
+#: Bytes of the trace per solver step and body (time, position, quaternion, velocity, angular
+#: velocity, submerged points).
+TRACE_BYTES = 8 * (1 + 3 + 4 + 3 + 3 + 1)
+#: Bytes per sample point of one force evaluation's work arrays.
+POINT_BYTES = 256
 
 
 @dataclass
@@ -141,10 +148,9 @@ def simulate(
         if not (np.isfinite(value) and value > 0):
             raise ArgumentError(f"{name} must be a positive number, got {value!r}")
     frame, h = 1.0 / fps, 1.0 / solver_hz
+    cost = require(simulate_cost(fleet, seconds=seconds, fps=fps, solver_hz=solver_hz))
     n_frames = max(int(round(seconds * fps)), 1)
-    n_steps = int(np.floor(n_frames * frame / h + 1e-9))
-    if n_steps > MAX_STEPS:
-        raise ArgumentError(f"{n_steps} solver steps exceed the limit of {MAX_STEPS}")
+    n_steps = cost.work
     engine = make_backend(
         backend, fleet, state, timestep=h, gravity=model.gravity, **backend_options
     )
@@ -161,7 +167,7 @@ def simulate(
     _record(trace, 0, engine.state())
     points_per_body = np.diff(fleet.offsets)
     accumulator, step, held = 0.0, 0, None
-    for _ in range(n_frames):
+    for _ in progress.track(range(n_frames), f"simulating {seconds:g} s ({n_steps:,} steps)"):
         accumulator += frame
         if forces == "per-frame":
             held = evaluate(fleet, engine.state(), water, model, step * h, frame)
@@ -188,6 +194,31 @@ def simulate(
                 "the body's stiffness (omega * dt > 2); raise the solver rate or the resolution"
             )
     return trace
+
+
+def simulate_cost(fleet, *, seconds: float, fps: float, solver_hz: float) -> Cost:
+    """What :func:`simulate` holds (the trace: :data:`TRACE_BYTES` per step and body, and one
+    force evaluation's work: :data:`POINT_BYTES` per sample point) and the solver steps it
+    takes (``work``).
+
+    Raises
+    ------
+    ArgumentError
+        When the frames or the solver steps exceed :data:`MAX_STEPS`.
+    """
+    for count, what in ((seconds * fps, "frames"), (seconds * solver_hz, "solver steps")):
+        if not count <= MAX_STEPS:  # NaN too
+            raise ArgumentError(
+                f"{seconds:g} s at {fps:g} fps with a {solver_hz:g} Hz solver is {count:.3g} "
+                f"{what}: they exceed the limit of {MAX_STEPS:,}"
+            )
+    frames = max(int(round(seconds * fps)), 1)
+    steps = int(np.floor(frames * (1.0 / fps) / (1.0 / solver_hz) + 1e-9))
+    points = int(fleet.offsets[-1])
+    memory = (steps + 1) * len(fleet) * TRACE_BYTES + POINT_BYTES * points
+    bodies = f"{len(fleet)} bod{'y' if len(fleet) == 1 else 'ies'}"
+    what = f"simulating {seconds:g} s of {bodies} ({steps:,} steps, {points:,} points)"
+    return Cost(memory, steps, what)
 
 
 def _clamp(velocity, limit):

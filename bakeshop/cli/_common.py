@@ -1,31 +1,241 @@
 """Small helpers shared by the command modules: argument types, option builders, input checks
-and output safety."""
+and output safety.
+
+**Every option and argument that holds a number has one of the types of this module**
+(:class:`Number`, :class:`Integer`, :class:`Size`, :class:`Numbers`, :class:`Direction`,
+:class:`Exposure`, :class:`MemorySize`): finite (NaN and the infinities are refused), within a
+range that the option's ``--help`` states (click prints it: ``[default: 256; 1<=x<=4096]``), and
+refused when parsed, in one line, before the command runs. The range is the one in which the
+command makes sense; what a value inside it costs (memory, time) is estimated by the library
+before it starts (:mod:`bakeshop.resources`). ``tests/cli/test_limits.py`` walks the command
+tree and holds every command to this.
+
+**Every file argument has a path type of this module**: inputs are checked when parsed
+(:class:`bakeshop.cli._process.InputPath`), output names may hold braces only as the patterns
+their command writes (:class:`OutputPath`: ``{face}``, ``{mip}``, ``{frame}``), and before a
+command runs, no output may be (by name, symbolic or hard link, or pattern) one of its inputs
+(:func:`refuse_overwriting_inputs`, run for every command by :func:`guard_outputs`).
+"""
 
 from __future__ import annotations
 
+import functools
+import glob
+import math
 import os
+import re
+import string
 from pathlib import Path
 from typing import NamedTuple
 
 import click
 import numpy as np
 
-from bakeshop.cli._process import InputPath
+from bakeshop.cli._process import InputPath, record, recorded
 from bakeshop.errors import ArgumentError
 from bakeshop.io import stored_bits
 
+# --- outputs that would overwrite inputs -----------------------------------------------------
+
 
 def refuse_overwriting_inputs(output: str | os.PathLike, *inputs: str | os.PathLike) -> None:
-    """Raise :class:`ArgumentError` when ``output`` is one of ``inputs`` (same file on disk)."""
-    out = Path(output)
-    for path in inputs:
-        p = Path(path)
-        if out.resolve() == p.resolve() or (out.exists() and p.exists() and out.samefile(p)):
-            raise ArgumentError("refusing to write over the command's own input", output)
+    """Refuse, before any work, an ``output`` that would write over one of the command's inputs.
+
+    ``output`` may be a pattern (``{face}``, ``{mip}``, ``{frame}``); the inputs are ``inputs``
+    and every input the command was given (as recorded when its arguments were parsed: files,
+    ``{face}`` sets, glob patterns). The output is refused when any file it may stand for *is*
+    an input file: the same name, a symbolic link either way, a link through a directory, or a
+    hard link (the same file on disk).
+
+    Raises
+    ------
+    ArgumentError
+        With the output file and the input it would overwrite.
+    """
+    text = os.fspath(output)
+    targets = _existing_outputs(text)
+    if not targets:
+        return
+    for typed in dict.fromkeys(
+        [*(os.fspath(p) for p in inputs if p is not None), *recorded("inputs")]
+    ):
+        for source in _existing_inputs(typed):
+            for target in targets:
+                if _same_file(target, source):
+                    raise ArgumentError(_overwrite_reason(text, target, typed, source), target)
 
 
-def parse_size(text: str) -> tuple[int, int] | int:
-    """Parse ``'WxH'`` into ``(width, height)`` or ``'N'`` into ``N`` (positive integers)."""
+def guard_outputs(group: click.Group) -> None:
+    """Make every command of ``group`` (and of its sub-groups) call
+    :func:`refuse_overwriting_inputs` on each of its :class:`OutputPath` arguments before it
+    runs: a command gets the check by typing its outputs."""
+    for command in group.commands.values():
+        if isinstance(command, click.Group):
+            guard_outputs(command)
+        elif command.callback is not None and not hasattr(command.callback, "__guarded__"):
+            command.callback = _guarded(command.callback)
+
+
+def _guarded(callback):
+    @functools.wraps(callback)
+    def run(*args, **kwargs):
+        for output in recorded("outputs"):
+            refuse_overwriting_inputs(output)
+        return callback(*args, **kwargs)
+
+    run.__guarded__ = True
+    return run
+
+
+def _same_file(a: str, b: str) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def _existing_inputs(typed: str) -> list[str]:
+    """The existing files an input argument names: itself, its six ``{face}`` files (in both
+    naming schemes), or its glob pattern's matches."""
+    from bakeshop.sphere import FACE_NAMES, FACE_NAMES_SHORT
+
+    if "{face}" in typed:
+        names = [typed.replace("{face}", n) for n in (*FACE_NAMES, *FACE_NAMES_SHORT)]
+    else:
+        names = [typed, *(sorted(glob.glob(typed)) if glob.has_magic(typed) else ())]
+    return [n for n in dict.fromkeys(names) if os.path.exists(n)]
+
+
+def _existing_outputs(text: str) -> list[str]:
+    """The existing files an output name may stand for: itself, or every file its patterns
+    (:data:`PATTERNS`) may expand to."""
+    parts = _pattern_parts(text)
+    if not any(name for _, name, _ in parts):
+        return [text] if os.path.exists(text) else []
+    wildcard = "".join(glob.escape(literal) + ("*" if name else "") for literal, name, _ in parts)
+    regex = re.compile(
+        "".join(
+            re.escape(literal) + (_field_regex(name, spec) if name else "")
+            for literal, name, spec in parts
+        )
+    )
+    return [p for p in sorted(glob.glob(wildcard)) if regex.fullmatch(p)]
+
+
+def _field_regex(name: str, spec: str) -> str:
+    from bakeshop.sphere import FACE_NAMES, FACE_NAMES_SHORT
+
+    if name == "face":
+        return "(?:" + "|".join((*FACE_NAMES, *FACE_NAMES_SHORT)) + ")"
+    if not spec or re.fullmatch(r"0?[0-9]*d", spec):
+        return "-?[0-9]+"
+    return "[^/]+"
+
+
+def _overwrite_reason(output: str, target: str, typed: str, source: str) -> str:
+    notes = []
+    if output != target:
+        notes.append(f"the output {output} includes it")
+    if typed != source:
+        notes.append(f"the input {typed} includes it")
+    if os.path.abspath(target) != os.path.abspath(source):
+        if os.path.realpath(target) == os.path.realpath(source):
+            notes.append(f"a symbolic link makes it the input {source}")
+        else:
+            notes.append(f"it is a hard link to the input {source}")
+    return "refusing to write over the command's own input" + (
+        f" ({'; '.join(notes)})" if notes else ""
+    )
+
+
+# --- output names: braces are patterns ----------------------------------------------------------
+
+#: the patterns an output name may hold, each written by the commands that take it: six cube
+#: faces, the levels of a mip chain, the frames of a sequence (with a format: {frame:04d}).
+PATTERNS = {
+    "face": "{face} (the six cube faces: posx ... negz)",
+    "mip": "{mip} (the mip level: 0, 1, ...)",
+    "frame": "{frame} (the frame: 0, 1, ...; {frame:04d} pads it)",
+}
+
+
+def _pattern_parts(text: str) -> list[tuple[str, str | None, str]]:
+    """``(literal, field or None, format spec)`` pieces of an output name (no checks)."""
+    try:
+        return [(lit, name, spec or "") for lit, name, spec, _ in string.Formatter().parse(text)]
+    except ValueError:
+        return [(text, None, "")]
+
+
+def check_output_name(text: str, allowed: tuple[str, ...] = ()) -> None:
+    """Refuse an output name whose braces are not the patterns ``allowed`` (names of
+    :data:`PATTERNS`): braces mark patterns and are never part of a file name; a format spec
+    is allowed for ``{frame}`` only.
+
+    Raises
+    ------
+    ArgumentError
+        Naming the output, the brace that is wrong and the patterns the command writes.
+    """
+    what = (
+        "braces in an output name mark the patterns "
+        + " and ".join(PATTERNS[a] for a in allowed)
+        + "; they cannot be part of a file name"
+        if allowed
+        else "this output is one file, and braces in an output name mark patterns: they "
+        "cannot be part of a file name"
+    )
+    try:
+        parts = list(string.Formatter().parse(text))
+    except ValueError:
+        raise ArgumentError(f"an unmatched '{{' or '}}': {what}", text) from None
+    for literal, name, spec, conversion in parts:
+        if "{" in literal or "}" in literal:  # '{{' or '}}'
+            raise ArgumentError(f"a doubled brace: {what}", text)
+        if name is None:
+            continue
+        field = (
+            "{"
+            + name
+            + (f"!{conversion}" if conversion else "")
+            + (f":{spec}" if spec else "")
+            + "}"
+        )
+        if name not in allowed or conversion or (spec and name != "frame"):
+            raise ArgumentError(f"{field} is not a pattern this command writes: {what}", text)
+        if spec:
+            try:
+                format(0, spec)
+            except ValueError as e:
+                raise ArgumentError(f"{field}: {e}", text) from None
+
+
+class OutputPath(click.Path):
+    """An output file (or with ``directory``, a folder the command creates), whose name may hold
+    the patterns ``fields`` (:data:`PATTERNS`) and no other brace (:func:`check_output_name`);
+    remembered as one of the command's outputs, which :func:`guard_outputs` checks against its
+    inputs before it runs."""
+
+    def __init__(self, fields: tuple[str, ...] = (), *, directory: bool = False):
+        super().__init__(
+            dir_okay=directory, file_okay=not directory, writable=not directory, path_type=Path
+        )
+        self.fields = tuple(fields)
+        self.directory = directory
+
+    def convert(self, value, param, ctx):
+        check_output_name(os.fspath(value), self.fields)
+        path = super().convert(value, param, ctx)
+        if not self.directory:
+            record(ctx, "outputs", os.fspath(path))
+        return path
+
+
+def parse_size(text) -> tuple[int, int] | int:
+    """Parse ``'WxH'`` into ``(width, height)`` or ``'N'`` into ``N`` (positive integers); a
+    size already parsed (by :class:`Size`) is returned as it is."""
+    if isinstance(text, (int, tuple)):
+        return text
     try:
         parts = [int(p) for p in text.lower().split("x")]
     except ValueError:
@@ -44,10 +254,270 @@ ENVIRONMENT = InputPath(patterns=True)
 FRAMES = InputPath(patterns=True)
 #: click type for an input image that may also be a .zarr store (a directory).
 SOURCE = InputPath(stores=True)
-#: click type for output files.
-OUTPUT = click.Path(dir_okay=False, writable=True, path_type=Path)
+#: click type for output files (one file: no brace in the name).
+OUTPUT = OutputPath()
+#: click type for an output environment: one file, or a cube's six files with {face}.
+OUTPUT_FACES = OutputPath(("face",))
+#: click type for an output mip chain: one container, or files with {mip} (and {face}).
+OUTPUT_CHAIN = OutputPath(("mip", "face"))
+#: click type for output frames: one file, or a sequence with {frame} ({frame:04d}).
+OUTPUT_FRAMES = OutputPath(("frame",))
 #: click type for an output directory (the commands create it when missing).
-OUT_DIR = click.Path(file_okay=False, path_type=Path)
+OUT_DIR = OutputPath(directory=True)
+
+
+# --- numbers ------------------------------------------------------------------------------------
+
+#: Largest side of an output image in pixels (a 65536 x 32768 latlong is 2^31 texels, 25 GB
+#: of float32 RGB: past memory, where the chunked commands take over).
+IMAGE_SIDE = 1 << 16
+
+
+def _g(value) -> str:
+    """A bound for people: ``4096``, ``0.001``, ``1e+06``."""
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+class Number(click.FloatRange):
+    """A finite number in ``[low, high]`` (``low_open``/``high_open`` exclude an end), shown
+    in ``--help`` as click shows a range. NaN is refused (click's :class:`click.FloatRange`
+    lets it through, since every comparison with NaN is false), and so are the infinities
+    unless ``allow_inf`` (where infinity means something: deep water). Both ends must be
+    given unless ``allow_inf``: a number without an upper bound has no meaning for a
+    command."""
+
+    name = "number"
+
+    def __init__(
+        self,
+        low: float,
+        high: float | None,
+        *,
+        low_open: bool = False,
+        high_open: bool = False,
+        allow_inf: bool = False,
+    ):
+        if low is None or (high is None and not allow_inf):
+            raise TypeError("a Number needs both bounds (an open upper bound needs allow_inf)")
+        super().__init__(low, high, min_open=low_open, max_open=high_open)
+        self.allow_inf = allow_inf
+
+    def convert(self, value, param, ctx):
+        try:
+            number = float(value)
+        except (TypeError, ValueError, OverflowError):
+            self.fail(f"{value!r} is not a number", param, ctx)
+        if math.isnan(number) or (math.isinf(number) and not self.allow_inf):
+            self.fail(f"{value!r} is not a finite number", param, ctx)
+        return super().convert(number, param, ctx)
+
+    def _describe_range(self) -> str:
+        low = f"{_g(float(self.min))}{'<' if self.min_open else '<='}"
+        if self.max is None:
+            return f"x{'>' if self.min_open else '>='}{_g(float(self.min))}"
+        return f"{low}x{'<' if self.max_open else '<='}{_g(float(self.max))}"
+
+    def describe_range(self) -> str:
+        """The range as ``--help`` shows it: ``0<x<=1000``."""
+        return self._describe_range()
+
+
+class Integer(click.IntRange):
+    """An integer in ``[low, high]`` (both required), shown in ``--help``."""
+
+    name = "integer"
+
+    def __init__(self, low: int, high: int):
+        super().__init__(int(low), int(high))
+
+    def describe_range(self) -> str:
+        """The range as ``--help`` shows it: ``1<=x<=4096``."""
+        return self._describe_range()
+
+
+class Size(click.IntRange):
+    """``N`` or ``WxH`` (with ``pair``): integers from ``low`` to ``high`` (each side); parsed
+    to ``N`` or ``(W, H)``. ``--help`` states the range of each number."""
+
+    name = "integer"
+
+    def __init__(self, high: int = IMAGE_SIDE, *, pair: bool = True, low: int = 1):
+        super().__init__(int(low), int(high))
+        self.pair = pair
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, (int, tuple)):
+            return value
+        parts = str(value).strip().lower().split("x")
+        try:
+            numbers = [int(p) for p in parts]
+        except ValueError:
+            numbers = []
+        if not 1 <= len(numbers) <= (2 if self.pair else 1):
+            wanted = "N or WxH" if self.pair else "N"
+            self.fail(f"{value!r} is not a size: expected {wanted} (whole numbers)", param, ctx)
+        numbers = [super(Size, self).convert(n, param, ctx) for n in numbers]
+        return numbers[0] if len(numbers) == 1 else (numbers[0], numbers[1])
+
+    def describe_range(self) -> str:
+        """The range of each number, as ``--help`` shows it."""
+        return self._describe_range()
+
+
+class Numbers(Number):
+    """``count`` numbers (any of ``count`` when it is a tuple; any number of them when None)
+    separated by ``sep``, each a :class:`Number` in the range given: ``YAW,PITCH,ROLL``,
+    ``UxV`` or ``T1,T2,...``. Parsed to a tuple of floats; one number stands for all of them
+    when ``repeat`` (``4`` is ``4x4``); with ``fractions``, ``1/250`` is a number."""
+
+    name = "numbers"
+
+    def __init__(self, low, high, *, count=3, sep=",", repeat=False, fractions=False, **kwargs):
+        super().__init__(low, high, **kwargs)
+        self.counts = None if count is None else count if isinstance(count, tuple) else (count,)
+        self.sep = sep
+        self.repeat = repeat
+        self.fractions = fractions
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, tuple):
+            return value
+        parts = str(value).strip().lower().split(self.sep)
+        if self.counts is not None:
+            counts = (*self.counts, 1) if self.repeat else self.counts
+            if len(parts) not in counts:
+                wanted = " or ".join(map(str, sorted(set(counts))))
+                if param is not None and param.metavar:
+                    wanted = f"{param.metavar}, {wanted}"
+                self.fail(
+                    f"{value!r}: expected {wanted} numbers separated by {self.sep!r}", param, ctx
+                )
+        numbers = tuple(
+            super(Numbers, self).convert(self._number(p.strip(), param, ctx), param, ctx)
+            for p in parts
+        )
+        if self.counts is not None and len(numbers) == 1 and self.repeat:
+            return numbers * max(self.counts)
+        return numbers
+
+    def _number(self, text: str, param, ctx):
+        if not self.fractions or "/" not in text:
+            return text
+        top, _, bottom = text.partition("/")
+        try:
+            return float(top) / float(bottom)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            self.fail(f"{text!r} is not a number or a fraction like 1/250", param, ctx)
+
+
+class Direction(Numbers):
+    """A direction: ``+X``, ``-Y``, ``Z`` ... or ``x,y,z`` (finite, not all zero, each in
+    [-1e6, 1e6]); parsed to a unit 3-tuple of floats."""
+
+    name = "direction"
+    _AXES = {"x": 0, "y": 1, "z": 2}
+
+    def __init__(self):
+        super().__init__(-1e6, 1e6, count=3)
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, tuple):
+            return value
+        m = re.fullmatch(r"\s*([+-]?)([xyz])\s*", str(value).lower())
+        if m:
+            axis = [0.0, 0.0, 0.0]
+            axis[self._AXES[m[2]]] = -1.0 if m[1] == "-" else 1.0
+            return tuple(axis)
+        v = np.array(super().convert(value, param, ctx))
+        length = float(np.linalg.norm(v))
+        if length == 0:
+            self.fail(
+                f"{value!r} is not a direction: use +X, -X, +Y, -Y, +Z, -Z or x,y,z", param, ctx
+            )
+        return tuple(float(c) for c in v / length)
+
+
+class Exposure(Number):
+    """An exposure in stops (EV), finite and within ``[-64, 64]`` (2^64 spans any float32
+    picture), or one of ``words`` (``auto``)."""
+
+    name = "exposure"
+
+    def __init__(self, words: tuple[str, ...] = ("auto",), limit: float = 64):
+        super().__init__(-limit, limit)
+        self.words = words
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str) and value.strip().lower() in self.words:
+            return value.strip().lower()
+        try:
+            float(value)
+        except (TypeError, ValueError):
+            words = "".join(f" or {w!r}" for w in self.words)
+            self.fail(f"{value!r} is not an exposure: a number of stops (EV){words}", param, ctx)
+        return super().convert(value, param, ctx)
+
+
+class Fields(click.ParamType):
+    """Numbers separated by ``sep``, each of its own :class:`Number` type (``fields``, by
+    name, in order), the first ``required`` of them needed: ``A:L[:DIR[:SPEED]]``. Parsed to
+    a tuple of floats. ``--help`` must state :meth:`describe_range` (click cannot)."""
+
+    name = "numbers"
+
+    def __init__(self, fields: dict[str, Number], *, sep: str = ":", required: int = 1):
+        self.fields = fields
+        self.sep = sep
+        self.required = required
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, tuple):
+            return value
+        parts = str(value).strip().split(self.sep)
+        if not self.required <= len(parts) <= len(self.fields):
+            self.fail(
+                f"{value!r}: expected {self.sep.join(self.fields)} ({self.required} to "
+                f"{len(self.fields)} numbers)",
+                param,
+                ctx,
+            )
+        out = []
+        for (name, kind), text in zip(self.fields.items(), parts, strict=False):
+            try:
+                out.append(kind.convert(text.strip(), param, ctx))
+            except click.BadParameter as e:
+                self.fail(f"{name} in {value!r}: {e.message}", param, ctx)
+        return tuple(out)
+
+    def describe_range(self) -> str:
+        """``amplitude 0<=x<=100, wavelength 0<x<=1e+04, ...``."""
+        return ", ".join(f"{name} {kind.describe_range()}" for name, kind in self.fields.items())
+
+
+class MemorySize(click.ParamType):
+    """A memory bound: ``2GB``, ``1.5GiB``, ``512M`` (:func:`bakeshop.huge.memory.parse_memory`),
+    at most 1 PB."""
+
+    name = "size"
+    #: the largest bound accepted (a petabyte).
+    MAX = 10**15
+
+    def convert(self, value, param, ctx):
+        from bakeshop.huge.memory import parse_memory
+
+        if isinstance(value, int):
+            return value
+        try:
+            number = parse_memory(value)
+        except ArgumentError as e:
+            self.fail(e.reason, param, ctx)
+        if number > self.MAX:
+            self.fail(f"{value!r} is more than the limit of 1 PB", param, ctx)
+        return str(value)
+
+    def describe_range(self) -> str:
+        """The range, as the option's help states it."""
+        return "4 MiB to 1 PB"
 
 
 def _parse_value(text: str):
@@ -192,10 +662,13 @@ class PictureRule(NamedTuple):
     bits: int | None
 
 
-def parse_exposure_mode(text: str) -> float | str:
-    """A number of stops (finite, within +-64), ``'auto'`` or ``'fit'``."""
+def parse_exposure_mode(text: str | float) -> float | str:
+    """A number of stops (finite, within +-64), ``'auto'`` or ``'fit'`` (as :class:`Exposure`
+    parsed it, or text)."""
     from bakeshop.image import EXPOSURE_MODES, check_ev
 
+    if isinstance(text, (int, float)):
+        return check_ev(float(text))
     t = text.strip().lower()
     if t in EXPOSURE_MODES:
         return t
@@ -217,11 +690,12 @@ def picture_options(*, exposure: str = "0", operator: str = "none"):
         click.option(
             "--exposure",
             "picture_exposure",
+            type=Exposure(("auto", "fit")),
             default=exposure,
             show_default=True,
             metavar="EV|auto|fit",
-            help="Picture outputs (.png .tga .jpg) from HDR data: exposure in stops "
-            "(-64..64), auto (log-average luminance of the valid texels to middle grey) or "
+            help="Picture outputs (.png .tga .jpg) from HDR data: exposure in stops, auto "
+            "(log-average luminance of the valid texels to middle grey) or "
             "fit (only the brightest 0.1% clip).",
         ),
         click.option(

@@ -7,12 +7,15 @@ import os
 
 import click
 
+from bakeshop.cli._common import MemorySize
+
 memory_option = click.option(
     "--memory",
+    type=MemorySize(),
     metavar="SIZE",
     help="Memory bound of the job (and of each dask worker's tasks), e.g. 2GB or 1.5GiB; the "
     "job is cut into blocks that fit, or refused before it starts with the size it needs. "
-    "Default: half of the memory available now (or BAKESHOP_MEMORY).",
+    "Default: half of the memory available now (or BAKESHOP_MEMORY); 4 MiB to 1 PB.",
 )
 scheduler_option = click.option(
     "--scheduler",

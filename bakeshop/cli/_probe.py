@@ -9,7 +9,7 @@ from pathlib import Path
 
 import click
 
-from bakeshop.cli._common import parse_size
+from bakeshop.cli._common import Integer, Size, parse_size
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import LAYOUT_ENVMAPS, is_cube, read_environment
 
@@ -57,6 +57,7 @@ to_option = click.option(
 
 size_option = click.option(
     "--size",
+    type=Size(8192),
     metavar="N|WxH",
     help="Size of the DIM as its layout reads it (latlong WxH or height N; face edge for "
     "crosses and strips; edge for square layouts). Default: 360x180, or as many texels.",
@@ -75,7 +76,7 @@ method_option = click.option(
 
 order_option = click.option(
     "--order",
-    type=click.IntRange(0, 64),
+    type=Integer(0, 64),
     default=2,
     show_default=True,
     help="SH order for --method sh, --sh-json and --shader (2: 9 coefficients per channel).",

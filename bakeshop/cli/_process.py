@@ -157,7 +157,22 @@ class InputPath(click.ParamType):
         if not store and not (self.patterns and ("{face}" in text or glob.has_magic(text))):
             check_input(path)
         _inputs.append(text)
+        record(ctx, "inputs", text)
         return path
+
+
+def record(ctx: click.Context | None, kind: str, text: str) -> None:
+    """Remember ``text`` as one of the ``kind`` (``"inputs"``, ``"outputs"``) of the command
+    being parsed: in the click context's ``meta``, which every nested context shares, so each
+    invocation has its own (see :func:`recorded`)."""
+    if ctx is not None:
+        ctx.meta.setdefault(f"bakeshop.{kind}", []).append(text)
+
+
+def recorded(kind: str) -> list[str]:
+    """The ``kind`` (``"inputs"``, ``"outputs"``) of the command running now, as typed."""
+    ctx = click.get_current_context(silent=True)
+    return list(ctx.meta.get(f"bakeshop.{kind}", ())) if ctx is not None else []
 
 
 class ByteSize(click.ParamType):
@@ -180,6 +195,10 @@ class ByteSize(click.ParamType):
                 f"{value!r} is not a size: expected bytes >= 1 such as 8G or 512M", param, ctx
             )
         return int(number)
+
+    def describe_range(self) -> str:
+        """The range, as the option's help states it."""
+        return "1 byte to 1 EiB"
 
 
 # --- one run ---------------------------------------------------------------------------------
@@ -211,11 +230,19 @@ def _bakeshop_error(error: BakeshopError) -> str:
     return f"{path}: {error.reason}" if path else error.reason
 
 
+#: files named one by one in the line of a run that failed after writing some.
+MAX_NAMED = 8
+
+
 def _written(paths: list[Path]) -> str:
     """``'written before it: out/a.hdr, out/b.hdr (2 files)'``; names given once per folder."""
+    paths = list(dict.fromkeys(paths))  # a file rewritten (a bake's manifest) is named once
     if not paths:
         return ""
     folders = {p.parent for p in paths}
+    if len(paths) > MAX_NAMED:  # a bake or a frame sequence: the first ones and the last
+        shown = [str(p) for p in paths[: MAX_NAMED - 2]]
+        return f"; written before it: {', '.join(shown)}, ..., {paths[-1]} ({len(paths)} files)"
     if len(folders) == 1 and len(paths) > 1:
         names = f"in {paths[0].parent}/: " + ", ".join(p.name for p in paths)
     else:
@@ -278,8 +305,12 @@ def _invoke(group: click.Group, argv, received: list[int]) -> tuple[int, str | N
     except (click.Abort, KeyboardInterrupt):  # where no handler could be installed
         received.append(signal.SIGINT)
         return 0, None
-    except MemoryError:
-        return 2, _bakeshop_error(BakeshopError("not enough memory for this command"))
+    except MemoryError as e:  # an allocation no estimate foresaw: say what it was
+        detail = str(e).strip()
+        reason = "not enough memory for this command" + (
+            f": {detail[:1].lower()}{detail[1:]}" if detail else ""
+        )
+        return 2, _bakeshop_error(BakeshopError(reason))
     except OSError as e:
         reason = e.strerror or str(e)
         return 2, f"{e.filename}: {reason}" if e.filename else reason

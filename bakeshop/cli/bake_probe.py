@@ -8,6 +8,7 @@ import click
 
 from bakeshop.cli._common import (
     ENVIRONMENT,
+    Integer,
     float_format_option,
     linearise,
     out_dir_option,
@@ -47,11 +48,11 @@ _from = click.option(
     show_default=True,
     help="Container of the specular mip chain and the DFG table.",
 )
-@click.option("--cube-size", type=click.IntRange(1, 4096), help="Face size of the environment "
+@click.option("--cube-size", type=Integer(1, 4096), help="Face size of the environment "
               "cube (default: as many texels as the probe, a power of two).")  # fmt: skip
-@click.option("--specular-size", type=click.IntRange(1, 4096), default=256, show_default=True,
+@click.option("--specular-size", type=Integer(1, 4096), default=256, show_default=True,
               help="Face size of level 0 of the GGX chain.")  # fmt: skip
-@click.option("--mips", type=click.IntRange(1, 14), default=9, show_default=True,
+@click.option("--mips", type=Integer(1, 14), default=9, show_default=True,
               help="Levels of the GGX chain (roughness m / (mips - 1)).")  # fmt: skip
 @srgb_decode_option
 @click.option("--compress", is_flag=True, help="Also write block-compressed (BC6H) files with "
@@ -93,13 +94,6 @@ def bake_probe(
     from bakeshop.light import bake_probe as bake
     from bakeshop.light import contact_sheet, sh, sheet_exposure, sun_document
 
-    out_dir.mkdir(parents=True, exist_ok=True)
-    image, layout, source, meta = read_probe(source, src_layout, with_metadata=True)
-    check_picture_format(layout, fmt, source)
-    image, _ = linearise(image, source, meta, srgb_decode)
-    dropped = image.shape[-1] == 4 and f".{fmt}" not in ALPHA_EXTENSIONS
-    if dropped:  # alpha is carried by every step, but .hdr and .pfm store none
-        image = image[..., :3]
     paths = {
         "cube": out_dir / f"env_{{face}}.{fmt}",
         "sun_dim": out_dir / f"sun_dim.{fmt}",
@@ -111,8 +105,15 @@ def bake_probe(
         "dfg": out_dir / f"dfg.{container}",
         "sheet": out_dir / "contact_sheet.png",
     }
-    for path in paths.values():
+    for path in paths.values():  # before any work
         refuse_overwriting_inputs(path, source)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    image, layout, source, meta = read_probe(source, src_layout, with_metadata=True)
+    check_picture_format(layout, fmt, source)
+    image, _ = linearise(image, source, meta, srgb_decode)
+    dropped = image.shape[-1] == 4 and f".{fmt}" not in ALPHA_EXTENSIONS
+    if dropped:  # alpha is carried by every step, but .hdr and .pfm store none
+        image = image[..., :3]
     started = time.perf_counter()
     baked = bake(image, layout, cube_size=cube_size, specular_size=specular_size, mips=mips)
     from bakeshop import progress

@@ -12,17 +12,17 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import ENVIRONMENT, OUTPUT, is_ldr, refuse_overwriting_inputs
-from bakeshop.errors import ArgumentError
+from bakeshop.cli._common import (
+    ENVIRONMENT,
+    OUTPUT_CHAIN,
+    Integer,
+    Number,
+    is_ldr,
+    refuse_overwriting_inputs,
+)
+from bakeshop.errors import ArgumentError, BakeshopError
 
 CONTEXT = {"max_content_width": 100}
-
-
-def _finite(ctx, param, value):
-    """Click callback: refuse NaN (click's FloatRange lets it through: it compares false)."""
-    if value is not None and value != value:
-        raise click.BadParameter("must be a finite number", ctx=ctx, param=param)
-    return value
 
 
 _QUALITY_NAMES = ("ultrafast", "veryfast", "fast", "basic", "slow", "veryslow")
@@ -51,12 +51,11 @@ def quality_options(command):
         ),
         click.option(
             "--min-psnr",
-            type=click.FloatRange(0, 200),
+            type=Number(0, 200),
             default=None,
             metavar="DB",
-            callback=_finite,
             help="Fail (no file written) when the quality of level 0 is below DB: "
-            "multi-exposure PSNR for HDR, PSNR for 8-bit colour (0-200).",
+            "multi-exposure PSNR for HDR, PSNR for 8-bit colour.",
         ),
         click.option(
             "--zstd",
@@ -125,7 +124,7 @@ def write_levels(
                 normal_convention=normal_convention,
                 rgbm_range=rgbm_range,
             )
-        except ArgumentError as e:
+        except BakeshopError as e:  # refused arguments, and memory that cannot fit
             if e.path is None:
                 e.path = str(target)
             raise
@@ -204,20 +203,27 @@ def _read(source: Path, src_layout, as_cube: bool, normal: bool, convention: str
     return [read_image(source)], False, False, "image"
 
 
-def _as_cube(image, layout: str, size: int | None):
+def _as_cube(image, layout: str, size: int | None, source):
     from bakeshop import sphere
+    from bakeshop.io.compress.pipeline import compress_levels_cost
+    from bakeshop.resources import Cost, require
 
     if layout == "cube":
         return image
     if size is None:
         texels = image.shape[0] * image.shape[1]
         size = int(min(2048, 2 ** round(np.log2(max(1.0, np.sqrt(texels / 6))))))
+    # the whole chain of this cube and its compression, refused before the cube is made
+    chain = [(6, max(1, size >> m), max(1, size >> m), 4) for m in range(size.bit_length())]
+    cost = compress_levels_cost(chain, "a block format")
+    held = sum(int(np.prod(shape)) for shape in chain) * 4
+    require(Cost(cost.memory + held, cost.work, f"{cost.what} (a 6x{size}x{size} cube)"), source)
     return sphere.remap(image, layout, "cube", size=size, filter="auto")
 
 
 @click.command("compress", context_settings=CONTEXT)
 @click.argument("source", metavar="IN", type=ENVIRONMENT)
-@click.argument("target", metavar="OUT", type=OUTPUT)
+@click.argument("target", metavar="OUT", type=OUTPUT_CHAIN)
 @click.option(
     "--format",
     "fmt",
@@ -248,12 +254,12 @@ def _as_cube(image, layout: str, size: int | None):
 )
 @click.option(
     "--size",
-    type=click.IntRange(1, 4096),
+    type=Integer(1, 4096),
     help="Face size of the cube made from a panorama (default: as many texels).",
 )
 @click.option(
     "--mips",
-    type=click.IntRange(1, 21),
+    type=Integer(1, 21),
     help="Levels to write (default: down to 1x1, or the chain a .dds/.ktx/.ktx2 IN holds).",
 )
 @click.option(
@@ -268,18 +274,16 @@ def _as_cube(image, layout: str, size: int | None):
 )
 @click.option(
     "--max-angle",
-    type=click.FloatRange(0, 180),
+    type=Number(0, 180),
     metavar="DEG",
-    callback=_finite,
-    help="Normal maps: fail when the mean angular error exceeds DEG (0-180).",
+    help="Normal maps: fail when the mean angular error exceeds DEG.",
 )
 @click.option(
     "--rgbm-range",
-    type=click.FloatRange(1, 65504),
+    type=Number(1, 65504),
     default=8.0,
-    callback=_finite,
     show_default=True,
-    help="Largest value RGBM stores (1-65504).",
+    help="Largest value RGBM stores.",
 )
 @quality_options
 def compress(
@@ -336,7 +340,7 @@ def compress(
             if layout != "latlong":
                 levels = [sphere.remap(levels[0], layout, "latlong")]
         else:
-            levels, cube = [_as_cube(levels[0], layout, size)], True
+            levels, cube = [_as_cube(levels[0], layout, size, source)], True
     elif preset is not None and preset.environment == "panorama" and cube:
         from bakeshop import sphere
 

@@ -8,6 +8,7 @@ import click
 
 from bakeshop.cli._common import (
     OUTPUT,
+    Integer,
 )
 from bakeshop.io.environment import write_table
 
@@ -19,9 +20,9 @@ _float32 = click.option(
 
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("target", metavar="OUT", type=OUTPUT)
-@click.option("--size", type=click.IntRange(1, 4096), default=128, show_default=True,
+@click.option("--size", type=Integer(1, 4096), default=128, show_default=True,
               help="Side of the square table.")  # fmt: skip
-@click.option("--samples", type=click.IntRange(1, 1 << 20), default=4096, show_default=True,
+@click.option("--samples", type=Integer(1, 1 << 20), default=4096, show_default=True,
               help="Importance samples per texel.")  # fmt: skip
 @click.option(
     "--visibility",

@@ -59,11 +59,11 @@ def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size, wind
     from bakeshop.io import write_environment, write_json
     from bakeshop.light import dim_pair, sun_document
 
-    out_dir.mkdir(parents=True, exist_ok=True)
     names = {key: out_dir / f"{key}.{fmt}" for key in ("sun_dim", "shadow_dim", "shadow_probe")}
-    for path in (*names.values(), out_dir / "sun.json"):
+    for path in (*names.values(), out_dir / "sun.json"):  # before any work
         refuse_overwriting_inputs(path, source)
     check_openexr_target(names["sun_dim"], dst_layout)
+    out_dir.mkdir(parents=True, exist_ok=True)
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     check_picture_format(layout, fmt, source)
     image, _ = linearise(image, source, meta, srgb_decode)

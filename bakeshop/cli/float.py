@@ -8,36 +8,50 @@ from pathlib import Path
 import click
 
 from bakeshop import progress
-from bakeshop.cli._common import INPUT, OUTPUT
+from bakeshop.cli._common import INPUT, OUTPUT, Fields, Integer, Number, Numbers
 from bakeshop.errors import ArgumentError
 
-
-def _size(text: str | None):
-    if text is None:
-        return None
-    try:
-        parts = [float(p) for p in text.lower().split("x")]
-    except ValueError:
-        parts = []
-    if len(parts) not in (1, 3):
-        raise ArgumentError(f"invalid size {text!r}: expected S or XxYxZ in metres")
-    return parts[0] if len(parts) == 1 else tuple(parts)
+#: --waves: one wave train.
+WAVE = Fields(
+    {
+        "amplitude": Number(0, 100),
+        "wavelength": Number(0, 1e4, low_open=True),
+        "direction": Number(-360, 360),
+        "speed": Number(0, 1000),
+    },
+    required=2,
+)
 
 
 @click.command("float", context_settings={"max_content_width": 100})
 @click.argument("mesh", required=False, type=INPUT)
 @click.option("--shape", help="Built-in shape: box, sphere, capsule, cylinder, torus, peep, hull.")
-@click.option("--size", help="Longest side S, or extents XxYxZ, in metres (default: about 1 m).")
-@click.option("--density", type=float, default=500.0, show_default=True, help="Body, kg/m^3.")
+@click.option(
+    "--size",
+    type=Numbers(1e-3, 1e3, count=(1, 3), sep="x"),
+    metavar="S|XxYxZ",
+    help="Longest side S, or extents XxYxZ, in metres (default: about 1 m).",
+)
+@click.option(
+    "--density", type=Number(1, 1e5), default=500.0, show_default=True, help="Body, kg/m^3."
+)
 @click.option(
     "--resolution",
-    type=int,
+    type=Integer(2, 256),
     default=None,
     help="Voxel cells along the longest side (default 10; 8 with --matrix).",
 )
 @click.option("--repair", is_flag=True, help="Try to close a mesh that is not watertight.")
-@click.option("--fps", type=float, default=60.0, show_default=True, help="Frame rate.")
-@click.option("--solver-hz", type=float, default=60.0, show_default=True, help="Solver rate.")
+@click.option(
+    "--fps", type=Number(1, 1000), default=60.0, show_default=True, help="Frame rate, 1/s."
+)
+@click.option(
+    "--solver-hz",
+    type=Number(1, 10000),
+    default=60.0,
+    show_default=True,
+    help="Solver rate, steps per second.",
+)
 @click.option(
     "--forces",
     type=click.Choice(["per-substep", "per-frame"]),
@@ -56,50 +70,89 @@ def _size(text: str | None):
 )
 @click.option(
     "--linear-damping",
-    type=float,
+    type=Number(0, 1000),
     default=5.0,
     show_default=True,
     help="Team damping of velocity, 1/s.",
 )
 @click.option(
     "--angular-damping",
-    type=float,
+    type=Number(0, 1000),
     default=5.0,
     show_default=True,
     help="Team damping of spin, 1/s.",
 )
-@click.option("--drag-coefficient", type=float, default=1.0, show_default=True)
-@click.option("--predict-c", type=float, default=2.5, show_default=True)
-@click.option("--predict-m", type=float, default=0.1, show_default=True)
-@click.option("--clamp-speed", type=float, default=1.0, show_default=True, help="m/s.")
+@click.option(
+    "--drag-coefficient",
+    type=Number(0, 100),
+    default=1.0,
+    show_default=True,
+    help="Drag model: the body's drag coefficient.",
+)
+@click.option(
+    "--predict-c",
+    type=Number(1, 100, low_open=True),
+    default=2.5,
+    show_default=True,
+    help="Predictive stabiliser: C (> 1).",
+)
+@click.option(
+    "--predict-m",
+    type=Number(0, 1, low_open=True, high_open=True),
+    default=0.1,
+    show_default=True,
+    help="Predictive stabiliser: M (between 0 and 1).",
+)
+@click.option(
+    "--clamp-speed",
+    type=Number(0, 1000),
+    default=1.0,
+    show_default=True,
+    help="Clamp stabiliser: largest speed of a partly submerged body, m/s.",
+)
 @click.option(
     "--waves",
     "waves",
     multiple=True,
+    type=WAVE,
     metavar="A:L[:DIR[:SPEED]]",
     help="A wave train: amplitude m, wavelength m, direction degrees, speed m/s "
-    "(default deep water). Repeat for more.",
+    f"(default deep water). Repeat for more. [{WAVE.describe_range()}]",
 )
 @click.option(
-    "--seconds", type=float, default=None, help="Simulated time (default 10 s; 8 s with --matrix)."
+    "--seconds",
+    type=Number(0, 3600, low_open=True),
+    default=None,
+    help="Simulated time (default 10 s; 8 s with --matrix).",
 )
 @click.option(
     "--release-height",
-    type=float,
+    type=Number(-1000, 1000),
     default=None,
     help="Lowest point above the water at release, m (default 0; -2 with --matrix).",
 )
 @click.option(
-    "--tilt", type=float, default=0.0, show_default=True, help="Release tilt about X, degrees."
+    "--tilt",
+    type=Number(-360, 360),
+    default=0.0,
+    show_default=True,
+    help="Release tilt about X, degrees.",
 )
 @click.option(
     "--backend", type=click.Choice(["builtin", "mujoco"]), default="builtin", show_default=True
 )
 @click.option(
-    "--floor", type=float, default=-10.0, show_default=True, help="MuJoCo floor height, m."
+    "--floor",
+    type=Number(-1e4, 1e4),
+    default=-10.0,
+    show_default=True,
+    help="MuJoCo floor height, m.",
 )
 @click.option(
-    "--shore", type=float, default=None, help="MuJoCo: X (m) where a 15 degree beach rises."
+    "--shore",
+    type=Number(-1e4, 1e4),
+    default=None,
+    help="MuJoCo: X (m) where a 15 degree beach rises.",
 )
 @click.option("--plot", type=OUTPUT, help="Write the trace (lowest point vs time) as PNG.")
 @click.option("--json", "as_json", is_flag=True, help="Print the numbers as one JSON object.")
@@ -110,6 +163,7 @@ def _size(text: str | None):
 )
 @click.option(
     "--out",
+    type=OUTPUT,
     default="float-matrix",
     show_default=True,
     help="With --matrix: writes OUT.md, OUT.csv and OUT.png.",
@@ -158,7 +212,7 @@ def float_command(
     from bakeshop.buoyancy.forces import ForceModel
     from bakeshop.buoyancy.water import Water, Wave
 
-    water = Water(waves=tuple(Wave.parse(w) for w in waves))
+    water = Water(waves=tuple(Wave(*w) for w in waves))
     if matrix:
         if mesh is not None or shape is not None:
             raise ArgumentError("--matrix runs the built-in shapes; give no MESH or --shape")
@@ -173,7 +227,6 @@ def float_command(
         )
     from bakeshop.buoyancy.bench import float_body
     from bakeshop.buoyancy.plots import plot_trace
-    from bakeshop.buoyancy.shapes import closed_mesh
     from bakeshop.io import load_mesh, write_image
 
     model = ForceModel(
@@ -190,25 +243,29 @@ def float_command(
     seconds = 10.0 if seconds is None else seconds
     if (mesh is None) == (shape is None):
         raise ArgumentError("give either a mesh file or a built-in shape, not both or neither")
-    body = None if mesh is None else closed_mesh(load_mesh(mesh), repair=repair, path=mesh)
-    with progress.step(f"floating for {seconds:g} s of simulated time"):
-        result = float_body(
-            body,
-            shape=shape,
-            size=_size(size),
-            density=density,
-            resolution=10 if resolution is None else resolution,
-            model=model,
-            water=water,
-            fps=fps,
-            solver_hz=solver_hz,
-            forces=forces,
-            seconds=seconds,
-            release_height=0.0 if release_height is None else release_height,
-            tilt=tilt,
-            backend=backend,
-            **options,
-        )
+    body = None
+    if mesh is not None:
+        with progress.step(f"reading {mesh}"):
+            body = load_mesh(mesh)
+    result = float_body(
+        body,
+        shape=shape,
+        size=None if size is None else size[0] if len(size) == 1 else size,
+        density=density,
+        resolution=10 if resolution is None else resolution,
+        model=model,
+        water=water,
+        fps=fps,
+        solver_hz=solver_hz,
+        forces=forces,
+        seconds=seconds,
+        release_height=0.0 if release_height is None else release_height,
+        tilt=tilt,
+        backend=backend,
+        repair=repair,
+        path=mesh,
+        **options,
+    )
     summary = result.summary
     if plot is not None:
         label = shape or Path(mesh).name

@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import click
-import numpy as np
 
 from bakeshop.cli._common import (
     ENVIRONMENT,
-    OUTPUT,
+    OUTPUT_FACES,
+    Direction,
+    Exposure,
+    Integer,
+    Number,
+    Size,
     convention_option,
     environment_weights,
     is_ldr,
@@ -27,24 +30,6 @@ from bakeshop.io.environment import (
     read_environment,
     write_environment,
 )
-
-_AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
-
-
-def parse_axis(text: str) -> tuple[float, float, float]:
-    """``'+Y'``, ``'-z'``, ``'Y'`` or ``'x,y,z'`` -> a 3-vector (normalised later)."""
-    t = text.strip().lower()
-    m = re.fullmatch(r"([+-]?)([xyz])", t)
-    if m:
-        sign = -1.0 if m.group(1) == "-" else 1.0
-        return tuple(sign * v for v in _AXES[m.group(2)])
-    try:
-        v = tuple(float(p) for p in t.split(","))
-    except ValueError:
-        v = ()
-    if len(v) != 3 or not np.all(np.isfinite(v)) or not any(v):
-        raise ArgumentError(f"invalid axis {text!r}: use +X, -X, +Y, -Y, +Z, -Z or x,y,z")
-    return v
 
 
 def _check_output(target: Path, layout: str, ldr: bool) -> None:
@@ -105,7 +90,7 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
 
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("source", type=ENVIRONMENT)
-@click.argument("target", type=OUTPUT)
+@click.argument("target", type=OUTPUT_FACES)
 @click.option(
     "--from",
     "src_layout",
@@ -122,14 +107,21 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
 )
 @click.option(
     "--size",
+    type=Size(),
+    metavar="N|WxH",
     help="Output size: N (latlong height, face edge, disk edge) or WxH. Remapping uses the "
     "area filter when the output has at most half the input's texels, bilinear otherwise.",
 )
 @click.option(
-    "--ior", type=float, default=1.333, show_default=True, help="Index of refraction of the water."
+    "--ior",
+    type=Number(1, 4, low_open=True),
+    default=1.333,
+    show_default=True,
+    help="Index of refraction of the water.",
 )
 @click.option(
     "--up",
+    type=Direction(),
     default="+Y",
     show_default=True,
     help="Normal of the water plane in the world frame: +Y, -Z, ... or x,y,z.",
@@ -145,8 +137,9 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
 @click.option(
     "--exposure",
     "exposure_text",
+    type=Exposure(("auto", "fit")),
     metavar="EV|auto|fit",
-    help="Exposure applied to the bake: stops (-64..64), fit (only the brightest 0.1% of "
+    help="Exposure applied to the bake: stops, fit (only the brightest 0.1% of "
     "the hemisphere, by solid angle: the sun, clips at 1) or auto (log-average luminance "
     "above the horizon to middle grey). Default: 0, or fit with --ldr.",
 )
@@ -158,7 +151,9 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
     is_flag=True,
     help="With --ldr: triangular dither of +-1 code value (seeded) against banding.",
 )
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the dither.")
+@click.option(
+    "--seed", type=Integer(0, 2**32 - 1), default=0, show_default=True, help="Seed of the dither."
+)
 @convention_option(
     "Face set of cube files, read (a {face} or .dds/.ktx/.ktx2 SOURCE) and written (--layout cube)."
 )
@@ -221,7 +216,6 @@ def fresnel(
     )
 
     refuse_overwriting_inputs(target, source)
-    up_axis = parse_axis(up)
     if exposure_text is None:
         ev = "fit" if ldr else 0.0
     else:
@@ -238,9 +232,9 @@ def fresnel(
     if dst != src or size is not None:
         wanted = parse_size(size) if size else None
         image = sphere.remap(image, src, dst, wanted, filter="auto")
-    baked = bake_fresnel(image, dst, ior=ior, up=up_axis, below=below)
+    baked = bake_fresnel(image, dst, ior=ior, up=up, below=below)
     # metered over the texels above the water plane: the lower half holds no reflection
-    weights = environment_weights(dst, baked.shape[:-1], up=up_axis)
+    weights = environment_weights(dst, baked.shape[:-1], up=up)
     description = None
     if ldr:
         shown = to_picture(
@@ -261,7 +255,7 @@ def fresnel(
     where = str(written[0]) if len(written) == 1 else f"{len(written)} faces ({target})"
     click.echo(
         f"wrote {where}: {describe(out, dst)}, fresnel ior {ior:g} "
-        f"up {up}, below horizon {below}, {encoding}"
+        f"up [{', '.join(f'{c:g}' for c in up)}], below horizon {below}, {encoding}"
     )
     if report:
         flat = flat_water_error(
@@ -269,7 +263,7 @@ def fresnel(
             dst,
             ev=ev,
             ior=ior,
-            up=up_axis,
+            up=up,
             below=below,
             dither="triangular" if dither else "none",
             seed=seed,

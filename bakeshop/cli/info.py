@@ -1,4 +1,4 @@
-"""``bakeshop info``: what is in an image file."""
+"""``bakeshop info``: what is in an image file or a texture container."""
 
 from __future__ import annotations
 
@@ -18,7 +18,9 @@ from bakeshop.cli._common import (
 def info(files: tuple[Path, ...], as_json: bool):
     """Describe image files: format, size, channels, stored type, per-channel min/max/mean,
     NaN/Inf counts, dynamic range in stops, and a guess of the panorama layout from the shape
-    (labelled as a guess). Without FILES, describes the embedded default probe.
+    (labelled as a guess). A .dds, .ktx or .ktx2 texture (block-compressed ones decoded) is
+    described by its level 0, all six faces of a cube, with its levels. Without FILES,
+    describes the embedded default probe.
 
     \b
     Example:
@@ -27,11 +29,20 @@ def info(files: tuple[Path, ...], as_json: bool):
     """
     from bakeshop.data import default_probe_path
     from bakeshop.image import describe
-    from bakeshop.io import read_image
+    from bakeshop.io import read_container, read_image
+    from bakeshop.io.containers import is_container
     from bakeshop.sphere import guess_layout
 
     for path in files or (default_probe_path(),):
-        image, meta = read_image(path, with_metadata=True)
+        if is_container(path):
+            mips, meta = read_container(path)
+            image = mips[0].reshape(-1, *mips[0].shape[-2:])  # a cube's faces stacked
+            meta = {k: v for k, v in meta.items() if not isinstance(v, (bytes, dict))}
+            meta["levels"] = len(mips)
+            if meta.get("cube"):
+                meta["faces"] = "6 (stacked in OpenGL order +X -X +Y -Y +Z -Z above)"
+        else:
+            image, meta = read_image(path, with_metadata=True)
         stats = describe(image)
         h, w, c = image.shape
         report = {
@@ -42,7 +53,7 @@ def info(files: tuple[Path, ...], as_json: bool):
             "channels": c,
             "stored": meta.get("stored"),
             **{k: stats[k] for k in ("channels", "nan", "inf", "dynamic_range_stops")},
-            "layout_guess": guess_layout(h, w),
+            "layout_guess": ["cube"] if meta.get("cube") else guess_layout(h, w),
             "metadata": {k: v for k, v in meta.items() if k not in ("format", "stored")},
         }
         report["channel_stats"] = report.pop("channels")
@@ -58,7 +69,7 @@ def _print_info(r: dict) -> None:
     from rich.table import Table
 
     console = Console(soft_wrap=True)
-    names = {1: "Y", 3: "RGB", 4: "RGBA"}.get(r["channels"], "?" * r["channels"])
+    names = {1: "Y", 2: "RG", 3: "RGB", 4: "RGBA"}.get(r["channels"], "?" * r["channels"])
     stops = r["dynamic_range_stops"]
     guess = ", ".join(r["layout_guess"]) or "none (not a panorama shape)"
     console.print(

@@ -111,6 +111,24 @@ COMMANDS: dict[str, tuple[str, str]] = {
             " the exact Archimedes draft,..."
         ),
     ),
+    "preview": (
+        "preview",
+        (
+            "Render what `bake-probe` wrote into BAKE_DIR offscreen (OpenGL through moderngl over "
+            "EGL; Mesa's llvmpipe without a..."
+        ),
+    ),
+    "view": (
+        "view",
+        "Show what `bake-probe` wrote into BAKE_DIR in the browser, until Ctrl-C.",
+    ),
+    "bake": (
+        "bake",
+        (
+            "Bake a level from RECIPE (TOML): probes, panoramas, normal maps, compressed textures "
+            "and water, rebuilding only the..."
+        ),
+    ),
 }
 
 COMMAND_MODULES = list(dict.fromkeys(module for module, _ in COMMANDS.values()))
@@ -126,7 +144,11 @@ class _Lazy(click.Group):
 
     def get_command(self, ctx, name):
         if name not in self.commands and name in COMMANDS:
+            from bakeshop.cli._common import guard_outputs
+
             importlib.import_module(f"bakeshop.cli.{COMMANDS[name][0]}").register(self)
+            # before the command runs, none of its outputs may be one of its inputs
+            guard_outputs(self)
         return self.commands.get(name)
 
     def format_commands(self, ctx, formatter):
@@ -151,7 +173,7 @@ class _Lazy(click.Group):
     metavar="SIZE",
     help="Largest image one input file may decode to, e.g. 8G (default: 1 GiB, or 256 bytes "
     "per byte of the file when that is more; a larger result is refused as a possible "
-    "decompression bomb).",
+    "decompression bomb); 1 byte to 1 EiB.",
 )
 def cli(quiet: bool, max_decoded: int | None):
     """The content pipeline of a real-time renderer: HDR light probes, panoramas and cube maps,

@@ -2,50 +2,13 @@
 
 from __future__ import annotations
 
-import math
-from fractions import Fraction
 from pathlib import Path
 
 import click
 import numpy as np
 
-from bakeshop.cli._common import INPUT, OUTPUT, refuse_overwriting_inputs
+from bakeshop.cli._common import INPUT, OUTPUT, Integer, Number, Numbers, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
-
-
-class Finite(click.ParamType):
-    """A finite float within ``[low, high]`` (click's FloatRange lets NaN through)."""
-
-    name = "float"
-
-    def __init__(self, low: float, high: float):
-        self.low, self.high = low, high
-
-    def convert(self, value, param, ctx):
-        """The value as a float within the bounds, or a click failure naming them."""
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            self.fail(f"{value!r} is not a number", param, ctx)
-        if not (math.isfinite(number) and self.low <= number <= self.high):
-            self.fail(f"{value!r} is not within {self.low:g}-{self.high:g}", param, ctx)
-        return number
-
-
-def parse_numbers(text: str, what: str) -> list[float]:
-    """``'1/1000,1/250,0.01'`` -> floats (fractions allowed), each finite and positive."""
-    out = []
-    for part in text.split(","):
-        try:
-            value = float(Fraction(part.strip()))
-        except (ValueError, ZeroDivisionError):
-            raise ArgumentError(
-                f"invalid {what} {part.strip()!r}: expected a number like 1/250"
-            ) from None
-        if not (math.isfinite(value) and value > 0):
-            raise ArgumentError(f"invalid {what} {part.strip()!r}: must be positive")
-        out.append(value)
-    return out
 
 
 def _response(spec: str, stack, *, gamma, smoothness, samples, shifts, clip_low, clip_high):
@@ -97,12 +60,23 @@ def _layout_for(shape, given: str | None) -> str | None:
 )
 @click.option(
     "--times",
+    type=Numbers(0, 3600, count=None, fractions=True, low_open=True),
     metavar="T1,T2,...",
     help="Exposure times in seconds, one per image in the order given (1/1000 or 0.001); "
     "overrides EXIF. Needed when the files carry no EXIF.",
 )
-@click.option("--f-numbers", metavar="N1,N2,...", help="f-numbers, one per image (overrides EXIF).")
-@click.option("--isos", metavar="S1,S2,...", help="ISO speeds, one per image (overrides EXIF).")
+@click.option(
+    "--f-numbers",
+    type=Numbers(0.5, 256, count=None, fractions=True),
+    metavar="N1,N2,...",
+    help="f-numbers, one per image (overrides EXIF).",
+)
+@click.option(
+    "--isos",
+    type=Numbers(1, 1e7, count=None),
+    metavar="S1,S2,...",
+    help="ISO speeds, one per image (overrides EXIF).",
+)
 @click.option(
     "--response",
     "response_spec",
@@ -114,27 +88,27 @@ def _layout_for(shape, given: str | None) -> str | None:
 )
 @click.option(
     "--gamma",
-    type=Finite(0.2, 5),
+    type=Number(0.2, 5),
     default=2.2,
     show_default=True,
-    help="Exponent of --response gamma (0.2-5).",
+    help="Exponent of --response gamma.",
 )
 @click.option(
     "--save-response", type=OUTPUT, help="Write the curve used as JSON, to reuse for this camera."
 )
 @click.option(
     "--smoothness",
-    type=Finite(1e-3, 1e3),
+    type=Number(1e-3, 1e3),
     default=50.0,
     show_default=True,
-    help="Debevec's smoothness weight (0.001-1000).",
+    help="Debevec's smoothness weight.",
 )
 @click.option(
     "--samples",
-    type=click.IntRange(16, 100000),
+    type=Integer(16, 100000),
     default=1500,
     show_default=True,
-    help="Sample pixels per channel for recovery (16-100000).",
+    help="Sample pixels per channel for recovery.",
 )
 @click.option(
     "--align",
@@ -143,16 +117,16 @@ def _layout_for(shape, given: str | None) -> str | None:
 )
 @click.option(
     "--max-shift",
-    type=click.IntRange(1, 1024),
+    type=Integer(1, 1024),
     default=64,
     show_default=True,
-    help="Largest shift --align searches, pixels (1-1024).",
+    help="Largest shift --align searches, pixels.",
 )
 @click.option(
     "--ghost",
-    type=Finite(0.05, 5),
+    type=Number(0.05, 5),
     help="Suppress ghosts: leave out of each pixel the frames whose value differs from the "
-    "best-exposed frame's by more than this natural-log ratio beyond noise (0.05-5; 0.25 is "
+    "best-exposed frame's by more than this natural-log ratio beyond noise (0.25 is "
     "about 28 %). Default off.",
 )
 @click.option(
@@ -167,7 +141,7 @@ def _layout_for(shape, given: str | None) -> str | None:
 )
 @click.option(
     "--sun-illuminance",
-    type=Finite(1e-12, 1e12),
+    type=Number(1e-12, 1e12),
     help="The sun's irradiance at normal incidence in the output's units (lux when the frames' "
     "time, f-number and ISO are known; clear-sky direct sun is about 100000 lux). Default: "
     "from the aureole.",
@@ -185,17 +159,17 @@ def _layout_for(shape, given: str | None) -> str | None:
 )
 @click.option(
     "--clip-high",
-    type=Finite(0.5, 1),
+    type=Number(0.5, 1),
     default=250 / 255,
     show_default="250/255",
-    help="Codes at or above this fraction of full scale are clipped (0.5-1).",
+    help="Codes at or above this fraction of full scale are clipped.",
 )
 @click.option(
     "--clip-low",
-    type=Finite(0, 0.5),
+    type=Number(0, 0.5),
     default=2 / 255,
     show_default="2/255",
-    help="Codes at or below this fraction are clipped (0-0.5).",
+    help="Codes at or below this fraction are clipped.",
 )
 def merge(
     images, output, times, f_numbers, isos, response_spec, gamma, save_response, smoothness,
@@ -242,9 +216,9 @@ def merge(
     if clip_high - clip_low < 0.25:
         raise ArgumentError("--clip-high must exceed --clip-low by at least 0.25")
     given = {
-        "exposure_times": None if times is None else parse_numbers(times, "time"),
-        "f_numbers": None if f_numbers is None else parse_numbers(f_numbers, "f-number"),
-        "isos": None if isos is None else parse_numbers(isos, "ISO"),
+        "exposure_times": None if times is None else list(times),
+        "f_numbers": None if f_numbers is None else list(f_numbers),
+        "isos": None if isos is None else list(isos),
     }
     for key, values in given.items():
         if values is not None and len(values) != len(images):

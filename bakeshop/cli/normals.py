@@ -10,6 +10,10 @@ import numpy as np
 from bakeshop.cli._common import (
     INPUT,
     OUTPUT,
+    Integer,
+    Number,
+    Numbers,
+    Size,
     is_picture,
     output_bits,
     parse_options,
@@ -54,19 +58,51 @@ _writer = writer_option(
 )
 
 
+#: how a detail pattern is placed (options, and the keys of a --layer): repetitions and shift
+#: (one number for both axes, or UxV), rotation in degrees, height scale.
+PLACEMENT = {
+    "tile": Numbers(-1e4, 1e4, count=2, sep="x", repeat=True),
+    "offset": Numbers(-1e6, 1e6, count=2, sep="x", repeat=True),
+    "rotate": Number(-360, 360),
+    "strength": Number(-100, 100),
+}
+
+
 def _placement(*, tile: str, rotate: str, strength: str):
     """The --tile, --offset, --rotate and --strength options that place a detail pattern."""
     options = [
-        click.option("--tile", default="1", show_default=True, metavar="N|UxV", help=tile),
+        click.option(
+            "--tile",
+            type=PLACEMENT["tile"],
+            default="1",
+            show_default=True,
+            metavar="N|UxV",
+            help=tile,
+        ),
         click.option(
             "--offset",
+            type=PLACEMENT["offset"],
             default="0",
             show_default=True,
             metavar="U|UxV",
             help="Shift of the pattern, in tiles.",
         ),
-        click.option("--rotate", default=0.0, show_default=True, metavar="DEG", help=rotate),
-        click.option("--strength", default=1.0, show_default=True, metavar="S", help=strength),
+        click.option(
+            "--rotate",
+            type=PLACEMENT["rotate"],
+            default=0.0,
+            show_default=True,
+            metavar="DEG",
+            help=rotate,
+        ),
+        click.option(
+            "--strength",
+            type=PLACEMENT["strength"],
+            default=1.0,
+            show_default=True,
+            metavar="S",
+            help=strength,
+        ),
     ]
 
     def apply(command):
@@ -77,16 +113,12 @@ def _placement(*, tile: str, rotate: str, strength: str):
     return apply
 
 
-def _pair_text(text: str, what: str) -> tuple[float, float]:
-    """'4' -> (4, 4); '4x2' -> (4, 2); also accepts negative and fractional numbers."""
-    parts = text.lower().split("x")
+def _placement_value(key: str, value, path):
+    """A --layer's ``key=value`` as the option of that name reads it (:data:`PLACEMENT`)."""
     try:
-        values = [float(p) for p in parts]
-    except ValueError:
-        values = []
-    if len(values) not in (1, 2):
-        raise ArgumentError(f"invalid {what} {text!r}: expected A or AxB")
-    return (values[0], values[-1])
+        return PLACEMENT[key].convert(value, None, None)
+    except click.BadParameter as e:
+        raise ArgumentError(f"invalid layer setting {key}={value}: {e.message}", path) from None
 
 
 def _ids(texts) -> list:
@@ -101,6 +133,8 @@ def _ids(texts) -> list:
                 ids.append(tuple(int(v) for v in t.replace("/", ",").split(",")))
             else:
                 ids.append(int(t))
+            if not all(0 <= v <= 255 for v in np.atleast_1d(ids[-1])):
+                raise ValueError
         except ValueError:
             raise ArgumentError(
                 f"invalid material ID {text!r}: a grey level 0-255, #rrggbb or r/g/b"
@@ -153,19 +187,17 @@ def _build_layers(shape, settings, method_convention, encoding, depths=None):
             mask = mask_weights(read_image(s["mask"]), shape, ids=_ids(s["ids"]) or None)
         elif s["ids"]:
             raise ArgumentError("a material ID needs a mask (the ID map)", s["path"])
-        numbers = {}
-        for key, default in (("rotate", 0.0), ("strength", 1.0)):
-            try:
-                numbers[key] = float(s.get(key, default))
-            except ValueError:
-                raise ArgumentError(f"invalid {key} {s[key]!r}", s["path"]) from None
+        place = {
+            key: _placement_value(key, s.get(key, default), s["path"])
+            for key, default in (("tile", "1"), ("offset", "0"), ("rotate", 0.0), ("strength", 1))
+        }
         layers.append(
             DetailLayer(
                 detail,
-                tile=_pair_text(str(s.get("tile", "1")), "tile"),
-                offset=_pair_text(str(s.get("offset", "0")), "offset"),
-                rotation=numbers["rotate"],
-                strength=numbers["strength"],
+                tile=place["tile"],
+                offset=place["offset"],
+                rotation=place["rotate"],
+                strength=place["strength"],
                 mask=mask,
             )
         )
@@ -360,6 +392,7 @@ def combine(
 @click.argument("out", type=OUTPUT)
 @click.option(
     "--size",
+    type=Size(16384),
     default=None,
     metavar="N|WxH",
     help="Size of OUT (the macro map's); taken from --macro when given.",
@@ -386,12 +419,14 @@ def combine(
 )
 @click.option(
     "--sharpness",
+    type=Number(0, 64),
     default=4.0,
     show_default=True,
     help="Exponent of the triplanar blend weights |N_i|^k.",
 )
 @click.option(
     "--padding",
+    type=Integer(-1, 4096),
     default=16,
     show_default=True,
     metavar="PX",
@@ -481,8 +516,8 @@ def transfer(
         d,
         shape,
         projection=projection,
-        tile=_pair_text(tile, "tile"),
-        offset=_pair_text(offset, "offset"),
+        tile=tile,
+        offset=offset,
         rotation=rotate,
         axis=axis,
         sharpness=sharpness,
@@ -512,6 +547,7 @@ def transfer(
 @click.argument("out", type=OUTPUT)
 @click.option(
     "--strength",
+    type=Number(-1e4, 1e4),
     default=1.0,
     show_default=True,
     metavar="S",
@@ -525,7 +561,9 @@ def transfer(
     help="Central differences, or Sobel (smoother).",
 )
 @click.option("--no-wrap", is_flag=True, help="Clamp at the edges (the map is not tileable).")
-@click.option("--channel", default=0, show_default=True, help="Channel of HEIGHT to use.")
+@click.option(
+    "--channel", type=Integer(0, 3), default=0, show_default=True, help="Channel of HEIGHT to use."
+)
 @_convention
 @_encoding
 @_writer
@@ -570,7 +608,11 @@ def from_height(height, out, strength, derivative, no_wrap, channel, convention,
 @click.argument("maps", nargs=-1, required=True, type=INPUT)
 @click.option("--xy", is_flag=True, help="Two-channel (BC5) maps: z is reconstructed.")
 @click.option(
-    "--tolerance", default=0.1, show_default=True, help="Allowed | |n| - 1 | of the stored vectors."
+    "--tolerance",
+    type=Number(0, 2),
+    default=0.1,
+    show_default=True,
+    help="Allowed | |n| - 1 | of the stored vectors.",
 )
 @_encoding
 def check(maps, xy, tolerance, encoding):

@@ -8,7 +8,9 @@ import click
 
 from bakeshop.cli._common import (
     ENVIRONMENT,
-    OUTPUT,
+    OUTPUT_CHAIN,
+    Integer,
+    Number,
     convention_option,
     environment_weights,
     is_picture,
@@ -51,19 +53,19 @@ _float32 = click.option(
 
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("source", metavar="IN", type=ENVIRONMENT)
-@click.argument("target", metavar="OUT", type=OUTPUT)
+@click.argument("target", metavar="OUT", type=OUTPUT_CHAIN)
 @click.option("--brdf", type=click.Choice(("ggx", "phong")), default="ggx", show_default=True)
 @click.option(
     "--exponent",
-    type=click.FloatRange(min=0, min_open=True),
+    type=Number(0, 1e8, low_open=True),
     help="Phong only: one lobe of this exponent, one level (HDRShop's specular convolution). "
     "Default: a chain with cmft's exponents, 2^(10 (1 - m/(mips-1)) + 1).",
 )
-@click.option("--size", type=click.IntRange(1, 4096), default=256, show_default=True,
+@click.option("--size", type=Integer(1, 4096), default=256, show_default=True,
               help="Face size of level 0.")  # fmt: skip
-@click.option("--mips", type=click.IntRange(1, 14), help="Levels (default: 9, or down to 1x1).")
+@click.option("--mips", type=Integer(1, 14), help="Levels (default: 9, or down to 1x1).")
 @_from
-@click.option("--samples", type=click.IntRange(1, 65536), default=256, show_default=True,
+@click.option("--samples", type=Integer(1, 65536), default=256, show_default=True,
               help="Importance samples per texel (narrow lobes; wide ones are exact).")  # fmt: skip
 @_convention
 @_float32

@@ -8,7 +8,9 @@ import click
 
 from bakeshop.cli._common import (
     ENVIRONMENT,
-    OUTPUT,
+    OUTPUT_FACES,
+    Numbers,
+    Size,
     convention_option,
     environment_weights,
     is_picture,
@@ -58,7 +60,7 @@ def _check_target(target: Path, layout: str) -> None:
 
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("source", type=ENVIRONMENT)
-@click.argument("target", type=OUTPUT)
+@click.argument("target", type=OUTPUT_FACES)
 @click.option(
     "--from",
     "src",
@@ -71,6 +73,7 @@ def _check_target(target: Path, layout: str) -> None:
 @click.option(
     "--size",
     "size_text",
+    type=Size(),
     metavar="N|WxH",
     help="Output size: WxH for a latlong (360x180) or N (its height), one edge for square "
     "layouts, the face edge for cubes, crosses and strips. Default: about as many texels as "
@@ -87,6 +90,7 @@ def _check_target(target: Path, layout: str) -> None:
 )
 @click.option(
     "--rotate",
+    type=Numbers(-360, 360, count=3),
     metavar="YAW,PITCH,ROLL",
     help="Rotate the environment, degrees: yaw about +Y (positive turns the view ahead to the "
     "left), pitch about +X (positive lifts it), roll about +Z; applied roll, pitch, yaw.",
@@ -158,14 +162,7 @@ def remap(
 
     refuse_overwriting_inputs(target, source)
     _check_target(target, dst)
-    rotation = None
-    if rotate is not None:
-        try:
-            rotation = [float(v) for v in rotate.split(",")]
-        except ValueError:
-            rotation = []
-        if len(rotation) != 3:
-            raise ArgumentError(f"--rotate takes YAW,PITCH,ROLL in degrees; got {rotate!r}")
+    rotation = None if rotate is None else list(rotate)
     picture_out = is_picture(target)
     if not picture_out:
         refuse_unused_picture_rule(picture, target)
@@ -210,7 +207,8 @@ def remap(
     where = written[0] if len(written) == 1 else f"{written[0]} ... {written[-1].name}"
     click.echo(
         f"wrote {where}: {describe(out, dst_name)} from {describe(image, src)} "
-        f"({how}), {filter_name}" + (f", rotated {rotate}" if rotate else "")
+        f"({how}), {filter_name}"
+        + (f", rotated {','.join(f'{a:g}' for a in rotate)}" if rotate else "")
     )
     if made is not None:
         click.echo(f"  picture: {made.line}")

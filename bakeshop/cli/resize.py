@@ -7,6 +7,7 @@ import click
 from bakeshop.cli._common import (
     OUTPUT,
     SOURCE,
+    Size,
     parse_size,
     picture_options,
     refuse_overwriting_inputs,
@@ -22,6 +23,7 @@ from bakeshop.io import stored_bits
 @click.option(
     "--size",
     required=True,
+    type=Size(),
     metavar="WxH",
     help="Output size; a single W keeps the aspect ratio (height rounded).",
 )
@@ -50,6 +52,7 @@ def resize(source, target, size, picture, memory, scheduler):
     """
     from bakeshop.image import resize_area
     from bakeshop.io import read_image
+    from bakeshop.resources import MemoryLimitError
 
     refuse_overwriting_inputs(target, source)
     wanted = parse_size(size)
@@ -60,13 +63,25 @@ def resize(source, target, size, picture, memory, scheduler):
     h, w = image.shape[:2]
     if isinstance(wanted, int):
         wanted = (wanted, max(1, round(h * wanted / w)))
-    out = resize_area(image, wanted)
+    try:
+        out = resize_area(image, wanted)
+    except MemoryLimitError as e:  # an output larger than memory: by strips, or refused
+        if target.suffix.lower() not in _STRIPS:
+            e.reason += f" (a {', '.join(_STRIPS)} output is written by strips, past memory)"
+            raise
+        del image
+        _resize_chunked(source, target, wanted, memory, scheduler)
+        return
     bits = stored_bits(meta)
     line = write_any(target, out, picture, inputs=[bits], linear=bits is None)
     click.echo(
         f"wrote {target}: {w}x{h} -> {wanted[0]}x{wanted[1]} (mean preserved)"
         + (f"; {line}" if line else "")
     )
+
+
+#: outputs that the chunked resize writes strip by strip (larger than memory).
+_STRIPS = (".zarr", ".tif", ".tiff", ".pfm", ".hdr", ".exr")
 
 
 def _resize_chunked(source, target, wanted, memory, scheduler) -> None:
@@ -78,7 +93,7 @@ def _resize_chunked(source, target, wanted, memory, scheduler) -> None:
     if isinstance(wanted, int):
         wanted = (wanted, max(1, round(h * wanted / w)))
     with engine(memory, scheduler) as eng:
-        if target.suffix.lower() in (".zarr", ".tif", ".tiff", ".pfm", ".hdr", ".exr"):
+        if target.suffix.lower() in _STRIPS:
             resize_to_file(reader, target, wanted, engine=eng)
         else:
             from bakeshop.huge import resize as resize_chunked

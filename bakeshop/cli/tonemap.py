@@ -11,6 +11,9 @@ import click
 
 from bakeshop.cli._common import (
     FRAMES,
+    OUTPUT_FRAMES,
+    Exposure,
+    Number,
     environment_weights,
     is_picture,
     linearise,
@@ -47,7 +50,8 @@ def expand_inputs(patterns) -> list[Path]:
 
 
 def frame_paths(target: str, count: int) -> list[Path]:
-    """Output names: ``target`` for one frame; ``target.format(frame=i)`` for a sequence."""
+    """Output names: ``target`` for one frame; ``target.format(frame=i)`` for a sequence (its
+    braces were checked when parsed: :data:`bakeshop.cli._common.OUTPUT_FRAMES`)."""
     fields = {f for _, f, _, _ in string.Formatter().parse(target) if f is not None}
     if count > 1 and "frame" not in fields:
         raise ArgumentError(
@@ -55,8 +59,6 @@ def frame_paths(target: str, count: int) -> list[Path]:
             "(for example out_{frame:04d}.png)",
             target,
         )
-    if fields - {"frame"}:
-        raise ArgumentError("only {frame} may appear in braces in the output name", target)
     try:
         return [Path(target.format(frame=i)) for i in range(count)]
     except (ValueError, IndexError) as e:
@@ -65,7 +67,7 @@ def frame_paths(target: str, count: int) -> list[Path]:
 
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("inputs", nargs=-1, required=True, metavar="IN...", type=FRAMES)
-@click.argument("target", metavar="OUT")
+@click.argument("target", metavar="OUT", type=OUTPUT_FRAMES)
 @click.option(
     "--operator",
     type=click.Choice(["none", "reinhard", "aces"]),
@@ -77,10 +79,11 @@ def frame_paths(target: str, count: int) -> list[Path]:
 @click.option(
     "--exposure",
     "exposure_text",
+    type=Exposure(("auto", "fit")),
     default="auto",
     show_default=True,
     metavar="EV|auto|fit",
-    help="Exposure in stops (-64..64), auto (centre-weighted log-average luminance of the "
+    help="Exposure in stops, auto (centre-weighted log-average luminance of the "
     "texels that hold light mapped to --key, adapting over a sequence) or fit (only the "
     "brightest 0.1% clip).",
 )
@@ -93,7 +96,7 @@ def frame_paths(target: str, count: int) -> list[Path]:
 )
 @click.option(
     "--center-weight",
-    type=click.FloatRange(0, 1),
+    type=Number(0, 1),
     default=0.75,
     show_default=True,
     help="Auto exposure: fraction of the metering weight in the centre spot (0 is "
@@ -101,33 +104,33 @@ def frame_paths(target: str, count: int) -> list[Path]:
 )
 @click.option(
     "--key",
-    type=click.FloatRange(min=0, min_open=True),
+    type=Number(0, 1000, low_open=True),
     default=0.18,
     show_default=True,
     help="Auto exposure: target log-average (middle grey).",
 )
 @click.option(
     "--white",
-    type=click.FloatRange(min=0, min_open=True),
+    type=Number(0, 1e6, low_open=True),
     help="Reinhard: luminance (after exposure) that maps to white; default infinite.",
 )
 @click.option(
     "--fps",
-    type=click.FloatRange(min=0, min_open=True),
+    type=Number(0, 1000, low_open=True),
     default=30.0,
     show_default=True,
     help="Sequence: frames per second (for the adaptation).",
 )
 @click.option(
     "--tau-brighter",
-    type=click.FloatRange(min=0, min_open=True),
+    type=Number(0, 3600, low_open=True),
     default=0.5,
     show_default=True,
     help="Sequence: adaptation time constant (s) when the scene gets brighter.",
 )
 @click.option(
     "--tau-darker",
-    type=click.FloatRange(min=0, min_open=True),
+    type=Number(0, 3600, low_open=True),
     default=2.0,
     show_default=True,
     help="Sequence: adaptation time constant (s) when the scene gets darker.",
@@ -181,7 +184,7 @@ def tonemap(
     from bakeshop.io import read_image, write_image
 
     frames = expand_inputs(inputs)
-    outputs = frame_paths(target, len(frames))
+    outputs = frame_paths(str(target), len(frames))
     for out in outputs:
         if not is_picture(out):
             raise ArgumentError("tonemap writes pictures: use .png, .tga or .jpg", out)

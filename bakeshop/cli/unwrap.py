@@ -7,19 +7,11 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import INPUT, OUTPUT, refuse_overwriting_inputs
-from bakeshop.cli.merge import Finite
+from bakeshop.cli._common import INPUT, OUTPUT, Integer, Number, Numbers, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
 
-
-def _numbers(text: str, count: int, what: str) -> list[float]:
-    try:
-        values = [float(v) for v in text.split(",")]
-    except ValueError:
-        values = []
-    if len(values) != count or not all(np.isfinite(values)):
-        raise ArgumentError(f"{what} takes {count} comma-separated numbers, not {text!r}")
-    return values
+#: Largest pixel coordinate or box side the options take (a photo 2^20 pixels across).
+PIXELS = 1 << 20
 
 
 @click.command(context_settings={"max_content_width": 100})
@@ -36,8 +28,8 @@ def _numbers(text: str, count: int, what: str) -> list[float]:
 )
 @click.option(
     "--size",
-    type=click.IntRange(8, 32768),
-    help="Output height (latlong) or edge (8-32768). Default: the ball's diameter in pixels "
+    type=Integer(8, 32768),
+    help="Output height (latlong) or edge. Default: the ball's diameter in pixels "
     "across (a latlong that wide).",
 )
 @click.option(
@@ -52,39 +44,42 @@ def _numbers(text: str, count: int, what: str) -> list[float]:
     "--circle",
     "circles",
     multiple=True,
+    type=Numbers(0, PIXELS, count=3),
     metavar="X,Y,R",
     help="The ball in each photo (pixels: centre and radius, refined to sub-pixel); repeat once "
     "per photo. Default: found automatically.",
 )
 @click.option(
     "--angle",
-    type=Finite(1, 179),
+    type=Number(1, 179),
     default=90.0,
     show_default=True,
-    help="Degrees between two views around the vertical (1-179); the sign is found from the "
-    "photos.",
+    help="Degrees between two views around the vertical; the sign is found from the photos.",
 )
 @click.option(
     "--exclude",
-    type=Finite(0, 60),
+    type=Number(0, 60),
     default=25.0,
     show_default=True,
     help="Cone around each view's camera (the photographer) that view leaves to the other, "
-    "degrees (0-60).",
+    "degrees.",
 )
 @click.option(
     "--reflectance",
+    type=Numbers(0.05, 1, count=(1, 3)),
     metavar="R|R,G,B",
-    help="The ball's reflectance (0.05-1), divided out: chrome is about 0.6-0.8.",
+    help="The ball's reflectance, divided out: chrome is about 0.6-0.8.",
 )
 @click.option(
     "--card",
+    type=Numbers(0, PIXELS, count=4),
     metavar="X,Y,W,H",
     help="A grey card seen directly in the first photo (pixel box); with --card-reflection, "
     "measures the reflectance.",
 )
 @click.option(
     "--card-reflection",
+    type=Numbers(0, PIXELS, count=4),
     metavar="X,Y,W,H",
     help="The same card's reflection in the ball (pixel box).",
 )
@@ -133,7 +128,7 @@ def unwrap(
             photo = read_image(path)
         guess = None
         if circles:
-            x, y, r = _numbers(circles[i], 3, "--circle")
+            x, y, r = circles[i]
             guess = mb.Circle(x, y, r)
         with progress.step(f"finding the ball in {path}"):
             try:
@@ -169,19 +164,15 @@ def unwrap(
     if card is not None:
         factor = mb.card_reflectance(
             photos[0],
-            _numbers(card, 4, "--card"),
-            _numbers(card_reflection, 4, "--card-reflection"),
+            list(card),
+            list(card_reflection),
         )
         if not np.all((factor >= 0.05) & (factor <= 1.2)):
             raise ArgumentError(
                 f"the grey card gives an implausible reflectance {np.round(factor, 3).tolist()}"
             )
     elif reflectance is not None:
-        factor = np.asarray(_numbers(reflectance, reflectance.count(",") + 1, "--reflectance"))
-        if factor.size not in (1, 3) or not np.all((factor >= 0.05) & (factor <= 1)):
-            raise ArgumentError(
-                f"--reflectance takes one or three numbers within 0.05-1, not {reflectance!r}"
-            )
+        factor = np.asarray(reflectance)
     else:
         factor = None
     if factor is not None:

@@ -9,50 +9,16 @@ import click
 import numpy as np
 
 from bakeshop import progress
-from bakeshop.cli._common import OUT_DIR
+from bakeshop.cli._common import OUT_DIR, Integer, Number, Numbers, Size
 from bakeshop.errors import ArgumentError
+from bakeshop.resources import Cost, require
 
 CONTEXT = {"max_content_width": 100}
 
 #: Largest amount of frame data an atlas or array output may gather in memory, bytes.
 GATHER_LIMIT = 4 << 30
-
-
-class Number(click.ParamType):
-    """A finite float in [low, high] (open ends by flag); NaN and infinities are refused."""
-
-    name = "number"
-
-    def __init__(self, low=None, high=None, *, low_open=False, high_open=False, allow_inf=False):
-        self.low, self.high = low, high
-        self.low_open, self.high_open = low_open, high_open
-        self.allow_inf = allow_inf
-
-    def convert(self, value, param, ctx):
-        """The value as a float within the bounds, or a click failure naming them."""
-        if isinstance(value, float):
-            v = value
-        else:
-            try:
-                v = float(value)
-            except (TypeError, ValueError):
-                self.fail(f"{value!r} is not a number", param, ctx)
-        if math.isnan(v) or (math.isinf(v) and not self.allow_inf):
-            self.fail(f"{value!r} is not a finite number", param, ctx)
-        if self.low is not None and (v < self.low or (self.low_open and v == self.low)):
-            self.fail(f"{value!r} is below the range {self._range()}", param, ctx)
-        if self.high is not None and (v > self.high or (self.high_open and v == self.high)):
-            self.fail(f"{value!r} is above the range {self._range()}", param, ctx)
-        return v
-
-    def _range(self) -> str:
-        lo = "-inf" if self.low is None else f"{self.low:g}"
-        hi = "inf" if self.high is None else f"{self.high:g}"
-        return f"{'(' if self.low_open else '['}{lo}, {hi}{')' if self.high_open else ']'}"
-
-
-def _int_range(low, high):
-    return click.IntRange(low, high)
+#: Bytes per texel and frame that a ripple flipbook holds: the normals and their packed copy.
+RIPPLE_TEXEL_BYTES = 24
 
 
 @click.group(context_settings=CONTEXT)
@@ -231,11 +197,11 @@ def _parse_outputs(text: str, allowed) -> list[str]:
               "(Tessendorf 2001).")  # fmt: skip
 @click.option(
     "--wind",
-    type=Number(0, 60, low_open=True),
+    type=Number(0.1, 60),
     default=10.0,
     show_default=True,
     metavar="M/S",
-    help="Wind speed 10 m above the sea, m/s, in (0, 60].",
+    help="Wind speed 10 m above the sea, m/s (the spectra's fetch and peak divide by it).",
 )
 @click.option("--direction", type=Number(-360, 360), default=0.0, show_default=True,
               metavar="DEG", help="Wind direction in the texture, degrees from +u towards +v "
@@ -287,7 +253,7 @@ def _parse_outputs(text: str, allowed) -> list[str]:
 @click.option("--period", type=Number(0.1, 3600), default=8.0, show_default=True, metavar="S",
               help="Loop period, s, in [0.1, 3600]: frequencies are rounded to whole turns per "
               "loop so the animation repeats exactly.")  # fmt: skip
-@click.option("--frames", type=_int_range(1, 4096), default=None, metavar="N",
+@click.option("--frames", type=Integer(1, 4096), default=None, metavar="N",
               help="Frames per loop, 1 to 4096 (default: the fewest that do not alias the "
               "fastest wave, rounded up to a multiple of 8). Too few are refused with the "
               "reason unless --alias drop.")  # fmt: skip
@@ -299,7 +265,7 @@ def _parse_outputs(text: str, allowed) -> list[str]:
               "the surface folds and foams where the Jacobian < 0).")  # fmt: skip
 @click.option(
     "--seed",
-    type=_int_range(0, 2**63 - 1),
+    type=Integer(0, 2**63 - 1),
     default=0,
     show_default=True,
     help="Random waves; the same seed gives the same waves at any resolution.",
@@ -328,13 +294,13 @@ def _parse_outputs(text: str, allowed) -> list[str]:
 )
 @click.option(
     "--columns",
-    type=_int_range(1, 256),
+    type=Integer(1, 256),
     default=None,
     help="Atlas frames per row, 1 to 256 (default: most square).",
 )
 @click.option(
     "--gutter",
-    type=_int_range(0, 64),
+    type=Integer(0, 64),
     default=0,
     show_default=True,
     help="Atlas: texels of wrapped border around each frame, 0 to 64.",
@@ -359,7 +325,7 @@ def _parse_outputs(text: str, allowed) -> list[str]:
 @click.option("--foam-decay", type=Number(0, 3600), default=0.0, show_default=True,
               metavar="S", help="Seconds for foam to fade to 1/e after the crest passes, in "
               "[0, 3600] (0: no lingering). Lingering foam loops too.")  # fmt: skip
-@click.option("--cascades", type=_int_range(1, 4), default=1, show_default=True,
+@click.option("--cascades", type=Integer(1, 4), default=1, show_default=True,
               help="Patches of decreasing size (by --ratio) sharing the spectrum, written as "
               "separate sets NAME_c0, NAME_c1 ...; 1 to 4.")  # fmt: skip
 @click.option(
@@ -374,7 +340,7 @@ def _parse_outputs(text: str, allowed) -> list[str]:
               "lattice waves summed directly (what a vertex shader can sum).")  # fmt: skip
 @click.option(
     "--waves",
-    type=_int_range(1, 4096),
+    type=Integer(1, 4096),
     default=64,
     show_default=True,
     help="Gerstner waves, 1 to 4096.",
@@ -476,6 +442,8 @@ def _ocean_set(oc, name, out_dir, outputs, frames, spectrum, o) -> dict:
                 f"{gathered / 2**30:.1f} GiB in memory (limit {GATHER_LIMIT / 2**30:.0f} GiB); "
                 "use --layout frames, fewer frames or a lower resolution"
             )
+        what = f"gathering {frames} frames of {n}x{n} for the {o['layout']} output"
+        require(Cost(gathered, frames, what))
     sink = TextureSet(out_dir, name, o["layout"], container=o["container"], columns=o["columns"],
                       gutter=o["gutter"], mips=not o["no_mips"], frames=frames)  # fmt: skip
     report = dict(oc.report)
@@ -590,17 +558,11 @@ def _ocean_summary(doc: dict, name: str) -> str:
 _RIPPLE_OUTPUTS = ("flipbook", "ring", "ring-texture", "rain")
 
 
-def _parse_impacts(texts) -> list[tuple[float, float, float]]:
-    out = []
-    for text in texts:
-        try:
-            x, y, t = (float(v) for v in text.split(","))
-        except ValueError:
-            raise ArgumentError(f"invalid impact {text!r}: expected X,Y,T in m, m, s") from None
-        if not all(math.isfinite(v) for v in (x, y, t)) or t < 0:
-            raise ArgumentError(f"invalid impact {text!r}: finite X, Y and T >= 0")
-        out.append((x, y, t))
-    return out
+def _parse_impacts(impacts) -> list[tuple[float, float, float]]:
+    for x, y, t in impacts:
+        if t < 0:
+            raise ArgumentError(f"invalid impact {x:g},{y:g},{t:g}: its time T must be >= 0")
+    return [tuple(impact) for impact in impacts]
 
 
 @water.command(context_settings=CONTEXT)
@@ -692,7 +654,7 @@ def _parse_impacts(texts) -> list[tuple[float, float, float]]:
     help="Seconds covered by the frames, in [0.001, 60].",
 )
 @click.option(
-    "--frames", type=_int_range(1, 1024), default=32, show_default=True, help="Frames, 1 to 1024."
+    "--frames", type=Integer(1, 1024), default=32, show_default=True, help="Frames, 1 to 1024."
 )
 @click.option("--outputs", default="flipbook,ring,ring-texture,rain", show_default=True,
               metavar="LIST", help="flipbook: normal-map frames; ring: the (time, radius) "
@@ -701,7 +663,7 @@ def _parse_impacts(texts) -> list[tuple[float, float, float]]:
               "with random phases (analytic model).")  # fmt: skip
 @click.option(
     "--rain-cells",
-    type=_int_range(1, 64),
+    type=Integer(1, 64),
     default=4,
     show_default=True,
     help="Rain atlas: drops per side, 1 to 64 (must divide the resolution).",
@@ -739,12 +701,13 @@ def _parse_impacts(texts) -> list[tuple[float, float, float]]:
     "--impact",
     "impacts",
     multiple=True,
+    type=Numbers(-1e5, 1e5, count=3),
     metavar="X,Y,T",
-    help="Wave model: an impact at (X, Y) m at T s; repeatable.",
+    help="Wave model: an impact at (X, Y) m at T s (T >= 0); repeatable.",
 )
 @click.option(
     "--rain",
-    type=_int_range(0, 10000),
+    type=Integer(0, 10000),
     default=8,
     show_default=True,
     help="Wave model: random impacts over the duration, 0 to 10000.",
@@ -760,7 +723,7 @@ def _parse_impacts(texts) -> list[tuple[float, float, float]]:
               show_default=True, help="Flipbook as numbered frames, one atlas, or a texture "
               "array.")  # fmt: skip
 @click.option("--container", type=click.Choice(("ktx2", "dds")), default="ktx2", show_default=True)
-@click.option("--seed", type=_int_range(0, 2**63 - 1), default=0, show_default=True)
+@click.option("--seed", type=Integer(0, 2**63 - 1), default=0, show_default=True)
 @click.option("--name", default="ripples", show_default=True)
 @click.option("--no-preview", is_flag=True)
 def ripples(out_dir: Path, **o):
@@ -801,6 +764,9 @@ def ripples(out_dir: Path, **o):
     if o["model"] == "wave" and set(outputs) - {"flipbook"}:
         outputs = [x for x in outputs if x == "flipbook"] or ["flipbook"]
     if "flipbook" in outputs:
+        # every frame's normals (float32) and their packed texels (at most float32 too) are held
+        gathered = frames * n * n * RIPPLE_TEXEL_BYTES
+        require(Cost(gathered, frames, f"a flipbook of {frames} frames of {n}x{n} normals"))
         sink = TextureSet(out_dir, o["name"], o["layout"], container=o["container"],
                           columns=None, gutter=0, mips=True, frames=frames)  # fmt: skip
         if o["model"] == "analytic":
@@ -921,6 +887,7 @@ def ripples(out_dir: Path, **o):
 )
 @click.option(
     "--lut-size",
+    type=Size(4096, low=2),
     default="64x32",
     show_default=True,
     metavar="DxZ",
@@ -943,14 +910,11 @@ def murk(out_dir: Path, **o):
       bakeshop water murk murk/ --water-type IB
       bakeshop water murk lake/ --water-type 3C --visibility 4
     """
-    from bakeshop.cli._common import parse_size
     from bakeshop.io import write_image, write_json, write_text
     from bakeshop.water import murk as mk
 
-    size = parse_size(o["lut_size"])
+    size = o["lut_size"]
     distances, depths = size if isinstance(size, tuple) else (size, size)
-    if not (2 <= distances <= 4096 and 2 <= depths <= 4096):
-        raise ArgumentError(f"LUT size must be 2 to 4096 each way, got {o['lut_size']!r}")
     if o["visibility"] is not None:
         w = mk.from_visibility(o["visibility"], o["water_type"])
     else:

@@ -1,5 +1,7 @@
 """The memory bound of a chunked job: parsing ``--memory``, its default, and planning blocks
-under it (or refusing, before anything starts, with the number a job needs)."""
+under it (or refusing, before anything starts, with the number a job needs). What the machine
+has is :func:`bakeshop.resources.available_memory` (which also counts ``ulimit -v`` and the
+cgroup's limit)."""
 
 from __future__ import annotations
 
@@ -8,6 +10,7 @@ import os
 import re
 
 from bakeshop.errors import ArgumentError, BakeshopError
+from bakeshop.resources import available_memory, format_bytes
 
 #: the default bound is this fraction of the memory the machine has available when the job
 #: starts (other programs, and other developers' jobs, keep the rest).
@@ -61,31 +64,6 @@ def parse_memory(text: str | int | float) -> int:
     return int(value)
 
 
-def available_memory() -> int:
-    """Bytes the machine has available now (MemAvailable, or total memory where /proc lacks
-    it), within this process's cgroup limit when there is one."""
-    available = None
-    try:
-        with open("/proc/meminfo") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    available = int(line.split()[1]) * 1024
-                    break
-    except OSError:
-        pass
-    if available is None:
-        available = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    for limit_file in ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"):
-        try:
-            with open(limit_file) as f:
-                text = f.read().strip()
-            if text.isdigit():
-                available = min(available, int(text))
-        except OSError:
-            continue
-    return available
-
-
 def default_memory() -> int:
     """The default bound: :data:`DEFAULT_FRACTION` of the available memory."""
     return max(MIN_MEMORY, int(DEFAULT_FRACTION * available_memory()))
@@ -97,14 +75,6 @@ def resolve_memory(memory) -> int:
     if memory is None:
         memory = os.environ.get("BAKESHOP_MEMORY") or None
     return default_memory() if memory is None else parse_memory(memory)
-
-
-def format_bytes(n: float) -> str:
-    """``1.5 GB``-style text (powers of 1000, as ``--memory`` reads them)."""
-    for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("KB", 1e3)):
-        if n >= size:
-            return f"{n / size:.3g} {unit}"
-    return f"{int(n)} B"
 
 
 def refuse(what: str, needed: int, memory: int) -> MemoryBoundError:

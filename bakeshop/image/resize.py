@@ -16,12 +16,20 @@ order, so a resize computed in parts (:mod:`bakeshop.huge`) is bit-identical to 
 from __future__ import annotations
 
 import functools
+import math
 
 import numba
 import numpy as np
 import scipy.sparse as sp
 
 from bakeshop.errors import ArgumentError
+from bakeshop.resources import Cost, require
+
+#: bytes of the sparse weights per entry (float64 value, int32 index) and per row (int32).
+_WEIGHT_BYTES = 12
+#: bytes that a call holds whatever its size (a margin for the weights' int64 temporaries and
+#: the threads' working set).
+_OVERHEAD = 4 << 20
 
 
 @functools.lru_cache(maxsize=8)
@@ -58,6 +66,23 @@ def area_footprint(n_in: int, n_out: int, start: int, stop: int) -> tuple[int, i
     return start * n_in // n_out, -(-stop * n_in // n_out)
 
 
+def resize_area_cost(shape, size: tuple[int, int], *, itemsize: int = 4) -> Cost:
+    """What :func:`resize_area` of an image of ``shape`` ((H, W) or (H, W, C)) to ``size``
+    (width, height) holds at its peak: the output (``itemsize`` bytes per sample; float32 for
+    integer images, which are converted first, a copy of the input), the sparse weights of both
+    axes, one float64 row of scratch per thread and a fixed overhead. ``work`` is in input
+    samples."""
+    h, w = (int(n) for n in shape[:2])
+    channels = int(math.prod(shape[2:]))
+    width, height = (int(n) for n in size)
+    weights = _WEIGHT_BYTES * (h + height + w + width) * 2
+    scratch = numba.get_num_threads() * w * channels * 8
+    copy = h * w * channels * 4 if itemsize not in (4, 8) else 0
+    memory = width * height * channels * max(itemsize, 4) + weights + scratch + copy + _OVERHEAD
+    what = f"resizing {w}x{h} to {width}x{height}"
+    return Cost(int(memory), h * w * channels, what)
+
+
 def resize_area(image, size: tuple[int, int]) -> np.ndarray:
     """Resize ``image`` to ``size = (width, height)`` preserving its mean (energy).
 
@@ -78,7 +103,8 @@ def resize_area(image, size: tuple[int, int]) -> np.ndarray:
     Notes
     -----
     Integer factors reduce to averaging ``f_y x f_x`` blocks (the exact box filter). Upsampling
-    replicates texels with area weights at fractional boundaries.
+    replicates texels with area weights at fractional boundaries. The memory it needs is
+    checked first (:func:`resize_area_cost`): a size that cannot fit is refused with the number.
     """
     a = np.asarray(image)
     if a.ndim not in (2, 3) or a.shape[0] < 1 or a.shape[1] < 1:
@@ -87,6 +113,7 @@ def resize_area(image, size: tuple[int, int]) -> np.ndarray:
     if width < 1 or height < 1:
         raise ArgumentError(f"invalid output size {width}x{height}")
     h, w = a.shape[:2]
+    require(resize_area_cost(a.shape, (width, height), itemsize=a.itemsize))
     src = a.reshape(h, w, -1)
     if src.dtype not in (np.float32, np.float64):
         src = src.astype(np.float32)

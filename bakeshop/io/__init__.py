@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from bakeshop.errors import BakeshopError, FormatError, UnsupportedError
+from bakeshop.io import _intent, verify
 from bakeshop.io._files import atomic_path, check_input, open_input, record_writes
 from bakeshop.io.budget import DECODE_FLOOR, DECODE_RATIO, decode_budget
 from bakeshop.io.containers import CONTAINERS, read_container, write_container
@@ -39,6 +40,7 @@ from bakeshop.io.environment import (
 )
 from bakeshop.io.mesh import load_mesh
 from bakeshop.io.store import ArrayStore, user_store
+from bakeshop.io.verify import verify_writes
 
 #: codec module -> the file extensions it owns.
 CODECS: dict[str, tuple[str, ...]] = {
@@ -82,6 +84,8 @@ __all__ = [
     "sniff_format",
     "stored_bits",
     "user_store",
+    "verify",
+    "verify_writes",
     "write_chain",
     "write_container",
     "write_environment",
@@ -207,7 +211,10 @@ def write_image(path: str | os.PathLike, image, **options) -> None:
     image = as_image(image, path)
     codec = _module(name)
     _check_options(codec.write, options, codec.NAME, path)
-    with atomic_path(path) as tmp:
+    with (
+        _intent.intent(path, "image", image, codec=name, options=options),
+        atomic_path(path) as tmp,
+    ):
         try:
             codec.write(tmp, image, **options)
         except BakeshopError as e:

@@ -12,6 +12,7 @@ import threading
 from pathlib import Path
 
 from bakeshop.errors import BakeshopError, FormatError
+from bakeshop.io._intent import check_written
 
 #: Largest accepted image side, in pixels.
 MAX_SIDE = 1 << 20
@@ -115,25 +116,29 @@ def describe_os_error(error: OSError) -> str:
 _CREATE = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
 
 _journal_lock = threading.Lock()
-_journals: list[list[Path]] = []
+#: open journals: (the list, the thread it is limited to or None for every thread).
+_journals: list[tuple[list[Path], int | None]] = []
 
 
 @contextlib.contextmanager
-def record_writes():
-    """Within the block, collect every file that :func:`atomic_path` completes (in order).
+def record_writes(*, this_thread: bool = False):
+    """Within the block, collect every file that :func:`atomic_path` completes (in order);
+    with ``this_thread``, only those written by the calling thread (a bake running steps at
+    once keeps one per step).
 
     Yields the list, which grows as files are written. The command line keeps one open for
     each run, so that a run that fails or is interrupted after writing some of its outputs can
     say which ones exist.
     """
     written: list[Path] = []
+    owner = threading.get_ident() if this_thread else None
     with _journal_lock:
-        _journals.append(written)
+        _journals.append((written, owner))
     try:
         yield written
     finally:
-        with _journal_lock:
-            _journals.remove(written)
+        with _journal_lock:  # by identity: two journals may hold the same paths
+            _journals[:] = [j for j in _journals if j[0] is not written]
 
 
 @contextlib.contextmanager
@@ -169,6 +174,7 @@ def atomic_path(target: str | os.PathLike):
                 reason = f"cannot create a file in {str(directory)!r}: {describe_os_error(e)}"
                 raise BakeshopError(reason, target) from None
         yield tmp
+        check_written(tmp, target)  # within verify_writes(): reloads or fails
         os.chmod(tmp, 0o644)
         os.replace(tmp, target)
     except BaseException as e:
@@ -181,7 +187,10 @@ def atomic_path(target: str | os.PathLike):
             _name_target(e, str(tmp), target)
         raise
     with _journal_lock:
-        for journal in _journals:
+        me = threading.get_ident()
+        for journal, owner in _journals:
+            if owner is not None and owner != me:
+                continue
             journal.append(target)
 
 

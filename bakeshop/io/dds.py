@@ -51,6 +51,7 @@ import struct
 import numpy as np
 
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
+from bakeshop.io import _intent
 from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
 from bakeshop.io._levels import (
     DTYPES,
@@ -170,7 +171,11 @@ def write_dds(
         layers,
         0,
     )
-    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+    with (
+        _intent.intent(path, "mips", levels, dtype=dtype, array=array),
+        atomic_path(path) as tmp,
+        open(tmp, "wb") as f,
+    ):
         f.write(header + dx10)
         for layer in range(layers):
             for face in range(6 if cube else 1):

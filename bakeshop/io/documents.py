@@ -10,6 +10,7 @@ import os
 import numpy as np
 
 from bakeshop.errors import BakeshopError, FormatError
+from bakeshop.io import _intent
 from bakeshop.io._files import atomic_path
 
 __all__ = ["read_json", "write_json", "write_text"]
@@ -20,7 +21,7 @@ MAX_BYTES = 64 << 20
 
 def write_text(path: str | os.PathLike, text: str) -> None:
     """Write ``text`` (UTF-8, with a final newline) to ``path`` atomically."""
-    with atomic_path(path) as tmp:
+    with _intent.intent(path, "text", text), atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as f:
             f.write(text if text.endswith("\n") else text + "\n")
 
@@ -46,7 +47,8 @@ def _plain(value):
 def write_json(path: str | os.PathLike, document: dict) -> None:
     """Write a JSON object to ``path`` atomically, indented by one space per level; numpy
     values become plain numbers and lists, NaN and infinities null."""
-    write_text(path, json.dumps(_plain(document), indent=1, allow_nan=False))
+    with _intent.intent(path, "json", document):
+        write_text(path, json.dumps(_plain(document), indent=1, allow_nan=False))
 
 
 def read_json(path: str | os.PathLike) -> dict:

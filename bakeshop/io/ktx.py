@@ -38,6 +38,7 @@ import struct
 import numpy as np
 
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
+from bakeshop.io import _intent
 from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
 from bakeshop.io._levels import (
     DTYPES,
@@ -108,7 +109,11 @@ def write_ktx(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None:
         GL_INTERNAL_FORMATS[dtype, channels], fmt, width, height, 0, 0, 6 if cube else 1,
         len(levels), len(kv),
     )  # fmt: skip
-    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+    with (
+        _intent.intent(path, "mips", levels, dtype=dtype),
+        atomic_path(path) as tmp,
+        open(tmp, "wb") as f,
+    ):
         f.write(IDENTIFIER + fields + kv)
         for level in levels:
             h, w = level.shape[-3:-1]

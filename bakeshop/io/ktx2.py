@@ -55,6 +55,7 @@ from bakeshop.errors import (
     UnsupportedError,
     validate_choice,
 )
+from bakeshop.io import _intent
 from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
 from bakeshop.io._levels import (
     DTYPES,
@@ -310,7 +311,11 @@ def write_ktx2(
     index = b"".join(
         _LEVEL.pack(offsets[m], len(data[m]), len(data[m])) for m in range(len(levels))
     )
-    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+    with (
+        _intent.intent(path, "mips", levels, dtype=dtype, array=array),
+        atomic_path(path) as tmp,
+        open(tmp, "wb") as f,
+    ):
         f.write(header + index + dfd + kv)
         for m in reversed(range(len(levels))):
             f.write(bytes(offsets[m] - f.tell()))

@@ -11,13 +11,25 @@ Modules: :mod:`~bakeshop.light.sh`, :mod:`~bakeshop.light.diffuse` (the cosine c
 :mod:`~bakeshop.light.dfg`, :mod:`~bakeshop.light.fresnel`, :mod:`~bakeshop.light.probe`.
 """
 
-from bakeshop.light.dfg import dfg_table
-from bakeshop.light.diffuse import METHODS, cosine_sum, irradiance, sh_coefficients
-from bakeshop.light.dims import DimPair, dim_pair
+from bakeshop.light.dfg import dfg_table, dfg_table_cost
+from bakeshop.light.diffuse import (
+    METHODS,
+    cosine_sum,
+    irradiance,
+    irradiance_cost,
+    sh_coefficients,
+)
+from bakeshop.light.dims import DimPair, dim_pair, dim_pair_cost
 from bakeshop.light.fresnel import WATER_IOR, bake_fresnel, fresnel_dielectric
-from bakeshop.light.probe import ProbeBake, bake_probe, contact_sheet, sheet_exposure
-from bakeshop.light.specular import prefilter_ggx, prefilter_phong, source_cube
-from bakeshop.light.sun import Sun, find_sun, remove_sun, sun_document
+from bakeshop.light.probe import (
+    ProbeBake,
+    bake_probe,
+    bake_probe_cost,
+    contact_sheet,
+    sheet_exposure,
+)
+from bakeshop.light.specular import prefilter_cost, prefilter_ggx, prefilter_phong, source_cube
+from bakeshop.light.sun import Sun, find_sun, find_sun_cost, remove_sun, sun_document
 
 __all__ = [
     "METHODS",
@@ -27,13 +39,19 @@ __all__ = [
     "Sun",
     "bake_fresnel",
     "bake_probe",
+    "bake_probe_cost",
     "contact_sheet",
     "cosine_sum",
     "dfg_table",
+    "dfg_table_cost",
     "dim_pair",
+    "dim_pair_cost",
     "find_sun",
+    "find_sun_cost",
     "fresnel_dielectric",
     "irradiance",
+    "irradiance_cost",
+    "prefilter_cost",
     "prefilter_ggx",
     "prefilter_phong",
     "remove_sun",

@@ -43,15 +43,21 @@ import math
 import numba
 import numpy as np
 
+from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
-from bakeshop.light.specular import ggx_half_vector, hammersley
+from bakeshop.light.specular import BLOCK_LOOKUPS, ggx_half_vector, hammersley
+from bakeshop.resources import Cost, require
 
 VISIBILITIES = ("height-correlated", "schlick")
 
 #: Largest table side accepted (a 4096x4096 table is already far past any use).
 MAX_SIZE = 4096
 
-__all__ = ["VISIBILITIES", "dfg_terms", "dfg_table", "dfg_approximation"]
+#: Peak bytes per texel of a table: the n.v and roughness grids, the float64 terms and the
+#: float32 table.
+TABLE_BYTES = 56
+
+__all__ = ["VISIBILITIES", "dfg_terms", "dfg_table", "dfg_table_cost", "dfg_approximation"]
 
 
 @numba.njit(cache=True, inline="always")
@@ -128,14 +134,26 @@ def dfg_terms(n_dot_v, roughness, *, samples: int = 4096, visibility: str = "hei
     if nv.size and (nv.min() < 0 or nv.max() > 1 or r.min() < 0 or r.max() > 1):
         raise ArgumentError("n_dot_v and roughness must lie in [0, 1]")
     out = np.empty((nv.size, 2))
-    _dfg_kernel(
-        np.ascontiguousarray(nv.ravel()),
-        np.ascontiguousarray(r.ravel()),
-        hammersley(samples),
-        visibility == "schlick",
-        out,
-    )
+    flat_nv, flat_r = np.ascontiguousarray(nv.ravel()), np.ascontiguousarray(r.ravel())
+    xi, schlick = hammersley(samples), visibility == "schlick"
+    # in blocks of points, so that progress (and a signal) is seen between them
+    step = max(1, BLOCK_LOOKUPS // samples)
+    with progress.task("DFG table", total=nv.size * samples) as task:
+        for a in range(0, nv.size, step):
+            b = min(nv.size, a + step)
+            _dfg_kernel(flat_nv[a:b], flat_r[a:b], xi, schlick, out[a:b])
+            task.advance((b - a) * samples)
     return out.reshape(nv.shape + (2,))
+
+
+def dfg_table_cost(size: int = 128, *, samples: int = 4096) -> Cost:
+    """What :func:`dfg_table` holds at its peak (:data:`TABLE_BYTES` per texel) and the work
+    it does (``size^2 samples`` importance samples)."""
+    return Cost(
+        TABLE_BYTES * size * size,
+        size * size * samples,
+        f"a {size}x{size} DFG table of {samples} samples per texel",
+    )
 
 
 def dfg_table(size: int = 128, *, samples: int = 4096, visibility: str = "height-correlated"):
@@ -160,6 +178,7 @@ def dfg_table(size: int = 128, *, samples: int = 4096, visibility: str = "height
     """
     if not 1 <= size <= MAX_SIZE:
         raise ArgumentError(f"the DFG table size must be in 1..{MAX_SIZE}, got {size}")
+    require(dfg_table_cost(size, samples=samples))
     centres = (np.arange(size) + 0.5) / size
     nv, r = np.meshgrid(centres, centres)
     return dfg_terms(nv, r, samples=samples, visibility=visibility).astype(np.float32)

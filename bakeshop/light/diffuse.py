@@ -51,6 +51,8 @@ import numpy as np
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.light import sh
+from bakeshop.resources import Cost, require
+from bakeshop.sphere import layout as get_layout
 from bakeshop.sphere import texels
 
 #: the irradiance methods, the default first.
@@ -73,6 +75,33 @@ _MAX_BINS = 1 << 20
 
 #: output texels per block of the exact kernel (progress granularity).
 _BLOCK = 4096
+
+#: peak bytes per texel of the environment, by method: its texels' directions, solid angles and
+#: float64 values, and each method's work arrays (measured on RGB latlongs at 86, 184 and 41,
+#: tests/test_resources.py), and per texel of the DIM (normals, float64 sums, the float32 DIM:
+#: measured at 80). The SH projection's basis adds at most 128 MB (it goes by chunks).
+INPUT_BYTES = {"auto": 100, "exact": 200, "sh": 48}
+OUTPUT_BYTES = 96
+
+
+def irradiance_cost(
+    shape,
+    layout: str,
+    *,
+    to: str = "latlong",
+    size=(360, 180),
+    method: str = "auto",
+    extra: int = 0,
+) -> Cost:
+    """What :func:`irradiance` of an environment of ``shape`` in ``layout`` holds at its peak:
+    :data:`INPUT_BYTES` per texel of the environment (plus ``extra``), :data:`OUTPUT_BYTES` per
+    texel of the DIM. ``work`` is in DIM texels (the unit of the progress shown)."""
+    validate_choice(method, METHODS, "irradiance method")
+    lay = get_layout(layout)
+    n = math.prod(shape[: 3 if lay.cubic else 2])
+    m = math.prod(get_layout(to).shape(size))
+    memory = (INPUT_BYTES[method] + extra) * n + OUTPUT_BYTES * m + (128 << 20) * (method == "sh")
+    return Cost(memory, m, f"the {to} DIM of a {lay.name} environment of {n} texels ({method})")
 
 
 @numba.njit(parallel=True, fastmath=True, cache=True)
@@ -451,6 +480,7 @@ def irradiance(
         ``E / pi`` per output texel (0 outside a disk layout's disk); C' = 3 for RGBA input.
     """
     validate_choice(method, METHODS, "irradiance method")
+    require(irradiance_cost(np.shape(image), layout, to=to, size=size, method=method))
     t = texels(image, layout)
     shape, normals, valid = dim_normals(to, size)
     if method == "sh":

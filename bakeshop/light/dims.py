@@ -17,11 +17,23 @@ import numpy as np
 from bakeshop import progress
 from bakeshop.errors import validate_choice
 from bakeshop.light import sh
-from bakeshop.light.diffuse import METHODS, cosine_sum, dim_normals, dim_of
+from bakeshop.light.diffuse import (
+    METHODS,
+    OUTPUT_BYTES,
+    cosine_sum,
+    dim_normals,
+    dim_of,
+    irradiance_cost,
+)
 from bakeshop.light.sun import Sun, split_texels
+from bakeshop.resources import Cost, require
 from bakeshop.sphere import texels
 
-__all__ = ["DimPair", "dim_pair"]
+__all__ = ["DimPair", "dim_pair", "dim_pair_cost"]
+
+#: bytes per texel of the probe that the pair holds beyond one DIM's work (the sun's search and
+#: the painted copy of the probe; measured at 8 + 4 per channel, tests/test_resources.py).
+PAIR_BYTES = 32
 
 
 class DimPair(NamedTuple):
@@ -36,6 +48,17 @@ class DimPair(NamedTuple):
     shadow_probe: np.ndarray
     #: the sun's measurements, or None when the probe has none (then both DIMs are equal).
     sun: Sun | None
+
+
+def dim_pair_cost(
+    shape, layout: str, *, to: str = "latlong", size=(360, 180), method: str = "auto"
+) -> Cost:
+    """What :func:`dim_pair` of a probe of ``shape`` in ``layout`` holds at its peak: one DIM's
+    (:func:`bakeshop.light.diffuse.irradiance_cost`) plus :data:`PAIR_BYTES` per probe texel
+    and the second DIM."""
+    one = irradiance_cost(shape, layout, to=to, size=size, method=method, extra=PAIR_BYTES)
+    what = "the DIM pair" + one.what.removeprefix(f"the {to} DIM")
+    return Cost(one.memory + OUTPUT_BYTES * one.work, one.work, what)
 
 
 def dim_pair(
@@ -69,6 +92,7 @@ def dim_pair(
         ``(sun_dim, shadow_dim, shadow_probe, sun)``; 2-D results for a 2-D probe.
     """
     validate_choice(method, METHODS, "irradiance method")
+    require(dim_pair_cost(np.shape(image), layout, to=to, size=size, method=method))
     t = texels(image, layout)
     env = t.environment
     shape, normals, valid = dim_normals(to, size)

@@ -15,6 +15,7 @@ out: ``bakeshop bake-probe`` writes the files.
 
 from __future__ import annotations
 
+import math
 import time
 from typing import NamedTuple
 
@@ -22,13 +23,14 @@ import numpy as np
 
 from bakeshop import progress
 from bakeshop.light import diffuse, sh, specular
-from bakeshop.light.dfg import dfg_table
-from bakeshop.light.dims import dim_pair
+from bakeshop.light.dfg import dfg_table, dfg_table_cost
+from bakeshop.light.dims import dim_pair, dim_pair_cost
 from bakeshop.light.sun import Sun
-from bakeshop.sphere import check_environment
+from bakeshop.resources import Cost, require
+from bakeshop.sphere import check_environment, remap_cost, valid_texels
 from bakeshop.sphere import layout as layout_of
 
-__all__ = ["ProbeBake", "bake_probe", "contact_sheet", "sheet_exposure"]
+__all__ = ["ProbeBake", "bake_probe", "bake_probe_cost", "contact_sheet", "sheet_exposure"]
 
 
 class ProbeBake(NamedTuple):
@@ -57,6 +59,51 @@ class ProbeBake(NamedTuple):
     layout: str
     #: seconds spent in each step, by name.
     timings: dict
+
+
+def default_cube_size(shape, layout: str) -> int:
+    """The environment cube's face size when none is given: the power of two nearest to as many
+    texels as the probe has (a quarter of a latlong's width), at most 2048."""
+    lay = layout_of(layout)
+    texels = valid_texels(lay, tuple(shape[: 3 if lay.cubic else 2]))
+    return min(2048, layout_of("cube").default_size(texels))
+
+
+def bake_probe_cost(
+    shape,
+    layout: str,
+    *,
+    cube_size: int | None = None,
+    dim_size=(360, 180),
+    specular_size: int = 256,
+    mips: int = 9,
+    itemsize: int = 4,
+) -> Cost:
+    """What :func:`bake_probe` of a probe of ``shape`` (with its channel axis) holds at its
+    peak: what it keeps (the cube, the painted probe, the chain) plus the largest of its steps
+    (:func:`~bakeshop.sphere.remap_cost`, :func:`~bakeshop.light.dims.dim_pair_cost`,
+    :func:`~bakeshop.light.specular.prefilter_cost`, :func:`~bakeshop.light.dfg.dfg_table_cost`).
+    ``work`` is the chain's (the longest step)."""
+    from bakeshop.sphere import layout as get_layout
+
+    lay = get_layout(layout)
+    spatial = tuple(shape[: 3 if lay.cubic else 2])
+    channels = int(shape[len(spatial)]) if len(shape) > len(spatial) else 1
+    size = default_cube_size(shape, layout) if cube_size is None else cube_size
+    texel = channels * itemsize
+    kept = (6 * size * size + math.prod(spatial) + 8 * specular_size**2) * texel
+    steps = [
+        remap_cost(lay, spatial, "cube", size, filter="auto", channels=channels, itemsize=itemsize),
+        dim_pair_cost(shape, layout, to="latlong", size=dim_size),
+        specular.prefilter_cost(shape, layout, size=specular_size, mips=mips, itemsize=itemsize),
+        dfg_table_cost(),
+    ]
+    return Cost(
+        kept + max(c.memory for c in steps),
+        steps[2].work,
+        f"the bake of a {lay.name} probe of {math.prod(spatial)} texels (a 6x{size}x{size} "
+        f"cube, a {mips}-level 6x{specular_size}x{specular_size} chain)",
+    )
 
 
 def bake_probe(
@@ -105,10 +152,20 @@ def bake_probe(
         return result
 
     env = check_environment(image, layout)
-    lay, image = env.layout, env.image
+    image = env.image
     if cube_size is None:
-        texels = int(np.count_nonzero(lay.solid_angles(image.shape[:-1])))
-        cube_size = min(2048, layout_of("cube").default_size(texels))
+        cube_size = default_cube_size(image.shape, layout)
+    require(
+        bake_probe_cost(
+            image.shape,
+            layout,
+            cube_size=cube_size,
+            dim_size=dim_size,
+            specular_size=specular_size,
+            mips=mips,
+            itemsize=image.itemsize,
+        )
+    )
     with progress.step("environment cube map"):
         cube = timed("cube", specular.source_cube, image, layout, size=cube_size)
     pair = timed("dims", dim_pair, image, layout, to="latlong", size=dim_size)

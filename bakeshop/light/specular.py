@@ -67,7 +67,8 @@ import numpy as np
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError
-from bakeshop.sphere import check_environment, remap, sample
+from bakeshop.resources import Cost, require
+from bakeshop.sphere import check_environment, remap, remap_cost, sample
 from bakeshop.sphere import layout as get_layout
 from bakeshop.sphere.kernels import cube_face
 
@@ -85,6 +86,12 @@ EXACT_SOURCE_RATIO = 2
 #: :data:`MAX_BRIGHT` of them) are convolved exactly rather than sampled.
 BRIGHT_RATIO = 2.0
 MAX_BRIGHT = 1024
+#: Peak bytes per texel of the level-0 cube while the chain is made (the source split into
+#: bright and rest, its padded 4-channel pyramid, directions and solid angles, the output
+#: chain): measured at 162-167, tests/test_resources.py.
+CHAIN_BYTES = 180
+#: Lookups per call of the sampling kernel: progress (and a signal) are seen between calls.
+BLOCK_LOOKUPS = 1 << 26
 #: Mip level bias of filtered importance sampling. Colbert and Krivanek add 1 (each sample reads
 #: a level twice as wide as its solid angle, hiding the sampling pattern at few samples); with
 #: 256 samples the unbiased level is closer to the true convolution (on real probes 2-5x lower
@@ -96,6 +103,7 @@ __all__ = [
     "ggx_half_vector",
     "mip_roughness",
     "phong_exponents",
+    "prefilter_cost",
     "prefilter_ggx",
     "prefilter_phong",
     "source_cube",
@@ -385,6 +393,8 @@ class _Lobe:
 
     def __init__(self, ggx: bool, param: float, samples: int):
         self.ggx, self.param = ggx, param
+        #: samples asked for per texel (the unit of progress; those below the horizon drop)
+        self.nominal = samples
         if ggx:
             self.samples = _ggx_samples(param**0.25, samples)
             # integral of D(h) (n.l) dl = 4 E[max(0, n.l)] over l drawn with pdf D(h) / 4, in
@@ -448,7 +458,7 @@ class _Source:
         return sk, np.ascontiguousarray(values, dtype=np.float64)
 
 
-def _convolve(source: _Source, size: int, lobe: _Lobe) -> np.ndarray:
+def _convolve(source: _Source, size: int, lobe: _Lobe, task=None) -> np.ndarray:
     """One output level: the bright texels exactly, plus the rest by exact convolution where it
     is cheap and by filtered importance sampling elsewhere.
 
@@ -485,9 +495,17 @@ def _convolve(source: _Source, size: int, lobe: _Lobe) -> np.ndarray:
         )
         # a texel whose lobe sees only zero-solid-angle texels gets 0 (never 0 / 0)
         out = np.divide(acc, total[:, None], out=np.zeros_like(acc), where=total[:, None] > 0)
+        if task is not None:
+            task.advance(n * lobe.nominal)
     else:
         rgba = np.empty((n, 4))
-        _filter_kernel(dirs, lobe.samples, *source.pyramid, LOD_BIAS, _LOG2_FIT, rgba)
+        count = len(lobe.samples)
+        step = max(1, BLOCK_LOOKUPS // max(1, count))
+        for a in range(0, n, step):
+            b = min(n, a + step)
+            _filter_kernel(dirs[a:b], lobe.samples, *source.pyramid, LOD_BIAS, _LOG2_FIT, rgba[a:b])
+            if task is not None:
+                task.advance((b - a) * lobe.nominal)
         out = rgba[:, :channels]
     if len(source.bright_dirs):
         out += _bright_part(source, dirs, size, lobe)
@@ -553,6 +571,34 @@ def source_cube(image, layout: str, *, size: int = 256) -> np.ndarray:
     valid_texels = int(np.count_nonzero(lay.solid_angles(img.shape[:-1])))
     down = valid_texels >= 6 * size * size
     return remap(img, lay.name, "cube", size, filter="area" if down else "bilinear")
+
+
+def prefilter_cost(
+    shape, layout: str, *, size: int = 256, mips: int = 9, samples: int = 256, itemsize: int = 4
+) -> Cost:
+    """What :func:`prefilter_ggx` or :func:`prefilter_phong` of an environment of ``shape``
+    (with its channel axis) in ``layout`` holds at its peak, and the work it does.
+
+    The larger of: the remap of the input to the level-0 cube (:func:`bakeshop.sphere.
+    remap_cost`), and :data:`CHAIN_BYTES` per level-0 texel (6 ``size``^2) for the chain.
+    ``work`` counts lookups: ``samples`` per output texel of levels 1 and up (the unit of the
+    progress shown; wide lobes are convolved exactly at a bounded cost instead).
+    """
+    lay = get_layout(layout)
+    spatial = tuple(shape[: 3 if lay.cubic else 2])
+    channels = int(shape[len(spatial)]) if len(shape) > len(spatial) else 1
+    levels = [max(1, size >> m) for m in range(mips)]
+    work = sum(6 * s * s * samples for s in levels[1:]) + 6 * size * size
+    chain = CHAIN_BYTES * 6 * size * size
+    what = f"a {mips}-level prefiltered chain of 6x{size}x{size} faces"
+    if lay.name == "cube" and spatial[1] == size:
+        return Cost(chain, work, what)
+    texels = int(np.count_nonzero(lay.solid_angles(spatial)))
+    area = "area" if texels >= 6 * size * size else "bilinear"
+    to_cube = remap_cost(
+        lay, spatial, "cube", size, filter=area, channels=channels, itemsize=itemsize
+    )
+    return Cost(max(chain, to_cube.memory), work, what)
 
 
 def _source(image, layout, size, samples) -> _Source:
@@ -625,17 +671,13 @@ def prefilter_ggx(
     rough = mip_roughness(mips) if roughness is None else np.asarray(roughness, float)
     if rough.shape != (mips,) or not np.all((rough >= 0) & (rough <= 1)):
         raise ArgumentError(f"roughness must be {mips} values in [0, 1]; got {roughness!r}")
-    source = _source(image, layout, size, samples)
-    out = []
-    for m in progress.track(range(mips), "GGX prefilter", total=mips):
-        s = max(1, size >> m)
-        if rough[m] == 0 and s == size:
-            out.append(source.cube)
-        else:
-            # alpha >= 1e-4: a smoother lobe is narrower than any texel
-            lobe = _Lobe(True, max(rough[m], 0.01) ** 4, samples)
-            out.append(_convolve(source, s, lobe))
-    return _shaped(out, image, layout)
+    # alpha >= 1e-4: a smoother lobe is narrower than any texel; roughness 0 at level 0 is
+    # the source itself
+    lobes = [
+        None if rough[m] == 0 and max(1, size >> m) == size else (True, max(rough[m], 0.01) ** 4)
+        for m in range(mips)
+    ]
+    return _chain(image, layout, size, samples, lobes, "GGX")
 
 
 def prefilter_phong(
@@ -667,15 +709,38 @@ def prefilter_phong(
     exps = phong_exponents(mips) if exponents is None else np.asarray(exponents, float)
     if exps.shape != (mips,) or not np.all(exps > 0) or np.any(np.isnan(exps)):
         raise ArgumentError(f"exponents must be {mips} positive values; got {exponents!r}")
+    # e <= 1e8: a narrower lobe is smaller than any texel; inf at level 0 is the source
+    lobes = [
+        None if np.isinf(exps[m]) and max(1, size >> m) == size else (False, min(exps[m], 1e8))
+        for m in range(mips)
+    ]
+    return _chain(image, layout, size, samples, lobes, "Phong")
+
+
+def _chain(image, layout, size: int, samples: int, lobes, name: str) -> list[np.ndarray]:
+    """The levels of a chain: ``lobes[m]`` is ``(ggx, param)`` of :class:`_Lobe`, or None
+    for the source cube itself. Its memory is checked first (:func:`prefilter_cost`)."""
+    env = check_environment(image, layout)
+    cost = require(
+        prefilter_cost(
+            env.image.shape,
+            layout,
+            size=size,
+            mips=len(lobes),
+            samples=samples,
+            itemsize=env.image.itemsize,
+        )
+    )
     source = _source(image, layout, size, samples)
     out = []
-    for m in progress.track(range(mips), "Phong prefilter", total=mips):
-        s = max(1, size >> m)
-        if np.isinf(exps[m]) and s == size:
-            out.append(source.cube)
-        else:
-            # e <= 1e8: a narrower lobe is smaller than any texel
-            out.append(_convolve(source, s, _Lobe(False, min(exps[m], 1e8), samples)))
+    with progress.task(f"{name} prefilter, {len(lobes)} levels", total=cost.work) as task:
+        for m, lobe in enumerate(lobes):
+            s = max(1, size >> m)
+            if lobe is None:
+                out.append(source.cube)
+                task.advance(6 * s * s)
+            else:
+                out.append(_convolve(source, s, _Lobe(*lobe, samples), task))
     return _shaped(out, image, layout)
 
 

@@ -30,7 +30,9 @@ import numba
 import numpy as np
 
 from bakeshop.image import luminance
+from bakeshop.resources import Cost, require
 from bakeshop.sphere import Texels, texels
+from bakeshop.sphere import layout as get_layout
 
 #: the sun's peak must exceed the sky around it (median of a ring) by this factor.
 CONTRAST = 20.0
@@ -46,6 +48,9 @@ GLARE = 2.0
 PLATEAU = 0.9
 #: the filled patch has at most this many pixels on a side.
 PATCH_MAX = 256
+#: Peak bytes per texel of the search (measured at 41 on an RGB latlong,
+#: tests/test_resources.py) and of the painted copy.
+SEARCH_BYTES = 64
 
 
 @dataclass(frozen=True)
@@ -370,6 +375,15 @@ def split_texels(t: Texels, *, sampler=None) -> Removal | None:
     return Removal(sun, index, filled.astype(values.dtype))
 
 
+def find_sun_cost(shape, layout: str) -> Cost:
+    """What :func:`find_sun` (or :func:`remove_sun`) of a probe of ``shape`` in ``layout``
+    holds at its peak: :data:`SEARCH_BYTES` per texel (its texels' directions, solid angles and
+    values, the search's work arrays; and the painted copy)."""
+    lay = get_layout(layout)
+    n = math.prod(shape[: 3 if lay.cubic else 2])
+    return Cost(SEARCH_BYTES * n, n, f"the sun's search in a {lay.name} probe of {n} texels")
+
+
 def find_sun(image, layout: str) -> Sun | None:
     """Find and measure the sun of a light probe.
 
@@ -386,6 +400,7 @@ def find_sun(image, layout: str) -> Sun | None:
         None when the probe has no sun (no compact light CONTRAST times brighter than the sky
         around it and DOMINANCE times stronger than any other).
     """
+    require(find_sun_cost(np.shape(image), layout))
     found = split_texels(texels(image, layout))
     return None if found is None else found.sun
 
@@ -407,6 +422,7 @@ def remove_sun(image, layout: str):
         no sun.
     sun : Sun or None
     """
+    require(find_sun_cost(np.shape(image), layout))
     t = texels(image, layout)
     found = split_texels(t)
     out = t.environment.image.copy()  # the fill is fractional: a float copy

@@ -45,6 +45,7 @@ import numpy as np
 from bakeshop.errors import ArgumentError
 from bakeshop.photo.response import KNOWN_CURVES, CameraResponse
 from bakeshop.photo.stack import CLIP_HIGH, CLIP_LOW, LUMINANCE_PER_UNIT, ExposureStack, clip_codes
+from bakeshop.resources import Cost, require
 
 __all__ = [
     "CLIP_HIGH",
@@ -440,8 +441,9 @@ def merge_stack(
         raise ArgumentError(f"ghost threshold must be within 0.05-5, not {ghost!r}")
     scale = LUMINANCE_PER_UNIT if stack.absolute else 1.0
     inv_exposure = (scale / stack.exposures).astype(np.float32)
+    # the outputs (float32 colour, votes, status, weights) and one row of every frame
     need = h * w * (channels * 4 + 6) + h * p * 12
-    _check_memory(need)
+    require(Cost(need, h * w * p, f"merging {p} frames of {w}x{h}"))
     out = np.empty((h, w, channels), np.float32)
     votes = np.empty((h, w), np.uint8)
     wsum = np.empty((h, w), np.float32)
@@ -459,21 +461,6 @@ def merge_stack(
         out, votes, wsum, status, totals[:, 0], totals[:, 1], totals[:, 2],
         stack.exposures.copy(), stack.absolute,
     )  # fmt: skip
-
-
-def _check_memory(needed: int) -> None:
-    """Refuse with the number when the outputs cannot fit in the available memory."""
-    try:
-        with open("/proc/meminfo") as f:
-            info = dict(line.split(":", 1) for line in f)
-        available = int(info["MemAvailable"].split()[0]) * 1024
-    except (OSError, KeyError, ValueError):
-        return
-    if needed > available:
-        raise ArgumentError(
-            f"the merge needs {needed / 2**30:.1f} GiB for its outputs and "
-            f"{available / 2**30:.1f} GiB is available"
-        )
 
 
 def confidence_image(merged: Merged) -> np.ndarray:

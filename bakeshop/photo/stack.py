@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from bakeshop.errors import ArgumentError, BakeshopError, UnsupportedError
+from bakeshop.resources import Cost, require
 
 __all__ = ["ExposureStack", "LUMINANCE_PER_UNIT", "make_stack", "read_stack"]
 
@@ -160,17 +161,7 @@ def make_stack(codes, exposures, *, names=None, absolute: bool = False) -> Expos
 def _allocate(shape, dtype) -> np.ndarray:
     """An array for a whole stack, refused with the number when it cannot fit in memory."""
     needed = int(np.prod(shape)) * np.dtype(dtype).itemsize
-    try:
-        with open("/proc/meminfo") as f:
-            info = dict(line.split(":", 1) for line in f)
-        available = int(info["MemAvailable"].split()[0]) * 1024
-    except (OSError, KeyError, ValueError):
-        available = None
-    if available is not None and needed > available:
-        raise ArgumentError(
-            f"the stack's codes need {needed / 2**30:.1f} GiB and {available / 2**30:.1f} GiB "
-            "is available"
-        )
+    require(Cost(needed, int(np.prod(shape[:-1])), f"the stack's codes ({shape[0]} frames)"))
     return np.empty(shape, dtype)
 
 

@@ -22,10 +22,13 @@ applying a cached plan is one numba-parallel gather over the output.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from bakeshop._typing import Filter
 from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.resources import Cost, require
 from bakeshop.sphere import _gather, _plans
 from bakeshop.sphere.area import area_remap
 from bakeshop.sphere.cube import cube_to_view
@@ -35,6 +38,17 @@ from bakeshop.sphere.texels import check_environment
 
 #: the remap filters, ``auto`` the policy between ``area`` and ``bilinear``.
 FILTERS = ("nearest", "bilinear", "area", "auto")
+
+#: bytes per output texel of a nearest and a bilinear plan (int32 source texels; bilinear adds
+#: two float32 fractions), see :mod:`bakeshop.sphere._plans`.
+PLAN_BYTES = {"nearest": 4, "bilinear": 12}
+#: peak bytes of building the area filter's matrix, per source and per output texel (measured
+#: at 60-65 and 140-150 on latlong, cube and disk conversions, tests/test_resources.py; with a
+#: margin).
+AREA_SOURCE_BYTES = 80
+AREA_OUTPUT_BYTES = 180
+#: bytes any remap may hold besides (geometry tables, numba's scratch).
+REMAP_OVERHEAD = 16 << 20
 
 _NO_FRAC = np.empty((0, 2), np.float32)
 
@@ -92,9 +106,28 @@ def auto_filter(src: str | Layout, src_shape, dst: str | Layout, dst_shape) -> F
     does not reuse the matrix), while bilinear moves the total energy by ~0.2-1% only for a
     one-texel sun (docs/panoramas.md)."""
     s, d = layout(src), layout(dst)
-    in_texels = int(np.count_nonzero(s.solid_angles(src_shape)))
-    out_texels = int(np.count_nonzero(d.solid_angles(dst_shape)))
+    in_texels = valid_texels(s, src_shape)
+    out_texels = valid_texels(d, dst_shape)
     return "area" if 2 * out_texels <= in_texels else "bilinear"
+
+
+#: Largest shape whose valid texels are counted one by one (a float64 array of solid angles).
+COUNTED_TEXELS = 1 << 22
+
+
+def valid_texels(lay: str | Layout, shape) -> int:
+    """How many texels of a ``shape`` image in layout ``lay`` hold a direction (a disk's
+    inside, a cross's six cells). Counted exactly up to :data:`COUNTED_TEXELS` texels; past
+    that, the layout's valid fraction measured on a small image of it, so that a size is
+    judged (``auto`` filter, default sizes, cost estimates) without allocating its picture."""
+    lay = layout(lay)
+    shape = tuple(int(n) for n in shape)
+    total = math.prod(shape)
+    if total <= COUNTED_TEXELS:
+        return int(np.count_nonzero(lay.solid_angles(shape)))
+    small = lay.shape(lay.default_size(1 << 16))
+    fraction = np.count_nonzero(lay.solid_angles(small)) / math.prod(small)
+    return int(round(fraction * total))
 
 
 def remap_shape(src: str | Layout, src_shape, dst: str | Layout, size=None) -> tuple[int, ...]:
@@ -103,8 +136,64 @@ def remap_shape(src: str | Layout, src_shape, dst: str | Layout, size=None) -> t
     source has; a power-of-two face edge for cubes, crosses and strips)."""
     s, d = layout(src), layout(dst)
     if size is None:
-        size = d.default_size(int(np.count_nonzero(s.solid_angles(src_shape))))
+        size = d.default_size(valid_texels(s, src_shape))
     return d.shape(size)
+
+
+def shape_text(shape) -> str:
+    """``'1024x512'`` for an (H, W) layout, ``'6x256x256'`` for a cube."""
+    return "x".join(map(str, shape)) if len(shape) == 3 else f"{shape[1]}x{shape[0]}"
+
+
+def remap_cost(
+    src: str | Layout,
+    src_shape,
+    dst: str | Layout,
+    size=None,
+    *,
+    filter: str = "bilinear",
+    channels: int = 3,
+    itemsize: int = 4,
+) -> Cost:
+    """What :func:`remap` of an image of spatial ``src_shape`` (as given: a cross's picture
+    shape) will hold at its peak, before it starts (:mod:`bakeshop.resources`).
+
+    The output (``dst``'s shape times ``channels`` times ``itemsize``; a cube picture is
+    gathered as a cube first), the plan (:data:`PLAN_BYTES` per output texel; the area
+    filter's construction :data:`AREA_SOURCE_BYTES` per source texel and
+    :data:`AREA_OUTPUT_BYTES` per output texel), a cube of a cross or strip given as the
+    source, and :data:`REMAP_OVERHEAD`. A plan already cached costs less; the estimate does not
+    count on it. ``work`` is in texels (output, plus the source's for the area filter).
+    """
+    validate_choice(filter, FILTERS, "filter")
+    s, d = layout(src), layout(dst)
+    src_shape = tuple(int(n) for n in src_shape)
+    base_src = src_shape if s.base is s else s.base.shape(s.face_size(src_shape))
+    dst_shape = remap_shape(s.base, base_src, d, size)
+    if filter == "auto":
+        filter = auto_filter(s.base, base_src, d, dst_shape)
+    return _remap_cost(s, src_shape, d, dst_shape, filter, channels * itemsize)
+
+
+def _remap_cost(s: Layout, src_shape, d: Layout, dst_shape, filter: str, texel: int) -> Cost:
+    """:func:`remap_cost` of resolved shapes and filter (``texel``: bytes per texel)."""
+    base_src = src_shape if s.base is s else s.base.shape(s.face_size(src_shape))
+    n_src, n_out = math.prod(base_src), math.prod(dst_shape)
+    memory = n_out * texel + REMAP_OVERHEAD
+    if d.base is not d:  # gathered as a cube, then laid out as the picture
+        memory += math.prod(d.base.shape(d.face_size(dst_shape))) * texel
+    if s.base is not s:  # the cube of the source picture
+        memory += n_src * texel
+    if filter == "area":
+        memory += AREA_SOURCE_BYTES * n_src + AREA_OUTPUT_BYTES * n_out
+        work = n_src + n_out
+    else:
+        memory += PLAN_BYTES[filter] * n_out
+        work = n_out
+    what = (
+        f"remapping {s.name} {shape_text(src_shape)} to {d.name} {shape_text(dst_shape)} ({filter})"
+    )
+    return Cost(int(memory), int(work), what)
 
 
 def remap(
@@ -149,6 +238,10 @@ def remap(
     (src, source shape, dst, output shape, filter, rotation), so converting many images of
     one size costs one gather each.
 
+    The memory it needs is checked first (:func:`remap_cost`,
+    :func:`bakeshop.resources.require`): a conversion that cannot fit is refused, saying how
+    much it needs.
+
     ``area`` averages: every source texel deposits its solid angle into the output texels
     that its footprint (the box bounding its locally affine image) overlaps, in proportion to
     the overlap; an output texel is the deposits' weighted mean of radiance. A source texel
@@ -167,11 +260,14 @@ def remap(
     validate_choice(filter, FILTERS, "filter")
     env = check_environment(image, src)
     s, d = env.layout, layout(dst)
-    img = s.prepare(env.image)
-    src_shape = img.shape[:-1]
+    given = env.image.shape[:-1]
+    src_shape = given if s.base is s else s.base.shape(s.face_size(given))
     dst_shape = remap_shape(s.base, src_shape, d, size)
     if filter == "auto":
         filter = auto_filter(s.base, src_shape, d, dst_shape)
+    texel = env.image.itemsize * env.image.shape[-1]
+    require(_remap_cost(s, given, d, dst_shape, filter, texel))
+    img = s.prepare(env.image)
     base_shape = dst_shape if d.base is d else d.base.shape(d.face_size(dst_shape))
     key = rotation_key(rotation)
     flat = np.ascontiguousarray(img.reshape(-1, img.shape[-1]))

@@ -61,6 +61,7 @@ import numpy as np
 import scipy.fft
 
 from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.resources import Cost, require
 from bakeshop.water.spectra import Spectrum
 
 #: Fields that :func:`ocean_frames` can produce, with their channels and units.
@@ -318,6 +319,7 @@ def ocean(
             f"a {resolution}^2 lattice needs about {needed / 2**30:.1f} GiB to seed (limit "
             f"{SEED_BYTES_LIMIT / 2**30:.0f} GiB); use a lower resolution or cascades"
         )
+    require(Cost(needed, resolution * resolution, f"seeding a {resolution}^2 wave lattice"))
     if loop_period is not None:
         loop_period = _positive(loop_period, "loop period (s)")
     validate_choice(frozen, FROZEN_MODES, "frozen-mode policy")
@@ -592,6 +594,8 @@ def ocean_frames(
         batch = max(1, min(count, BATCH_FRAMES, BATCH_BYTES // max(per_frame, 1)))
     elif isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) or batch < 1:
         raise ArgumentError(f"batch must be a positive integer, got {batch!r}")
+    n = o.resolution
+    require(Cost(batch * per_frame, count, f"synthesising {batch} ocean frames of {n}x{n} at once"))
     complex_type = np.complex64 if dtype == "float32" else np.complex128
     real_type = np.float32 if dtype == "float32" else np.float64
     workers = workers or os.cpu_count() or 1
@@ -600,7 +604,6 @@ def ocean_frames(
     if frames is not None:
         table = np.exp(-2j * np.pi * np.arange(frames) / frames).astype(complex_type)
     m = mult.astype(complex_type)
-    n = o.resolution
     for start in range(0, count, batch):
         sel = index[start : start + batch]
         spectra = np.empty((sel.size, len(pairs), n, n), complex_type)

@@ -110,7 +110,8 @@ def dispersion(
     k = np.asarray(k, dtype=np.float64)
     w2 = gravity * k + (surface_tension / density) * k**3
     if math.isfinite(depth):
-        w2 = w2 * np.tanh(k * depth)
+        with np.errstate(over="ignore"):  # k d past the float range: tanh is 1 (deep water)
+            w2 = w2 * np.tanh(k * depth)
     return np.sqrt(w2)
 
 
@@ -133,9 +134,11 @@ def group_velocity(
     a = gravity * k + s * k**3
     da = gravity + 3 * s * k**2
     if math.isfinite(depth):
-        t = np.tanh(k * depth)
+        with np.errstate(over="ignore"):  # k d past the float range: tanh is 1 (deep water)
+            t = np.tanh(k * depth)
         w2 = a * t
-        d2 = da * t + a * depth * (1 - t * t)
+        # d (1 - T^2) first: 0 in deep water even when a d would overflow (a huge finite depth)
+        d2 = da * t + a * (depth * (1 - t * t))
     else:
         w2, d2 = a, da
     w = np.sqrt(w2)
@@ -154,7 +157,8 @@ def tma_depth_factor(k, depth: float) -> np.ndarray:
     k = np.asarray(k, dtype=np.float64)
     if not math.isfinite(depth):
         return np.ones_like(k)
-    kd = k * depth
+    with np.errstate(over="ignore"):  # k d past the float range: deep water
+        kd = k * depth
     t = np.tanh(kd)
     with np.errstate(over="ignore"):
         g = np.where(kd < 350, 2 * kd / np.sinh(np.minimum(2 * kd, 700)), 0.0)

@@ -229,7 +229,7 @@ def test_convert_gl_dx_round_trip_is_byte_exact(tmp_path):
     "args, message",
     [
         (["--layer", "{d},tilt=3"], "invalid layer setting"),
-        (["--layer", "{d},tile=abc"], "invalid tile"),
+        (["--layer", "{d},tile=abc"], "invalid layer setting tile=abc"),
         (["--mask-id", "3"], "needs a mask"),
         (["--tile", "0"], "non-zero"),
     ],

@@ -257,6 +257,10 @@ def files(tmp_path):
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
     )
     (tmp_path / "open.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    for name, s in (("tiny", "1e-6"), ("big", "1e30"), ("huge", "1e200")):  # sides, metres
+        (tmp_path / f"{name}.obj").write_text(
+            f"v 0 0 0\nv {s} 0 0\nv 0 {s} 0\nv 0 0 {s}\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+        )
     return tmp_path
 
 
@@ -274,13 +278,13 @@ ERRORS = {
     "open mesh": (["float", "{d}/open.obj"], "{d}/open.obj", "not watertight"),
     # trimesh and numpy printed 58 lines of overflow warnings before this one, without the file
     "library warnings around the error": (
-        ["float", "{d}/tet.obj", "--size", "1e200", "--seconds", "0.1"],
-        "{d}/tet.obj",
-        "closed with outward normals",
+        ["float", "{d}/huge.obj", "--seconds", "0.1"],
+        "{d}/huge.obj",
+        "the mesh encloses no volume",
     ),
     "MuJoCo's XML parser": (
-        ["float", "{d}/tet.obj", "--size", "1e-6", "--backend", "mujoco", "--seconds", "0.1"],
-        "{d}/tet.obj",
+        ["float", "{d}/tiny.obj", "--backend", "mujoco", "--seconds", "0.1"],
+        "{d}/tiny.obj",
         "MuJoCo cannot simulate the body: mesh volume is too small",
     ),
     "missing output folder": (["convert", "{d}/ok.hdr", "{d}/no/o.exr"], "{d}/no/o.exr", "exist"),
@@ -319,12 +323,13 @@ def test_every_error_is_one_line_naming_the_file(files, capfd, case):
 def test_an_option_error_of_the_command_line_is_not_attributed(files, capfd):
     assert main(["-q", "resize", str(files / "ok.hdr"), str(files / "o.hdr"), "--size", "x"]) == 2
     assert one_error_line(capfd) == (
-        "bakeshop: error: invalid size 'x': expected N or WxH with positive integers"
+        "bakeshop: error: Invalid value for '--size': 'x' is not a size: expected N or WxH "
+        "(whole numbers) (see 'bakeshop resize --help')"
     )
 
 
 def test_library_warnings_of_a_successful_run_are_one_line_each(files, capfd):
-    status = main(["-q", "float", str(files / "tet.obj"), "--size", "1e30", "--seconds", "0.1"])
+    status = main(["-q", "float", str(files / "big.obj"), "--seconds", "0.1"])
     err = capfd.readouterr().err
     assert status == 0
     lines = err.splitlines()

@@ -162,3 +162,14 @@ def test_sidecar_dict_is_json_ready():
     d = Spectrum("jonswap").to_dict()
     assert d["depth"] is None and d["units"]["wind_speed"] == "m/s"
     json.dumps(d)
+
+
+def test_a_depth_past_the_float_range_is_deep_water():
+    """``--depth 1e308`` is deep water, not NaN: k d overflows, tanh(k d) is 1 and the
+    group velocity's d (1 - T^2) term is 0 (it was inf * 0)."""
+    k = np.geomspace(1e-3, 1e3, 25)
+    with np.errstate(all="raise"):
+        deep = group_velocity(k)
+        huge = group_velocity(k, depth=1e308)
+        assert np.array_equal(dispersion(k, depth=1e308), dispersion(k))
+    assert np.array_equal(huge, deep)

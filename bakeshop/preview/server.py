@@ -1,0 +1,222 @@
+"""The browser viewer's local server: the same shaders over WebGL2, the bake's own numbers.
+
+:func:`serve` starts a standard-library HTTP server bound to 127.0.0.1 that answers a fixed set
+of routes and nothing else (no file system path is ever built from a request, so ``../`` or an
+absolute path is a 404 like any unknown route):
+
+============================ =====================================================================
+route                        what
+============================ =====================================================================
+``/``                        the page (``web/index.html``)
+``/viewer.js``               the viewer (``web/viewer.js``, no library)
+``/bake.json``               sizes, the chain's levels, sh.json's 9 coefficients, the sun, the
+                             balls, each scene's camera, the bake's auto exposure, the golf
+                             course's and the water's uniforms, the GLSL ES 3.00 sources of the
+                             programs (:func:`bakeshop.preview.glsl.program_sources`, "webgl")
+``/data/NAME.f32``           float32 little-endian: a texture's RGBA texels, rows in order
+                             (``cube``, ``specular0`` ..., ``sun_dim``, ``shadow_dim``, ``dfg``,
+                             ``water_env``, ``water_rain``, ``water_ring``), the water's normal
+                             frames as they are (``water_normals``: F, N, N, C) and the golf
+                             course's vertices (``golf``: V rows of 15 floats)
+============================ =====================================================================
+
+The texels are the bake's values as read by :func:`bakeshop.preview.read_bake` (a half-float
+file gives the same numbers in float32): nothing is re-filtered, so the page shows exactly the
+baked chain, DFG table and DIM pair, as ``bakeshop preview`` does.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+from http import HTTPStatus
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from importlib import resources
+from typing import NamedTuple
+from urllib.parse import urlsplit
+
+import numpy as np
+
+from bakeshop.errors import ArgumentError
+from bakeshop.preview.glsl import program_sources
+from bakeshop.preview.scene import balls, default_camera
+
+__all__ = ["LOCALHOST", "Viewer", "serve", "viewer_payload"]
+
+#: The only address the viewer binds to.
+LOCALHOST = "127.0.0.1"
+#: The programs the page compiles.
+WEB_PROGRAMS = ("balls", "scene", "shadow", "compose")
+#: The scenes the page draws.
+WEB_SCENES = ("sky", "balls", "golf", "water")
+
+
+def _rgba_bytes(a) -> bytes:
+    a = np.asarray(a, np.float32)
+    out = np.ones(a.shape[:-1] + (4,), "<f4")
+    out[..., : min(a.shape[-1], 4)] = a[..., :4]
+    return out.tobytes()
+
+
+def _uniform_json(values: dict) -> dict:
+    out = {}
+    for name, value in values.items():
+        if isinstance(value, (tuple, list, np.ndarray)):
+            out[name] = [float(v) for v in np.asarray(value, np.float64).ravel()]
+        else:
+            out[name] = value if isinstance(value, bool) else float(value)
+    return out
+
+
+def viewer_payload(bake, *, golf=None, water=None) -> tuple[dict, dict[str, bytes]]:
+    """What the page receives: the JSON document and the texel blobs by name.
+
+    Returns
+    -------
+    manifest : dict
+        JSON-ready (see the module's table).
+    blobs : dict of str to bytes
+        Float32 RGBA texels of each texture (a cube's six faces one after the other).
+    """
+    from bakeshop.preview.bake import bake_exposure
+    from bakeshop.preview.render import (
+        DIFFUSE,
+        REFLECTIONS,
+        SHADOW_SIZE,
+        resolve_water,
+        shadow_uniforms,
+        water_arrays,
+        water_uniforms,
+    )
+    from bakeshop.preview.scene import VERTEX_FLOATS, golf_course
+
+    golf = golf if golf is not None else golf_course()
+    water = resolve_water(bake, water)
+    arrays = water_arrays(water)
+
+    blobs = {"cube": _rgba_bytes(bake.cube)}
+    for m, level in enumerate(bake.specular):
+        blobs[f"specular{m}"] = _rgba_bytes(level)
+    blobs["sun_dim"] = _rgba_bytes(bake.sun_dim)
+    blobs["shadow_dim"] = _rgba_bytes(bake.shadow_dim)
+    blobs["dfg"] = _rgba_bytes(np.concatenate([bake.dfg, np.zeros_like(bake.dfg[..., :1])], -1))
+    blobs["golf"] = np.ascontiguousarray(golf.vertices, "<f4").tobytes()
+    blobs["water_normals"] = np.ascontiguousarray(arrays["normals"], "<f4").tobytes()
+    for name in ("env", "rain", "ring"):
+        blobs[f"water_{name}"] = _rgba_bytes(arrays[name])
+    sun = bake.sun
+    manifest = {
+        "cube": bake.cube.shape[1],
+        "specular": [level.shape[1] for level in bake.specular],
+        "sun_dim": list(bake.sun_dim.shape[:2]),
+        "shadow_dim": list(bake.shadow_dim.shape[:2]),
+        "dfg": list(bake.dfg.shape[:2]),
+        "sh": np.asarray(bake.sh, np.float64)[:9].tolist(),
+        "sun": None
+        if sun is None
+        else {
+            "direction": [float(v) for v in sun.direction],
+            "irradiance": [float(v) for v in sun.irradiance],
+            "radius": float(sun.radius),
+        },
+        "balls": balls(len(bake.specular)),
+        "cameras": {scene: default_camera(scene).to_dict() for scene in WEB_SCENES},
+        "exposure": float(bake_exposure(bake)),
+        "programs": {
+            name: dict(zip(("vertex", "fragment"), program_sources(name, "webgl"), strict=True))
+            for name in WEB_PROGRAMS
+        },
+        "golf": {
+            "vertices": int(golf.vertices.shape[0]),
+            "floats": VERTEX_FLOATS,
+            "shadow_size": SHADOW_SIZE,
+            "uniforms": _uniform_json(shadow_uniforms(bake, golf)),
+        },
+        "water": {
+            "normals": list(arrays["normals"].shape),
+            "env": list(arrays["env"].shape[:2]),
+            "rain": list(arrays["rain"].shape[:2]),
+            "ring": list(arrays["ring"].shape[:2]),
+            "uniforms": _uniform_json(water_uniforms(water)),
+        },
+        "diffuse": DIFFUSE,
+        "reflections": REFLECTIONS,
+        "files": dict(bake.files or {}),
+    }
+    return manifest, blobs
+
+
+def _web_file(name: str) -> bytes:
+    return resources.files("bakeshop.preview").joinpath("web", name).read_bytes()
+
+
+class Viewer(NamedTuple):
+    """A running viewer: its server, the thread serving it, and its address."""
+
+    server: ThreadingHTTPServer
+    thread: threading.Thread
+    url: str
+
+    def close(self) -> None:
+        """Stop serving and release the port."""
+        self.server.shutdown()
+        self.server.server_close()
+        self.thread.join()
+
+
+def _handler(routes: dict[str, tuple[str, bytes]]):
+    class Handler(BaseHTTPRequestHandler):
+        server_version = "bakeshop-view"
+
+        def do_GET(self):  # noqa: N802 - the standard library's name
+            path = urlsplit(self.path).path
+            found = routes.get(path)
+            if found is None:
+                self.send_error(HTTPStatus.NOT_FOUND)
+                return
+            kind, body = found
+            self.send_response(HTTPStatus.OK)
+            self.send_header("Content-Type", kind)
+            self.send_header("Content-Length", str(len(body)))
+            self.send_header("Cache-Control", "no-store")
+            self.end_headers()
+            self.wfile.write(body)
+
+        def log_message(self, format, *args):  # noqa: A002 - the standard library's name
+            pass
+
+    return Handler
+
+
+def serve(bake, *, port: int = 0) -> Viewer:
+    """Serve the viewer of ``bake`` on 127.0.0.1 in a background thread.
+
+    Parameters
+    ----------
+    bake : Bake
+    port : int
+        0..65535; 0 picks a free port.
+
+    Returns
+    -------
+    Viewer
+        ``url`` is the page's address; :meth:`Viewer.close` stops it.
+    """
+    if not (isinstance(port, int) and 0 <= port <= 65535):
+        raise ArgumentError(f"a port is 0..65535, got {port!r}")
+    manifest, blobs = viewer_payload(bake)
+    routes = {
+        "/": ("text/html; charset=utf-8", _web_file("index.html")),
+        "/viewer.js": ("text/javascript; charset=utf-8", _web_file("viewer.js")),
+        "/bake.json": ("application/json", json.dumps(manifest).encode()),
+    }
+    for name, body in blobs.items():
+        routes[f"/data/{name}.f32"] = ("application/octet-stream", body)
+    try:
+        server = ThreadingHTTPServer((LOCALHOST, port), _handler(routes))
+    except OSError as e:
+        raise ArgumentError(f"cannot serve on {LOCALHOST}:{port}: {e.strerror or e}") from None
+    server.daemon_threads = True
+    thread = threading.Thread(target=server.serve_forever, name="bakeshop-view", daemon=True)
+    thread.start()
+    return Viewer(server, thread, f"http://{LOCALHOST}:{server.server_address[1]}/")

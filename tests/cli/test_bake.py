@@ -1,0 +1,126 @@
+"""``bakeshop bake``: what a user sees (through bakeshop.cli.main.main)."""
+
+import numpy as np
+import pytest
+
+import bakeshop.io as bio
+from bakeshop.bake import OPERATIONS, Operation, Option
+from bakeshop.cli.main import main
+from bakeshop.io import pfm
+
+RECIPE = """
+[copy.a]
+input = "a.pfm"
+output = "out/a.pfm"
+
+[copy.b]
+input = "out/a.pfm"
+output = "out/b.pfm"
+gain = 2.0
+"""
+
+
+def _copy(options):
+    bio.write_image(options["output"], bio.read_image(options["input"]) * options["gain"])
+    return {}
+
+
+@pytest.fixture
+def level(tmp_path, monkeypatch):
+    op = Operation(
+        name="copy",
+        version=1,
+        summary="an image, times a gain",
+        paths={"input": "input", "output": "output"},
+        options={"gain": Option(1.0, "float", 0, 10)},
+        run=_copy,
+    )
+    monkeypatch.setitem(OPERATIONS, "copy", op)
+    (tmp_path / "out").mkdir()
+    bio.write_image(tmp_path / "a.pfm", np.ones((4, 8, 3), np.float32))
+    (tmp_path / "level.toml").write_text(RECIPE)
+    return tmp_path / "level.toml"
+
+
+def run(capsys, *args):
+    status = main(["-q", *map(str, args)])
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+def test_help_teaches_with_an_example(capsys):
+    status, out, _ = run(capsys, "bake", "--help")
+    assert status == 0 and "Example:" in out and "docs/recipes.md" in out
+
+
+def test_operations_lists_every_key_with_its_range_and_default(capsys):
+    status, out, _ = run(capsys, "bake", "--operations")
+    assert status == 0
+    assert "[probe.NAME]" in out and "[water.NAME]" in out
+    assert "mips           int in [1, 14] (default 9)" in out
+    assert "zstd           bool (default false)" in out
+
+
+def test_bake_explain_and_nothing_to_do(capsys, level):
+    status, out, err = run(capsys, "bake", level, "--explain")
+    assert status == 0 and err == ""
+    lines = out.splitlines()
+    assert lines[0] == "rebuild    copy.a: never built"
+    assert lines[1].startswith("built      copy.a in ") and "1 re-read and checked" in lines[1]
+    assert lines[-1].startswith("baked 2 of 2 steps in ")
+    status, out, _ = run(capsys, "bake", level)
+    assert status == 0 and out.startswith("nothing to do: all 2 steps are up to date")
+
+
+def test_dry_run_says_what_would_change_and_why(capsys, level):
+    run(capsys, "bake", level)
+    level.write_text(RECIPE.replace("gain = 2.0", "gain = 3.0"))
+    status, out, _ = run(capsys, "bake", level, "--dry-run")
+    assert status == 0
+    assert out.splitlines() == [
+        "up to date copy.a",
+        "rebuild    copy.b: option gain changed (2.0 -> 3.0)",
+        "would rebuild 1 of 2 steps (dry run: nothing written)",
+    ]
+    status, out, _ = run(capsys, "bake", level, "--dry-run", "--force", "copy.a")
+    assert "rebuild    copy.a: forced" in out
+    assert "rebuild    copy.b: option gain changed" in out
+
+
+def test_a_bad_recipe_is_one_error_line(capsys, level):
+    level.write_text(RECIPE.replace("gain = 2.0", "gian = 2.0"))
+    status, out, err = run(capsys, "bake", level)
+    assert status == 2 and out == ""
+    assert err.count("\n") == 1 and err.startswith(f"bakeshop: error: {level}: unknown key 'gian'")
+
+
+def test_an_output_that_does_not_reload_fails_the_bake_naming_it(capsys, level, monkeypatch):
+    original = pfm.write
+
+    def truncating(path, image, **options):
+        original(path, image, **options)
+        with open(path, "r+b") as f:
+            f.truncate(20)
+
+    monkeypatch.setattr(pfm, "write", truncating)
+    status, out, err = run(capsys, "bake", level)
+    assert status == 2
+    assert "not run    copy.b: copy.a failed" in out
+    target = level.parent / "out" / "a.pfm"
+    assert err.startswith(f"bakeshop: error: {target}: copy.a: the file written does not reload")
+    assert not target.exists()
+
+
+def test_init_writes_a_starter_recipe_and_never_replaces_one(capsys, tmp_path):
+    bio.write_image(tmp_path / "atrium.hdr", np.ones((8, 16, 3), np.float32))
+    recipe = tmp_path / "level.toml"
+    status, out, _ = run(capsys, "bake", "--init", recipe)
+    assert status == 0 and out.startswith(f"wrote {recipe}: 1 probe step(s)")
+    assert "[probe.atrium]" in recipe.read_text()
+    status, out, err = run(capsys, "bake", recipe, "--dry-run")
+    assert status == 0 and out.splitlines()[0] == "rebuild    probe.atrium: never built"
+    status, _, err = run(capsys, "bake", "--init", recipe)
+    assert (
+        status == 2
+        and err == f"bakeshop: error: {recipe}: already exists; --init never replaces a recipe\n"
+    )
