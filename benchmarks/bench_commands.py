@@ -10,7 +10,8 @@ its binary. A peer that is absent is reported as not measured.
 Jobs (input: Poly Haven's Quarry 01, 1024x512, upsampled bilinearly to 4096x2048 for "4k"):
 
 - ``start``: ``bakeshop --version``, ``--help``, ``info`` of the 1k probe (.hdr and .exr);
-- ``dim-1k``, ``dim-4k``: diffuse irradiance. bakeshop ``irradiance`` (``auto``: exact to the
+- ``dim-1k``, ``dim-4k``: diffuse irradiance (from the 1k probe, each DIM's error against
+  bakeshop's ``exact`` one too: fidelity beside speed). bakeshop ``irradiance`` (``auto``: exact to the
   bound of docs/irradiance.md, a 128x64 latlong DIM); cmgen ``--sh=3 --sh-irradiance`` (9 SH
   coefficients, approximate); cmft ``--filter irradiance`` (its SH-based cube, approximate);
 - ``dims-12mp``: the same on the team's probe size, 5020x2510 (12.6 MP), with bakeshop's
@@ -108,7 +109,7 @@ def contenders(job: str, work: Path, run: peers.Peers) -> dict[str, list[str] | 
             "-q",
             "irradiance",
             str(src),
-            str(out / "dim.hdr"),
+            str(out / "dim.pfm"),
         ]
         if run.present("cmgen"):
             found["cmgen --sh=3 --sh-irradiance"] = [
@@ -152,6 +153,55 @@ def contenders(job: str, work: Path, run: peers.Peers) -> dict[str, list[str] | 
                 run, src, out / "cmft_faces", "--filter", "none", "--dstFaceSize", "1024",
                 "--output0params", "hdr,rgbe,facelist",
             )  # fmt: skip
+    return found
+
+
+#: real SH basis to L = 2 with the Condon-Shortley phase, in cmgen's order (L00, L1-1, L10, L11,
+#: L2-2, L2-1, L20, L21, L22), at unit directions (x, y, z).
+def _sh_basis(x, y, z):
+    return np.stack(
+        [0.282095 + 0 * x, -0.488603 * y, 0.488603 * z, -0.488603 * x, 1.092548 * x * y,
+         -1.092548 * y * z, 0.315392 * (3 * z * z - 1), -1.092548 * x * z,
+         0.546274 * (x * x - y * y)], axis=-1,
+    )  # fmt: skip
+
+
+def fidelity(job: str, work: Path) -> dict[str, str]:
+    """Errors of each contender's DIM against bakeshop's ``exact`` one (the brute-force sum to
+    rounding, tests/light), on the 1k probe only (``exact`` from larger probes takes minutes).
+
+    cmgen's 9 coefficients are irradiance E (not E/pi) in a frame turned 180 degrees about +Y
+    from bakeshop's (its x and z negated): of the 48 axis permutations and signs, that one fits
+    best (15 % RMS, the next 24 %)."""
+    if job != "dim-1k":
+        return {}
+    import re
+
+    from bakeshop.io import read_image
+    from bakeshop.light import irradiance
+    from bakeshop.sphere import layout
+
+    out = work / f"out_{job}"
+    ours = read_image(out / "dim.pfm").astype(np.float64)
+    h, w = ours.shape[:2]
+    exact = irradiance(read_image(work / "probe_1k.hdr"), "latlong", size=(w, h), method="exact")
+    exact = exact.astype(np.float64)
+    lay = layout("latlong")
+    weights = lay.solid_angles((h, w))[..., None]
+    dirs = lay.directions((h, w))[0]
+
+    def errors(got):
+        rms = np.sqrt(np.sum(weights * (got - exact) ** 2) / np.sum(weights * exact**2))
+        return f"{rms:.1e} RMS, {np.max(np.abs(got - exact) / exact):.1e} max"
+
+    found = {"bakeshop irradiance": errors(ours)}
+    sh = out / "sh.txt"
+    if sh.exists():
+        lines = [ln for ln in sh.read_text().splitlines() if "(" in ln]
+        coef = np.array([[float(v) for v in re.findall(r"-?\d+\.\d+(?:e-?\d+)?", ln)[:3]]
+                         for ln in lines])  # fmt: skip
+        basis = _sh_basis(-dirs[..., 0], dirs[..., 1], -dirs[..., 2])
+        found["cmgen --sh=3 --sh-irradiance"] = errors(np.maximum(basis @ coef, 0) / np.pi)
     return found
 
 
@@ -201,9 +251,10 @@ def main() -> None:
                     if name.startswith(peer):
                         run.measured(peer, job)
             results[job] = timed
+            errors = fidelity(job, work)
             print(f"\n{job} ({repeats} run{'s' if repeats > 1 else ''} each, alternated)")
-            print("| command | wall s | CPU s | wall / bakeshop's | CPU / bakeshop's |")
-            print("|---|---|---|---|---|")
+            print("| command | wall s | CPU s | wall / bakeshop's | CPU / bakeshop's | vs exact |")
+            print("|---|---|---|---|---|---|")
             # against bakeshop's warm run (its plan cache filled by an earlier run)
             ours = [r for n, r in timed.items() if n.startswith("bakeshop") and "cold" not in n][-1]
             for name, r in timed.items():
@@ -212,7 +263,8 @@ def main() -> None:
                     if job == "start"
                     else f"{r['wall'] / ours['wall']:.2f} | {r['cpu'] / ours['cpu']:.2f}"
                 )
-                print(f"| {name} | {peers.spread(r)} | {peers.spread(r, 'cpu')} | {ratios} |")
+                times = f"{peers.spread(r)} | {peers.spread(r, 'cpu')}"
+                print(f"| {name} | {times} | {ratios} | {errors.get(name, '-')} |")
     print("\n" + json.dumps(results))
     run.finish()
 
