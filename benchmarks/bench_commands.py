@@ -10,10 +10,10 @@ its binary. A peer that is absent is reported as not measured.
 Jobs (input: Poly Haven's Quarry 01, 1024x512, upsampled bilinearly to 4096x2048 for "4k"):
 
 - ``start``: ``bakeshop --version``, ``--help``, ``info`` of the 1k probe (.hdr and .exr);
-- ``dim-1k``, ``dim-4k``: diffuse irradiance (from the 1k probe, each DIM's error against
-  bakeshop's ``exact`` one too: fidelity beside speed). bakeshop ``irradiance`` (``auto``: exact to the
+- ``dim-1k``, ``dim-4k``: diffuse irradiance. bakeshop ``irradiance`` (``auto``: exact to the
   bound of docs/irradiance.md, a 128x64 latlong DIM); cmgen ``--sh=3 --sh-irradiance`` (9 SH
-  coefficients, approximate); cmft ``--filter irradiance`` (its SH-based cube, approximate);
+  coefficients, approximate); cmft ``--filter irradiance`` (its SH-based cube, approximate).
+  From the 1k probe, each DIM's error against bakeshop's ``exact`` one too (fidelity);
 - ``dims-12mp``: the same on the team's probe size, 5020x2510 (12.6 MP), with bakeshop's
   ``dims`` (the sun found and painted out, the sun DIM and the shadow DIM, four files) beside
   its single ``irradiance``;
