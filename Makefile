@@ -34,6 +34,7 @@ test: $(BIN)/.installed sysdeps
 
 lint: $(BIN)/.installed
 	$(BIN)/ruff check bakeshop tests benchmarks
+	$(BIN)/mypy
 
 bench: $(BIN)/.installed
 	for b in benchmarks/bench_*.py; do $(BIN)/python $$b || exit 1; done

@@ -24,9 +24,11 @@ axis convention) is in :data:`Engine.checked`, and ``docs/engines.md`` repeats i
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
 
@@ -80,7 +82,7 @@ class Engine:
     #: the engine's LOD of perceptual roughness r for a chain of ``levels`` levels, or None
     #: when the engine prefilters the environment itself (then bakeshop ships the environment
     #: with plain box-filtered mips and says so).
-    lod_of_roughness: object
+    lod_of_roughness: Callable[[float, int], float] | None
     #: number of levels the engine's mapping assumes (None: any).
     specular_levels: int | None
     #: SH layout name for :func:`sh_export`, or None (the engine computes its own).
@@ -275,7 +277,7 @@ def _lookup_matrix(e: Engine) -> np.ndarray:
     return np.asarray(e.lookup, np.float64)
 
 
-def cube_faces(cube, e: Engine | str) -> np.ndarray:
+def cube_faces(cube: ArrayLike, e: Engine | str) -> np.ndarray:
     """The six faces (OpenGL/Direct3D face order) the engine ``e`` must be given so that its lookup
     ``M d`` finds bakeshop's value for world direction ``d``.
 
@@ -313,7 +315,7 @@ def cube_faces(cube, e: Engine | str) -> np.ndarray:
     return cube[face, y, x].reshape(cube.shape)
 
 
-def panorama(latlong, e: Engine | str) -> np.ndarray:
+def panorama(latlong: ArrayLike, e: Engine | str) -> np.ndarray:
     """Bakeshop's latlong ``(H, W, C)`` rolled into the panorama engine ``e`` samples."""
     if isinstance(e, str):
         e = engine(e)
@@ -330,13 +332,14 @@ def mip_roughness(e: Engine | str, levels: int) -> np.ndarray | None:
     monotone curve), or None when the engine prefilters the environment itself."""
     if isinstance(e, str):
         e = engine(e)
-    if e.lod_of_roughness is None:
+    lod_of = e.lod_of_roughness
+    if lod_of is None:
         return None
     if levels < 1:
         raise ArgumentError(f"a chain has at least one level, got {levels}")
     if levels == 1:
         return np.zeros(1)
-    top = e.lod_of_roughness(1.0, levels)
+    top = lod_of(1.0, levels)
     out = np.empty(levels)
     out[0] = 0.0  # level 0 is the environment itself
     for m in range(1, levels):
@@ -344,7 +347,7 @@ def mip_roughness(e: Engine | str, levels: int) -> np.ndarray | None:
         lo, hi = 0.0, 1.0
         for _ in range(60):
             mid = 0.5 * (lo + hi)
-            if e.lod_of_roughness(mid, levels) < lod:
+            if lod_of(mid, levels) < lod:
                 lo = mid
             else:
                 hi = mid
@@ -352,7 +355,7 @@ def mip_roughness(e: Engine | str, levels: int) -> np.ndarray | None:
     return out
 
 
-def sh_export(coeffs, e: Engine | str) -> dict:
+def sh_export(coeffs: ArrayLike, e: Engine | str) -> dict:
     """Order-2 SH radiance coefficients ``(9, 3)`` (bakeshop's basis and frame) in the layout
     the engine reads.
 

@@ -18,8 +18,11 @@ import contextlib
 import os
 import threading
 import time
-from collections.abc import Iterable, Iterator
-from typing import TypeVar
+from collections.abc import Iterable, Iterator, Sized
+from typing import TYPE_CHECKING, TypeVar
+
+if TYPE_CHECKING:
+    from rich.console import Console
 
 T = TypeVar("T")
 
@@ -27,7 +30,7 @@ T = TypeVar("T")
 #: overrides it).
 LOG_INTERVAL = 5.0
 
-_console = None
+_console: Console | None = None
 #: the rich Progress on screen (shared by nested tasks) and how many tasks use it.
 _live = None
 _live_users = 0
@@ -80,7 +83,7 @@ def _interval() -> float:
 
 
 def _logging() -> bool:
-    return enabled() and not _console.is_terminal
+    return enabled() and _console is not None and not _console.is_terminal
 
 
 def _seconds(t: float) -> str:
@@ -140,7 +143,8 @@ class Task:
         return text
 
     def _log(self, now: float) -> None:
-        _console.print(self.line(now), markup=False, highlight=False, soft_wrap=True)
+        if _console is not None:
+            _console.print(self.line(now), markup=False, highlight=False, soft_wrap=True)
 
 
 @contextlib.contextmanager
@@ -235,7 +239,7 @@ def track(items: Iterable[T], description: str, total: int | None = None) -> Ite
     if not enabled():
         yield from items
         return
-    if total is None and hasattr(items, "__len__"):
+    if total is None and isinstance(items, Sized):
         total = len(items)
     with task(description, total) as t:
         for item in items:
@@ -254,5 +258,6 @@ def step(description: str):
         with task(description):
             yield
         return
+    assert _console is not None  # enabled() said so
     with _console.status(description, spinner="dots"):
         yield

@@ -151,6 +151,19 @@ def test_only_io_and_the_command_line_write_files():
     assert not bad, "file writes outside " + ", ".join(WRITERS) + ":\n" + "\n".join(bad)
 
 
+#: the most lines a module may have (issue 11): past it, split it along what its parts hold.
+MAX_LINES = 700
+
+
+def test_no_module_is_over_the_size_limit():
+    sizes = {
+        path.relative_to(PACKAGE.parent): len(path.read_text().splitlines())
+        for path in PACKAGE.rglob("*.py")
+    }
+    big = {str(p): n for p, n in sizes.items() if n > MAX_LINES}
+    assert not big, f"modules over {MAX_LINES} lines (split them, docs/architecture.md): {big}"
+
+
 @pytest.mark.parametrize(
     "source",
     [

@@ -116,6 +116,10 @@ BUOYANCY_BACKEND_RTOL = 2e-2
 #: undamped bobbing over a minute: spread of the total energy relative to the energy of the
 #: oscillation (semi-implicit Euler's bounded O(omega dt) wobble, no drift).
 BUOYANCY_ENERGY_SPREAD = 0.1
+#: float64 closed forms (rotations, box mass properties, free fall) evaluated in another order
+#: or by another library (scipy's Rotation, trimesh's polyhedral integrals): rounding only
+#: (absolute, on values of order 1).
+BUOYANCY_FLOAT64 = 1e-12
 
 #: the same with nearest lookups: the bake evaluates R at texel centres, so within a few texels
 #: of the horizon (where R changes fastest) a 1k latlong texel spans up to ~3 steps of R * L.

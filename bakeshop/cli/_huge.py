@@ -7,7 +7,7 @@ import os
 
 import click
 
-from bakeshop.cli._common import MemorySize
+from bakeshop.cli._numbers import MemorySize
 
 memory_option = click.option(
     "--memory",

@@ -9,7 +9,8 @@ from pathlib import Path
 
 import click
 
-from bakeshop.cli._common import Integer, Size, parse_size
+from bakeshop.cli._numbers import Integer, Size
+from bakeshop.cli._paths import parse_size
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import LAYOUT_ENVMAPS, is_cube, read_environment
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from bakeshop.cli._common import Integer
+from bakeshop.cli._numbers import Integer
 
 
 def _operations_text() -> str:

@@ -6,15 +6,9 @@ import time
 
 import click
 
-from bakeshop.cli._common import (
-    ENVIRONMENT,
-    Integer,
-    float_format_option,
-    linearise,
-    out_dir_option,
-    refuse_overwriting_inputs,
-    srgb_decode_option,
-)
+from bakeshop.cli._common import float_format_option, linearise, out_dir_option, srgb_decode_option
+from bakeshop.cli._numbers import Integer
+from bakeshop.cli._paths import ENVIRONMENT, refuse_overwriting_inputs
 from bakeshop.cli._probe import check_picture_format, picture_layout, read_probe
 from bakeshop.cli.compress import bake_compressed, describe_quality, quality_options
 from bakeshop.engines import ENGINES

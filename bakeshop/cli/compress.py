@@ -12,14 +12,9 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import (
-    ENVIRONMENT,
-    OUTPUT_CHAIN,
-    Integer,
-    Number,
-    is_ldr,
-    refuse_overwriting_inputs,
-)
+from bakeshop.cli._common import is_ldr
+from bakeshop.cli._numbers import Integer, Number
+from bakeshop.cli._paths import ENVIRONMENT, OUTPUT_CHAIN, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError, BakeshopError
 
 CONTEXT = {"max_content_width": 100}

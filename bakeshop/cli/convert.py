@@ -5,15 +5,8 @@ from __future__ import annotations
 import click
 import numpy as np
 
-from bakeshop.cli._common import (
-    OUTPUT,
-    SOURCE,
-    parse_options,
-    picture_options,
-    refuse_overwriting_inputs,
-    write_any,
-    writer_option,
-)
+from bakeshop.cli._common import parse_options, picture_options, write_any, writer_option
+from bakeshop.cli._paths import OUTPUT, SOURCE, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
 from bakeshop.io import stored_bits
 

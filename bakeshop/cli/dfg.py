@@ -6,10 +6,8 @@ import time
 
 import click
 
-from bakeshop.cli._common import (
-    OUTPUT,
-    Integer,
-)
+from bakeshop.cli._numbers import Integer
+from bakeshop.cli._paths import OUTPUT
 from bakeshop.io.environment import write_table
 
 _float32 = click.option(

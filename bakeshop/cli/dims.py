@@ -5,14 +5,8 @@ from __future__ import annotations
 import click
 import numpy as np
 
-from bakeshop.cli._common import (
-    ENVIRONMENT,
-    float_format_option,
-    linearise,
-    out_dir_option,
-    refuse_overwriting_inputs,
-    srgb_decode_option,
-)
+from bakeshop.cli._common import float_format_option, linearise, out_dir_option, srgb_decode_option
+from bakeshop.cli._paths import ENVIRONMENT, refuse_overwriting_inputs
 from bakeshop.cli._probe import (
     check_picture_format,
     from_option,

@@ -8,7 +8,8 @@ from pathlib import Path
 import click
 
 from bakeshop import progress
-from bakeshop.cli._common import INPUT, OUTPUT, Fields, Integer, Number, Numbers
+from bakeshop.cli._numbers import Fields, Integer, Number, Numbers
+from bakeshop.cli._paths import INPUT, OUTPUT
 from bakeshop.errors import ArgumentError
 
 #: --waves: one wave train.

@@ -7,22 +7,15 @@ from pathlib import Path
 import click
 
 from bakeshop.cli._common import (
-    ENVIRONMENT,
-    OUTPUT_FACES,
-    Direction,
-    Exposure,
-    Integer,
-    Number,
-    Size,
     convention_option,
     environment_weights,
     is_ldr,
     linearise,
     parse_exposure_mode,
-    parse_size,
-    refuse_overwriting_inputs,
     srgb_decode_option,
 )
+from bakeshop.cli._numbers import Direction, Exposure, Integer, Number, Size
+from bakeshop.cli._paths import ENVIRONMENT, OUTPUT_FACES, parse_size, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import (
     describe,

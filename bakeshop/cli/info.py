@@ -7,9 +7,7 @@ from pathlib import Path
 
 import click
 
-from bakeshop.cli._common import (
-    INPUT,
-)
+from bakeshop.cli._paths import INPUT
 
 
 @click.command(context_settings={"max_content_width": 100})

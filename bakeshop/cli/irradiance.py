@@ -5,18 +5,16 @@ from __future__ import annotations
 import click
 
 from bakeshop.cli._common import (
-    ENVIRONMENT,
-    OUTPUT,
     environment_weights,
     is_picture,
     linearise,
     make_picture,
     picture_options,
-    refuse_overwriting_inputs,
     refuse_unused_picture_rule,
     srgb_decode_option,
     warn,
 )
+from bakeshop.cli._paths import ENVIRONMENT, OUTPUT, refuse_overwriting_inputs
 from bakeshop.cli._probe import (
     from_option,
     method_option,

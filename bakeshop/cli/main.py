@@ -144,7 +144,7 @@ class _Lazy(click.Group):
 
     def get_command(self, ctx, name):
         if name not in self.commands and name in COMMANDS:
-            from bakeshop.cli._common import guard_outputs
+            from bakeshop.cli._paths import guard_outputs
 
             importlib.import_module(f"bakeshop.cli.{COMMANDS[name][0]}").register(self)
             # before the command runs, none of its outputs may be one of its inputs

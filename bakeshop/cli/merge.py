@@ -7,7 +7,8 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import INPUT, OUTPUT, Integer, Number, Numbers, refuse_overwriting_inputs
+from bakeshop.cli._numbers import Integer, Number, Numbers
+from bakeshop.cli._paths import INPUT, OUTPUT, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
 
 

@@ -7,21 +7,10 @@ from pathlib import Path
 import click
 import numpy as np
 
-from bakeshop.cli._common import (
-    INPUT,
-    OUTPUT,
-    Integer,
-    Number,
-    Numbers,
-    Size,
-    is_picture,
-    output_bits,
-    parse_options,
-    parse_size,
-    refuse_overwriting_inputs,
-    warn,
-    writer_option,
-)
+from bakeshop.cli._common import is_picture, output_bits, parse_options, warn, writer_option
+from bakeshop.cli._normal_layers import build_layers, parse_layer, placement_options
+from bakeshop.cli._numbers import Integer, Number, Size
+from bakeshop.cli._paths import INPUT, OUTPUT, parse_size, refuse_overwriting_inputs
 from bakeshop.engines import ENGINES
 from bakeshop.errors import ArgumentError
 from bakeshop.io import stored_bits
@@ -56,152 +45,6 @@ _writer = writer_option(
     "A writer option for OUT, repeatable: PNG bits=8|16 (default: the inputs' depth, 16 for "
     "float inputs); EXR pixel_type=half|float."
 )
-
-
-#: how a detail pattern is placed (options, and the keys of a --layer): repetitions and shift
-#: (one number for both axes, or UxV), rotation in degrees, height scale.
-PLACEMENT = {
-    "tile": Numbers(-1e4, 1e4, count=2, sep="x", repeat=True),
-    "offset": Numbers(-1e6, 1e6, count=2, sep="x", repeat=True),
-    "rotate": Number(-360, 360),
-    "strength": Number(-100, 100),
-}
-
-
-def _placement(*, tile: str, rotate: str, strength: str):
-    """The --tile, --offset, --rotate and --strength options that place a detail pattern."""
-    options = [
-        click.option(
-            "--tile",
-            type=PLACEMENT["tile"],
-            default="1",
-            show_default=True,
-            metavar="N|UxV",
-            help=tile,
-        ),
-        click.option(
-            "--offset",
-            type=PLACEMENT["offset"],
-            default="0",
-            show_default=True,
-            metavar="U|UxV",
-            help="Shift of the pattern, in tiles.",
-        ),
-        click.option(
-            "--rotate",
-            type=PLACEMENT["rotate"],
-            default=0.0,
-            show_default=True,
-            metavar="DEG",
-            help=rotate,
-        ),
-        click.option(
-            "--strength",
-            type=PLACEMENT["strength"],
-            default=1.0,
-            show_default=True,
-            metavar="S",
-            help=strength,
-        ),
-    ]
-
-    def apply(command):
-        for option in reversed(options):
-            command = option(command)
-        return command
-
-    return apply
-
-
-def _placement_value(key: str, value, path):
-    """A --layer's ``key=value`` as the option of that name reads it (:data:`PLACEMENT`)."""
-    try:
-        return PLACEMENT[key].convert(value, None, None)
-    except click.BadParameter as e:
-        raise ArgumentError(f"invalid layer setting {key}={value}: {e.message}", path) from None
-
-
-def _ids(texts) -> list:
-    """'3' -> 3 (grey level); '#ff8000' or '255,128,0' -> (255, 128, 0)."""
-    ids = []
-    for text in texts:
-        t = text.strip()
-        try:
-            if t.startswith("#") and len(t) == 7:
-                ids.append(tuple(int(t[i : i + 2], 16) for i in (1, 3, 5)))
-            elif "," in t or "/" in t:
-                ids.append(tuple(int(v) for v in t.replace("/", ",").split(",")))
-            else:
-                ids.append(int(t))
-            if not all(0 <= v <= 255 for v in np.atleast_1d(ids[-1])):
-                raise ValueError
-        except ValueError:
-            raise ArgumentError(
-                f"invalid material ID {text!r}: a grey level 0-255, #rrggbb or r/g/b"
-            ) from None
-    return ids
-
-
-_LAYER_KEYS = ("tile", "offset", "rotate", "strength", "mask", "id", "convention")
-
-
-def _parse_layer(spec: str) -> dict:
-    """``'grit.png,tile=16,rotate=30,mask=barrel.png'`` -> the layer's settings."""
-    path, *pairs = spec.split(",")
-    layer = {"path": Path(path), "ids": []}
-    for pair in pairs:
-        key, sep, value = pair.partition("=")
-        key = key.strip()
-        if not sep or key not in _LAYER_KEYS:
-            raise ArgumentError(
-                f"invalid layer setting {pair!r} in {spec!r}: use KEY=VALUE with KEY one of "
-                + ", ".join(_LAYER_KEYS)
-            )
-        if key == "id":
-            layer["ids"].append(value)
-        else:
-            layer[key] = value
-    if not layer["path"].is_file():
-        raise ArgumentError("detail layer file not found", layer["path"])
-    return layer
-
-
-def _build_layers(shape, settings, method_convention, encoding, depths=None):
-    """Read each layer's detail map and mask into DetailLayer objects; each detail map's
-    :func:`~bakeshop.io.stored_bits` is appended to ``depths``."""
-    from bakeshop.io import read_image
-    from bakeshop.normals.tiling import DetailLayer, mask_weights
-
-    layers = []
-    for s in settings:
-        convention = s.get("convention") or method_convention
-        if convention not in CONVENTIONS:
-            raise ArgumentError(f"unknown convention {convention!r} for layer", s["path"])
-        detail, bits = read_normal_map(
-            s["path"], convention=convention, encoding=encoding, with_bits=True
-        )
-        if depths is not None:
-            depths.append(bits)
-        mask = None
-        if s.get("mask"):
-            mask = mask_weights(read_image(s["mask"]), shape, ids=_ids(s["ids"]) or None)
-        elif s["ids"]:
-            raise ArgumentError("a material ID needs a mask (the ID map)", s["path"])
-        place = {
-            key: _placement_value(key, s.get(key, default), s["path"])
-            for key, default in (("tile", "1"), ("offset", "0"), ("rotate", 0.0), ("strength", 1))
-        }
-        layers.append(
-            DetailLayer(
-                detail,
-                tile=place["tile"],
-                offset=place["offset"],
-                rotation=place["rotate"],
-                strength=place["strength"],
-                mask=mask,
-            )
-        )
-    return layers
 
 
 def write_normal_map(
@@ -263,7 +106,7 @@ def normals():
     "onto the macro UVs; rnm for detail laid out by arc length; pd for heights added along "
     "the low-poly normal; sg, whiteout, udn, overlay and linear for comparison.",
 )
-@_placement(
+@placement_options(
     tile="Repetitions of DETAIL across the macro map (negative mirrors).",
     rotate="Counter-clockwise rotation of the pattern; the normals turn with it.",
     strength="Height scale of the detail (0 = none, negative inverts).",
@@ -344,7 +187,7 @@ def combine(
             "mask": mask,
             "ids": list(mask_ids),
         }
-    ] + [_parse_layer(spec) for spec in layers]
+    ] + [parse_layer(spec) for spec in layers]
     refuse_overwriting_inputs(
         out, macro, *(s["path"] for s in settings), *(s["mask"] for s in settings if s.get("mask"))
     )
@@ -352,7 +195,7 @@ def combine(
         macro, convention=convention, encoding=encoding, with_bits=True
     )
     depths = [macro_bits]
-    built = _build_layers(
+    built = build_layers(
         base.shape[:2], settings, detail_convention or convention, encoding, depths
     )
     result = apply_layers(base, built, method=method)
@@ -412,7 +255,7 @@ def combine(
     show_default=True,
     help="Axis of the planar projection.",
 )
-@_placement(
+@placement_options(
     tile="Repetitions per unit of uv2, or per object-space unit for projections.",
     rotate="Counter-clockwise rotation of the pattern.",
     strength="Height scale of the detail.",

@@ -7,22 +7,19 @@ import time
 import click
 
 from bakeshop.cli._common import (
-    ENVIRONMENT,
-    OUTPUT_CHAIN,
-    Integer,
-    Number,
     convention_option,
     environment_weights,
     is_picture,
     linearise,
     make_picture,
     picture_options,
-    refuse_overwriting_inputs,
     refuse_unused_picture_rule,
     srgb_decode_option,
     stored_bits,
     warn,
 )
+from bakeshop.cli._numbers import Integer, Number
+from bakeshop.cli._paths import ENVIRONMENT, OUTPUT_CHAIN, refuse_overwriting_inputs
 from bakeshop.cli._probe import read_probe
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import (

@@ -7,15 +7,9 @@ from pathlib import Path
 
 import click
 
-from bakeshop.cli._common import (
-    Exposure,
-    Fields,
-    Number,
-    Size,
-    parse_exposure_mode,
-    parse_size,
-    refuse_overwriting_inputs,
-)
+from bakeshop.cli._common import parse_exposure_mode
+from bakeshop.cli._numbers import Exposure, Fields, Number, Size
+from bakeshop.cli._paths import parse_size, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
 
 #: what ``--scene all`` renders.

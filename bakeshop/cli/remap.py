@@ -7,23 +7,19 @@ from pathlib import Path
 import click
 
 from bakeshop.cli._common import (
-    ENVIRONMENT,
-    OUTPUT_FACES,
-    Numbers,
-    Size,
     convention_option,
     environment_weights,
     is_picture,
     linearise,
     make_picture,
-    parse_size,
     picture_options,
-    refuse_overwriting_inputs,
     refuse_unused_picture_rule,
     srgb_decode_option,
     warn,
 )
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
+from bakeshop.cli._numbers import Numbers, Size
+from bakeshop.cli._paths import ENVIRONMENT, OUTPUT_FACES, parse_size, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
 from bakeshop.io import stored_bits
 from bakeshop.io.environment import (

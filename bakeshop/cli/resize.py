@@ -4,16 +4,10 @@ from __future__ import annotations
 
 import click
 
-from bakeshop.cli._common import (
-    OUTPUT,
-    SOURCE,
-    Size,
-    parse_size,
-    picture_options,
-    refuse_overwriting_inputs,
-    write_any,
-)
+from bakeshop.cli._common import picture_options, write_any
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
+from bakeshop.cli._numbers import Size
+from bakeshop.cli._paths import OUTPUT, SOURCE, parse_size, refuse_overwriting_inputs
 from bakeshop.io import stored_bits
 
 

@@ -6,11 +6,8 @@ import json
 
 import click
 
-from bakeshop.cli._common import (
-    ENVIRONMENT,
-    linearise,
-    srgb_decode_option,
-)
+from bakeshop.cli._common import linearise, srgb_decode_option
+from bakeshop.cli._paths import ENVIRONMENT
 from bakeshop.cli._probe import (
     from_option,
     read_probe,

@@ -10,19 +10,16 @@ from pathlib import Path
 import click
 
 from bakeshop.cli._common import (
-    FRAMES,
-    OUTPUT_FRAMES,
-    Exposure,
-    Number,
     environment_weights,
     is_picture,
     linearise,
     output_bits,
     parse_exposure_mode,
-    refuse_overwriting_inputs,
     srgb_decode_option,
     warn,
 )
+from bakeshop.cli._numbers import Exposure, Number
+from bakeshop.cli._paths import FRAMES, OUTPUT_FRAMES, refuse_overwriting_inputs
 from bakeshop.cli._probe import FILE_LAYOUTS
 from bakeshop.errors import ArgumentError
 from bakeshop.io import check_input, stored_bits
@@ -51,7 +48,7 @@ def expand_inputs(patterns) -> list[Path]:
 
 def frame_paths(target: str, count: int) -> list[Path]:
     """Output names: ``target`` for one frame; ``target.format(frame=i)`` for a sequence (its
-    braces were checked when parsed: :data:`bakeshop.cli._common.OUTPUT_FRAMES`)."""
+    braces were checked when parsed: :data:`bakeshop.cli._paths.OUTPUT_FRAMES`)."""
     fields = {f for _, f, _, _ in string.Formatter().parse(target) if f is not None}
     if count > 1 and "frame" not in fields:
         raise ArgumentError(

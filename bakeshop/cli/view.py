@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from bakeshop.cli._common import Integer
+from bakeshop.cli._numbers import Integer
 
 
 @click.command(context_settings={"max_content_width": 100})

@@ -6,6 +6,11 @@ display transforms (exposure, sRGB, tone mapping, metering and adaptation).
 >>> picture = to_srgb8(tonemap(small, ev=-1.0, operator="aces"))
 >>> shown = to_picture(small, ev="auto", operator="aces")   # the display rule, in one call
 >>> shown.pixels, shown.describe()                         # uint8 codes, what was done
+
+Modules: :mod:`~bakeshop.image.resize`, :mod:`~bakeshop.image.statistics`,
+:mod:`~bakeshop.image.display` (sRGB, exposure, tone operators, 8-bit quantisation),
+:mod:`~bakeshop.image.metering` (metering, automatic exposure, adaptation) and
+:mod:`~bakeshop.image.picture` (the display rule: HDR data to a picture).
 """
 
 from bakeshop._lazy import export_lazily
@@ -15,31 +20,31 @@ export_lazily(
     __name__,
     {
         "ACES_FITS": "display",
-        "CLIP_FRACTION": "display",
         "DITHERS": "display",
-        "ENCODINGS": "display",
-        "EXPOSURE_MODES": "display",
-        "MAX_EV": "display",
-        "MIDDLE_GREY": "display",
         "TONE_OPERATORS": "display",
-        "Exposure": "display",
-        "Picture": "display",
         "aces_filmic": "display",
-        "adapt_exposure": "display",
-        "auto_exposure": "display",
-        "check_ev": "display",
-        "choose_exposure": "display",
-        "encode_picture": "display",
         "exposure": "display",
-        "fit_exposure": "display",
-        "log_average_luminance": "display",
-        "metering_weights": "display",
         "reinhard": "display",
         "srgb_decode": "display",
         "srgb_encode": "display",
-        "to_picture": "display",
         "to_srgb8": "display",
         "tonemap": "display",
+        "MIDDLE_GREY": "metering",
+        "adapt_exposure": "metering",
+        "auto_exposure": "metering",
+        "log_average_luminance": "metering",
+        "metering_weights": "metering",
+        "CLIP_FRACTION": "picture",
+        "ENCODINGS": "picture",
+        "EXPOSURE_MODES": "picture",
+        "MAX_EV": "picture",
+        "Exposure": "picture",
+        "Picture": "picture",
+        "check_ev": "picture",
+        "choose_exposure": "picture",
+        "encode_picture": "picture",
+        "fit_exposure": "picture",
+        "to_picture": "picture",
         "area_footprint": "resize",
         "area_weights": "resize",
         "resample_separable": "resize",

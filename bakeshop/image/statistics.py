@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 #: Rec. 709 / sRGB luminance weights of linear R, G, B.
 LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
 
 
-def luminance(image) -> np.ndarray:
+def luminance(image: ArrayLike) -> np.ndarray:
     """Relative luminance Y = 0.2126 R + 0.7152 G + 0.0722 B of linear Rec. 709 values.
 
     ``image`` is ``(..., C)``: C = 1 (or 2, grey and alpha) returns the grey channel, C = 3 or 4
@@ -20,7 +21,7 @@ def luminance(image) -> np.ndarray:
     return a[..., :3] @ np.asarray(LUMINANCE_WEIGHTS, dtype=a.dtype)
 
 
-def describe(image) -> dict:
+def describe(image: ArrayLike) -> dict:
     """Statistics of an ``(H, W, C)`` image for ``bakeshop info``.
 
     Returns
@@ -36,7 +37,7 @@ def describe(image) -> dict:
         a = a[:, :, None]
     flat = a.reshape(-1, a.shape[-1])
     finite = np.isfinite(flat)
-    channels = []
+    channels: list[dict[str, float | None]] = []
     for c in range(flat.shape[1]):
         values = flat[finite[:, c], c]
         if values.size:

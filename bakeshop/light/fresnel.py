@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import progress, sphere
 from bakeshop.errors import ArgumentError, validate_choice
@@ -45,7 +46,7 @@ def _cosines(cos_i) -> np.ndarray:
     return np.clip(a, 0, 1)  # NaN stays NaN
 
 
-def fresnel_dielectric(cos_i, ior: float = WATER_IOR) -> np.ndarray:
+def fresnel_dielectric(cos_i: ArrayLike, ior: float = WATER_IOR) -> np.ndarray:
     """Exact unpolarised Fresnel reflectance at a smooth interface between two dielectrics.
 
     With c = cos(theta_i), n = ior (relative index: transmitted side over incident side) and
@@ -114,7 +115,7 @@ def _reflectance_array(c, n, out):
         out[i] = _reflectance(c[i], n)
 
 
-def fresnel_schlick(cos_i, ior: float = WATER_IOR) -> np.ndarray:
+def fresnel_schlick(cos_i: ArrayLike, ior: float = WATER_IOR) -> np.ndarray:
     """Schlick's approximation R0 + (1 - R0) (1 - c)^5 with R0 = ((n - 1) / (n + 1))^2.
 
     Same domain, clipping and dtype rules as :func:`fresnel_dielectric`; meant for n > 1 (from
@@ -164,7 +165,7 @@ def _unit_axis(up) -> np.ndarray:
 
 
 def bake_fresnel(
-    image,
+    image: ArrayLike,
     layout: str,
     *,
     ior: float = WATER_IOR,
@@ -249,7 +250,7 @@ LDR_CLIP_FRACTION = CLIP_FRACTION
 
 
 def ldr_exposure(
-    baked, layout: str, *, up=(0.0, 1.0, 0.0), clip_fraction: float = LDR_CLIP_FRACTION
+    baked: ArrayLike, layout: str, *, up=(0.0, 1.0, 0.0), clip_fraction: float = LDR_CLIP_FRACTION
 ) -> float:
     """Exposure (EV) for storing a fresnel bake in 8 bits: only the brightest spot clips.
 
@@ -311,7 +312,7 @@ def hemisphere_directions(count: int, up=(0.0, 1.0, 0.0)) -> np.ndarray:
 
 
 def flat_water_error(
-    image,
+    image: ArrayLike,
     layout: str,
     *,
     ev: float,
@@ -447,7 +448,9 @@ def slope_normals(count: int, rms_slope: float, *, seed: int = 0) -> np.ndarray:
     return n / np.linalg.norm(n, axis=-1, keepdims=True)
 
 
-def baked_fresnel_error(eye, normals, *, ior: float = WATER_IOR, up=(0.0, 1.0, 0.0)):
+def baked_fresnel_error(
+    eye: ArrayLike, normals: ArrayLike, *, ior: float = WATER_IOR, up=(0.0, 1.0, 0.0)
+):
     """Reflectance error of a flat-plane fresnel bake fetched with a perturbed normal.
 
     For the direction e towards the eye and a shading normal n, the shader reflects
@@ -487,7 +490,7 @@ def normal_mapped_error(
     ior: float = WATER_IOR,
     samples: int = 1 << 20,
     seed: int = 0,
-    elevations=None,
+    elevations: ArrayLike | None = None,
 ) -> dict:
     """Error of the baked fresnel on normal-mapped water, for normals of a given RMS slope.
 

@@ -30,6 +30,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
 
@@ -67,7 +68,7 @@ def _vectors(normals, what: str = "normals") -> np.ndarray:
     return n
 
 
-def normalize(normals) -> np.ndarray:
+def normalize(normals: ArrayLike) -> np.ndarray:
     """Scale each vector of ``normals`` to unit length.
 
     Parameters
@@ -90,7 +91,7 @@ def normalize(normals) -> np.ndarray:
     return out
 
 
-def convert_convention(normals, source: str, target: str) -> np.ndarray:
+def convert_convention(normals: ArrayLike, source: str, target: str) -> np.ndarray:
     """Convert decoded normals between the OpenGL (Y+) and DirectX (Y-) conventions.
 
     The two differ only in the sign of the Y component, so the conversion is exact and its own
@@ -105,7 +106,7 @@ def convert_convention(normals, source: str, target: str) -> np.ndarray:
 
 
 def convert_normal_map(
-    image,
+    image: ArrayLike,
     *,
     source: str,
     target: str,
@@ -178,7 +179,7 @@ def _raw(image, encoding: str, channels: str) -> np.ndarray:
 
 
 def decode_normals(
-    image, *, convention: str = "gl", encoding: str = "packed", channels: str = "xyz"
+    image: ArrayLike, *, convention: str = "gl", encoding: str = "packed", channels: str = "xyz"
 ) -> np.ndarray:
     """Decode a normal-map image into unit vectors in the OpenGL tangent frame.
 
@@ -207,7 +208,7 @@ def decode_normals(
 
 
 def encode_normals(
-    normals, *, convention: str = "gl", encoding: str = "packed", channels: str = "xyz"
+    normals: ArrayLike, *, convention: str = "gl", encoding: str = "packed", channels: str = "xyz"
 ) -> np.ndarray:
     """Encode unit normals (OpenGL frame) as image values; the inverse of :func:`decode_normals`.
 
@@ -276,7 +277,7 @@ class NormalCheck:
 
 
 def check_normals(
-    image,
+    image: ArrayLike,
     *,
     encoding: str = "packed",
     channels: str = "xyz",

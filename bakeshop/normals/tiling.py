@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.image import resize_area
@@ -74,7 +75,7 @@ class MipChain:
         return self.texels[self.offsets[i] : self.offsets[i] + h * w].reshape(h, w, -1)
 
 
-def mip_chain(image) -> MipChain:
+def mip_chain(image: ArrayLike) -> MipChain:
     """Mip levels of a tileable image, each half the size of the one before, down to 1 x 1.
 
     Parameters
@@ -236,7 +237,7 @@ def as_pair(value, what: str) -> tuple[float, float]:
 
 
 def place_detail(
-    detail, shape, *, tile=1.0, offset=(0.0, 0.0), rotation: float = 0.0, chain=None
+    detail: ArrayLike, shape, *, tile=1.0, offset=(0.0, 0.0), rotation: float = 0.0, chain=None
 ) -> np.ndarray:
     """Tile a detail normal map over an output of ``shape`` (see the module notes).
 
@@ -294,7 +295,7 @@ def place_detail(
     return out
 
 
-def mask_weights(mask, shape, *, ids=None) -> np.ndarray:
+def mask_weights(mask: ArrayLike, shape, *, ids=None) -> np.ndarray:
     """Per-texel weights of a detail layer from a greyscale mask or a material-ID map.
 
     Parameters
@@ -372,7 +373,7 @@ class DetailLayer:
     mask: np.ndarray | None = None
 
 
-def apply_layers(macro, layers, *, method: str = DEFAULT_METHOD) -> np.ndarray:
+def apply_layers(macro: ArrayLike, layers, *, method: str = DEFAULT_METHOD) -> np.ndarray:
     """Blend detail layers onto a macro normal map, one after the other.
 
     Each layer is placed with :func:`place_detail` and blended onto the result so far with
@@ -410,7 +411,7 @@ def apply_layers(macro, layers, *, method: str = DEFAULT_METHOD) -> np.ndarray:
                 d, shape, tile=layer.tile, offset=layer.offset, rotation=layer.rotation
             )
         )
-        strength = np.float32(layer.strength)
+        strength: np.floating | np.ndarray = np.float32(layer.strength)
         if layer.mask is not None:
             m = np.asarray(layer.mask, np.float32)
             if m.shape != shape:

@@ -579,6 +579,7 @@ def transfer_detail(
     axes = np.array([PROJECTION_AXES[a] for a in AXES])  # (3, 2, 3): e_s, e_t per axis
     corners = mesh.positions[faces]
     if projection == "uv2":
+        assert mesh.uv2 is not None  # checked on entry
         lod = face_lods(mesh.uv2[faces])[:, None]
     else:
         lod = np.stack([face_lods(corners @ axes[k].T) for k in range(3)], axis=1)

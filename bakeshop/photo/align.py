@@ -86,7 +86,7 @@ def _mtb_shift(ref_grey, grey, top, levels, ref_q, q) -> tuple[int, int]:
         dy, dx = 2 * dy, 2 * dx
         tb_r, eb_r = _bitmaps(pyr_ref[level], ref_q, band)
         tb, eb = _bitmaps(pyr[level], q, band)
-        best = None
+        best: tuple[float, int, int] | None = None
         search = SEARCH if level == 0 else SEARCH[1:-1]
         for sy in search:
             for sx in search:
@@ -98,6 +98,7 @@ def _mtb_shift(ref_grey, grey, top, levels, ref_q, q) -> tuple[int, int]:
                 err = np.count_nonzero(diff) / max(int(np.count_nonzero(compared)), 1)
                 if best is None or err < best[0]:
                     best = (err, ty, tx)
+        assert best is not None  # the search has at least one shift
         _, dy, dx = best
     return dy, dx
 

@@ -37,10 +37,12 @@ at every angle (a metal's Fresnel reflectance rises only near grazing incidence,
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
 
@@ -89,7 +91,9 @@ class Circle:
 # --- geometry ---------------------------------------------------------------------------------
 
 
-def ball_directions(a, b, convention: BallConvention = "hdrshop") -> np.ndarray:
+def ball_directions(
+    a: ArrayLike, b: ArrayLike, convention: BallConvention = "hdrshop"
+) -> np.ndarray:
     """World directions seen at ball-plane points ``(a, b)`` (``b`` up, ball radii).
 
     Points outside the disk are clamped to its rim. Returns ``(..., 3)`` float64.
@@ -107,7 +111,7 @@ def ball_directions(a, b, convention: BallConvention = "hdrshop") -> np.ndarray:
     return d
 
 
-def ball_coordinates(dirs, convention: BallConvention = "hdrshop") -> np.ndarray:
+def ball_coordinates(dirs: ArrayLike, convention: BallConvention = "hdrshop") -> np.ndarray:
     """Ball-plane points ``(a, b)`` where directions are seen: the inverse of
     :func:`ball_directions`. Returns ``(..., 2)``; the direction straight behind the ball
     (the rim's) goes to ``(0, -1)``."""
@@ -169,7 +173,9 @@ def _yaw(degrees: float) -> np.ndarray:
     return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
 
 
-def view_weight(dirs, convention: BallConvention = "hdrshop", *, exclude_deg=EXCLUDE_DEG):
+def view_weight(
+    dirs: ArrayLike, convention: BallConvention = "hdrshop", *, exclude_deg=EXCLUDE_DEG
+):
     """How well a ball view sees each direction (in the view's own frame): ``(1 + cos theta)/2``
     with ``theta`` the angle from the view's centre direction (1 there, 0 at the rim), times a
     smooth ramp from 0 within ``exclude_deg`` of the centre direction (the photographer) to 1
@@ -217,7 +223,7 @@ def _check_circle(circle: Circle, photo) -> None:
         raise ArgumentError(f"implausible ball circle {circle} for a {w}x{h} photo")
 
 
-def crop_ball(photo, circle: Circle, *, size: int | None = None) -> np.ndarray:
+def crop_ball(photo: ArrayLike, circle: Circle, *, size: int | None = None) -> np.ndarray:
     """The square picture of the ball (HDRShop's mirror-ball image): the circle fills it.
 
     ``size`` defaults to the ball's diameter in pixels (rounded up). Texels outside the disk
@@ -234,7 +240,7 @@ def crop_ball(photo, circle: Circle, *, size: int | None = None) -> np.ndarray:
 
 
 def unwrap(
-    photo,
+    photo: ArrayLike,
     circle: Circle,
     *,
     to: UnwrapLayout = "latlong",
@@ -332,6 +338,7 @@ def merge_views(
         first = image if first is None else first
         total = image * w[..., None] if total is None else total + image * w[..., None]
         weights += w
+    assert first is not None and total is not None  # one photograph at least
     seen = weights > 0
     out = np.where(seen[..., None], total / np.where(seen, weights, 1)[..., None], first)
     return out.astype(np.float32), weights.astype(np.float32)
@@ -358,7 +365,9 @@ def best_yaw(photos, circles, *, angle_deg: float = 90.0, convention="hdrshop", 
     return (angle_deg if scores[0] <= scores[1] else -angle_deg), scores[0], scores[1]
 
 
-def card_reflectance(photo, direct, reflected) -> np.ndarray:
+def card_reflectance(
+    photo: ArrayLike, direct: Sequence[float], reflected: Sequence[float]
+) -> np.ndarray:
     """The ball's reflectance from a grey card seen directly and in the ball.
 
     Parameters
@@ -489,7 +498,7 @@ def _refine(grey, cx, cy, r, reach):
     return Circle(float(cx), float(cy), float(r), float(np.sqrt(np.mean(res**2))), int(keep.sum()))
 
 
-def find_ball(photo, *, guess: Circle | None = None) -> Circle:
+def find_ball(photo: ArrayLike, *, guess: Circle | None = None) -> Circle:
     """Find a mirror ball in a photograph, to a fraction of a pixel.
 
     Parameters

@@ -205,7 +205,7 @@ def _known(curve: str, z: np.ndarray, gamma: float | None) -> np.ndarray:
 # --- samples -------------------------------------------------------------------------------------
 
 
-def _clipped_any(values: np.ndarray, low: int, high: int) -> np.ndarray:
+def _clipped_any(values: np.ndarray, low: int, high: int) -> np.ndarray | np.bool_:
     """(..., C) codes -> (...) bool: some channel at or beyond a clipped end."""
     return ((values <= low) | (values >= high)).any(axis=-1)
 

@@ -54,8 +54,8 @@ def _fingerprint() -> str:
     from bakeshop import __version__
 
     digest = hashlib.sha256(__version__.encode())
-    for path in sorted(Path(__file__).parent.glob("*.py")):
-        digest.update(path.name.encode() + path.read_bytes())
+    for path in sorted(Path(__file__).parent.rglob("*.py")):
+        digest.update(str(path.relative_to(Path(__file__).parent)).encode() + path.read_bytes())
     return digest.hexdigest()[:16]
 
 

@@ -25,6 +25,7 @@ Engine conventions (what a cube exported for an engine holds, face ``i`` uploade
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
 
@@ -87,7 +88,7 @@ def _transform(face, flip_x: bool, flip_y: bool, rot180: bool = False):
     return face
 
 
-def cube_to_faces(cube, *, convention: str = "opengl") -> np.ndarray:
+def cube_to_faces(cube: ArrayLike, *, convention: str = "opengl") -> np.ndarray:
     """The six faces an engine of ``convention`` loads, from an internal cube.
 
     Parameters
@@ -113,7 +114,7 @@ def cube_to_faces(cube, *, convention: str = "opengl") -> np.ndarray:
     return np.stack([_transform(cube[g], fx, fy) for g, fx, fy in DIRECTX_FACES])
 
 
-def faces_to_cube(faces, *, convention: str = "opengl") -> np.ndarray:
+def faces_to_cube(faces: ArrayLike, *, convention: str = "opengl") -> np.ndarray:
     """Inverse of :func:`cube_to_faces`: the internal cube from an engine's six faces.
 
     The directx transform is an involution (each face is mirrored and +Z/-Z swap), so this is
@@ -147,14 +148,14 @@ VIEWS = {
 def view_slots(view: str):
     """Per internal face g: (column, row, flip_x, flip_y) of where and how ``view`` shows it."""
     _, _, slots = VIEWS[view]
-    out = [None] * 6
+    out: list[tuple[int, int, bool, bool] | None] = [None] * 6
     for label, (col, row, rot) in slots.items():
         g, fx, fy = DIRECTX_FACES[label]
         out[g] = (col, row, fx ^ rot, fy ^ rot)
     return out
 
 
-def cube_to_view(cube, view: str, *, fill: float = 0.0) -> np.ndarray:
+def cube_to_view(cube: ArrayLike, view: str, *, fill: float = 0.0) -> np.ndarray:
     """Arrange an internal cube ``(6, S, S, ...)`` into the picture ``view`` (unused: ``fill``)."""
     cube = np.asarray(cube)
     cols, rows, _ = VIEWS[view]
@@ -165,7 +166,7 @@ def cube_to_view(cube, view: str, *, fill: float = 0.0) -> np.ndarray:
     return out
 
 
-def view_to_cube(image, view: str) -> np.ndarray:
+def view_to_cube(image: ArrayLike, view: str) -> np.ndarray:
     """The internal cube ``(6, S, S, ...)`` shown in the picture ``image`` of layout ``view``."""
     image = np.asarray(image)
     cols, rows, _ = VIEWS[view]

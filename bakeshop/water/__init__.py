@@ -5,7 +5,9 @@ The submodules, each named for what it holds:
 - :mod:`bakeshop.water.spectra`: dispersion and the Phillips, Pierson-Moskowitz, JONSWAP and
   TMA spectra with directional spreading (:class:`~bakeshop.water.spectra.Spectrum`).
 - :mod:`bakeshop.water.ocean`: FFT synthesis on a tileable patch, quantised to loop in time;
-  heights, exact spectral slopes, choppy displacement, the Jacobian and normals.
+  heights, exact spectral slopes, choppy displacement, the Jacobian and normals (its numba
+  kernels in ``_kernels``).
+- :mod:`bakeshop.water.amplitudes`: the seeded, resolution-independent amplitudes of the modes.
 - :mod:`bakeshop.water.cascades`: patches of several sizes splitting one spectrum.
 - :mod:`bakeshop.water.gerstner`: the lattice's waves summed directly (Gerstner waves).
 - :mod:`bakeshop.water.textures`: engine textures (packed and BC5-ready normals, foam, flipbook

@@ -24,7 +24,8 @@ import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError
-from bakeshop.water.ocean import Ocean, _splitmix64, ocean
+from bakeshop.water.amplitudes import _splitmix64
+from bakeshop.water.ocean import Ocean, ocean
 from bakeshop.water.spectra import Spectrum
 
 #: Default ratio between successive cascade sizes: e (2.718...) is far from every ratio of small

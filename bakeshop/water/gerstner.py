@@ -35,7 +35,8 @@ import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError, validate_choice
-from bakeshop.water.ocean import FIELDS, FOLD_FLOOR, Ocean
+from bakeshop.water._kernels import FOLD_FLOOR
+from bakeshop.water.ocean import FIELDS, Ocean
 
 
 @dataclass(frozen=True)
@@ -120,6 +121,8 @@ def _sums(amp, kx, ky, phase, x, y, out):  # pragma: no cover - compiled
 
 def _phases(w: GerstnerWaves, t: float, frame: int | None, frames: int | None) -> np.ndarray:
     if frame is not None:
+        # a frame index comes with a looping ocean and its frame count
+        assert frames is not None and w.cycles is not None
         turns = (w.cycles * (frame % frames)) % frames / frames
         return w.phase - 2 * math.pi * turns
     return w.phase - np.mod(w.omega * t, 2 * math.pi)

@@ -81,6 +81,7 @@ from dataclasses import dataclass
 from importlib import resources
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import optimize
 
 from bakeshop.errors import ArgumentError, validate_choice
@@ -104,7 +105,7 @@ XYZ_TO_SRGB = np.array(
 
 
 def _table(name: str) -> tuple[list[str], np.ndarray]:
-    text = resources.files("bakeshop.water").joinpath("data", name).read_text()
+    text = resources.files("bakeshop.water").joinpath("data").joinpath(name).read_text()
     rows = [line for line in text.splitlines() if line and not line.startswith("#")]
     header = rows[0].split(",")
     return header, np.array([[float(v) for v in r.split(",")] for r in rows[1:]])
@@ -166,7 +167,7 @@ def channel_weights() -> np.ndarray:
     return w / w.sum(0)
 
 
-def band(spectral_transmittance) -> np.ndarray:
+def band(spectral_transmittance: ArrayLike) -> np.ndarray:
     """(..., W) spectral factors -> (..., 4) linear sRGB R, G, B and luminance Y of white light
     after them, relative to the unattenuated light. A spectrum outside sRGB's gamut (water
     far enough turns light a purer blue-green than sRGB's primaries hold) has a negative
@@ -284,7 +285,7 @@ def water(name: str = "IB", *, sun_zenith: float = 30.0) -> Water:
 # --- channels -------------------------------------------------------------------------------
 
 
-def transmittance(w: Water, distances) -> np.ndarray:
+def transmittance(w: Water, distances: ArrayLike) -> np.ndarray:
     """Band transmittance of white light after ``distances`` (m) of water, (..., 4):
     linear sRGB R, G, B and luminance Y (exact band integrals of exp(-c d))."""
     d = np.asarray(distances, dtype=np.float64)
@@ -293,7 +294,7 @@ def transmittance(w: Water, distances) -> np.ndarray:
     return np.maximum(band(np.exp(-d[..., None] * w.attenuation)), 0.0)
 
 
-def depth_transmittance(w: Water, depths) -> np.ndarray:
+def depth_transmittance(w: Water, depths: ArrayLike) -> np.ndarray:
     """Band fraction of the downwelling light left at ``depths`` (m): exp(-Kd z), (..., 4)."""
     z = np.asarray(depths, dtype=np.float64)
     if (z < 0).any() or not np.isfinite(z).all():
@@ -301,7 +302,7 @@ def depth_transmittance(w: Water, depths) -> np.ndarray:
     return np.maximum(band(np.exp(-z[..., None] * w.kd)), 0.0)
 
 
-def inscatter(w: Water, distances, depth=0.0) -> np.ndarray:
+def inscatter(w: Water, distances: ArrayLike, depth=0.0) -> np.ndarray:
     """In-scattered radiance along a horizontal view of ``distances`` (m) at ``depth`` (m),
     per E(0) / pi, band-integrated (..., 4) (see the module notes)."""
     d = np.asarray(distances, dtype=np.float64)[..., None]

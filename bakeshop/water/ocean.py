@@ -56,12 +56,13 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
-import numba
 import numpy as np
 import scipy.fft
 
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.resources import Cost, require
+from bakeshop.water._kernels import _flat_normals, _free_spectra, _loop_spectra, _normals
+from bakeshop.water.amplitudes import _check_seed, mode_normals
 from bakeshop.water.spectra import Spectrum
 
 #: Fields that :func:`ocean_frames` can produce, with their channels and units.
@@ -77,9 +78,6 @@ FROZEN_MODES = ("keep", "drop")
 ALIAS_MODES = ("refuse", "drop")
 DTYPES = ("float32", "float64")
 
-#: A folded texel (J <= 0, the surface passes through itself) has no outward normal; its
-#: normal's z is clamped to this before normalising (such texels are foam).
-FOLD_FLOOR = 1e-3
 
 #: Bytes of working memory one frame batch may take (complex spectra, FFT buffers, outputs).
 BATCH_BYTES = 256 << 20
@@ -92,61 +90,6 @@ MAX_RESOLUTION = 8192
 #: partners, frequencies, variances, turns and their temporaries), and the most it may take.
 SEED_BYTES_PER_MODE = 160
 SEED_BYTES_LIMIT = 8 << 30
-
-
-# --- deterministic amplitudes -----------------------------------------------------------------
-
-
-@numba.njit(cache=True)
-def _splitmix64(z):  # pragma: no cover - compiled
-    z = z + np.uint64(0x9E3779B97F4A7C15)
-    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
-    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
-    return z ^ (z >> np.uint64(31))
-
-
-@numba.njit(cache=True)
-def _mode_normals(seed, mx, my, out):  # pragma: no cover - compiled
-    """Two independent standard normals per lattice mode (mx[i], my[i]), from a hash of the
-    seed and the mode's integer indices (Box-Muller on two 53-bit uniforms)."""
-    base = _splitmix64(np.uint64(seed))
-    scale = 2.0**-53
-    for i in range(mx.size):
-        state = _splitmix64(base ^ np.uint64(np.int64(mx[i])))
-        state = _splitmix64(state ^ np.uint64(np.int64(my[i]) * np.int64(0x5851F42D)))
-        u1 = (float(_splitmix64(state) >> np.uint64(11)) + 0.5) * scale
-        u2 = float(_splitmix64(state ^ np.uint64(0xD1B54A32D192ED03)) >> np.uint64(11)) + 0.5
-        u2 *= scale
-        r = math.sqrt(-2.0 * math.log(u1))
-        out[i, 0] = r * math.cos(2.0 * math.pi * u2)
-        out[i, 1] = r * math.sin(2.0 * math.pi * u2)
-
-
-def mode_normals(seed: int, mx, my) -> np.ndarray:
-    """Standard normal pairs (xi_r, xi_i) of lattice modes with integer indices (mx, my).
-
-    A counter-based hash (SplitMix64) of ``seed`` and the indices: the same mode gets the same
-    numbers whatever the resolution, the patch, the order of evaluation or the machine.
-
-    Returns
-    -------
-    (..., 2) float64, the shape of ``mx`` plus 2.
-    """
-    mx = np.asarray(mx, dtype=np.int64)
-    my = np.asarray(my, dtype=np.int64)
-    mx, my = np.broadcast_arrays(mx, my)
-    out = np.empty((mx.size, 2))
-    _mode_normals(int(seed), mx.ravel(), my.ravel(), out)
-    return out.reshape(mx.shape + (2,))
-
-
-def _check_seed(seed) -> int:
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not (0 <= seed < 2**63):
-        raise ArgumentError(f"seed must be an integer in [0, 2^63), got {seed!r}")
-    return int(seed)
-
-
-# --- the patch ----------------------------------------------------------------------------------
 
 
 @dataclass(eq=False)
@@ -411,87 +354,6 @@ def _multipliers(o: Ocean, pairs: Sequence[str]) -> np.ndarray:
         "shift": (1j * kx - ky) * inv_k,  # i kx/k h + i (i ky/k h)
     }
     return np.stack([table[p] for p in pairs]).astype(np.complex128)
-
-
-@numba.njit(parallel=True, cache=True)
-def _loop_spectra(a, b, cycles, frames, table, mult, out):  # pragma: no cover - compiled
-    """out[f, p] = (a P + b conj(P)) mult[p] with P = table[(n f) mod F], table[i] =
-    exp(-2 pi i i / F): integer turns, so frame F is frame 0 exactly, and no trigonometry."""
-    n_rows, n_cols = a.shape
-    npairs = mult.shape[0]
-    count = table.size
-    for r in numba.prange(n_rows):
-        for c in range(n_cols):
-            ar = a[r, c]
-            br = b[r, c]
-            if ar == 0 and br == 0:
-                for f in range(frames.size):
-                    for p in range(npairs):
-                        out[f, p, r, c] = 0
-                continue
-            nc = np.int64(cycles[r, c]) % count
-            for f in range(frames.size):
-                ph = table[(nc * (np.int64(frames[f]) % count)) % count]
-                h = ar * ph + br * ph.conjugate()
-                for p in range(npairs):
-                    out[f, p, r, c] = h * mult[p, r, c]
-
-
-@numba.njit(parallel=True, cache=True)
-def _free_spectra(a, b, omega, times, mult, out):  # pragma: no cover - compiled
-    """out[f, p] = (a e^{-i w t_f} + b e^{i w t_f}) mult[p] for arbitrary times."""
-    n_rows, n_cols = a.shape
-    npairs = mult.shape[0]
-    for r in numba.prange(n_rows):
-        for c in range(n_cols):
-            ar = a[r, c]
-            br = b[r, c]
-            for f in range(times.size):
-                angle = -((omega[r, c] * times[f]) % (2.0 * math.pi))
-                ph = complex(math.cos(angle), math.sin(angle))
-                h = ar * ph + br * ph.conjugate()
-                for p in range(npairs):
-                    out[f, p, r, c] = h * mult[p, r, c]
-
-
-@numba.njit(parallel=True, cache=True)
-def _normals(slope, stretch, height, lam, out):  # pragma: no cover - compiled
-    """Unit normals of the displaced surface from the packed FFT outputs (see module doc)."""
-    frames, rows, cols = slope.shape
-    for fr in numba.prange(frames * rows):
-        f = fr // rows
-        r = fr % rows
-        for c in range(cols):
-            hx = slope[f, r, c].real
-            hy = slope[f, r, c].imag
-            dxx = lam * stretch[f, r, c].real
-            dyy = lam * stretch[f, r, c].imag
-            dxy = lam * height[f, r, c].imag
-            nx = -hx * (1.0 + dyy) + dxy * hy
-            ny = -hy * (1.0 + dxx) + dxy * hx
-            nz = (1.0 + dxx) * (1.0 + dyy) - dxy * dxy
-            if nz < FOLD_FLOOR:
-                nz = FOLD_FLOOR
-            s = 1.0 / math.sqrt(nx * nx + ny * ny + nz * nz)
-            out[f, r, c, 0] = nx * s
-            out[f, r, c, 1] = ny * s
-            out[f, r, c, 2] = nz * s
-
-
-@numba.njit(parallel=True, cache=True)
-def _flat_normals(slope, out):  # pragma: no cover - compiled
-    """Unit normals (-hx, -hy, 1) / |.| of the undisplaced surface."""
-    frames, rows, cols = slope.shape
-    for fr in numba.prange(frames * rows):
-        f = fr // rows
-        r = fr % rows
-        for c in range(cols):
-            hx = slope[f, r, c].real
-            hy = slope[f, r, c].imag
-            s = 1.0 / math.sqrt(hx * hx + hy * hy + 1.0)
-            out[f, r, c, 0] = -hx * s
-            out[f, r, c, 1] = -hy * s
-            out[f, r, c, 2] = s
 
 
 def _pairs_for(fields: Sequence[str], choppiness: float) -> list[str]:

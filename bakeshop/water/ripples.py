@@ -55,6 +55,7 @@ from dataclasses import dataclass, field
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import special
 
 from bakeshop.errors import ArgumentError, validate_choice
@@ -119,12 +120,12 @@ class Crater:
         """k0 = sqrt(2) / a, rad/m, where |E(k)| k (the ring's radial spectrum) peaks."""
         return math.sqrt(2) / self.width
 
-    def omega(self, k) -> np.ndarray:
+    def omega(self, k: ArrayLike) -> np.ndarray:
         """Angular frequency (rad/s) of wavenumber k (rad/m) on this water."""
         return dispersion(k, depth=self.depth, gravity=self.gravity,
                           surface_tension=self.surface_tension, density=self.density)  # fmt: skip
 
-    def group_velocity(self, k) -> np.ndarray:
+    def group_velocity(self, k: ArrayLike) -> np.ndarray:
         """Group velocity (m/s) of wavenumber k (rad/m) on this water."""
         return group_velocity(k, depth=self.depth, gravity=self.gravity,
                               surface_tension=self.surface_tension,
@@ -192,7 +193,14 @@ def _k_nodes(crater: Crater, r_max: float, t_max: float, nodes: int | None):
     return k, w
 
 
-def ring(crater: Crater, r, times, *, damping: bool = True, nodes: int | None = None):
+def ring(
+    crater: Crater,
+    r: ArrayLike,
+    times: ArrayLike,
+    *,
+    damping: bool = True,
+    nodes: int | None = None,
+):
     """Height and radial slope of the analytic ring at radii ``r`` (m) and ``times`` (s).
 
     Returns
@@ -226,7 +234,7 @@ def _radial_to_grid(values, r_nodes, x, y, cx, cy) -> np.ndarray:
     return np.interp(rr, r_nodes, values, right=0.0)
 
 
-def ring_normals(crater: Crater, *, size: float, resolution: int, times,
+def ring_normals(crater: Crater, *, size: float, resolution: int, times: ArrayLike,
                  damping: bool = True, nodes: int | None = None) -> np.ndarray:  # fmt: skip
     """Unit normals of one ring centred on a ``size`` x ``size`` m texture, (T, N, N, 3).
 
@@ -544,7 +552,7 @@ class WaveEquation:
         return height_normals(self.height, self.dx, periodic=self.edges == "periodic")
 
 
-def height_normals(height, spacing: float, *, periodic: bool = True) -> np.ndarray:
+def height_normals(height: ArrayLike, spacing: float, *, periodic: bool = True) -> np.ndarray:
     """Unit normals (-dh/dx, -dh/dy, 1) / |.| of a height field ``(..., N, N)`` (m) with texel
     ``spacing`` (m), by central differences; y is up the picture (row 0 at the top)."""
     h = np.asarray(height, dtype=np.float64)

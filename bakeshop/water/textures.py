@@ -15,6 +15,7 @@ from collections.abc import Sequence
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 
@@ -24,7 +25,7 @@ FOAM_START = 0.5
 FOAM_FULL = 0.0
 
 
-def pack_normals(normals, *, channels: str = "xyz") -> np.ndarray:
+def pack_normals(normals: ArrayLike, *, channels: str = "xyz") -> np.ndarray:
     """Unit normals ``(..., 3)`` -> packed texel values (n + 1) / 2 in [0, 1], float32.
 
     ``channels="xy"`` keeps the first two components only (``(..., 2)``): BC5-ready data whose
@@ -39,7 +40,7 @@ def pack_normals(normals, *, channels: str = "xyz") -> np.ndarray:
     return (n[..., :k] + np.float32(1)) * np.float32(0.5)
 
 
-def unpack_normals(values, *, channels: str = "xyz") -> np.ndarray:
+def unpack_normals(values: ArrayLike, *, channels: str = "xyz") -> np.ndarray:
     """Packed texel values -> unit normals, as a shader decodes them (float64).
 
     ``channels="xy"`` rebuilds z = sqrt(max(0, 1 - x^2 - y^2)); "xyz" renormalises.
@@ -52,7 +53,7 @@ def unpack_normals(values, *, channels: str = "xyz") -> np.ndarray:
     return n / np.linalg.norm(n, axis=-1, keepdims=True)
 
 
-def quantise(values, bits: int) -> np.ndarray:
+def quantise(values: ArrayLike, bits: int) -> np.ndarray:
     """Values in [0, 1] -> unsigned integers of ``bits`` (8 or 16), round to nearest, clipped;
     what the PNG and container writers store."""
     if bits not in (8, 16):
@@ -62,7 +63,7 @@ def quantise(values, bits: int) -> np.ndarray:
     return np.rint(v * top).astype(np.uint8 if bits == 8 else np.uint16)
 
 
-def angle_between(a, b) -> np.ndarray:
+def angle_between(a: ArrayLike, b: ArrayLike) -> np.ndarray:
     """Angle between unit-ish vectors, radians, accurate for tiny angles (atan2 of |a x b| and
     a . b, in float64)."""
     a = np.asarray(a, dtype=np.float64)
@@ -70,7 +71,7 @@ def angle_between(a, b) -> np.ndarray:
     return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), (a * b).sum(-1))
 
 
-def foam(jacobian, *, start: float = FOAM_START, full: float = FOAM_FULL) -> np.ndarray:
+def foam(jacobian: ArrayLike, *, start: float = FOAM_START, full: float = FOAM_FULL) -> np.ndarray:
     """Instantaneous foam coverage in [0, 1]: 0 where J >= start, 1 where J <= full, linear
     between (float32, shape of ``jacobian``)."""
     if not (math.isfinite(start) and math.isfinite(full) and start > full):
@@ -79,7 +80,7 @@ def foam(jacobian, *, start: float = FOAM_START, full: float = FOAM_FULL) -> np.
     return np.clip((np.float32(start) - j) / np.float32(start - full), 0, 1)
 
 
-def persistent_foam(coverage, *, frame_time: float, decay: float) -> np.ndarray:
+def persistent_foam(coverage: ArrayLike, *, frame_time: float, decay: float) -> np.ndarray:
     """Foam that lingers: f(t) = max over s <= t of coverage(s) exp(-(t - s) / decay), made
     exactly periodic.
 
@@ -113,13 +114,13 @@ def persistent_foam(coverage, *, frame_time: float, decay: float) -> np.ndarray:
     return out
 
 
-def height_range(height) -> tuple[float, float]:
+def height_range(height: ArrayLike) -> tuple[float, float]:
     """(low, high), m, of a height stack, for encoding heights in unsigned integers."""
     h = np.asarray(height)
     return float(h.min()), float(h.max())
 
 
-def encode_heights(height, low: float, high: float) -> np.ndarray:
+def encode_heights(height: ArrayLike, low: float, high: float) -> np.ndarray:
     """Heights (m) -> (h - low) / (high - low) in [0, 1]; decode h = low + v (high - low)."""
     if not (high > low):
         raise ArgumentError(f"height range must have high > low, got {low!r}, {high!r}")
@@ -136,7 +137,9 @@ def atlas_shape(frames: int, columns: int | None = None) -> tuple[int, int]:
     return math.ceil(frames / columns), int(columns)
 
 
-def flipbook(frames, *, columns: int | None = None, gutter: int = 0) -> tuple[np.ndarray, dict]:
+def flipbook(
+    frames: ArrayLike, *, columns: int | None = None, gutter: int = 0
+) -> tuple[np.ndarray, dict]:
     """Lay frames out in one atlas image, left to right then top to bottom (row-major from
     the top left, the order of Unreal's SubUV and Unity's texture-sheet animation).
 
@@ -184,7 +187,7 @@ def flipbook(frames, *, columns: int | None = None, gutter: int = 0) -> tuple[np
     return atlas, layout
 
 
-def normal_mips(normals) -> list[np.ndarray]:
+def normal_mips(normals: ArrayLike) -> list[np.ndarray]:
     """Mip chain of a tileable normal map ``(..., N, N, 3)`` (N a power of two): each level
     the 2x2 mean of the previous, renormalised; down to 1x1."""
     n = np.asarray(normals, dtype=np.float32)
@@ -201,7 +204,7 @@ def normal_mips(normals) -> list[np.ndarray]:
     return levels
 
 
-def box_mips(values) -> list[np.ndarray]:
+def box_mips(values: ArrayLike) -> list[np.ndarray]:
     """Mip chain of a tileable map ``(..., N, N[, C])`` by 2x2 means (heights, foam)."""
     v = np.asarray(values, dtype=np.float32)
     squeeze = False
@@ -244,7 +247,9 @@ def _shade(normals, view, sun, out):  # pragma: no cover - compiled
             out[r, c, 2] = 0.030 + (1.0 - f) * 0.060 + f * (sky_b + glint)
 
 
-def shade(normals, *, view=(0.0, -0.8, 0.6), sun=(0.05, 0.83, 0.55)) -> np.ndarray:
+def shade(
+    normals: ArrayLike, *, view: ArrayLike = (0.0, -0.8, 0.6), sun: ArrayLike = (0.05, 0.83, 0.55)
+) -> np.ndarray:
     """A quick picture of a normal map ``(H, W, 3)`` for previews: the map seen obliquely
     (``view``, towards the eye, tangent frame), fresnel-weighted reflection of a sky that is
     pale at the horizon, a sun's glint, deep water below; linear RGB, about 0 to 1. Slopes
@@ -259,13 +264,13 @@ def shade(normals, *, view=(0.0, -0.8, 0.6), sun=(0.05, 0.83, 0.55)) -> np.ndarr
     return out
 
 
-def tile(image, times: int = 2) -> np.ndarray:
+def tile(image: ArrayLike, times: int = 2) -> np.ndarray:
     """``image`` repeated ``times`` x ``times`` (the seam check of a tileable texture)."""
     a = np.asarray(image)
     return np.tile(a, (times, times) + (1,) * (a.ndim - 2))
 
 
-def grid(frames, *, columns: int | None = None, border: int = 2, fill=1.0) -> np.ndarray:
+def grid(frames: ArrayLike, *, columns: int | None = None, border: int = 2, fill=1.0) -> np.ndarray:
     """Frames side by side in rows with a ``border`` of ``fill`` between them (previews)."""
     a = np.asarray(frames)
     count, h, w = a.shape[:3]
@@ -283,7 +288,7 @@ def grid(frames, *, columns: int | None = None, border: int = 2, fill=1.0) -> np
     return out
 
 
-def seam_error(field) -> dict:
+def seam_error(field: ArrayLike) -> dict:
     """How the jump across a tiled texture's edges compares with the jumps inside it.
 
     For each edge (last column -> first column, bottom row -> top row), the largest absolute

@@ -16,7 +16,7 @@ import click
 import numpy as np
 import pytest
 
-from bakeshop.cli import _common
+from bakeshop.cli import _numbers
 from bakeshop.cli._process import ByteSize
 from bakeshop.cli.main import cli, main
 from bakeshop.io import write_image
@@ -26,11 +26,11 @@ from tests.photo import synthetic
 
 #: the shared types that hold numbers (bakeshop.cli._common, and the root's --max-decoded).
 SHARED = (
-    _common.Number,
-    _common.Integer,
-    _common.Size,
-    _common.Fields,
-    _common.MemorySize,
+    _numbers.Number,
+    _numbers.Integer,
+    _numbers.Size,
+    _numbers.Fields,
+    _numbers.MemorySize,
     ByteSize,
 )
 #: seconds one run may take on the small inputs below (a compiled kernel's first call included).

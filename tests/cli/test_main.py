@@ -36,10 +36,12 @@ def loaded(*args: str) -> list[str]:
 
 
 def test_the_table_lists_every_command_module():
+    sources = {p.stem: p for p in CLI_DIR.glob("*.py")}
+    sources |= {p.parent.name: p for p in CLI_DIR.glob("*/__init__.py")}  # command packages
     modules = {
-        p.stem
-        for p in CLI_DIR.glob("*.py")
-        if not p.stem.startswith("_") and "\ndef register(" in p.read_text()
+        name
+        for name, path in sources.items()
+        if not name.startswith("_") and "\ndef register(" in path.read_text()
     }
     assert modules == {module for module, _ in main.COMMANDS.values()}
 

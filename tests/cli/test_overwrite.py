@@ -190,7 +190,7 @@ def test_what_is_not_an_input_is_written(tmp_path, capfd):
 
 @pytest.mark.parametrize("names", [FACE_NAMES, FACE_NAMES_SHORT])
 def test_the_check_itself_on_face_sets(tmp_path, names):
-    from bakeshop.cli._common import refuse_overwriting_inputs
+    from bakeshop.cli._paths import refuse_overwriting_inputs
     from bakeshop.errors import ArgumentError
 
     for name in names:

@@ -1,0 +1,69 @@
+"""The latitude-longitude (equirectangular) layout."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numba
+import numpy as np
+
+from bakeshop.errors import ArgumentError
+from bakeshop.sphere import _maps
+from bakeshop.sphere.layouts.base import (
+    Layout,
+)
+
+
+class LatLong(Layout):
+    """Equirectangular: ``phi = 2 pi (u - 0.5)``, ``theta = pi v``,
+    ``d = (sin theta sin phi, cos theta, -sin theta cos phi)``; centre column -Z, top row +Y.
+
+    Any (H, W) is accepted (2:1 is usual). Filtering across a pole uses the texel half a turn
+    away in the same row, exact for even widths (odd widths round it to the nearest column).
+    """
+
+    name = "latlong"
+    kind = _maps.LATLONG
+
+    def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
+        if isinstance(size, (tuple, list)):
+            w, h = size
+            return self.check_shape((h, w))
+        n = int(size)
+        return self.check_shape((n, 2 * n))
+
+    def _check(self, shape):
+        if len(shape) != 2:
+            raise ArgumentError(f"a latlong image is (H, W); got spatial shape {shape}")
+
+    def default_size(self, texels: int) -> int:
+        return max(1, round(np.sqrt(texels / 2)))
+
+    def directions(self, shape: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
+        # separable: W + H sines and cosines, then products (docs/BENCHMARKS.md, irradiance;
+        # bit-identical to the general path: the same trigonometry as remap's plans)
+        shape = self.check_shape(shape)
+        dirs = np.empty(shape + (3,))
+        _latlong_directions(dirs)
+        return dirs, self._valid(shape)
+
+    def solid_angles(self, shape: Sequence[int]) -> np.ndarray:
+        h, w = self.check_shape(shape)
+        # exact: the band between theta_j and theta_j+1 covers 2 pi (cos theta_j - cos theta_j+1)
+        c = np.cos(np.pi * np.arange(h + 1) / h)
+        band = (c[:-1] - c[1:]) * (2 * np.pi / w)
+        return np.repeat(band[:, None], w, axis=1)
+
+
+@numba.njit(parallel=True, cache=True)
+def _latlong_directions(out):
+    """Fill ``out`` (H, W, 3) with the latlong texel-centre directions
+    ``(sin theta_j sin phi_i, cos theta_j, -sin theta_j cos phi_i)``."""
+    h, w = out.shape[0], out.shape[1]
+    trig = _maps.latlong_trig(h, w)
+    for j in numba.prange(h):
+        st, ct = trig[2, j], trig[3, j]
+        for i in range(w):
+            out[j, i, 0] = st * trig[0, i]
+            out[j, i, 1] = ct
+            out[j, i, 2] = -st * trig[1, i]
