@@ -7,6 +7,7 @@ import importlib
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -22,6 +23,26 @@ def test_every_exported_name_is_in_the_table_and_resolves_to_its_definition(name
         defined = getattr(importlib.import_module(f"{name}.{module}"), attr)
         assert getattr(package, attr) is defined, attr
         assert attr in dir(package)
+
+
+@pytest.mark.parametrize("name", LAZY_PACKAGES)
+def test_the_imports_type_checkers_read_are_the_table(name):
+    """The ``if TYPE_CHECKING:`` imports of the package name each entry of the table, from its
+    module (what mypy and editors see is what loads)."""
+    import ast
+
+    package = importlib.import_module(name)
+    tree = ast.parse(Path(package.__file__).read_text())
+    (guard,) = [
+        n for n in tree.body if isinstance(n, ast.If) and "TYPE_CHECKING" in ast.unparse(n.test)
+    ]
+    imported = {
+        alias.name: node.module.rpartition(".")[2]
+        for node in guard.body
+        if isinstance(node, ast.ImportFrom)
+        for alias in node.names
+    }
+    assert imported == package.__dict__["_exports"]
 
 
 def test_a_name_shared_with_a_submodule_stays_the_function():

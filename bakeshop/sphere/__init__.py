@@ -17,6 +17,8 @@ the conventions. :mod:`bakeshop.sphere.windows` computes a part of a remap from 
 its source (images larger than memory, :mod:`bakeshop.huge`).
 """
 
+from typing import TYPE_CHECKING
+
 from bakeshop._lazy import export_lazily
 
 # names load from their module when first read (numba only with the kernels that need it)
@@ -55,6 +57,52 @@ export_lazily(
         "persist_caches": "_cache",
     },
 )
+
+if TYPE_CHECKING:  # what the table loads, for type checkers (tests/test_lazy.py)
+    from bakeshop.sphere._cache import (
+        cache_info,
+        clear_caches,
+        persist_caches,
+    )
+    from bakeshop.sphere._guess import (
+        guess_layout,
+    )
+    from bakeshop.sphere.cube import (
+        CONVENTIONS,
+        FACE_LABELS,
+        FACE_NAMES,
+        FACE_NAMES_SHORT,
+        cube_to_faces,
+        cube_to_view,
+        faces_to_cube,
+        view_to_cube,
+    )
+    from bakeshop.sphere.layouts import (
+        LAYOUT_NAMES,
+        Layout,
+        layout,
+    )
+    from bakeshop.sphere.rotation import (
+        as_rotation,
+        rotation_matrix,
+    )
+    from bakeshop.sphere.sampling import (
+        FILTERS,
+        auto_filter,
+        remap,
+        remap_cost,
+        remap_shape,
+        sample,
+        valid_texels,
+    )
+    from bakeshop.sphere.texels import (
+        Environment,
+        Texels,
+        check_environment,
+        texel_cosines,
+        texel_geometry,
+        texels,
+    )
 
 __all__ = [
     "persist_caches",
