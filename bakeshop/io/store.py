@@ -31,6 +31,7 @@ import zipfile
 import zlib
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -79,7 +80,7 @@ def user_store() -> ArrayStore | None:
 
 def _crc(array: np.ndarray) -> int:
     """CRC-32 of an array's bytes (about 1 s per 2 GB: cheap beside reading them)."""
-    return zlib.crc32(memoryview(np.ascontiguousarray(array)).cast("B"))
+    return zlib.crc32(np.ascontiguousarray(array).reshape(-1).view(np.uint8).data)
 
 
 class ArrayStore:
@@ -89,7 +90,7 @@ class ArrayStore:
     returns None and :meth:`put` returns False, and the counters say what happened.
     """
 
-    def __init__(self, directory: str | os.PathLike, budget: int = DEFAULT_BUDGET):
+    def __init__(self, directory: str | os.PathLike, budget: int = DEFAULT_BUDGET) -> None:
         self.directory = Path(directory)
         self.budget = int(budget)
         #: files read, files found unusable (and deleted), files written, writes that failed.
@@ -134,9 +135,11 @@ class ArrayStore:
         try:
             self.directory.mkdir(parents=True, exist_ok=True)
             with open(tmp, "xb") as f:
-                named = {f"a{i}": np.ascontiguousarray(a) for i, a in enumerate(arrays)}
-                crc = np.array([_crc(a) for a in named.values()], np.int64)
-                np.savez(f, key=np.array(key), count=np.array(len(arrays)), crc=crc, **named)
+                named: dict[str, Any] = {
+                    f"a{i}": np.ascontiguousarray(a) for i, a in enumerate(arrays)
+                }
+                named["crc"] = np.array([_crc(a) for a in named.values()], np.int64)
+                np.savez(f, key=np.array(key), count=np.array(len(arrays)), **named)
             os.replace(tmp, path)
         except OSError:
             self.failures += 1
