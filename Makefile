@@ -1,14 +1,27 @@
-# `make demo` bakes the embedded default probe (the main job) into ./demo; `make test` runs every test.
-# Each creates its own virtual environment in .venv on first use.
+# `make demo` bakes the embedded default probe (the main job) into ./demo; `make test` runs every
+# test, `make test-fast` all but those marked slow (over 5 s each).
+# Each creates the virtual environment .venv on first use: the demo installs bakeshop and what the
+# main job needs, the tests add the test references (the `test` extra).
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test lint bench sysdeps clean
+.PHONY: demo test test-fast lint bench sysdeps clean
 
+# Installing ends by running the main job once into a scratch folder: that compiles its numba
+# kernels into their cache beside the package (bakeshop/*/__pycache__), so the first real run is
+# as fast as any later one.
 $(BIN)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install -q --upgrade pip
+	$(BIN)/pip install -q -e .
+	@echo "compiling the main job's numba kernels (once: about 2 minutes of CPU, see docs/install.md)"
+	rm -rf $(VENV)/warm-up
+	$(BIN)/bakeshop -q bake-probe -o $(VENV)/warm-up > /dev/null
+	rm -rf $(VENV)/warm-up
+	touch $@
+
+$(BIN)/.installed-test: $(BIN)/.installed
 	$(BIN)/pip install -q -e '.[test]'
 	touch $@
 
@@ -29,14 +42,17 @@ demo: $(BIN)/.installed
 	$(BIN)/bakeshop bake-probe -o demo
 	$(BIN)/bakeshop preview demo --scene all || echo "note: no preview pictures (bakeshop preview needs libEGL and Mesa: make sysdeps)"
 
-test: $(BIN)/.installed sysdeps
+test: $(BIN)/.installed-test sysdeps
 	$(BIN)/python -m pytest -n 2 -q
 
-lint: $(BIN)/.installed
+test-fast: $(BIN)/.installed-test sysdeps
+	$(BIN)/python -m pytest -n 2 -q -m "not slow"
+
+lint: $(BIN)/.installed-test
 	$(BIN)/ruff check bakeshop tests benchmarks
 	$(BIN)/mypy
 
-bench: $(BIN)/.installed
+bench: $(BIN)/.installed-test
 	for b in benchmarks/bench_*.py; do $(BIN)/python $$b || exit 1; done
 
 clean:

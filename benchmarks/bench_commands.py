@@ -47,7 +47,7 @@ import peers
 
 ROOT = Path(__file__).resolve().parents[1]
 BAKESHOP = str(ROOT / ".venv" / "bin" / "bakeshop")
-SOURCE = peers.shared_data() / "hdr" / "quarry_01_1k.hdr"
+SOURCE = ROOT / "tests" / "data" / "quarry_01_1k.hdr"
 JOBS = ["start", "dim-1k", "dim-4k", "dims-12mp", "ggx-4k", "faces-4k"]
 #: input name -> (width, height).
 SIZES = {"1k": (1024, 512), "4k": (4096, 2048), "12mp": (5020, 2510)}

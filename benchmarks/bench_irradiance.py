@@ -45,7 +45,7 @@ import numpy as np
 import peers
 
 ROOT = Path(__file__).resolve().parents[1]
-SOURCE = peers.shared_data() / "hdr" / "quarry_01_1k.hdr"
+SOURCE = ROOT / "tests" / "data" / "quarry_01_1k.hdr"
 WIDTH, HEIGHT = 5020, 2510
 DIM = (360, 180)
 JOBS = ["pair", "auto", "sh2", "exact-90x45", "exact-full", "brute", "command"]

@@ -28,7 +28,6 @@ import subprocess
 import sys
 import time
 from collections.abc import Callable, Sequence
-from pathlib import Path
 
 #: peer -> how to find it: ("exe", its name on PATH), ("env", the variable naming its binary),
 #: or ("module", the Python module).
@@ -107,14 +106,6 @@ class Peers:
         if missing:
             print(f"error: present but not measured: {', '.join(missing)}", file=sys.stderr)
             raise SystemExit(1)
-
-
-def shared_data() -> Path:
-    """``shared/data`` (the team's third-party probes) beside the checkout or above it."""
-    for parent in Path(__file__).resolve().parents[1:]:
-        if (parent / "shared" / "data").is_dir():
-            return parent / "shared" / "data"
-    raise SystemExit("shared/data (the team's probes) is not beside this checkout")
 
 
 def machine() -> str:

@@ -43,6 +43,8 @@ SUN_SOLID_ANGLE = 0.10
 #: unit normals after one renormalisation: float64 and float32 (absolute, per component).
 FLOAT64_UNIT = 1e-14
 FLOAT32_UNIT = 1e-6
+#: float64 reflectance between cosines one ulp apart: monotonic only to rounding (relative).
+FRESNEL_ROUNDING = 1e-15
 #: ground-truth normals by central differences (step 1e-5) vs a method exact for the surface.
 GROUND_TRUTH_EXACT_DEG = 1e-4
 #: mean error of the exact blend when the detail is 16x finer than the macro curvature matters.

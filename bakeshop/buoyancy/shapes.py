@@ -7,11 +7,13 @@ rescales them (a number sets the longest side, three numbers set the bounding bo
 
 from __future__ import annotations
 
+import importlib.util
+
 import numpy as np
 import trimesh
 
 from bakeshop import progress
-from bakeshop.errors import ArgumentError, FormatError, validate_choice
+from bakeshop.errors import ArgumentError, FormatError, UnsupportedError, validate_choice
 from bakeshop.resources import Cost, require
 
 #: Peak bytes per triangle of closing a mesh and making its body (trimesh's processed mesh,
@@ -126,6 +128,10 @@ def _closed(vertices, faces, repair: bool, path):
     body.merge_vertices(merge_tex=True, merge_norm=True)
     body.remove_unreferenced_vertices()
     if not body.is_watertight and repair:
+        if importlib.util.find_spec("networkx") is None:
+            raise UnsupportedError(
+                "repairing a mesh needs networkx: pip install 'bakeshop[buoyancy]'", path
+            )
         trimesh.repair.fill_holes(body)
         body.merge_vertices(merge_tex=True, merge_norm=True)
     if not body.is_watertight:

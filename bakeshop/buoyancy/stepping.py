@@ -20,7 +20,7 @@ import numpy as np
 from bakeshop import progress
 from bakeshop.buoyancy.forces import ForceModel, evaluate
 from bakeshop.buoyancy.state import State, quaternion_to_matrix
-from bakeshop.errors import ArgumentError, BakeshopError, validate_choice
+from bakeshop.errors import ArgumentError, BakeshopError, UnsupportedError, validate_choice
 from bakeshop.resources import Cost, require
 
 FORCE_MODES = ("per-substep", "per-frame")
@@ -99,8 +99,14 @@ def make_backend(name: str, fleet, state: State, *, timestep: float, gravity: fl
         from bakeshop.buoyancy.builtin import BuiltinBackend
 
         return BuiltinBackend(fleet, state, timestep=timestep, gravity=gravity)
-    from bakeshop.buoyancy.mujoco_backend import MujocoBackend
-
+    try:
+        from bakeshop.buoyancy.mujoco_backend import MujocoBackend
+    except ModuleNotFoundError as e:
+        if e.name != "mujoco":
+            raise
+        raise UnsupportedError(
+            "the MuJoCo backend needs mujoco: pip install 'bakeshop[buoyancy]'"
+        ) from None
     return MujocoBackend(fleet, state, timestep=timestep, gravity=gravity, **options)
 
 

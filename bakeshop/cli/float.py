@@ -12,6 +12,33 @@ from bakeshop.cli._numbers import Fields, Integer, Number, Numbers
 from bakeshop.cli._paths import INPUT, OUTPUT
 from bakeshop.errors import ArgumentError
 
+#: What each number of the summary means, and what its "-" (JSON null) means.
+SUMMARY = {
+    "volume_m3": ("volume of the body", ""),
+    "mass_kg": ("its mass (volume x --density)", ""),
+    "points": ("sample points that carry its buoyancy", ""),
+    "archimedes_draft_m": (
+        "depth of its lowest point at rest in calm water, exact",
+        "none: it sinks (denser than water)",
+    ),
+    "draft_m": ("measured depth of its lowest point, last quarter of the run", ""),
+    "times_left_water": ("times it came fully out of the water after first entering it", ""),
+    "max_jump_m": ("highest its lowest point rose above the water after that", ""),
+    "settle_time_s": (
+        "when it last strayed over 1 % of its size from where it ended",
+        "never: it still strays over 1 % of its size in the last quarter",
+    ),
+    "heave_omega_rad_s": (
+        "angular frequency of small bobbing, sqrt(rho g A_waterplane / m)",
+        "none: it sinks",
+    ),
+    "omega_dt": (
+        "frequency x time a force is held; the integrator diverges above 2",
+        "none: it sinks",
+    ),
+}
+
+
 #: --waves: one wave train.
 WAVE = Fields(
     {
@@ -34,7 +61,11 @@ WAVE = Fields(
     help="Longest side S, or extents XxYxZ, in metres (default: about 1 m).",
 )
 @click.option(
-    "--density", type=Number(1, 1e5), default=500.0, show_default=True, help="Body, kg/m^3."
+    "--density",
+    type=Number(1, 1e5),
+    default=500.0,
+    show_default=True,
+    help="Density of the body, kg/m^3 (water: 1000).",
 )
 @click.option(
     "--resolution",
@@ -65,9 +96,19 @@ WAVE = Fields(
     type=click.Choice(["none", "predict", "clamp", "predict+clamp"]),
     default="predict",
     show_default=True,
+    help="What stops the trampolining: 'predict' scales the buoyancy of a sample point by "
+    "--predict-m when the point, moved on by its velocity for --predict-c times the time a force "
+    "is held, would be out of the water; 'clamp' limits the speed to --clamp-speed while the body "
+    "is partly in the water.",
 )
 @click.option(
-    "--damping", type=click.Choice(["team", "drag", "none"]), default="team", show_default=True
+    "--damping",
+    type=click.Choice(["team", "drag", "none"]),
+    default="team",
+    show_default=True,
+    help="Fluid friction: 'team' damps velocity and spin by --linear-damping and "
+    "--angular-damping, scaled by how much of the body is wet; 'drag' is quadratic drag of the "
+    "wet part (--drag-coefficient).",
 )
 @click.option(
     "--linear-damping",
@@ -88,28 +129,28 @@ WAVE = Fields(
     type=Number(0, 100),
     default=1.0,
     show_default=True,
-    help="Drag model: the body's drag coefficient.",
+    help="C_d of --damping drag (about 1 for a blunt body).",
 )
 @click.option(
     "--predict-c",
     type=Number(1, 100, low_open=True),
     default=2.5,
     show_default=True,
-    help="Predictive stabiliser: C (> 1).",
+    help="How far --stabilize predict looks ahead, in times a force is held.",
 )
 @click.option(
     "--predict-m",
     type=Number(0, 1, low_open=True, high_open=True),
     default=0.1,
     show_default=True,
-    help="Predictive stabiliser: M (between 0 and 1).",
+    help="The factor --stabilize predict puts on the buoyancy of a point about to leave the water.",
 )
 @click.option(
     "--clamp-speed",
     type=Number(0, 1000),
     default=1.0,
     show_default=True,
-    help="Clamp stabiliser: largest speed of a partly submerged body, m/s.",
+    help="Speed limit of --stabilize clamp: largest speed of a partly submerged body, m/s.",
 )
 @click.option(
     "--waves",
@@ -140,7 +181,12 @@ WAVE = Fields(
     help="Release tilt about X, degrees.",
 )
 @click.option(
-    "--backend", type=click.Choice(["builtin", "mujoco"]), default="builtin", show_default=True
+    "--backend",
+    type=click.Choice(["builtin", "mujoco"]),
+    default="builtin",
+    show_default=True,
+    help="Rigid-body integrator: bakeshop's own (no collisions), or MuJoCo, which collides the "
+    "body's convex hull with a floor and a shore (pip install 'bakeshop[buoyancy]').",
 )
 @click.option(
     "--floor",
@@ -283,8 +329,9 @@ def float_command(
         click.echo(json.dumps(summary))
         return 0
     for key, value in summary.items():
-        text = "-" if value is None else f"{value:.6g}" if isinstance(value, float) else value
-        click.echo(f"{key:20s} {text}")
+        text = f"{value:.6g}" if isinstance(value, float) else str(value)
+        meaning = SUMMARY.get(key, ("", ""))[0 if value is not None else 1]
+        click.echo(f"{key:20s} {text if value is not None else '-':12s} {meaning}".rstrip())
     return 0
 
 

@@ -51,7 +51,9 @@ _float32 = click.option(
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("source", metavar="IN", type=ENVIRONMENT)
 @click.argument("target", metavar="OUT", type=OUTPUT_CHAIN)
-@click.option("--brdf", type=click.Choice(("ggx", "phong")), default="ggx", show_default=True)
+@click.option("--brdf", type=click.Choice(("ggx", "phong")), default="ggx", show_default=True,
+              help="ggx: a mip chain, roughness rising with the level (split-sum, with the dfg "
+              "table); phong: one Phong lobe (--exponent).")  # fmt: skip
 @click.option(
     "--exponent",
     type=Number(0, 1e8, low_open=True),

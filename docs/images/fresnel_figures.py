@@ -3,7 +3,7 @@
 Pictures (docs/images/): fresnel_curve.png (exact vs Schlick), fresnel_bake.png (a probe, its
 8-bit bake and where the baked lookup differs from the runtime path), fresnel_normal_error.png
 (normal-mapped water), tonemap_operators.png, tonemap_metering.png, tonemap_adaptation.png.
-Tables (printed as Markdown): the flat-water error over the real probes of ../shared/data/hdr
+Tables (printed as Markdown): the flat-water error over the real probes of tests/data
 and the normal-mapped error over RMS slopes.
 
 Run: ``.venv/bin/python docs/images/fresnel_figures.py``
@@ -19,6 +19,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # tests.files
 
 from bakeshop import sphere
 from bakeshop.image import (
@@ -40,9 +42,9 @@ from bakeshop.light.fresnel import (
     ldr_exposure,
     normal_mapped_error,
 )
+from tests.files import PROBES, probe_path
 
 HERE = Path(__file__).resolve().parent
-PROBES = Path(__file__).resolve().parents[3] / "shared" / "data" / "hdr"
 DPI = 100
 
 
@@ -112,13 +114,13 @@ def flat_table():
         "> 1 step (clean) | horizon | footprint clipped | clipped |"
     )
     say("|---|---|---|---|---|---|---|---|---|---|---|")
-    for path in sorted(PROBES.glob("*.hdr")):
-        env = read_image(path)
+    for name in PROBES:
+        env = read_image(probe_path(name))
         ev = ldr_exposure(bake_fresnel(env, "latlong"), "latlong")
         for below, filt in (("zero", "bilinear"), ("mirror", "bilinear"), ("mirror", "nearest")):
             r = flat_water_error(env, "latlong", ev=ev, below=below, filter=filt)
             say(
-                f"| {path.stem} ({below}, {filt}) | {env.max():.3g} | {ev:+.2f} | {r['max']} | "
+                f"| {name}_1k ({below}, {filt}) | {env.max():.3g} | {ev:+.2f} | {r['max']} | "
                 f"{r['max_unclipped']} | {r['max_clean']} | {r['mean_clean']:.3f} | "
                 f"{100 * r['over_one_clean']:.4f}% | {100 * r['horizon']:.2f}% | "
                 f"{100 * r['footprint_clipped']:.3f}% | {100 * r['clipped']:.3f}% |"
@@ -222,8 +224,8 @@ def tonemap_figures(env):
 
 def main():
     curve_figure()
-    bake_figure(read_image(PROBES / "venice_sunset_1k.hdr"))
-    tonemap_figures(read_image(PROBES / "venice_sunset_1k.hdr"))
+    bake_figure(read_image(probe_path("venice_sunset")))
+    tonemap_figures(read_image(probe_path("venice_sunset")))
     normal_figure()
     flat_table()
 

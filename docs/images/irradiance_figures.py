@@ -3,11 +3,10 @@
 Pictures (docs/images/): irradiance_pair.png (a probe, its sun-removed probe, its sun DIM and
 its shadow DIM, and the sun before and after removal), irradiance_methods.png (the relative
 error of ``sh`` L = 2 and of ``auto`` against ``exact``), irradiance_suns.png (what sun
-detection says on every shared probe), irradiance_sh_windows.png (the order-2 SH DIM of the
+detection says on every test probe), irradiance_sh_windows.png (the order-2 SH DIM of the
 embedded default probe under each window, with its negative fraction and error; ``python
-irradiance_figures.py windows`` makes this one alone, from the repository only). Table
-(printed as Markdown): ``auto`` and ``sh`` L = 2 against ``exact`` on every probe of
-../shared/data/hdr at 360x180.
+irradiance_figures.py windows`` makes this one alone). Table (printed as Markdown): ``auto``
+and ``sh`` L = 2 against ``exact`` on every probe of tests/data at 360x180.
 
 Run: ``.venv/bin/python docs/images/irradiance_figures.py`` (a few minutes: ``exact`` runs at
 360x180 from each 1024x512 probe).
@@ -26,14 +25,16 @@ import matplotlib.pyplot as plt
 import numpy as np
 from PIL import Image
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # tests.files
+
 import bakeshop.light as ir
 from bakeshop.image import auto_exposure, exposure, to_srgb8
 from bakeshop.io import read_image
 from bakeshop.light.sun import find_sun
 from bakeshop.sphere import layout
+from tests.files import probe_path
 
 HERE = Path(__file__).resolve().parent
-PROBES = Path(__file__).resolve().parents[3] / "shared" / "data" / "hdr"
 NAMES = [
     "quarry_01",
     "rooitou_park",
@@ -123,7 +124,7 @@ def suns_figure():
         ax.axis("off")
         if name is None:
             continue
-        probe = read_image(PROBES / f"{name}_1k.hdr")
+        probe = read_image(probe_path(name))
         found = find_sun(probe, "latlong")
         ax.imshow(picture(probe, auto_exposure(probe)))
         if found is None:
@@ -144,7 +145,7 @@ def table():
     say("| probe | sun | auto RMS | auto max | sh L=2 RMS | sh L=2 max |")
     say("|---|---|---|---|---|---|")
     for name in NAMES:
-        probe = read_image(PROBES / f"{name}_1k.hdr")
+        probe = read_image(probe_path(name))
         exact = ir.irradiance(probe, "latlong", method="exact")
         auto = ir.irradiance(probe, "latlong")
         sh2 = ir.irradiance(probe, "latlong", method="sh", order=2)
@@ -201,7 +202,7 @@ def main():
         windows_figure()
         return
     windows_figure()
-    probe = read_image(PROBES / "quarry_01_1k.hdr")
+    probe = read_image(probe_path("quarry_01"))
     pair = pair_figure(probe)
     say(f"sun: {pair.sun.to_dict()}")
     methods_figure(probe)

@@ -5,6 +5,7 @@ import json
 import pytest
 
 from bakeshop.cli.main import main
+from tests.files import DATA
 
 
 def test_float_json_box(capsys):
@@ -20,9 +21,10 @@ def test_float_json_box(capsys):
     assert out["points"] > 0 and out["settle_time_s"] is not None
 
 
-def test_float_mesh_with_plot_mujoco_and_waves(shared_data, tmp_path, capsys):
+@pytest.mark.slow
+def test_float_mesh_with_plot_mujoco_and_waves(tmp_path, capsys):
     plot = tmp_path / "trace.png"
-    code = main(["float", str(shared_data / "meshes" / "spot.obj"), "--size", "1",
+    code = main(["float", str(DATA / "spot.obj"), "--size", "1",
                  "--density", "600", "--resolution", "6", "--seconds", "2", "--waves", "0.1:6:30",
                  "--backend", "mujoco", "--plot", str(plot)])  # fmt: skip
     assert code == 0
@@ -31,6 +33,7 @@ def test_float_mesh_with_plot_mujoco_and_waves(shared_data, tmp_path, capsys):
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+@pytest.mark.slow
 def test_float_matrix_writes_table_csv_and_grid(tmp_path, monkeypatch, capsys):
     from bakeshop.buoyancy import matrix
 
@@ -78,3 +81,40 @@ def test_float_open_mesh(tmp_path, capsys):
     trimesh.Trimesh(box.vertices, box.faces[:-2]).export(tmp_path / "open.stl")
     assert main(["float", str(tmp_path / "open.stl")]) == 2
     assert "not watertight" in capsys.readouterr().err
+
+
+def test_the_buoyancy_extra_is_named_when_missing(tmp_path, monkeypatch, capsys):
+    """mujoco and networkx are the [buoyancy] extra: without them, one line says what to install."""
+    import sys
+
+    import trimesh
+
+    monkeypatch.setitem(sys.modules, "mujoco", None)  # "import mujoco" now fails
+    monkeypatch.delitem(sys.modules, "bakeshop.buoyancy.mujoco_backend", raising=False)
+    assert main(["float", "--shape", "box", "--seconds", "0.1", "--backend", "mujoco"]) == 2
+    err = capsys.readouterr().err
+    assert "pip install 'bakeshop[buoyancy]'" in err and err.count("\n") == 1
+
+    monkeypatch.setitem(sys.modules, "networkx", None)
+    box = trimesh.creation.box()
+    trimesh.Trimesh(box.vertices, box.faces[:-2]).export(tmp_path / "open.stl")
+    assert main(["float", str(tmp_path / "open.stl"), "--repair"]) == 2
+    err = capsys.readouterr().err
+    assert "open.stl" in err and "pip install 'bakeshop[buoyancy]'" in err
+    assert err.count("\n") == 1
+
+
+def test_float_text_explains_every_number(capsys):
+    """Each line is key, value and what it means; a "-" (JSON null) says why it is missing."""
+    from bakeshop.cli.float import SUMMARY
+
+    args = ["float", "--shape", "box", "--seconds", "1", "--resolution", "4"]
+    assert main([*args, "--density", "1500"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split()[0] for line in lines] == list(SUMMARY)
+    table = {line.split()[0]: line for line in lines}
+    assert table["archimedes_draft_m"].split()[1] == "-" and "sinks" in table["archimedes_draft_m"]
+    assert "never" in table["settle_time_s"]  # still falling through the water at the end
+    assert all(len(line) <= 100 and len(line.split()) > 3 for line in lines)
+    assert main([*args, "--json"]) == 0
+    assert list(json.loads(capsys.readouterr().out)) == list(SUMMARY)

@@ -7,6 +7,7 @@ import trimesh
 from bakeshop.buoyancy.hydrostatics import archimedes_draft, submerged_volume, waterplane_area
 from bakeshop.buoyancy.shapes import make_shape
 from tests.buoyancy.helpers import cylinder_draft, sphere_draft
+from tests.files import DATA
 from tests.tolerances import BUOYANCY_ARCHIMEDES_RTOL, BUOYANCY_CLIPPING_EXACT
 
 
@@ -46,10 +47,10 @@ def test_too_dense_to_float():
     assert archimedes_draft(box.triangles, 1200.0) is None
 
 
-def test_submerged_volume_matches_manifold3d_on_a_real_mesh(shared_data):
+def test_submerged_volume_matches_manifold3d_on_a_real_mesh():
     from tests.buoyancy.helpers import body, clipped_below
 
-    mesh = body(shared_data / "meshes" / "spot.obj")
+    mesh = body(DATA / "spot.obj")
     mesh.apply_transform(trimesh.transformations.rotation_matrix(0.5, (1, 0, 1)))
     for level in np.linspace(*mesh.bounds[:, 1], 7)[1:-1]:
         reference = clipped_below(mesh, level).volume

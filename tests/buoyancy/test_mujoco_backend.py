@@ -68,6 +68,7 @@ def test_agrees_with_builtin_on_equilibrium_and_period(flat_box):
     assert d_m == pytest.approx(0.25, rel=1e-2)
 
 
+@pytest.mark.slow
 def test_energy_bounded_over_a_minute_mujoco(flat_box):
     start = release(flat_box, WATER, height=-0.2)
     trace = simulate(flat_box, start, WATER, UNDAMPED, seconds=60, backend="mujoco")

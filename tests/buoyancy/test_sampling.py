@@ -9,6 +9,7 @@ from bakeshop.buoyancy.sampling import sample_points
 from bakeshop.buoyancy.shapes import SHAPES, make_shape
 from bakeshop.errors import ArgumentError
 from tests.buoyancy.helpers import body
+from tests.files import DATA
 from tests.tolerances import BUOYANCY_VOLUME_RTOL
 
 
@@ -24,8 +25,8 @@ def test_point_volumes_sum_to_mesh_volume(name, resolution):
 
 
 @pytest.mark.parametrize("name", ["cube", "spot", "fish_low_resolution", "torus"])
-def test_shared_meshes(shared_data, name):
-    mesh = body(shared_data / "meshes" / f"{name}.obj")
+def test_real_meshes(name):
+    mesh = body(DATA / f"{name}.obj")
     points = sample_points(mesh, resolution=10)
     assert points.volumes.sum() == pytest.approx(mesh.volume, rel=BUOYANCY_VOLUME_RTOL)
 

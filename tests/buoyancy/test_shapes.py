@@ -8,6 +8,7 @@ from bakeshop.buoyancy.shapes import SHAPES, make_shape
 from bakeshop.errors import ArgumentError, BakeshopError, FormatError
 from bakeshop.io import load_mesh
 from tests.buoyancy.helpers import body
+from tests.files import DATA
 
 
 @pytest.mark.parametrize("name", SHAPES)
@@ -43,8 +44,8 @@ def test_bad_shape_and_size():
         ("fish_low_resolution", 1.1146),
     ],
 )
-def test_shared_meshes_weld_into_closed_solids(shared_data, name, volume):
-    mesh = body(shared_data / "meshes" / f"{name}.obj")
+def test_real_meshes_weld_into_closed_solids(name, volume):
+    mesh = body(DATA / f"{name}.obj")
     assert mesh.is_watertight
     assert mesh.volume == pytest.approx(volume, rel=1e-3)
 

@@ -71,6 +71,7 @@ def test_per_substep_results_do_not_depend_on_frame_rate():
     assert 0.3 * errors[0] < errors[1] < 0.6 * errors[0]
 
 
+@pytest.mark.slow
 def test_trampoline_is_real_and_the_team_fix_works():
     bodies = [make_body(make_shape(name), 500, resolution=8) for name in SHAPES]
     fleet = pack(bodies)

@@ -67,6 +67,7 @@ def test_fresnel_ldr_png_read_back_with_opencv(sky, tmp_path, capsys):
     assert np.abs(dithered - plain).max() <= 1 and (dithered != plain).any()
 
 
+@pytest.mark.slow
 def test_fresnel_cube_faces_and_report(sky, tmp_path, capsys):
     path, _ = sky
     out = tmp_path / "water_{face}.png"

@@ -9,6 +9,7 @@ from bakeshop.normals.blend import blend
 from bakeshop.normals.encoding import decode_normals
 from bakeshop.normals.height import height_to_normal
 from bakeshop.normals.tiling import place_detail
+from tests.files import DATA
 from tests.normals.test_blend import random_normals
 from tests.normals.test_transfer import cylinder, plane, write_gltf
 
@@ -102,8 +103,9 @@ def test_combine_layers_with_material_ids(tmp_path):
     assert np.abs(got[:, 24:] - right[:, 24:]).max() < STEP
 
 
-def test_flat_detail_leaves_the_macro_map(tmp_path, shared_data):
-    macro = shared_data / "normals" / "NormalTangentTest_Normal.png"
+@pytest.mark.slow
+def test_flat_detail_leaves_the_macro_map(tmp_path):
+    macro = DATA / "NormalTangentTest_Normal.png"
     flat = write_png(tmp_path / "flat.png", np.broadcast_to([0.0, 0, 1], (4, 4, 3)))
     # an 8-bit flat texel is (128, 128, 255): slopes of 1/255, so strength 0 for exactness
     out = tmp_path / "o.png"

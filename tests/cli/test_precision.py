@@ -30,6 +30,7 @@ def _tilted_normals(h, w):
     return n / np.linalg.norm(n, axis=-1, keepdims=True)
 
 
+@pytest.mark.slow
 def test_a_flat_detail_on_a_16_bit_macro_map_stays_16_bit(tmp_path, capsys):
     macro = tmp_path / "macro.png"
     codes = _png16(macro, (_tilted_normals(64, 64) + 1) / 2)
@@ -158,6 +159,7 @@ def test_an_8_bit_probe_into_irradiance_warns_or_is_linearised(tmp_path, capsys)
     assert np.abs(decoded - exact).max() < 5e-3 < np.abs(as_stored - exact).max()
 
 
+@pytest.mark.slow
 def test_irradiance_sh_is_windowed_and_reports_the_negative_fraction(tmp_path, capsys):
     lay = layout("latlong")
     shape = lay.shape(64)

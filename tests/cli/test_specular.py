@@ -120,6 +120,7 @@ def test_dfg_container_and_image(tmp_path):
     assert np.abs(rgb[..., 2]).max() == EXACT
 
 
+@pytest.mark.slow
 def test_bake_probe_writes_everything(probe, tmp_path, capsys):
     out = tmp_path / "baked"
     args = ["bake-probe", str(probe), "-o", str(out), "--specular-size", "16", "--mips", "5"]
@@ -141,6 +142,7 @@ def test_bake_probe_writes_everything(probe, tmp_path, capsys):
     assert "specular.dds" in text and "sun: direction" in text
 
 
+@pytest.mark.slow
 def test_bake_probe_default_probe(tmp_path, capsys):
     # make demo runs this (at full size): the embedded probe when IN is left out
     args = ["bake-probe", "-o", str(tmp_path), "--specular-size", "8", "--mips", "2"]
@@ -149,6 +151,7 @@ def test_bake_probe_default_probe(tmp_path, capsys):
     assert (tmp_path / "specular.ktx").is_file() and (tmp_path / "contact_sheet.png").is_file()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("channels", [1, 4])
 def test_bake_probe_rgba_and_grey_probes_give_rgb_files(tmp_path, channels):
     sky = _sky()
@@ -162,6 +165,7 @@ def test_bake_probe_rgba_and_grey_probes_give_rgb_files(tmp_path, channels):
         assert read_image(out / name).shape[-1] == 3
 
 
+@pytest.mark.slow
 def test_bake_probe_from_a_ktx2_cube(probe, tmp_path, capsys):
     # a cube probe: its shadow probe is a cube too, written as one vertical cross picture
     cube = tmp_path / "probe.ktx2"

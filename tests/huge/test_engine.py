@@ -68,6 +68,7 @@ def test_area_remap_to_other_layouts_keeps_the_energy(dst):
     assert np.allclose(_energy(out, dst), _energy(a, "latlong"), rtol=AREA_BALANCE_RTOL, atol=0)
 
 
+@pytest.mark.slow
 def test_sh_is_the_sum_of_strips():
     a = _probe()
     ref = light.sh_coefficients(a, "latlong", order=3)

@@ -64,7 +64,8 @@ def test_resize_under_an_address_space_limit_a_quarter_of_the_image(tmp_path):
 
 @pytest.fixture(scope="module")
 def cluster():
-    distributed = pytest.importorskip("distributed")
+    import distributed  # the huge extra, in the test extra
+
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None, memory_limit="1GB") as c:  # fmt: skip
         with distributed.Client(c) as client:

@@ -102,15 +102,53 @@ def test_the_mesh_loader_refuses_special_files_at_once(tmp_path, ext):
             load_mesh(path)
 
 
+#: Linux capabilities that let root read any file (capabilities(7)); dropped to test as root
+CAP_DAC_OVERRIDE, CAP_DAC_READ_SEARCH = 1, 2
+
+
+def _without_read_override():
+    """In the child before exec: drop from the bounding set the capabilities that let root
+    ignore file permissions; the exec'd program then runs without them, root or not."""
+    import ctypes
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    for cap in (CAP_DAC_OVERRIDE, CAP_DAC_READ_SEARCH):
+        if libc.prctl(24, cap, 0, 0, 0) != 0:  # PR_CAPBSET_DROP
+            raise OSError(ctypes.get_errno(), "prctl(PR_CAPBSET_DROP)")
+
+
 def test_unreadable_file_says_permission_denied(tmp_path):
     path = tmp_path / "secret.hdr"
     write_image(path, np.ones((2, 8, 3), np.float32))
     path.chmod(0)
     try:
-        if os.access(path, os.R_OK):
-            pytest.skip("running as root: permissions do not stop reading")
-        with pytest.raises(BakeshopError, match="permission denied"):
-            read_image(path)
+        if not os.access(path, os.R_OK):  # an ordinary user: permissions stop reading here
+            with pytest.raises(BakeshopError, match="permission denied") as caught:
+                read_image(path)
+            assert caught.value.path == str(path)
+            return
+        # root reads anything: read in a child without the capabilities that allow it
+        code = (
+            "import sys\n"
+            "from bakeshop.errors import BakeshopError\n"
+            "from bakeshop.io import read_image\n"
+            "try:\n"
+            "    read_image(sys.argv[1])\n"
+            "except BakeshopError as e:\n"
+            "    print(e.path); print(e.reason)\n"
+            "else:\n"
+            "    print('read')\n"
+        )
+        done = subprocess.run(
+            [sys.executable, "-c", code, str(path)],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            preexec_fn=_without_read_override,
+        )
+        assert done.returncode == 0, done.stderr
+        assert done.stdout.splitlines()[0] == str(path)
+        assert "permission denied" in done.stdout.splitlines()[1]
     finally:
         path.chmod(0o644)
 

@@ -128,6 +128,7 @@ def seed_files(tmp_path_factory):
 scratch = fuzzing.scratch_file("f.ktx")
 
 
+@pytest.mark.slow
 def test_truncation_at_every_offset_is_refused(scratch, seed_files):
     for data in seed_files:
         fuzzing.assert_truncations_refused(scratch, data, read=levels)

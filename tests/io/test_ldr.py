@@ -1,6 +1,6 @@
 """PNG and JPEG: exact PNG round trips at 8 and 16 bits, OpenCV / Pillow / OpenImageIO reading what
 bakeshop writes and the other way round, hand-built PNGs for what readers get wrong (16-bit colour,
-Adam7 interlacing, low bit depths, colour keys, checksums), the shared normal map whose iCCP chunk
+Adam7 interlacing, low bit depths, colour keys, checksums), a real normal map whose iCCP chunk
 has a bad checksum, size limits and decompression bombs, JPEG, and fuzzing.
 
 Peers: Pillow reads 16-bit RGB(A) PNGs as 8-bit and cannot write them, and refuses a PNG whose
@@ -24,6 +24,7 @@ from PIL import Image
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io import ldr, read_image, write_image
+from tests.files import DATA
 from tests.io import fuzzing
 from tests.tolerances import JPEG_DECODER_ATOL, JPEG_Q95_ATOL
 
@@ -261,16 +262,16 @@ def test_transfer_function_is_reported_not_applied(tmp_path):
     assert meta["srgb"] and meta["gamma"] == pytest.approx(0.45455)
 
 
-def test_shared_normal_map_with_a_bad_iccp_checksum(shared_data):
-    path = shared_data / "normals" / "Scratched_gold_01_1K_Normal.png"
+def test_a_real_normal_map_with_a_bad_iccp_checksum():
+    path = DATA / "Scratched_gold_01_1K_Normal_crop256.png"
     with pytest.raises(Image.UnidentifiedImageError):  # what Pillow alone does with it
         Image.open(path)
     image, meta = read_image(path, with_metadata=True)
-    assert image.shape == (1024, 1024, 3) and meta["dropped_chunks"] == ["iCCP"]
+    assert image.shape == (256, 256, 3) and meta["dropped_chunks"] == ["iCCP"]
     np.testing.assert_array_equal(levels(image, 8), cv2_rgb(path))  # libpng warns and reads
 
 
-def test_peer_behaviours_the_docs_describe(tmp_path, shared_data):
+def test_peer_behaviours_the_docs_describe(tmp_path):
     """Pin what docs/formats.md says of the peers, so an upgrade that changes it shows up."""
     write_image(tmp_path / "a.png", np.array([[[200, 100, 50, 128]]], np.uint8))
     f = oiio.ImageInput.open(str(tmp_path / "a.png"))
@@ -281,9 +282,9 @@ def test_peer_behaviours_the_docs_describe(tmp_path, shared_data):
         assert im.mode == "RGB" and np.asarray(im).dtype == np.uint8  # 16 -> 8 bits
     with pytest.raises(TypeError):
         Image.fromarray(random_samples((4, 5, 3), 16)).save(tmp_path / "p.png")
-    normal = shared_data / "normals" / "Scratched_gold_01_1K_Normal.png"
+    normal = DATA / "Scratched_gold_01_1K_Normal_crop256.png"
     f = oiio.ImageInput.open(str(normal))
-    assert f.read_image("uint8").shape == (1024, 1024, 3)  # read silently
+    assert f.read_image("uint8").shape == (256, 256, 3)  # read silently
     f.close()
 
 

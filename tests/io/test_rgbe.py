@@ -22,6 +22,7 @@ from hypothesis import strategies as st
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io import read_image, rgbe, write_image
+from tests.files import PROBES, probe_path
 from tests.io import fuzzing
 from tests.tolerances import FLOAT32_VALUE, XYZ_MATRIX_ATOL
 
@@ -382,14 +383,13 @@ def test_peers_on_other_orientations(tmp_path, orientation):
     np.testing.assert_array_equal(peer_to_radiance(upright), expected)
 
 
-def test_real_probes_read_as_opencv_and_openimageio_read_them(shared_data):
-    probes = sorted((shared_data / "hdr").glob("*.hdr"))
-    assert len(probes) >= 7
-    for path in probes:
-        ours, meta = read_image(path, with_metadata=True)
-        assert ours.shape == (512, 1024, 3) and meta["orientation"] == "-Y +X"
-        np.testing.assert_array_equal(ours, peer_to_radiance(cv2.imread(str(path), -1)[..., ::-1]))
-        np.testing.assert_array_equal(ours, peer_to_radiance(oiio_read(path)))
+@pytest.mark.parametrize("name", PROBES)
+def test_real_probes_read_as_opencv_and_openimageio_read_them(name):
+    path = probe_path(name)
+    ours, meta = read_image(path, with_metadata=True)
+    assert ours.shape == (512, 1024, 3) and meta["orientation"] == "-Y +X"
+    np.testing.assert_array_equal(ours, peer_to_radiance(cv2.imread(str(path), -1)[..., ::-1]))
+    np.testing.assert_array_equal(ours, peer_to_radiance(oiio_read(path)))
 
 
 # --- bad files, bad arguments and the public entry points -----------------------------------------

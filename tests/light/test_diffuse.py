@@ -13,6 +13,7 @@ from bakeshop.io import read_image
 from bakeshop.light import sh
 from bakeshop.light.diffuse import compress
 from bakeshop.sphere import layout, texels
+from tests.files import PROBES, probe_path
 from tests.tolerances import (
     FLOAT32_VALUE,
     IRRADIANCE_AUTO_MAX,
@@ -21,15 +22,6 @@ from tests.tolerances import (
     UNIFORM_DIM,
 )
 
-PROBES = [
-    "quarry_01",
-    "rooitou_park",
-    "venice_sunset",
-    "st_fagans_interior",
-    "kiara_1_dawn",
-    "forest_slope",
-    "studio_small_03",
-]
 #: test DIM size: small enough that "exact" from a 1024x512 probe takes a fraction of a second.
 SIZE = (64, 32)
 
@@ -148,13 +140,13 @@ def test_sh_order_2_is_exact_for_an_order_2_environment():
         np.testing.assert_allclose(dim, analytic, rtol=2e-4, atol=1e-5, err_msg=method)
 
 
-def _probe(shared_data, name):
-    return read_image(shared_data / "hdr" / f"{name}_1k.hdr")
+def _probe(name):
+    return read_image(probe_path(name))
 
 
 @pytest.mark.parametrize("name", PROBES)
-def test_auto_agrees_with_exact_on_real_probes(shared_data, name):
-    env = _probe(shared_data, name)
+def test_auto_agrees_with_exact_on_real_probes(name):
+    env = _probe(name)
     exact = ir.irradiance(env, "latlong", size=SIZE, method="exact")
     auto = ir.irradiance(env, "latlong", size=SIZE)
     rms, worst = _errors(auto, exact)
@@ -231,8 +223,8 @@ def test_channels_and_bad_input():
         ir.irradiance(env, "latlong", size=(40000, 20000))
 
 
-def test_dim_pair_splits_the_sun(shared_data):
-    env = _probe(shared_data, "quarry_01")
+def test_dim_pair_splits_the_sun():
+    env = _probe("quarry_01")
     pair = ir.dim_pair(env, "latlong", size=SIZE)
     assert pair.sun is not None
     # the lit DIM is the probe's DIM; the shadow DIM is the painted probe's
@@ -250,8 +242,8 @@ def test_dim_pair_splits_the_sun(shared_data):
     assert pair.shadow_probe.shape == env.shape and pair.shadow_probe.dtype == env.dtype
 
 
-def test_dim_pair_without_a_sun(shared_data):
-    env = _probe(shared_data, "forest_slope")
+def test_dim_pair_without_a_sun():
+    env = _probe("forest_slope")
     pair = ir.dim_pair(env, "latlong", size=SIZE)
     assert pair.sun is None
     np.testing.assert_array_equal(pair.sun_dim, pair.shadow_dim)
@@ -294,13 +286,13 @@ def test_black_integer_and_cube_inputs():
     np.testing.assert_allclose(pair.sun_dim, 1, atol=UNIFORM_DIM * 10)
 
 
-def test_exact_agrees_with_an_independent_monte_carlo_estimate(shared_data):
+def test_exact_agrees_with_an_independent_monte_carlo_estimate():
     # E(n) = 4 pi mean(L(w) max(0, n.w)) over uniform random directions, the radiance read by
     # the sphere's bilinear sampler: a different quadrature and a different reading of the
     # texels; they agree to the Monte Carlo noise and the bilinear smoothing (~0.3 %)
     from bakeshop.sphere import sample
 
-    env = _probe(shared_data, "forest_slope")
+    env = _probe("forest_slope")
     rng = np.random.default_rng(0)
     normals = rng.normal(size=(8, 3))
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)

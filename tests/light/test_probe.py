@@ -12,6 +12,7 @@ from bakeshop.sphere import layout
 SMALL = {"cube_size": 16, "dim_size": (32, 16), "specular_size": 16, "mips": 3, "dfg_size": 16}
 
 
+@pytest.mark.slow
 def test_a_uniform_sky_bakes_to_ones():
     """L = 1 everywhere: every radiance output is 1, a DIM of a uniform sky of 1 is 1 (E/pi),
     the SH's constant term is the integral of Y00 = 1/(2 sqrt(pi)): 4 pi / (2 sqrt(pi)), and
@@ -35,6 +36,7 @@ def test_a_uniform_sky_bakes_to_ones():
     assert bake.dfg.sum(axis=-1).max() <= 1 + 1e-4  # a 4096-sample estimate of 1 at smooth
 
 
+@pytest.mark.slow
 def test_a_disk_sun_is_found_and_split_exactly():
     """A disk of radius 3 deg and radiance Ls at direction s on a sky of 1: the sun found at s,
     and sun DIM - shadow DIM at the normal s is the disk's irradiance over pi,
@@ -64,12 +66,14 @@ def test_a_disk_sun_is_found_and_split_exactly():
     np.testing.assert_allclose(bake.shadow_dim, 1.0, rtol=0.01)  # the sky alone, filled in
 
 
+@pytest.mark.slow
 def test_default_cube_size_is_the_power_of_two_nearest_the_probes_texels():
     bake = bake_probe(np.ones((64, 128, 3), np.float32), "latlong", **{**SMALL, "cube_size": None})
     # 8192 texels / 6 = 1365 = 37^2: 32 is the power of two nearest 37
     assert bake.cube.shape[1] == 32
 
 
+@pytest.mark.slow
 def test_the_contact_sheet_is_a_picture():
     sky = np.ones((32, 64, 3), np.float32)
     sheet = contact_sheet(bake_probe(sky, "latlong", **SMALL), sky, thumb_height=32)

@@ -107,6 +107,7 @@ def test_minimal_window_is_the_root_of_the_closed_form_minimum():
     assert irr.negative == 0 and irr.negative_raw > 0.29
 
 
+@pytest.mark.slow
 def test_minimal_window_is_non_negative_by_brute_force_and_leaves_good_functions_alone():
     rng = np.random.default_rng(3)
     dense = _fibonacci(50_000)
@@ -136,6 +137,7 @@ def test_minimal_window_is_non_negative_by_brute_force_and_leaves_good_functions
         sh.minimal_window(-uniform)
 
 
+@pytest.mark.slow
 def test_windowed_sh_irradiance_matches_brute_force_convolution():
     # an environment on texels: the SH route (project, window, evaluate) against the direct
     # sum of radiance x the windowed truncated kernel K(n.w) over every texel

@@ -17,6 +17,7 @@ from bakeshop.light.specular import (
 )
 from bakeshop.sphere import cube_to_view, layout, remap, sample
 from bakeshop.sphere.kernels import cube_face
+from tests.files import probe_path
 from tests.tolerances import (
     EXACT,
     FIS_MAX,
@@ -62,8 +63,8 @@ def relative_errors(got, ref):
 
 
 @pytest.fixture(scope="module")
-def sunny_cube(shared_data):
-    probe = read_image(shared_data / "hdr" / "quarry_01_1k.hdr")
+def sunny_cube():
+    probe = read_image(probe_path("quarry_01"))
     return remap(probe, "latlong", "cube", 48, filter="area")
 
 
@@ -104,6 +105,7 @@ def test_uniform_environment_stays_uniform(brdf):
         np.testing.assert_allclose(level[..., 1], 0.25, rtol=UNIFORM_RTOL)
 
 
+@pytest.mark.slow
 def test_ggx_matches_brute_force_on_a_sunny_probe(sunny_cube):
     chain = prefilter_ggx(sunny_cube, "cube", size=48, mips=4)
     for m, r in enumerate(mip_roughness(4)[1:], 1):
@@ -111,6 +113,7 @@ def test_ggx_matches_brute_force_on_a_sunny_probe(sunny_cube):
         assert rms < PREFILTER_RMS and worst < PREFILTER_MAX, (m, rms, worst)
 
 
+@pytest.mark.slow
 def test_phong_matches_brute_force_on_a_sunny_probe(sunny_cube):
     chain = prefilter_phong(sunny_cube, "cube", size=48, mips=4)
     for m, e in enumerate(phong_exponents(4)[1:], 1):
@@ -118,6 +121,7 @@ def test_phong_matches_brute_force_on_a_sunny_probe(sunny_cube):
         assert rms < PREFILTER_RMS and worst < PREFILTER_MAX, (m, rms, worst)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("brdf, m", [("ggx", 1), ("ggx", 2), ("phong", 1), ("phong", 2)])
 def test_importance_sampling_alone_matches_brute_force(sunny_cube, monkeypatch, brdf, m):
     # No exact convolution of the rest: the path the narrow lobes of big cubes take.

@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 from bakeshop.io import read_image, write_json
 from bakeshop.light import sun as sunlib
 from bakeshop.sphere import layout
+from tests.files import probe_path
 from tests.tolerances import SUN_DIRECTION_DEG, SUN_SOLID_ANGLE
 
 SUPERSAMPLE = 4
@@ -138,8 +139,8 @@ def test_two_equal_lamps_are_not_a_sun():
         ("kiara_1_dawn", False),
     ],
 )
-def test_real_probes(shared_data, name, has_sun):
-    env = read_image(shared_data / "hdr" / f"{name}_1k.hdr")
+def test_real_probes(name, has_sun):
+    env = read_image(probe_path(name))
     sun = sunlib.find_sun(env, "latlong")
     assert (sun is not None) == has_sun
     if has_sun:
@@ -165,6 +166,7 @@ def test_sun_json(tmp_path):
     assert json.loads(path.read_text()) == {"sun": None}
 
 
+@pytest.mark.slow
 @settings(max_examples=12, deadline=None)
 @given(
     z=st.floats(-0.99, 0.99),

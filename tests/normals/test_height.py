@@ -8,6 +8,7 @@ from bakeshop.errors import ArgumentError
 from bakeshop.normals.encoding import decode_normals
 from bakeshop.normals.height import height_to_normal
 from tests import tolerances as tol
+from tests.files import DATA
 
 
 def test_central_differences_of_a_periodic_wave_wrap_exactly():
@@ -53,11 +54,10 @@ def test_flat_and_bad_input():
     assert np.isfinite(height_to_normal(np.array([[np.nan, 1.0], [0.0, np.inf]]))).all()
 
 
-def test_the_shared_detail_map_is_directx(shared_data):
+def test_a_real_detail_map_is_directx():
     """cgbookcase's Scratched Gold normal map agrees with its height map in the DX convention."""
-    folder = shared_data / "normals"
-    height = cv2.imread(str(folder / "Scratched_gold_01_1K_Height.png"))[..., 0] / 255.0
-    rgb = cv2.imread(str(folder / "Scratched_gold_01_1K_Normal.png"))[..., ::-1] / 255.0
+    height = cv2.imread(str(DATA / "Scratched_gold_01_1K_Height_crop256.png"))[..., 0] / 255.0
+    rgb = cv2.imread(str(DATA / "Scratched_gold_01_1K_Normal_crop256.png"))[..., ::-1] / 255.0
     ours = height_to_normal(height, strength=10)
     for convention, sign in (("dx", 1), ("gl", -1)):
         theirs = decode_normals(rgb, convention=convention)

@@ -30,6 +30,7 @@ def shifted_stack(offsets, seed=0):
     return np.stack(frames)
 
 
+@pytest.mark.slow
 def test_sub_pixel_offsets_are_recovered_within_a_tenth_of_a_pixel():
     rng = np.random.default_rng(5)
     offsets = rng.uniform(-6, 6, (len(TIMES), 2))
@@ -73,6 +74,7 @@ def test_bad_arguments():
         align_stack(codes.astype(np.float32))
 
 
+@pytest.mark.slow
 def test_a_still_wide_bracket_stays_put():
     # 12 stops in 7 frames: the darkest shows the sky at a few codes; a count of differing bits
     # (not a rate) and a threshold in its noise once moved it by 30 pixels

@@ -47,6 +47,7 @@ def relative_rms(result, truth, mask, scale_mask=None):
     return float(np.sqrt(np.mean(rel * rel)))
 
 
+@pytest.mark.slow
 def test_merge_within_one_percent_where_some_frame_saw_it(scene):
     truth, stack, merged = scene
     seen = merged.votes > 0
@@ -54,6 +55,7 @@ def test_merge_within_one_percent_where_some_frame_saw_it(scene):
     assert relative_rms(merged.radiance, truth, seen) < MERGE_RMS
 
 
+@pytest.mark.slow
 def test_ahead_of_opencv_on_the_same_stack(scene):
     truth, stack, merged = scene
     images = [np.ascontiguousarray(f[..., ::-1]) for f in stack.codes]
@@ -88,6 +90,7 @@ def test_weights_are_exactly_zero_at_the_clipped_ends():
         assert np.all(weight[low + 1 : high] > 0)
 
 
+@pytest.mark.slow
 def test_confidence_says_clipped_and_dark(scene):
     truth, stack, merged = scene
     sun = np.unravel_index(np.argmax(truth.mean(-1)), truth.shape[:2])
@@ -133,6 +136,7 @@ def test_exif_exposures_give_luminance_in_candela():
     np.testing.assert_allclose(merged.radiance[0, 0, 0], expected, rtol=1e-5)
 
 
+@pytest.mark.slow
 def test_bad_arguments_are_refused(scene):
     _, stack, _ = scene
     response = known_response("srgb")
@@ -146,6 +150,7 @@ def test_bad_arguments_are_refused(scene):
         make_stack(stack.codes[:3], [0.5, 0.5, 0.5])
 
 
+@pytest.mark.slow
 def test_sixteen_bit_frames():
     truth = synthetic.default_probe()[::2, ::2]
     times = 2.0 ** np.arange(-8, 3, 2)

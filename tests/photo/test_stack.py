@@ -55,6 +55,7 @@ def test_sixteen_bit_tiff_with_given_times(tmp_path):
     assert [s["source"] for s in stack.settings] == ["given"] * 3
 
 
+@pytest.mark.slow
 def test_stacks_that_cannot_be_merged_are_refused(tmp_path):
     codes = np.zeros((4, 4, 3), np.uint8)
     write_image(tmp_path / "a.png", codes)

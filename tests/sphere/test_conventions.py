@@ -67,6 +67,7 @@ def debevec_probe_direction(n):
     return d, r < 1
 
 
+@pytest.mark.slow
 def test_angular_probe_to_cross_is_hdrshops_cross():
     """HDRShop's cross of a probe, computed entirely in HDRShop's frame (Debevec's formula,
     the cube unfolded around its forward face): bakeshop's angular -> cross-vertical gives the

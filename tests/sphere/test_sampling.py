@@ -315,6 +315,7 @@ def test_area_filter_preserves_the_energy_of_a_real_probe(probe, dst, size, rtol
     np.testing.assert_allclose(energy(out, dst), energy(probe, "latlong"), rtol=rtol)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("dst", "size"),
     [("angular", 700), ("angular", 512), ("mirrorball", 700), ("octahedral", 700),
@@ -335,7 +336,12 @@ def test_area_filter_preserves_the_energy_of_a_one_texel_sun_where_the_output_is
 
 @pytest.mark.parametrize(
     ("dst", "size"),
-    [("cube", 64), ("angular", 128), ("angular-physical", 128), ("octahedral", 128)],
+    [
+        ("cube", 64),
+        ("angular", 128),
+        ("angular-physical", 128),
+        pytest.param("octahedral", 128, marks=pytest.mark.slow),
+    ],
 )
 def test_area_filter_is_the_area_average_of_a_brute_force_supersampling(probe, dst, size):
     """Reference: every output texel cut into 16 x 16 sub-texels, each looking the (piecewise
@@ -361,7 +367,10 @@ def test_area_filter_is_the_area_average_of_a_brute_force_supersampling(probe, d
     assert area < SPHERE_AREA_VS_BRUTE_FORCE_RRMS and area < bilinear / 2.5
 
 
-@pytest.mark.parametrize(("dst", "size"), [("cube", 256), ("cube", 128), ("octahedral", 512)])
+@pytest.mark.parametrize(
+    ("dst", "size"),
+    [("cube", 256), ("cube", 128), pytest.param("octahedral", 512, marks=pytest.mark.slow)],
+)
 def test_area_filter_keeps_a_linear_function_where_it_is(dst, size):
     """The balanced weights stay centred: a linear function of direction comes out as its
     value at the output texel centres (to a fraction of its change across a texel)."""
@@ -375,6 +384,7 @@ def test_area_filter_keeps_a_linear_function_where_it_is(dst, size):
     np.testing.assert_allclose(out[..., 0][valid], f(dirs)[valid], atol=SPHERE_AREA_LINEAR_ATOL)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("row", [0, 1, 3])
 def test_area_filter_preserves_the_energy_of_a_sun_at_the_zenith(row):
     """A one-texel sun in a latlong's top rows (noon in the tropics), where the texels are thin

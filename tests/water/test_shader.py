@@ -23,8 +23,6 @@ from tests.water.tolerances import (
     SHADER_RIPPLE_RTOL,
 )
 
-pytest.importorskip("moderngl")
-
 
 @pytest.fixture(scope="module")
 def sea(tmp_path_factory):

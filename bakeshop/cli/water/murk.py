@@ -52,8 +52,8 @@ from bakeshop.cli.water._group import CONTEXT, water
     metavar="DxZ",
     help="LUT samples: path lengths x depths.",
 )
-@click.option("--name", default="murk", show_default=True)
-@click.option("--no-preview", is_flag=True)
+@click.option("--name", default="murk", show_default=True, help="Prefix of the file names.")
+@click.option("--no-preview", is_flag=True, help="Skip the preview PNG.")
 def murk(out_dir: Path, **o):
     """Underwater murk constants from measured water: per-channel beam attenuation (what fades
     the view, absorption + scattering) and diffuse attenuation (what dims the light with depth),

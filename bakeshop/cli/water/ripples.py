@@ -188,10 +188,13 @@ def _parse_impacts(impacts) -> list[tuple[float, float, float]]:
 @click.option("--layout", type=click.Choice(("frames", "atlas", "array")), default="frames",
               show_default=True, help="Flipbook as numbered frames, one atlas, or a texture "
               "array.")  # fmt: skip
-@click.option("--container", type=click.Choice(("ktx2", "dds")), default="ktx2", show_default=True)
-@click.option("--seed", type=Integer(0, 2**63 - 1), default=0, show_default=True)
-@click.option("--name", default="ripples", show_default=True)
-@click.option("--no-preview", is_flag=True)
+@click.option("--container", type=click.Choice(("ktx2", "dds")), default="ktx2", show_default=True,
+              help="Texture array container (--layout array).")  # fmt: skip
+@click.option("--seed", type=Integer(0, 2**63 - 1), default=0, show_default=True,
+              help="Random drops: the rain atlas's phases and the wave model's --rain "
+              "impacts; the same seed gives the same drops.")  # fmt: skip
+@click.option("--name", default="ripples", show_default=True, help="Prefix of the file names.")
+@click.option("--no-preview", is_flag=True, help="Skip the preview PNGs.")
 def ripples(out_dir: Path, **o):
     """Impact ripples: the exact ring of a drop (front at the group velocity, energy spread over
     the circle, viscous decay) as a normal-map flipbook, a (time, radius) lookup table that a
