@@ -34,6 +34,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import peers
 
 HEIGHT, WIDTH = 2048, 4096
 REPEATS = 3
@@ -212,8 +213,14 @@ def run(tool, fmt, op, kind, workdir) -> dict:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
+#: tool -> the peer it is (see peers.py).
+PEER_OF = {"opencv": "opencv", "oiio": "oiio", "pillow": "pillow"}
+
+
 def main() -> None:
+    found = peers.Peers(["opencv", "oiio", "pillow"])
     decoded = HEIGHT * WIDTH * 3 * 4
+    print(f"machine: {peers.machine()}")
     with tempfile.TemporaryDirectory(dir=os.environ.get("BENCH_TMP")) as d:
         workdir = Path(d)
         prepare(workdir)
@@ -227,18 +234,21 @@ def main() -> None:
                 size = (workdir / f"{kind}{FORMATS[fmt]}").stat().st_size / 2**20
                 for op in ("read", "write"):
                     base = None
-                    tools = TOOLS[fmt]
+                    tools = [t for t in TOOLS[fmt] if t not in PEER_OF or found.present(t)]
                     if fmt == "pfm" and op == "read":
                         tools = ["bakeshop", "memmap", *tools[1:]]
                     for tool in tools:
                         r = run(tool, fmt, op, kind, workdir)
                         base = base or r["seconds"]
+                        if tool in PEER_OF:
+                            found.measured(PEER_OF[tool], f"{fmt} {op}")
                         print(
                             f"{fmt:6} {kind:7} {op:5} {tool:14} {r['seconds']:8.3f} "
                             f"{r['cpu']:6.3f} {r['seconds'] / base:10.2f} {r['peak'] / 2**20:9.0f} "
                             f"{r['peak'] / decoded:8.2f} {size:8.1f}",
                             flush=True,
                         )
+    found.finish()
 
 
 if __name__ == "__main__":

@@ -25,6 +25,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+import peers
+
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
@@ -128,18 +130,23 @@ def run(tool: str, path: Path) -> dict:
 
 
 def main() -> None:
+    found = peers.Peers(["oiio"])
+    print(f"machine: {peers.machine()}")
     with tempfile.TemporaryDirectory(dir=os.environ.get("BENCH_TMP")) as d:
         paths = build(Path(d))
         print(f"{'file':20} {'KiB':>6} {'tool':9} {'seconds':>8} {'peak MiB':>9}  outcome")
         for case, path in paths.items():
             tools = ["bakeshop", "oiio"] + (["oiio rgb"] if "channels" in case else [])
-            for tool in tools:
+            for tool in tools if found.present("oiio") else ["bakeshop"]:
                 r = run(tool, path)
+                if tool.startswith("oiio"):
+                    found.measured("oiio", case)
                 print(
                     f"{case:20} {path.stat().st_size / 1024:6.0f} {tool:9} {r['seconds']:8.3f} "
                     f"{r['peak'] / 2**20:9.0f}  {r['outcome']}",
                     flush=True,
                 )
+    found.finish()
 
 
 if __name__ == "__main__":

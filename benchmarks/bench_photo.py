@@ -36,6 +36,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import peers
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -183,12 +184,18 @@ def run(job: str, tool: str, workdir: Path) -> dict:
 
 
 def main() -> None:
-    import cv2
+    found = peers.Peers(["opencv"])
+    if found.present("opencv"):
+        import cv2
 
+        opencv = f"OpenCV {cv2.__version__}"
+    else:
+        opencv = "OpenCV absent"
+    tools = ("bakeshop", "opencv") if found.present("opencv") else ("bakeshop",)
     print(
         f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
         f"{os.sysconf('SC_PAGE_SIZE') * os.sysconf('SC_PHYS_PAGES') / 2**30:.0f} GiB; "
-        f"OpenCV {cv2.__version__}, numpy {np.__version__}; "
+        f"{opencv}, numpy {np.__version__}; "
         f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}"
     )
     with tempfile.TemporaryDirectory(prefix="bench_photo_") as tmp:
@@ -199,12 +206,12 @@ def main() -> None:
             w, h = JOBS[job]["size"]
             n = len(JOBS[job]["times"])
             frames_mb = n * w * h * 3 / 2**20
-            for tool in ("bakeshop", "opencv"):
+            for tool in tools:
                 rows.append(run(job, tool, workdir) | {"frames_mb": frames_mb})
             (workdir / f"{job}.npy").unlink()
         make_balls(workdir)
         for job in ("unwrap-6mp", "two-views"):
-            for tool in ("bakeshop", "opencv") if job == "unwrap-6mp" else ("bakeshop",):
+            for tool in tools if job == "unwrap-6mp" else ("bakeshop",):
                 rows.append(run(job, tool, workdir) | {"frames_mb": 0.0})
     print(
         f"{'job':<11} {'tool':<9} {'seconds':>8} {'cpu':>7} {'x bakeshop':>10} "
@@ -212,6 +219,8 @@ def main() -> None:
     )
     base = {}
     for r in rows:
+        if r["tool"] == "opencv":
+            found.measured("opencv", r["job"])
         base.setdefault(r["job"], r["seconds"])
         quality = f"{r['mpsnr']:>9.2f} {r['log2']:>9.4f}" if "mpsnr" in r else f"{'':>9} {'':>9}"
         print(
@@ -221,6 +230,7 @@ def main() -> None:
         )
     parent = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024
     print(f"max RSS of the parent: {parent} MiB")
+    found.finish()
 
 
 if __name__ == "__main__":

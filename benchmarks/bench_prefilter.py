@@ -7,9 +7,9 @@ cached on disk), and reports the best of 3 wall times, the CPU time of that run 
 the time spent remapping the latlong to the source cube, the peak traced numpy memory and the
 process's peak RSS.
 
-The peer is cmft (C++, Phong only), which is not installed here: its figures are the ones the
-issue quotes, measured with cmft's radiance filter (Phong, 6x256, 9 mips) on a 2-core machine:
-~50 s on a 4096x2048 probe, ~3 s on a 1024x512 one.
+No peer runs here: these are library calls, and the peers (cmgen's GGX ``--ibl-ld``, cmft's
+Phong radiance filter) are commands; ``bench_commands.py`` (job ``ggx-4k``) runs them against
+``bakeshop prefilter`` whole process against whole process.
 
 The last table extrapolates brute-force convolution (every source texel for every output texel
 of levels 1-8, from the 6x256 source cube) from a measured pair rate of the same kernel.
@@ -29,10 +29,9 @@ import tracemalloc
 from pathlib import Path
 
 import numpy as np
+import peers
 
 PROBE = Path(__file__).resolve().parents[1] / "bakeshop" / "data" / "default_probe.hdr"
-#: cmft's radiance filter (Phong, 6x256, 9 mips), as quoted in the issue: input width -> s.
-CMFT_PHONG = {4096: 50.0, 1024: 3.0}
 SIZE, MIPS = 256, 9
 
 
@@ -109,7 +108,7 @@ def main():
     print(f"GGX and Phong chains, 6x{SIZE}, {MIPS} levels, from {PROBE.name} (latlong)\n")
     header = (
         f"{'input':>9} {'filter':>6} {'seconds':>8} {'cpu s':>6} {'remap s':>7} "
-        f"{'cmft Phong s':>12} {'cmft / us':>9} {'peak MiB':>8} {'RSS MiB':>7}"
+        f"{'peak MiB':>8} {'RSS MiB':>7}"
     )
     print(header)
     for width in (4096, 1024):
@@ -121,11 +120,9 @@ def main():
                 text=True,
             ).stdout
             r = json.loads(out.strip().splitlines()[-1])
-            cmft = CMFT_PHONG[width]
             print(
                 f"{width}x{width // 2:<4} {brdf:>6} {r['seconds']:8.2f} {r['cpu']:6.2f} "
-                f"{r['remap']:7.2f} {cmft:12.1f} {cmft / r['seconds']:9.1f} "
-                f"{r['peak'] / 2**20:8.0f} {r['rss'] / 2**20:7.0f}"
+                f"{r['remap']:7.2f} {r['peak'] / 2**20:8.0f} {r['rss'] / 2**20:7.0f}"
             )
     rate = pair_rate()
     outputs = sum(6 * (SIZE >> m) ** 2 for m in range(1, MIPS))
@@ -135,6 +132,7 @@ def main():
         f"texels = {pairs:.2e} pairs at {rate:.2e} pairs/s (measured, same kernel) = "
         f"{pairs / rate:.0f} s"
     )
+    peers.Peers([]).finish()
 
 
 if __name__ == "__main__":

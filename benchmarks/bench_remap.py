@@ -19,6 +19,8 @@ import subprocess
 import sys
 import time
 
+import peers
+
 CASES = [
     # (case, source layout, source size, destination layout, destination size)
     ("latlong->cube", "latlong", 2048, "cube", 1024),
@@ -198,6 +200,9 @@ def main() -> None:
         print(json.dumps(_scaling_child(args.scaling)))
         return
     scale = 4 if args.quick else 1
+    found = peers.Peers(["py360convert", "opencv"])
+    needs = {"py360-cv2": ("py360convert", "opencv"), "py360-scipy": ("py360convert",),
+             "cv2-cached": ("opencv",)}  # fmt: skip
     import platform
 
     cpu = next(
@@ -216,8 +221,12 @@ def main() -> None:
             "| warm / bakeshop |"
         )
         print("|---|---:|---:|---:|---:|---:|---:|---:|")
-        results = {e: _run(case, e, scale) for e in ENGINES[case]}
-        ref_cv2 = results["cv2-cached"]["warm"]
+        engines = [e for e in ENGINES[case] if all(map(found.present, needs.get(e, ())))]
+        results = {e: _run(case, e, scale) for e in engines}
+        for e in engines:
+            for peer in needs.get(e, ()):
+                found.measured(peer, f"{case} {e}")
+        ref_cv2 = results["cv2-cached"]["warm"] if "cv2-cached" in results else float("nan")
         ref_b = results["bakeshop"]["warm"]
         for e, r in results.items():
             print(
@@ -231,6 +240,7 @@ def main() -> None:
     for face, r in _scaling(scale):
         mtex = 6 * face * face / 1e6
         print(f"| {face} | {mtex:.2f} | {r['cold']:.3f} | {r['warm']:.3f} | {r['peak_mib']:.0f} |")
+    found.finish()
 
 
 if __name__ == "__main__":

@@ -10,22 +10,30 @@ from __future__ import annotations
 import time
 import tracemalloc
 
-import cv2
 import numpy as np
-from PIL import Image
+import peers
 
 from bakeshop.image import resize_area
 
 
+def opencv_area(image, size):
+    import cv2
+
+    return cv2.resize(image, size, interpolation=cv2.INTER_AREA)
+
+
 def pillow_box(image, size):
+    from PIL import Image
+
     channels = [Image.fromarray(image[:, :, c], mode="F") for c in range(image.shape[2])]
     return np.dstack([np.asarray(ch.resize(size, Image.Resampling.BOX)) for ch in channels])
 
 
-PEERS = {
-    "bakeshop": resize_area,
-    "opencv INTER_AREA": lambda im, s: cv2.resize(im, s, interpolation=cv2.INTER_AREA),
-    "pillow BOX": pillow_box,
+#: name -> (the peer it is, or None for bakeshop; the function).
+TOOLS = {
+    "bakeshop": (None, resize_area),
+    "opencv INTER_AREA": ("opencv", opencv_area),
+    "pillow BOX": ("pillow", pillow_box),
 }
 
 
@@ -44,6 +52,8 @@ def measure(function, image, size, repeats=3):
 
 
 def main():
+    found = peers.Peers(["opencv", "pillow"])
+    print(f"machine: {peers.machine()}")
     rng = np.random.default_rng(0)
     image = rng.lognormal(0.0, 2.0, (4096, 8192, 3)).astype(np.float32)
     mean = image.mean(dtype=np.float64)
@@ -54,14 +64,19 @@ def main():
     )
     for size in [(2048, 1024), (1000, 500)]:
         base = None
-        for name, function in PEERS.items():
+        for name, (peer, function) in TOOLS.items():
+            if peer is not None and not found.present(peer):
+                continue
             seconds, out, peak = measure(function, image, size)
+            if peer is not None:
+                found.measured(peer, f"{size[0]}x{size[1]}")
             base = base or seconds
             err = abs(out.mean(dtype=np.float64) / mean - 1)
             print(
                 f"{size[0]}x{size[1]:<5} {name:>18} {seconds:8.3f} {seconds / base:10.2f} "
                 f"{err:9.1e} {peak / image.nbytes:7.2f}"
             )
+    found.finish()
 
 
 if __name__ == "__main__":

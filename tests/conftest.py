@@ -2,8 +2,13 @@
 
 import atexit
 import gc
+import os
 
 import pytest
+
+# The command line keeps area-filter matrices in the user's cache directory; tests build their
+# own (and never write into the home directory) unless a test points it somewhere itself.
+os.environ.setdefault("BAKESHOP_CACHE_BYTES", "0")
 
 
 @pytest.fixture(autouse=True)

@@ -251,22 +251,31 @@ def _written(paths: list[Path]) -> str:
     return f"; written before it: {names}{count}"
 
 
+#: the files the running command wrote (one list, once :func:`record_command_writes` ran).
+_journals: list[list[Path]] = []
+
+
+def record_command_writes(ctx: click.Context) -> None:
+    """Collect the files that the command about to run writes, so that a failure can name
+    them. The root group calls it once a command is chosen: ``--version`` and ``--help`` end
+    before it and never load :mod:`bakeshop.io` (numpy)."""
+    from bakeshop.io import record_writes
+
+    _journals.append(ctx.with_resource(record_writes()))
+
+
 def run(group: click.Group, argv: list[str] | None) -> int:
     """Run ``group`` (the ``bakeshop`` command) on ``argv`` as described in the module notes;
     return the exit status: 0, 2 for bad input or arguments, 128 + N after signal N."""
-    from bakeshop.io import record_writes
-
     _inputs.clear()
-    status, message, received, written, notes = 0, None, [], [], []
+    _journals.clear()
+    status, message, received, notes = 0, None, [], []
     try:
-        with (
-            signals_as_exceptions() as received,
-            record_writes() as written,
-            library_messages() as notes,
-        ):
+        with signals_as_exceptions() as received, library_messages() as notes:
             status, message = _invoke(group, argv, received)
     except Interrupted as e:  # between the command's end and the handlers' removal
         received.append(e.signum)
+    written = _journals[0] if _journals else []
     if received:
         tty = "\n" if sys.stderr.isatty() else ""  # after the terminal's "^C"
         name = signal.Signals(received[0]).name

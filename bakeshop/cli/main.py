@@ -1,7 +1,8 @@
 """Entry point of the ``bakeshop`` command (click for parsing, rich for progress).
 
 Each command group lives in its own module of this package, which exposes ``register(group)``;
-:data:`COMMAND_MODULES` lists them in the order ``--help`` shows them. How a run behaves as a
+:data:`COMMANDS` lists them in the order ``--help`` shows them, and a command's module is
+imported only when it runs (start-up pays for what the command uses). How a run behaves as a
 process (signals, the one error line, warnings) is :mod:`bakeshop.cli._process`.
 """
 
@@ -13,42 +14,155 @@ import sys
 import click
 
 from bakeshop import __version__, progress
-from bakeshop.cli._paths import guard_outputs
-from bakeshop.cli._process import ByteSize, run
+from bakeshop.cli._process import ByteSize, record_command_writes, run
 
-COMMAND_MODULES = [
-    "info",
-    "convert",
-    "resize",
-    "remap",
-    "merge",
-    "unwrap",
-    "irradiance",
-    "sun",
-    "dims",
-    "prefilter",
-    "dfg",
-    "bake_probe",
-    "fresnel",
-    "water",
-    "tonemap",
-    "compress",
-    "normals",
-    "float",
-    "preview",
-    "view",
-    "bake",
-]
+#: command name -> (its module, the start of its help as ``--help`` lists it), in the order
+#: ``--help`` shows them. A command's module is imported only when that command runs or shows
+#: its own help (``bakeshop --version`` loads none); tests/cli/test_main.py checks the table
+#: against the commands themselves.
+COMMANDS: dict[str, tuple[str, str]] = {
+    "info": (
+        "info",
+        (
+            "Describe image files: format, size, channels, stored type, per-channel min/max/mean, "
+            "NaN/Inf counts, dynamic range in..."
+        ),
+    ),
+    "convert": (
+        "convert",
+        (
+            "Convert SOURCE to TARGET, any supported format to any other (by extension: .hdr .pfm "
+            ".exr .tga .png .jpg)."
+        ),
+    ),
+    "resize": (
+        "resize",
+        "Resize SOURCE to TARGET with energy-preserving area resampling.",
+    ),
+    "remap": (
+        "remap",
+        "Convert the panorama SOURCE from one layout to another and write TARGET.",
+    ),
+    "merge": (
+        "merge",
+        "Merge bracketed exposures IMAGES (JPEG, PNG or TIFF, 8 or 16 bits) into one HDR image.",
+    ),
+    "unwrap": (
+        "unwrap",
+        (
+            "Unwrap photographs of a mirror ball (BALLS: one, or two taken about 90 degrees apart "
+            "around the vertical) into one..."
+        ),
+    ),
+    "irradiance": (
+        "irradiance",
+        "Compute the diffuse irradiance map (DIM) of the probe IN and write it to OUT.",
+    ),
+    "sun": (
+        "sun",
+        "Find the sun of the probe IN and print its direction, size, colour and irradiance.",
+    ),
+    "dims": (
+        "dims",
+        "Make the DIM pair of the probe IN: sun_dim, shadow_dim, shadow_probe and sun.json.",
+    ),
+    "prefilter": (
+        "prefilter",
+        "Prefilter the environment IN into a glossy-reflection cube mip chain OUT.",
+    ),
+    "dfg": (
+        "dfg",
+        "Write the split-sum DFG lookup table to OUT: scale and bias on F0 per (n.v, roughness).",
+    ),
+    "bake-probe": (
+        "bake_probe",
+        "Bake everything the renderer needs from one probe IN (default: the embedded probe).",
+    ),
+    "fresnel": (
+        "fresnel",
+        "Bake the fresnel reflectance of flat water into an environment map.",
+    ),
+    "water": (
+        "water",
+        (
+            "Water textures an engine loads: tileable, time-looping ocean normal maps (with "
+            "heights, slopes, displacement and..."
+        ),
+    ),
+    "tonemap": (
+        "tonemap",
+        "Tone-map HDR images (one or a sequence of frames) to 8-bit sRGB pictures.",
+    ),
+    "compress": (
+        "compress",
+        "Compress IN into the block format an engine samples, and measure what was lost.",
+    ),
+    "normals": (
+        "normals",
+        (
+            "Tangent-space normal maps: combine macro and micro detail correctly, transfer a "
+            "tileable detail into a mesh's UV..."
+        ),
+    ),
+    "float": (
+        "float",
+        (
+            "Float a mesh or a built-in shape in water and measure it: volume, mass, sample points,"
+            " the exact Archimedes draft,..."
+        ),
+    ),
+    "preview": (
+        "preview",
+        (
+            "Render what `bake-probe` wrote into BAKE_DIR offscreen (OpenGL through moderngl over "
+            "EGL; Mesa's llvmpipe without a..."
+        ),
+    ),
+    "view": (
+        "view",
+        "Show what `bake-probe` wrote into BAKE_DIR in the browser, until Ctrl-C.",
+    ),
+    "bake": (
+        "bake",
+        (
+            "Bake a level from RECIPE (TOML): probes, panoramas, normal maps, compressed textures "
+            "and water, rebuilding only the..."
+        ),
+    ),
+}
+
+COMMAND_MODULES = list(dict.fromkeys(module for module, _ in COMMANDS.values()))
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
 
-class _Ordered(click.Group):
+class _Lazy(click.Group):
+    """The root group: commands listed from :data:`COMMANDS`, each module imported on use."""
+
     def list_commands(self, ctx):
-        return list(self.commands)
+        return list(COMMANDS)
+
+    def get_command(self, ctx, name):
+        if name not in self.commands and name in COMMANDS:
+            from bakeshop.cli._paths import guard_outputs
+
+            importlib.import_module(f"bakeshop.cli.{COMMANDS[name][0]}").register(self)
+            # before the command runs, none of its outputs may be one of its inputs
+            guard_outputs(self)
+        return self.commands.get(name)
+
+    def format_commands(self, ctx, formatter):
+        # the listing needs each command's first words only: no module is imported for it
+        placeholders = {
+            name: click.Command(name, help=text) for name, (_, text) in COMMANDS.items()
+        }
+        limit = formatter.width - 6 - max(len(name) for name in COMMANDS)
+        rows = [(name, cmd.get_short_help_str(limit)) for name, cmd in placeholders.items()]
+        with formatter.section("Commands"):
+            formatter.write_dl(rows)
 
 
-@click.group(cls=_Ordered, context_settings=CONTEXT)
+@click.group(cls=_Lazy, context_settings=CONTEXT)
 @click.version_option(__version__, "--version", prog_name="bakeshop")
 @click.option(
     "--quiet",
@@ -76,6 +190,12 @@ def cli(quiet: bool, max_decoded: int | None):
       bakeshop info probe.hdr
       bakeshop --max-decoded 8G convert flat_16k_mask.png mask.exr
     """
+    from bakeshop.io import user_store
+    from bakeshop.sphere import persist_caches
+
+    record_command_writes(click.get_current_context())
+    # what depends only on shapes (area-filter matrices) is built once per user, not per run
+    persist_caches(user_store())
     if not quiet:
         # bars on a terminal; elsewhere (a log) plain lines from steps longer than the log
         # interval only, so that a quick command's stderr is its error line alone
@@ -84,12 +204,6 @@ def cli(quiet: bool, max_decoded: int | None):
         from bakeshop.io import decode_budget
 
         click.get_current_context().with_resource(decode_budget(max_decoded))
-
-
-for _name in COMMAND_MODULES:
-    importlib.import_module(f"bakeshop.cli.{_name}").register(cli)
-# before any command runs, none of its outputs may be one of its inputs (bakeshop.cli._common)
-guard_outputs(cli)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -13,47 +13,98 @@ Modules: :mod:`~bakeshop.image.resize`, :mod:`~bakeshop.image.statistics`,
 :mod:`~bakeshop.image.picture` (the display rule: HDR data to a picture).
 """
 
-from bakeshop.image.display import (
-    ACES_FITS,
-    DITHERS,
-    TONE_OPERATORS,
-    aces_filmic,
-    exposure,
-    reinhard,
-    srgb_decode,
-    srgb_encode,
-    to_srgb8,
-    tonemap,
+from typing import TYPE_CHECKING
+
+from bakeshop._lazy import export_lazily
+
+# names load from their module when first read (numba and scipy only with resize and display)
+export_lazily(
+    __name__,
+    {
+        "ACES_FITS": "display",
+        "DITHERS": "display",
+        "TONE_OPERATORS": "display",
+        "aces_filmic": "display",
+        "exposure": "display",
+        "reinhard": "display",
+        "srgb_decode": "display",
+        "srgb_encode": "display",
+        "to_srgb8": "display",
+        "tonemap": "display",
+        "MIDDLE_GREY": "metering",
+        "adapt_exposure": "metering",
+        "auto_exposure": "metering",
+        "log_average_luminance": "metering",
+        "metering_weights": "metering",
+        "CLIP_FRACTION": "picture",
+        "ENCODINGS": "picture",
+        "EXPOSURE_MODES": "picture",
+        "MAX_EV": "picture",
+        "Exposure": "picture",
+        "Picture": "picture",
+        "check_ev": "picture",
+        "choose_exposure": "picture",
+        "encode_picture": "picture",
+        "fit_exposure": "picture",
+        "to_picture": "picture",
+        "area_footprint": "resize",
+        "area_weights": "resize",
+        "resample_separable": "resize",
+        "resize_area": "resize",
+        "resize_area_cost": "resize",
+        "resize_area_part": "resize",
+        "LUMINANCE_WEIGHTS": "statistics",
+        "describe": "statistics",
+        "luminance": "statistics",
+    },
 )
-from bakeshop.image.metering import (
-    MIDDLE_GREY,
-    adapt_exposure,
-    auto_exposure,
-    log_average_luminance,
-    metering_weights,
-)
-from bakeshop.image.picture import (
-    CLIP_FRACTION,
-    ENCODINGS,
-    EXPOSURE_MODES,
-    MAX_EV,
-    Exposure,
-    Picture,
-    check_ev,
-    choose_exposure,
-    encode_picture,
-    fit_exposure,
-    to_picture,
-)
-from bakeshop.image.resize import (
-    area_footprint,
-    area_weights,
-    resample_separable,
-    resize_area,
-    resize_area_cost,
-    resize_area_part,
-)
-from bakeshop.image.statistics import LUMINANCE_WEIGHTS, describe, luminance
+
+if TYPE_CHECKING:  # what the table loads, for type checkers (tests/test_lazy.py)
+    from bakeshop.image.display import (
+        ACES_FITS,
+        DITHERS,
+        TONE_OPERATORS,
+        aces_filmic,
+        exposure,
+        reinhard,
+        srgb_decode,
+        srgb_encode,
+        to_srgb8,
+        tonemap,
+    )
+    from bakeshop.image.metering import (
+        MIDDLE_GREY,
+        adapt_exposure,
+        auto_exposure,
+        log_average_luminance,
+        metering_weights,
+    )
+    from bakeshop.image.picture import (
+        CLIP_FRACTION,
+        ENCODINGS,
+        EXPOSURE_MODES,
+        MAX_EV,
+        Exposure,
+        Picture,
+        check_ev,
+        choose_exposure,
+        encode_picture,
+        fit_exposure,
+        to_picture,
+    )
+    from bakeshop.image.resize import (
+        area_footprint,
+        area_weights,
+        resample_separable,
+        resize_area,
+        resize_area_cost,
+        resize_area_part,
+    )
+    from bakeshop.image.statistics import (
+        LUMINANCE_WEIGHTS,
+        describe,
+        luminance,
+    )
 
 __all__ = [
     "ACES_FITS",

@@ -39,6 +39,7 @@ from bakeshop.io.environment import (
     write_table,
 )
 from bakeshop.io.mesh import load_mesh
+from bakeshop.io.store import ArrayStore, user_store
 from bakeshop.io.verify import verify_writes
 
 #: codec module -> the file extensions it owns.
@@ -63,6 +64,7 @@ SNIFF_BYTES = 64
 
 __all__ = [
     "ALPHA_EXTENSIONS",
+    "ArrayStore",
     "CODECS",
     "DECODE_FLOOR",
     "DECODE_RATIO",
@@ -81,6 +83,7 @@ __all__ = [
     "record_writes",
     "sniff_format",
     "stored_bits",
+    "user_store",
     "verify",
     "verify_writes",
     "write_chain",

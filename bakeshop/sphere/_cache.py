@@ -1,13 +1,62 @@
 """Byte-bounded caches of geometry that depends only on layouts and shapes (plans, texel
-directions), and the one switch that empties them all (:func:`clear_caches`)."""
+directions), the one switch that empties them all (:func:`clear_caches`), and the one that keeps
+the costly ones between processes (:func:`persist_caches`)."""
 
 from __future__ import annotations
 
 import collections
-from collections.abc import Callable, Hashable
+import functools
+import hashlib
+from collections.abc import Callable, Hashable, Sequence
+from pathlib import Path
+from typing import Protocol
+
+import numpy as np
 
 #: every cache of the package, by name, for :func:`clear_caches` and :func:`cache_info`.
 _CACHES: dict[str, ByteBoundedCache] = {}
+
+#: the caches worth keeping between processes: what costs far more to build than to read
+#: (an area-filter matrix: seconds to build, a file read at disk speed). Nearest and bilinear
+#: plans are not among them: building one is a single pass over the output, as fast as
+#: reading it.
+PERSISTED = ("area filter matrices",)
+
+
+class Store(Protocol):
+    """Where :func:`persist_caches` keeps entries: :class:`bakeshop.io.ArrayStore`."""
+
+    def load(self, key: str) -> tuple[np.ndarray, ...] | None: ...
+
+    def put(self, key: str, arrays: Sequence[np.ndarray]) -> bool: ...
+
+
+#: the store of the persisted caches (None: each process builds its own).
+_store: Store | None = None
+
+
+def persist_caches(store: Store | None) -> None:
+    """Keep the entries of the costly caches (:data:`PERSISTED`) in ``store`` between
+    processes: a miss reads the store before building, and what is built is saved there.
+    ``None`` stops. The command line passes :func:`bakeshop.io.user_store`; a library caller
+    may pass any :class:`bakeshop.io.ArrayStore`.
+
+    An entry's key holds the cache's name, the key in the process, and a fingerprint of the
+    code of :mod:`bakeshop.sphere` and of bakeshop's version, so an entry built by other code
+    is never read."""
+    global _store
+    _store = store
+
+
+@functools.cache
+def _fingerprint() -> str:
+    """A digest of bakeshop's version and of every source file of this package."""
+    from bakeshop import __version__
+
+    digest = hashlib.sha256(__version__.encode())
+    for path in sorted(Path(__file__).parent.rglob("*.py")):
+        digest.update(str(path.relative_to(Path(__file__).parent)).encode() + path.read_bytes())
+    return digest.hexdigest()[:16]
 
 
 class ByteBoundedCache:
@@ -17,13 +66,29 @@ class ByteBoundedCache:
     def __init__(self, name: str, budget: int):
         self.budget = budget
         self.entries: collections.OrderedDict = collections.OrderedDict()
+        self.name = name
         self.hits = self.misses = 0
+        #: entries built, and entries read from the store of :func:`persist_caches`.
+        self.builds = self.loads = 0
         _CACHES[name] = self
 
     def cached(self, key: Hashable, build: Callable[[], tuple]) -> tuple:
-        """The entry for ``key``, built by ``build()`` and kept when missing."""
+        """The entry for ``key``: from memory, else from the persisted store (when this cache
+        is persisted), else built by ``build()``; kept (and saved to the store) when missing."""
         value = self.get(key)
-        return self.put(key, build()) if value is None else value
+        if value is not None:
+            return value
+        store = _store if self.name in PERSISTED else None
+        disk_key = f"{self.name}|{_fingerprint()}|{key!r}"
+        value = None if store is None else store.load(disk_key)
+        if value is not None:
+            self.loads += 1
+            return self.put(key, value)
+        value = build()
+        self.builds += 1
+        if store is not None:
+            store.put(disk_key, value)
+        return self.put(key, value)
 
     def get(self, key: Hashable) -> tuple | None:
         """The cached result for ``key`` (now the most recent), or None."""
@@ -58,11 +123,14 @@ def clear_caches() -> None:
 
 
 def cache_info() -> dict[str, dict[str, int]]:
-    """Per cache: ``{"hits", "misses", "entries", "bytes"}`` since the process started."""
+    """Per cache: ``{"hits", "misses", "builds", "loads", "entries", "bytes"}`` since the
+    process started (``loads``: entries read from the store of :func:`persist_caches`)."""
     return {
         name: {
             "hits": cache.hits,
             "misses": cache.misses,
+            "builds": cache.builds,
+            "loads": cache.loads,
             "entries": len(cache.entries),
             "bytes": cache.nbytes(),
         }

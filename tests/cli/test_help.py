@@ -15,7 +15,9 @@ from bakeshop.cli.main import cli
 def tree(group: click.Group = cli, prefix: tuple[str, ...] = ()):
     """(words that run it, click command) for the root, every group and every command."""
     yield prefix, group
-    for name, command in group.commands.items():
+    ctx = click.Context(group)
+    for name in group.list_commands(ctx):  # the root loads each command's module on request
+        command = group.get_command(ctx, name)
         if isinstance(command, click.Group):
             yield from tree(command, (*prefix, name))
         else:

@@ -30,8 +30,10 @@ EXIT_SECONDS = 60
 
 
 def commands(group: click.Group = cli, prefix: tuple[str, ...] = ()):
-    """(words that run it, click command) for every command of the tree."""
-    for name, command in group.commands.items():
+    """(words that run it, click command) for every command of the tree (each module loaded)."""
+    ctx = click.Context(group)
+    for name in group.list_commands(ctx):
+        command = group.get_command(ctx, name)
         if isinstance(command, click.Group):
             yield from commands(command, (*prefix, name))
         else:

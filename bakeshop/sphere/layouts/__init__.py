@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from bakeshop.errors import validate_choice
 from bakeshop.sphere import cube as _cube
+from bakeshop.sphere._guess import guess_layout
 from bakeshop.sphere.layouts.base import MAX_EDGE, MAX_TEXELS, Layout, power_of_two_edge
 from bakeshop.sphere.layouts.cubemap import CUBE, Cube, CubeView
 from bakeshop.sphere.layouts.disk import (
@@ -87,30 +88,3 @@ def layout(name: str | Layout) -> Layout:
         return name
     validate_choice(name, LAYOUT_NAMES, "layout")
     return _LAYOUTS[name]
-
-
-def guess_layout(height: int, width: int) -> list[str]:
-    """Layouts whose images have this shape, the likely one first.
-
-    A 2:1 image is taken for a latlong (a dual-paraboloid map and OpenEXR's latlong have the
-    same shape: name them, or let an .exr's envmap attribute say); a square is ambiguous
-    (angular, mirror ball, octahedral, or a probe's physical variant) and every candidate is
-    returned, so that the caller can ask; 3:4, 4:3, 6:1 and 1:6 are the cube's crosses and
-    strips (1:6 is also OpenEXR's cube, which its envmap attribute names). An empty list means
-    no layout has that shape.
-    """
-    h, w = int(height), int(width)
-    if h < 1 or w < 1:
-        return []
-    if w == 2 * h:
-        return ["latlong"]
-    if w == h:
-        disks = ["angular", "mirrorball"]
-        physical = ["angular-physical", "mirrorball-physical"]
-        return disks + (["octahedral"] if h % 2 == 0 else []) + physical
-    for name in _cube.VIEWS:
-        lay = _LAYOUTS[name]
-        assert isinstance(lay, CubeView)
-        if h * lay.cols == w * lay.rows and h % lay.rows == 0:
-            return [name]
-    return []

@@ -1,0 +1,83 @@
+"""The root command: its table of commands matches the commands, and start-up loads only what
+the command uses (measured by what is imported, not by time)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import click
+import pytest
+
+from bakeshop.cli import main
+
+CLI_DIR = Path(main.__file__).parent
+
+#: run in a fresh interpreter: the command line with ARGS, then print the heavy modules loaded.
+PROBE = """
+import json, sys
+from bakeshop.cli.main import main
+try:
+    main(sys.argv[1:])
+except SystemExit:
+    pass
+heavy = ("numpy", "numba", "scipy", "matplotlib", "OpenEXR", "mujoco", "trimesh", "rich")
+print(json.dumps(sorted(m for m in heavy if m in sys.modules)))
+"""
+
+
+def loaded(*args: str) -> list[str]:
+    out = subprocess.run(
+        [sys.executable, "-c", PROBE, *args], check=True, capture_output=True, text=True
+    ).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def test_the_table_lists_every_command_module():
+    sources = {p.stem: p for p in CLI_DIR.glob("*.py")}
+    sources |= {p.parent.name: p for p in CLI_DIR.glob("*/__init__.py")}  # command packages
+    modules = {
+        name
+        for name, path in sources.items()
+        if not name.startswith("_") and "\ndef register(" in path.read_text()
+    }
+    assert modules == {module for module, _ in main.COMMANDS.values()}
+
+
+@pytest.mark.parametrize("name", list(main.COMMANDS))
+def test_the_table_names_each_command_and_starts_its_help(name):
+    """The listing of ``bakeshop --help`` (from the table) is what the commands would show."""
+    ctx = click.Context(main.cli)
+    command = main.cli.get_command(ctx, name)
+    assert command is not None and command.name == name
+    listed = click.Command(name, help=main.COMMANDS[name][1])
+    for limit in range(30, 101):
+        assert listed.get_short_help_str(limit) == command.get_short_help_str(limit), limit
+
+
+@pytest.mark.parametrize("args", [["--version"], ["--help"]])
+def test_version_and_help_load_no_numerical_library(args):
+    assert loaded(*args) == []
+
+
+def test_info_loads_neither_numba_nor_scipy(tmp_path):
+    """``info`` of an OpenEXR probe: numpy and the file's codec, no kernels."""
+    import numpy as np
+
+    from bakeshop.io import write_image
+
+    path = tmp_path / "probe.exr"
+    write_image(path, np.ones((16, 32, 3), np.float32))
+    assert {"numba", "scipy", "matplotlib"}.isdisjoint(loaded("info", str(path)))
+
+
+def test_an_unknown_command_is_one_error_line():
+    out = subprocess.run(
+        [sys.executable, "-m", "bakeshop.cli.main", "bake-everything"],
+        capture_output=True,
+        text=True,
+    )
+    assert out.returncode == 2
+    assert "No such command 'bake-everything'" in out.stderr
