@@ -169,7 +169,7 @@ def available_memory() -> int:
     return min(memory_limits().values())
 
 
-def require(cost: Cost, path=None) -> Cost:
+def require(cost: Cost, path: str | os.PathLike | None = None) -> Cost:
     """Refuse ``cost`` when its memory exceeds :func:`available_memory`; return it otherwise.
     ``path`` is the file the computation works on, named in the error.
 
@@ -182,7 +182,7 @@ def require(cost: Cost, path=None) -> Cost:
     if cost.memory <= SMALL:
         return cost
     limits = memory_limits()
-    binding = min(limits, key=limits.get)
+    binding = min(limits, key=lambda name: limits[name])
     available = limits[binding]
     if cost.memory <= available:
         return cost

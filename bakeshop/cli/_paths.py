@@ -69,7 +69,7 @@ def _guarded(callback):
             refuse_overwriting_inputs(output)
         return callback(*args, **kwargs)
 
-    run.__guarded__ = True
+    setattr(run, "__guarded__", True)  # noqa: B010 (a marker click's wrapper type lacks)
     return run
 
 
