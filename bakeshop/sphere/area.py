@@ -21,7 +21,7 @@ The matrix depends only on (layouts, shapes, rotation) and is cached (:data:`ARE
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numba
 import numpy as np
@@ -290,7 +290,7 @@ def latlong_row_weights(n_in: int, n_out: int) -> sp.csr_matrix:
     return sp.csr_matrix((weights, planar.indices, planar.indptr), shape=(n_out, n_in))
 
 
-def reduce_latlong(image: np.ndarray, shape) -> np.ndarray:
+def reduce_latlong(image: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     """The exact area average of a latlong ``image`` (H, W, C) on a coarser latlong grid of
     ``shape`` (h, w), h <= H and w <= W: each output texel is the solid-angle-weighted mean of
     the input over its footprint (:func:`latlong_row_weights` along rows, the planar overlaps
@@ -354,7 +354,9 @@ BRIGHT_RATIO = 4.0
 MAX_BRIGHT = 4096
 
 
-def supersampling(s: Layout | str, src_shape, d: Layout | str, dst_shape) -> int:
+def supersampling(
+    s: Layout | str, src_shape: tuple[int, ...], d: Layout | str, dst_shape: tuple[int, ...]
+) -> int:
     """Samples per output texel along each axis when the area filter supersamples a remap
     (:data:`AREA_MATRIX_TEXELS`), else 0: the ratio of the source's texel pitch to the
     output's, rounded (1: bilinear where the output is about as fine as the source)."""
@@ -365,14 +367,22 @@ def supersampling(s: Layout | str, src_shape, d: Layout | str, dst_shape) -> int
     return max(1, round(math.sqrt(src / dst)))
 
 
-def fine_shape(d: Layout, dst_shape, k: int) -> tuple[int, ...]:
+def fine_shape(d: Layout, dst_shape: tuple[int, ...], k: int) -> tuple[int, ...]:
     """The spatial shape of ``d``'s grid k times finer than ``dst_shape`` (a base layout)."""
     return (
         (6, k * dst_shape[1], k * dst_shape[2]) if d.cubic else (k * dst_shape[0], k * dst_shape[1])
     )
 
 
-def supersample(flat, s: Layout, src_shape, d: Layout, dst_shape, rotation, k: int):
+def supersample(
+    flat: np.ndarray,
+    s: Layout,
+    src_shape: tuple[int, ...],
+    d: Layout,
+    dst_shape: tuple[int, ...],
+    rotation: bytes | None,
+    k: int,
+) -> np.ndarray:
     """The supersampled area filter of a flat source (n, C) of layout ``s`` into the base layout
     ``d``: ``dst_shape + (C,)``.
 
@@ -514,8 +524,17 @@ def _add_bilinear(kind, h, w, src, clamp, f, x, y, weight, acc):  # pragma: no c
 _BASES = np.ascontiguousarray(FACE_BASES)
 
 
-def bright_deposits(bright_values, bright: np.ndarray, s: Layout, src_shape, d: Layout, dst_shape,
-                    k: int, rotation, clamp: float):  # fmt: skip
+def bright_deposits(
+    bright_values: np.ndarray,
+    bright: np.ndarray,
+    s: Layout,
+    src_shape: tuple[int, ...],
+    d: Layout,
+    dst_shape: tuple[int, ...],
+    k: int,
+    rotation: bytes | None,
+    clamp: float,
+) -> tuple[np.ndarray, np.ndarray]:
     """Where :func:`supersample` puts the excess over ``clamp`` of the bright texels ``bright``
     (flat indices, ascending; their values ``bright_values`` (n, C)): ``(q, values)``, flat
     output texels and what each adds. The samples of the output texels around each bright
@@ -583,7 +602,9 @@ def _texel_of(d: Layout, shape, dirs) -> np.ndarray:
     return (face * dh + y) * dw + x
 
 
-def sample_taps_of(s: Layout, shape, dirs):
+def sample_taps_of(
+    s: Layout, shape: tuple[int, ...], dirs: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Bilinear taps (n, 4) and fractions (n, 2) of directions in base layout ``s``."""
     h, w, _ = s.grid(shape)
     taps = np.empty((len(dirs), 4), np.int32)
@@ -603,7 +624,7 @@ def _bright_texels(flat, s: Layout, src_shape) -> tuple[float, np.ndarray]:
     return clamp, index
 
 
-def peak_candidates(values, omega, start: int = 0):
+def peak_candidates(values: np.ndarray, omega: np.ndarray, start: int = 0) -> tuple[Any, ...]:
     """The part of :func:`bright_texels`'s pass over the texels ``values`` (n, C) (flat
     indices from ``start``; texels of no solid angle left out): ``(stats, index, peaks,
     values)``, the sums ``[sum peak omega, sum omega, largest peak]`` (peak: a texel's
@@ -619,7 +640,7 @@ def peak_candidates(values, omega, start: int = 0):
     return stats, start + top, peak[top], values[top]
 
 
-def bright_texels(parts) -> tuple[float, np.ndarray, np.ndarray]:
+def bright_texels(parts: list) -> tuple[float, np.ndarray, np.ndarray]:
     """The clamp of :func:`supersample` and the texels above it, from the
     :func:`peak_candidates` of every part of an image: ``(clamp, index, values)``, index
     ascending. The clamp is :data:`BRIGHT_RATIO` times the mean peak (solid-angle weighted),
@@ -654,7 +675,14 @@ def _peak_stats(values, omega, stats):  # pragma: no cover - compiled
             stats[2] = max(stats[2], peak)
 
 
-def sample_weights(d: Layout, dst_shape, k: int, face: int, rows, cols) -> np.ndarray:
+def sample_weights(
+    d: Layout,
+    dst_shape: tuple[int, ...],
+    k: int,
+    face: int,
+    rows: tuple[int, int],
+    cols: tuple[int, int],
+) -> np.ndarray:
     """The weights of :func:`supersample`'s samples ``rows x cols`` (of face ``face`` of ``d``'s
     k-times finer grid): a cube's solid angle density ``(1 + sc^2 + tc^2)^-1.5`` at each sample,
     as the fused in-memory kernel weighs them; the fine texels' exact solid angles otherwise."""
@@ -678,7 +706,9 @@ def box_reduce(samples: np.ndarray, weights: np.ndarray, k: int, out: np.ndarray
     return out
 
 
-def area_exact(image: np.ndarray, s: Layout, d: Layout, dst_shape, rotation) -> np.ndarray | None:
+def area_exact(
+    image: np.ndarray, s: Layout, d: Layout, dst_shape: tuple[int, ...], rotation: bytes | None
+) -> np.ndarray | None:
     """The area average of a remap of ``image`` (``s``'s base form, with a channel axis) into
     ``d`` when it is an exact reduction (None otherwise): a latlong into a latlong no finer
     along either axis (:func:`reduce_latlong`), a cube into a cube (or its cross or strip)
