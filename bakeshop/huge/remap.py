@@ -32,6 +32,7 @@ from bakeshop.huge.memory import blocks, plan_blocks, refuse
 from bakeshop.huge.resize import as_reader, resize
 from bakeshop.io.stream import Reader
 from bakeshop.sphere import area, cube_to_view, layout, texel_strips, valid_texels
+from bakeshop.sphere.reductions import box_reduce
 from bakeshop.sphere.windows import gather_taps, localise_taps, remap_part_taps, taps_window
 
 #: layouts a chunked remap reads (one image file each, addressed by rows and columns).
@@ -195,7 +196,7 @@ def _supersampled_part(reader: Reader, src: str, src_shape, dst: str, dst_shape,
     samples = gather_taps(window.reshape(-1, c), local, frac)
     weights = area.sample_weights(d, dst_shape, k, face, fine_rows, fine_cols)
     out = np.empty(shape, np.float32)
-    area.box_reduce(samples.reshape(len(weights), -1, c), weights, k, out)
+    box_reduce(samples.reshape(len(weights), -1, c), weights, k, out)
     return out
 
 

@@ -44,6 +44,7 @@ and real environments", SIGGRAPH 1984 course notes (the diffuse convolution).
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numba
 import numpy as np
@@ -511,8 +512,8 @@ def irradiance(
     return env.shaped(dim.astype(np.float32))
 
 
-def dim_of_environment(env: Environment, normals, method: str, *, order: int = 2,
-                       window: str = "minimal", fill=None):  # fmt: skip
+def dim_of_environment(env: Environment, normals: np.ndarray, method: str, *, order: int = 2,
+                       window: str = "minimal", fill: Any = None) -> np.ndarray:  # fmt: skip
     """E / pi at ``normals`` (..., 3) of a checked environment by ``method``, in one pass over
     its texels (:func:`integrate`); ``fill`` (a :class:`bakeshop.light.sun.Removal`) paints
     the sun out first; ``window`` is the SH method's
@@ -524,7 +525,14 @@ def dim_of_environment(env: Environment, normals, method: str, *, order: int = 2
     return e.reshape(normals.shape[:-1] + (-1,)) / math.pi
 
 
-def integrate(env: Environment, method: str, *, order: int = 2, normals=None, fill=None):
+def integrate(
+    env: Environment,
+    method: str,
+    *,
+    order: int = 2,
+    normals: np.ndarray | None = None,
+    fill: Any = None,
+) -> np.ndarray:
     """One pass over an environment's texels in strips of rows
     (:func:`bakeshop.sphere.texel_strips`): the directions and solid angles of one strip at a
     time, never the whole layout's.

@@ -26,7 +26,7 @@ from bakeshop.light.diffuse import (
 )
 from bakeshop.light.sun import COPY_BYTES, Removal, Sun, find_sun_cost, split_environment
 from bakeshop.resources import Cost, require
-from bakeshop.sphere import check_environment, texels_at
+from bakeshop.sphere import Environment, check_environment, texels_at
 
 __all__ = ["DimPair", "dim_pair", "dim_pair_cost", "dim_pair_of"]
 
@@ -119,10 +119,10 @@ def dim_pair(
 
 
 def dim_pair_of(
-    env,
+    env: Environment,
     *,
     to: str = "latlong",
-    size=(360, 180),
+    size: int | tuple[int, int] = (360, 180),
     method: str = "auto",
     order: int = 2,
     window: str = "minimal",

@@ -453,7 +453,7 @@ def split_texels(t: Texels, *, sampler=None) -> Removal | None:
     return _split(_Arrays(t.values[:, :colour], t.dirs, t.omega), sampler)
 
 
-def split_sun(image, layout: str) -> Removal | None:
+def split_sun(image: np.ndarray, layout: str) -> Removal | None:
     """Find the sun of a probe and compute its fill (:func:`split_texels`) from the image
     itself: its texels' directions are computed strip by strip where they are looked at, so
     a 16k probe costs no per-texel geometry (the whole layout's would be 32 bytes a texel).

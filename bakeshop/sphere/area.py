@@ -21,23 +21,21 @@ The matrix depends only on (layouts, shapes, rotation) and is cached (:data:`ARE
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numba
 import numpy as np
-import scipy.sparse as sp
 
 from bakeshop import progress
-from bakeshop.image import area_weights, resample_separable
 from bakeshop.sphere import _area_kernels as kernels
 from bakeshop.sphere import _gather, _maps, _plans
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere._gather import EXCEPTION
-from bakeshop.sphere.cube import FACE_BASES, cube_to_view
+from bakeshop.sphere.cube import FACE_BASES
 from bakeshop.sphere.layouts import Layout, layout
+from bakeshop.sphere.reductions import box_reduce
 from bakeshop.sphere.rotation import key_matrix
 from bakeshop.sphere.texels import (
-    cube_face_solid_angles,
     texel_strips,
     texels_at,
     valid_texels,
@@ -266,77 +264,7 @@ def area_remap(flat, s: Layout, src_shape, d: Layout, dst_shape, rotation: bytes
     return out
 
 
-# --- exact reductions and supersampling ---------------------------------------------------
-
-
-def latlong_row_weights(n_in: int, n_out: int) -> sp.csr_matrix:
-    """Row weights of a latlong reduced from ``n_in`` to ``n_out`` rows preserving solid angle.
-
-    Output row ``i`` spans colatitudes ``[theta_i, theta_{i+1}]``; input row ``k``'s overlap
-    with it, ``[a, b]``, weighs ``(cos a - cos b) / (cos theta_i - cos theta_{i+1})``: its share
-    of the output row's solid angle. With the planar column weights of
-    :func:`bakeshop.image.area_weights`, ``sum_out L omega = sum_in L omega`` exactly (the
-    radiance integral over the sphere is kept), where the planar filter keeps the planar mean.
-    Same sparsity as ``area_weights(n_in, n_out)``.
-    """
-    planar = area_weights(n_in, n_out)
-    rows = np.repeat(np.arange(n_out), np.diff(planar.indptr))
-    k = planar.indices.astype(np.float64)
-    lo = np.maximum(k, rows * (n_in / n_out))
-    hi = np.minimum(k + 1, (rows + 1) * (n_in / n_out))
-    share = np.cos(np.pi * lo / n_in) - np.cos(np.pi * hi / n_in)
-    total = np.add.reduceat(share, planar.indptr[:-1]) if len(share) else share
-    weights = share / np.repeat(total, np.diff(planar.indptr))
-    return sp.csr_matrix((weights, planar.indices, planar.indptr), shape=(n_out, n_in))
-
-
-def reduce_latlong(image: np.ndarray, shape) -> np.ndarray:
-    """The exact area average of a latlong ``image`` (H, W, C) on a coarser latlong grid of
-    ``shape`` (h, w), h <= H and w <= W: each output texel is the solid-angle-weighted mean of
-    the input over its footprint (:func:`latlong_row_weights` along rows, the planar overlaps
-    of :func:`bakeshop.image.area_weights` along columns), accumulated in float64 in one pass,
-    so the radiance integral over the sphere is kept (to float rounding) and a one-texel sun
-    keeps its energy. Returns ``(h, w, C)`` in the image's float type."""
-    h_in, w_in, c = image.shape
-    h, w = shape
-    ay, ax = latlong_row_weights(h_in, h), area_weights(w_in, w)
-    out = np.empty((h, w, c), image.dtype)
-    return resample_separable(
-        image, (ay.indptr, ay.indices, ay.data), (ax.indptr, ax.indices, ax.data), out
-    )
-
-
-def reduce_cube(image: np.ndarray, size: int) -> np.ndarray:
-    """The exact area average of a cube ``image`` (6, S, S, C) on faces of ``size`` texels (a
-    divisor of S): each output texel is the solid-angle-weighted mean of the k x k texels it
-    holds (k = S / size), accumulated in float64, so the radiance integral is kept. Returns
-    ``(6, size, size, C)`` in the image's float type."""
-    s, c = image.shape[1], image.shape[-1]
-    out = np.empty((6 * size, size, c), image.dtype)
-    _box_reduce(image.reshape(6 * s, s, c), cube_face_solid_angles(s), s // size, out)
-    return out.reshape(6, size, size, c)
-
-
-@numba.njit(parallel=True, cache=True)
-def _box_reduce(fine, omega, k, out):  # pragma: no cover - compiled
-    # out[J, I] = sum(omega L) / sum(omega) over the k x k fine texels of (J, I); 0 where the
-    # block has no solid angle (outside a disk). omega's rows repeat (a cube face's table serves
-    # its six faces).
-    rows, width, channels = out.shape
-    period = omega.shape[0]
-    for r in numba.prange(rows):
-        acc = np.zeros(channels)
-        for i in range(width):
-            acc[:] = 0.0
-            total = 0.0
-            for y in range(r * k, (r + 1) * k):
-                for x in range(i * k, (i + 1) * k):
-                    w = omega[y % period, x]
-                    total += w
-                    for c in range(channels):
-                        acc[c] += w * fine[y, x, c]
-            for c in range(channels):
-                out[r, i, c] = acc[c] / total if total > 0 else 0.0
+# --- supersampling -------------------------------------------------------------------------
 
 
 #: the area filter builds its matrix (~100-150 bytes and ~1 us per source texel, balanced over
@@ -354,7 +282,9 @@ BRIGHT_RATIO = 4.0
 MAX_BRIGHT = 4096
 
 
-def supersampling(s: Layout | str, src_shape, d: Layout | str, dst_shape) -> int:
+def supersampling(
+    s: Layout | str, src_shape: tuple[int, ...], d: Layout | str, dst_shape: tuple[int, ...]
+) -> int:
     """Samples per output texel along each axis when the area filter supersamples a remap
     (:data:`AREA_MATRIX_TEXELS`), else 0: the ratio of the source's texel pitch to the
     output's, rounded (1: bilinear where the output is about as fine as the source)."""
@@ -365,14 +295,22 @@ def supersampling(s: Layout | str, src_shape, d: Layout | str, dst_shape) -> int
     return max(1, round(math.sqrt(src / dst)))
 
 
-def fine_shape(d: Layout, dst_shape, k: int) -> tuple[int, ...]:
+def fine_shape(d: Layout, dst_shape: tuple[int, ...], k: int) -> tuple[int, ...]:
     """The spatial shape of ``d``'s grid k times finer than ``dst_shape`` (a base layout)."""
     return (
         (6, k * dst_shape[1], k * dst_shape[2]) if d.cubic else (k * dst_shape[0], k * dst_shape[1])
     )
 
 
-def supersample(flat, s: Layout, src_shape, d: Layout, dst_shape, rotation, k: int):
+def supersample(
+    flat: np.ndarray,
+    s: Layout,
+    src_shape: tuple[int, ...],
+    d: Layout,
+    dst_shape: tuple[int, ...],
+    rotation: bytes | None,
+    k: int,
+) -> np.ndarray:
     """The supersampled area filter of a flat source (n, C) of layout ``s`` into the base layout
     ``d``: ``dst_shape + (C,)``.
 
@@ -401,7 +339,7 @@ def supersample(flat, s: Layout, src_shape, d: Layout, dst_shape, rotation, k: i
         samples = np.empty((len(plan[0]), c), flat.dtype)
         _gather.gather_plan_clamped(flat, sw, *plan, clamp, samples)
         _, _, _, omega = next(texel_strips(d, fine, rows=rows, texels=1 << 62, directions=False))
-        _box_reduce(samples.reshape(-1, k * dw, c), omega.reshape(-1, k * dw), k, out[top:bottom])
+        box_reduce(samples.reshape(-1, k * dw, c), omega.reshape(-1, k * dw), k, out[top:bottom])
     if len(bright):
         q, values = bright_deposits(flat[bright], bright, s, src_shape, d, dst_shape, k, rotation,
                                     clamp)  # fmt: skip
@@ -514,8 +452,17 @@ def _add_bilinear(kind, h, w, src, clamp, f, x, y, weight, acc):  # pragma: no c
 _BASES = np.ascontiguousarray(FACE_BASES)
 
 
-def bright_deposits(bright_values, bright: np.ndarray, s: Layout, src_shape, d: Layout, dst_shape,
-                    k: int, rotation, clamp: float):  # fmt: skip
+def bright_deposits(
+    bright_values: np.ndarray,
+    bright: np.ndarray,
+    s: Layout,
+    src_shape: tuple[int, ...],
+    d: Layout,
+    dst_shape: tuple[int, ...],
+    k: int,
+    rotation: bytes | None,
+    clamp: float,
+) -> tuple[np.ndarray, np.ndarray]:
     """Where :func:`supersample` puts the excess over ``clamp`` of the bright texels ``bright``
     (flat indices, ascending; their values ``bright_values`` (n, C)): ``(q, values)``, flat
     output texels and what each adds. The samples of the output texels around each bright
@@ -583,7 +530,9 @@ def _texel_of(d: Layout, shape, dirs) -> np.ndarray:
     return (face * dh + y) * dw + x
 
 
-def sample_taps_of(s: Layout, shape, dirs):
+def sample_taps_of(
+    s: Layout, shape: tuple[int, ...], dirs: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Bilinear taps (n, 4) and fractions (n, 2) of directions in base layout ``s``."""
     h, w, _ = s.grid(shape)
     taps = np.empty((len(dirs), 4), np.int32)
@@ -603,7 +552,7 @@ def _bright_texels(flat, s: Layout, src_shape) -> tuple[float, np.ndarray]:
     return clamp, index
 
 
-def peak_candidates(values, omega, start: int = 0):
+def peak_candidates(values: np.ndarray, omega: np.ndarray, start: int = 0) -> tuple[Any, ...]:
     """The part of :func:`bright_texels`'s pass over the texels ``values`` (n, C) (flat
     indices from ``start``; texels of no solid angle left out): ``(stats, index, peaks,
     values)``, the sums ``[sum peak omega, sum omega, largest peak]`` (peak: a texel's
@@ -619,7 +568,7 @@ def peak_candidates(values, omega, start: int = 0):
     return stats, start + top, peak[top], values[top]
 
 
-def bright_texels(parts) -> tuple[float, np.ndarray, np.ndarray]:
+def bright_texels(parts: list) -> tuple[float, np.ndarray, np.ndarray]:
     """The clamp of :func:`supersample` and the texels above it, from the
     :func:`peak_candidates` of every part of an image: ``(clamp, index, values)``, index
     ascending. The clamp is :data:`BRIGHT_RATIO` times the mean peak (solid-angle weighted),
@@ -654,7 +603,14 @@ def _peak_stats(values, omega, stats):  # pragma: no cover - compiled
             stats[2] = max(stats[2], peak)
 
 
-def sample_weights(d: Layout, dst_shape, k: int, face: int, rows, cols) -> np.ndarray:
+def sample_weights(
+    d: Layout,
+    dst_shape: tuple[int, ...],
+    k: int,
+    face: int,
+    rows: tuple[int, int],
+    cols: tuple[int, int],
+) -> np.ndarray:
     """The weights of :func:`supersample`'s samples ``rows x cols`` (of face ``face`` of ``d``'s
     k-times finer grid): a cube's solid angle density ``(1 + sc^2 + tc^2)^-1.5`` at each sample,
     as the fused in-memory kernel weighs them; the fine texels' exact solid angles otherwise."""
@@ -669,29 +625,3 @@ def sample_weights(d: Layout, dst_shape, k: int, face: int, rows, cols) -> np.nd
     rows_of = (face * fh + r0, face * fh + r1)
     _, _, _, omega = next(texel_strips(d, fine, rows=rows_of, texels=1 << 62, directions=False))
     return omega.reshape(r1 - r0, -1)[:, c0:c1]
-
-
-def box_reduce(samples: np.ndarray, weights: np.ndarray, k: int, out: np.ndarray) -> np.ndarray:
-    """``out[J, I]`` = the weighted mean of the k x k ``samples`` (rows, columns, C) of output
-    texel (J, I) with ``weights`` (rows, columns); 0 where they sum to 0. Returns ``out``."""
-    _box_reduce(samples, np.ascontiguousarray(weights), k, out)
-    return out
-
-
-def area_exact(image: np.ndarray, s: Layout, d: Layout, dst_shape, rotation) -> np.ndarray | None:
-    """The area average of a remap of ``image`` (``s``'s base form, with a channel axis) into
-    ``d`` when it is an exact reduction (None otherwise): a latlong into a latlong no finer
-    along either axis (:func:`reduce_latlong`), a cube into a cube (or its cross or strip)
-    whose face divides the source's (:func:`reduce_cube`), without rotation."""
-    if rotation is not None:
-        return None
-    if s.name == d.name == "latlong":
-        (h, w), (dh, dw) = image.shape[:2], dst_shape
-        if dh <= h and dw <= w:
-            return reduce_latlong(image, (dh, dw))
-    if s.name == "cube" and d.base.name == "cube":
-        n, size = image.shape[1], d.face_size(dst_shape) if d.base is not d else dst_shape[1]
-        if size <= n and n % size == 0:
-            cube = reduce_cube(image, size)
-            return cube if d.base is d else cube_to_view(cube, d.name)
-    return None

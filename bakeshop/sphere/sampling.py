@@ -30,15 +30,10 @@ from bakeshop._typing import Filter
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.resources import Cost, require
 from bakeshop.sphere import _gather, _plans
-from bakeshop.sphere.area import (
-    SUPERSAMPLE_PART,
-    area_exact,
-    area_remap,
-    supersample,
-    supersampling,
-)
+from bakeshop.sphere.area import SUPERSAMPLE_PART, area_remap, supersample, supersampling
 from bakeshop.sphere.cube import cube_to_view
 from bakeshop.sphere.layouts import Layout, layout
+from bakeshop.sphere.reductions import area_exact
 from bakeshop.sphere.rotation import rotation_key
 from bakeshop.sphere.texels import STRIP_TEXELS, check_environment, valid_texels
 

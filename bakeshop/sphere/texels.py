@@ -25,6 +25,7 @@ shape and are cached (:func:`bakeshop.sphere.clear_caches` frees them).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from typing import NamedTuple
 
 import numba
@@ -204,7 +205,7 @@ def texel_geometry(layout_name: str | Layout, shape) -> tuple[np.ndarray, np.nda
 STRIP_TEXELS = 1 << 20
 
 
-def texel_rows(layout_name: str | Layout, shape) -> tuple[int, int]:
+def texel_rows(layout_name: str | Layout, shape: tuple[int, ...]) -> tuple[int, int]:
     """``(rows, texels per row)`` of a layout's flat texels (the order of :func:`texels`): a
     flat layout's H rows of W texels, the cube's faces stacked, 6 S rows of S."""
     lay = layout(layout_name)
@@ -214,12 +215,12 @@ def texel_rows(layout_name: str | Layout, shape) -> tuple[int, int]:
 
 def texel_strips(
     layout_name: str | Layout,
-    shape,
+    shape: tuple[int, ...],
     *,
     rows: tuple[int, int] | None = None,
     texels: int = STRIP_TEXELS,
     directions: bool = True,
-):
+) -> Iterator[tuple[int, int, np.ndarray | None, np.ndarray]]:
     """The texel geometry of :func:`texel_geometry` in strips of whole rows, never the whole
     layout's at once: for everything that sums over an environment's texels.
 
@@ -255,7 +256,9 @@ def texel_strips(
         yield r0 * width, r1 * width, dirs, geometry.solid_angles(r0, r1)
 
 
-def texels_at(layout_name: str | Layout, shape, index) -> tuple[np.ndarray, np.ndarray]:
+def texels_at(
+    layout_name: str | Layout, shape: tuple[int, ...], index: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Directions ``(n, 3)`` and solid angles ``(n,)`` (float64) of the flat texels ``index``
     of a layout's image of spatial ``shape``: the same numbers as ``texel_geometry(...)[k][index]``
     without building the whole layout's."""
@@ -460,7 +463,7 @@ def _cosine_kernel(kind, faces, h, w, up, out):  # pragma: no cover - compiled
 COUNTED_TEXELS = 1 << 22
 
 
-def valid_texels(lay: str | Layout, shape) -> int:
+def valid_texels(lay: str | Layout, shape: tuple[int, ...]) -> int:
     """How many texels of a ``shape`` image in layout ``lay`` hold a direction (a disk's
     inside, a cross's six cells). Counted exactly up to :data:`COUNTED_TEXELS` texels; past
     that, the layout's valid fraction measured on a small image of it, so that a size is
