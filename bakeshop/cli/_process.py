@@ -62,6 +62,10 @@ class Interrupted(BaseException):
         self.signum = signum
 
 
+def _quiet(unraisable) -> None:
+    """An unraisable-exception hook that says nothing (installed once a signal arrived)."""
+
+
 @contextlib.contextmanager
 def signals_as_exceptions():
     """Within the block (in the main thread), the :data:`SIGNALS` raise :class:`Interrupted`.
@@ -76,6 +80,9 @@ def signals_as_exceptions():
         received.append(signum)
         if not first:
             first.append(time.monotonic())
+            # what the interruption tears down mid-call (llvmlite's objects while numba
+            # compiles) may fail in its finaliser: the one line said at exit is the report
+            sys.unraisablehook = _quiet
             raise Interrupted(signum)
         if time.monotonic() - first[0] > GRACE_SECONDS:
             signal.signal(signum, signal.SIG_DFL)

@@ -13,7 +13,8 @@ CLEAR = np.stack([np.cos(3 * TIME) - 0.5, 0.5 * np.sin(2 * TIME) - 0.2], axis=1)
 def test_a_trace_is_an_rgb_picture_of_the_figure_size():
     picture = plot_trace(TIME, CLEAR, labels=["box", "sphere"], title="two bodies")
     assert picture.dtype == np.uint8
-    assert picture.shape == (round(3.6 * 90), 8 * 90, 3)
+    # 3.4 in of plot and one 0.16 in row of legend below (three entries: the surface, two bodies)
+    assert picture.shape == (round((3.4 + 0.16) * 90), 8 * 90, 3)
     assert picture.std() > 0  # something is drawn
 
 
@@ -33,4 +34,5 @@ def test_the_grid_has_a_panel_per_treatment_and_frame_rate():
     matrix = Matrix(("box", "sphere"), [], clearances)
     picture = plot_grid(matrix, forces="per-frame")
     assert picture.dtype == np.uint8
-    assert picture.shape == (round(1.7 * 3 * 80), round(2.6 * 2 * 80), 3)
+    # 1.7 in per treatment and a 0.3 in row of legend below the grid
+    assert picture.shape == (round((1.7 * 3 + 0.3) * 80), round(2.6 * 2 * 80), 3)
