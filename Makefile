@@ -1,7 +1,8 @@
 # `make demo` bakes the embedded default probe (the main job) into ./demo; `make test` runs every
 # test, `make test-fast` all but those marked slow (over 5 s each).
-# Each creates the virtual environment .venv on first use: the demo installs bakeshop and what the
-# main job needs, the tests add the test references (the `test` extra).
+# Each creates the virtual environment .venv on first use: the demo installs bakeshop, what the
+# main job needs and moderngl for its preview pictures; the tests add the test references (the
+# `test` extra).
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
@@ -14,7 +15,7 @@ BIN := $(VENV)/bin
 $(BIN)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install -q --upgrade pip
-	$(BIN)/pip install -q -e .
+	$(BIN)/pip install -q -e '.[preview]'
 	@echo "compiling the main job's numba kernels (once: about 2 minutes of CPU, see docs/install.md)"
 	rm -rf $(VENV)/warm-up
 	$(BIN)/bakeshop -q bake-probe -o $(VENV)/warm-up > /dev/null
