@@ -28,7 +28,9 @@ source texel on a sunny probe, in a couple of seconds for a 6x256, 9-level chain
 1. The source cube is split into ``bright + rest``: the few brightest texels (above
    :data:`BRIGHT_RATIO` times the mean, at most :data:`MAX_BRIGHT` of them: the sun, lamps) and
    everything else clamped to that threshold. The bright texels are convolved exactly with the
-   analytically normalised lobe, so a sun is never undersampled.
+   analytically normalised lobe, so a sun is never undersampled; a lobe narrower than an output
+   texel (:data:`RESOLVED_LOBE_TEXELS`) is normalised over the output grid instead, so each
+   bright texel deposits exactly its energy rather than being point-sampled.
 2. The rest has a bounded contrast. Where it is cheap (the wide lobes of the coarse levels,
    at most :data:`EXACT_BUDGET` texel pairs), it is convolved exactly over a level of its mip
    pyramid whose texels are at most a sixth of the lobe's half-width (and twice as fine as
