@@ -15,13 +15,13 @@ import math
 import os
 
 import numpy as np
-import scipy.sparse as sp
 
 from bakeshop.errors import ArgumentError
 from bakeshop.huge.engine import Engine
 from bakeshop.huge.memory import blocks, plan_blocks, refuse
 from bakeshop.image import area_footprint, area_weights, resample_separable, resize_area_part
 from bakeshop.io.stream import ArrayReader, Reader
+from bakeshop.sphere.reductions import latlong_row_weights
 
 #: a task's window is at most this large whatever the bound (larger windows only delay the
 #: first results and the progress).
@@ -38,27 +38,6 @@ def as_reader(source) -> Reader:
 
         return open_image(source)
     return ArrayReader(source)
-
-
-def latlong_row_weights(n_in: int, n_out: int) -> sp.csr_matrix:
-    """Row weights of a latlong reduced from ``n_in`` to ``n_out`` rows preserving solid angle.
-
-    Output row ``i`` spans colatitudes ``[theta_i, theta_{i+1}]``; input row ``k``'s overlap
-    with it, ``[a, b]``, weighs ``(cos a - cos b) / (cos theta_i - cos theta_{i+1})``: its share
-    of the output row's solid angle. With the planar column weights of
-    :func:`bakeshop.image.area_weights`, ``sum_out L omega = sum_in L omega`` exactly (the
-    radiance integral over the sphere is kept), where the planar filter keeps the planar mean.
-    Same sparsity as ``area_weights(n_in, n_out)``.
-    """
-    planar = area_weights(n_in, n_out)
-    rows = np.repeat(np.arange(n_out), np.diff(planar.indptr))
-    k = planar.indices.astype(np.float64)
-    lo = np.maximum(k, rows * (n_in / n_out))
-    hi = np.minimum(k + 1, (rows + 1) * (n_in / n_out))
-    share = np.cos(np.pi * lo / n_in) - np.cos(np.pi * hi / n_in)
-    total = np.add.reduceat(share, planar.indptr[:-1]) if len(share) else share
-    weights = share / np.repeat(total, np.diff(planar.indptr))
-    return sp.csr_matrix((weights, planar.indices, planar.indptr), shape=(n_out, n_in))
 
 
 def _block(region, reader: Reader, size, weighting: str):
