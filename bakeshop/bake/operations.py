@@ -18,25 +18,11 @@ from pathlib import Path
 import numpy as np
 
 from bakeshop.errors import ArgumentError
+from bakeshop.sphere import FILE_LAYOUTS
 
 __all__ = ["OPERATIONS", "Operation", "Option"]
 
-_PROBE_LAYOUTS = (
-    "auto",
-    "latlong",
-    "angular",
-    "mirrorball",
-    "angular-physical",
-    "mirrorball-physical",
-    "octahedral",
-    "dual-paraboloid",
-    "cross-vertical",
-    "cross-horizontal",
-    "strip-horizontal",
-    "strip-vertical",
-    "openexr-latlong",
-    "openexr-cube",
-)
+_PROBE_LAYOUTS = ("auto", *FILE_LAYOUTS)
 
 
 @dataclass(frozen=True)

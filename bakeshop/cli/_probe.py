@@ -13,24 +13,7 @@ from bakeshop.cli._numbers import Integer, Size
 from bakeshop.cli._paths import parse_size
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import LAYOUT_ENVMAPS, is_cube, read_environment
-
-#: layouts a single image file can hold (the cube is written as a cross or a strip).
-FILE_LAYOUTS = (
-    "latlong",
-    "angular",
-    "mirrorball",
-    "angular-physical",
-    "mirrorball-physical",
-    "octahedral",
-    "dual-paraboloid",
-    "cross-vertical",
-    "cross-horizontal",
-    "strip-horizontal",
-    "strip-vertical",
-    "openexr-latlong",
-    "openexr-cube",
-)
-
+from bakeshop.sphere import FILE_LAYOUTS
 
 #: output texels of a DIM when no --size is given (360x180, the pipeline's latlong).
 DEFAULT_TEXELS = 360 * 180

@@ -20,9 +20,9 @@ from bakeshop.cli._common import (
 )
 from bakeshop.cli._numbers import Exposure, Number
 from bakeshop.cli._paths import FRAMES, OUTPUT_FRAMES, refuse_overwriting_inputs
-from bakeshop.cli._probe import FILE_LAYOUTS
 from bakeshop.errors import ArgumentError
 from bakeshop.io import check_input, stored_bits
+from bakeshop.sphere import FILE_LAYOUTS
 
 
 def _natural_key(path: str):

@@ -35,6 +35,7 @@ export_lazily(
         "cube_to_view": "cube",
         "faces_to_cube": "cube",
         "view_to_cube": "cube",
+        "FILE_LAYOUTS": "layouts",
         "LAYOUT_NAMES": "layouts",
         "Layout": "layouts",
         "guess_layout": "_guess",
@@ -82,6 +83,7 @@ if TYPE_CHECKING:  # what the table loads, for type checkers (tests/test_lazy.py
         view_to_cube,
     )
     from bakeshop.sphere.layouts import (
+        FILE_LAYOUTS,
         LAYOUT_NAMES,
         Layout,
         layout,
@@ -119,6 +121,7 @@ __all__ = [
     "FACE_LABELS",
     "FACE_NAMES",
     "FACE_NAMES_SHORT",
+    "FILE_LAYOUTS",
     "FILTERS",
     "LAYOUT_NAMES",
     "Environment",

@@ -37,6 +37,7 @@ from bakeshop.sphere.layouts.openexr import OpenEXRCube, OpenEXRLatLong
 
 __all__ = [
     "CUBE",
+    "FILE_LAYOUTS",
     "LAYOUT_NAMES",
     "MAX_EDGE",
     "MAX_TEXELS",
@@ -76,6 +77,8 @@ _LAYOUTS: dict[str, Layout] = {
 
 #: every layout name :func:`layout` accepts.
 LAYOUT_NAMES = tuple(_LAYOUTS)
+#: the layouts one image file holds (a cube is written as a cross or a strip).
+FILE_LAYOUTS = tuple(name for name in LAYOUT_NAMES if name != "cube")
 
 
 def layout(name: str | Layout) -> Layout:
