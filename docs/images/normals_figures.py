@@ -6,7 +6,10 @@ Pictures (docs/images/): normals_combine.png (macro, detail, combined), normals_
 normals_transfer.png (a dot pattern transferred into a torus' UV layout, three projections).
 Tables (printed as Markdown): the ground-truth error of every method for each construction.
 
-Run: ``.venv/bin/python docs/images/normals_figures.py`` (needs ../shared/data).
+Run: ``.venv/bin/python docs/images/normals_figures.py [DETAIL]``. The macro map is the Khronos
+NormalTangentTest map in tests/data; DETAIL is the whole tileable 1K normal map of cgbookcase's
+Scratched Gold 01 (CC0, https://www.cgbookcase.com/textures/scratched-gold-01; tests/data holds
+only crops of it, which do not tile), by default tests/data/Scratched_gold_01_1K_Normal.png.
 """
 
 from __future__ import annotations
@@ -23,15 +26,16 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # tests.normals.groundtruth and benchmarks/bench_normals
 
-from bakeshop.cli.normals import read_normal_map  # noqa: E402
 from bakeshop.normals.blend import METHODS, blend  # noqa: E402
-from bakeshop.normals.encoding import encode_normals  # noqa: E402
+from bakeshop.normals.encoding import encode_normals, read_normal_map  # noqa: E402
 from bakeshop.normals.height import height_to_normal  # noqa: E402
 from bakeshop.normals.tiling import place_detail  # noqa: E402
 from bakeshop.normals.transfer import transfer_detail  # noqa: E402
 from tests.normals import groundtruth as gt  # noqa: E402
 
-DATA = ROOT.parent / "shared" / "data" / "normals"
+DATA = ROOT / "tests" / "data"
+#: the tileable detail map (see the module notes), given on the command line or in tests/data.
+DETAIL = Path(sys.argv[1]) if len(sys.argv) > 1 else DATA / "Scratched_gold_01_1K_Normal.png"
 OUT = Path(__file__).resolve().parent
 
 
@@ -50,7 +54,7 @@ STRENGTH = 3.0
 
 def combine_figures():
     macro = read_normal_map(DATA / "NormalTangentTest_Normal.png")
-    detail = read_normal_map(DATA / "Scratched_gold_01_1K_Normal.png", convention="dx")
+    detail = read_normal_map(DETAIL, convention="dx")
     placed = place_detail(detail, macro.shape[:2], tile=2)  # one detail texel per macro texel
     results = {m: blend(macro, placed, method=m, strength=STRENGTH) for m in METHODS}
     shown = blend(np.broadcast_to(np.float32([0, 0, 1]), placed.shape), placed, strength=STRENGTH)
@@ -146,6 +150,11 @@ def transfer_figure():
 
 
 if __name__ == "__main__":
+    if not DETAIL.is_file():
+        sys.exit(
+            f"normals_figures.py: {DETAIL}: not found; download the 1K normal map of "
+            "https://www.cgbookcase.com/textures/scratched-gold-01 and give its path"
+        )
     combine_figures()
     groundtruth_tables()
     transfer_figure()
