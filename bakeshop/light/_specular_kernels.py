@@ -1,6 +1,5 @@
 """The numba kernels of :mod:`bakeshop.light.specular`: filtered importance sampling over the
-padded mip pyramid, and the exact lobe sums (by output texel, and by source texel for the
-normalisation of lobes narrower than a texel)."""
+padded mip pyramid, and the exact lobe sums."""
 
 from __future__ import annotations
 
@@ -131,22 +130,3 @@ def _lobe_kernel(dirs, src_dirs, src_omega, src_values, ggx, param, cos_cut, acc
             for c in range(channels):
                 acc[p, c] += w * src_values[j, c]
         total[p] = t
-
-
-@numba.njit(cache=True, parallel=True)
-def _lobe_columns(dirs, omega, src_dirs, ggx, param, cos_cut, columns):
-    """columns[j] = sum_p w(n_p . l_j) Omega_p: the lobe around source direction l_j summed
-    over the output texels (``_lobe_kernel``'s weights, the other way round)."""
-    for j in numba.prange(src_dirs.shape[0]):
-        lx, ly, lz = src_dirs[j, 0], src_dirs[j, 1], src_dirs[j, 2]
-        t = 0.0
-        for p in range(dirs.shape[0]):
-            nl = dirs[p, 0] * lx + dirs[p, 1] * ly + dirs[p, 2] * lz
-            if nl <= cos_cut:
-                continue
-            if ggx:
-                q = 0.5 * (1.0 + nl) * (param - 1.0) + 1.0
-                t += nl / (q * q) * omega[p]
-            else:
-                t += nl**param * omega[p]
-        columns[j] = t

@@ -69,7 +69,7 @@ import numpy as np
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError
-from bakeshop.light._specular_kernels import _filter_kernel, _lobe_columns, _lobe_kernel
+from bakeshop.light._specular_kernels import _filter_kernel, _lobe_kernel
 from bakeshop.resources import Cost, require
 from bakeshop.sphere import check_environment, remap, remap_cost, sample, valid_texels
 from bakeshop.sphere import layout as get_layout
@@ -384,7 +384,13 @@ def _bright_part(source: _Source, dirs: np.ndarray, size: int, lobe: _Lobe) -> n
     norms = np.full(count, lobe.norm)
     if lobe.half_width < RESOLVED_LOBE_TEXELS * math.pi / (2 * size):
         omega = get_layout("cube").solid_angles((6, size, size)).reshape(-1)
-        _lobe_columns(dirs, omega, source.bright_dirs, lobe.ggx, lobe.param, lobe.cos_cut, norms)
+        # the lobe depends on n.l alone: its sum over the output texels around each bright
+        # texel is the same kernel with the roles swapped (no values, only the totals)
+        nothing = np.zeros((dirs.shape[0], 0))
+        _lobe_kernel(
+            source.bright_dirs, dirs, omega, nothing, lobe.ggx, lobe.param, lobe.cos_cut,
+            np.zeros((count, 0)), norms,
+        )  # fmt: skip
     reached = norms > 0
     values = np.where(
         reached[:, None], source.bright_values / np.where(reached, norms, 1)[:, None], 0
