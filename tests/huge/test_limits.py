@@ -97,31 +97,40 @@ def test_a_two_worker_cluster_gives_the_local_results(tmp_path, cluster):
     assert np.allclose(got.sun_dim, want.sun_dim, rtol=1e-6, atol=0)
 
 
+def _die_once(marker):
+    """A worker plugin: the first worker to start one of the job's tasks exits on the spot.
+
+    The marker file makes it once for the whole cluster (the nanny restarts the dead worker
+    and the scheduler installs the plugin on it again), and the kill happens inside the job, on
+    a task it needs, whatever the machine's speed. Defined here so that it travels by value.
+    """
+    from distributed import WorkerPlugin
+
+    class DieOnce(WorkerPlugin):
+        name = "die-once"
+
+        def transition(self, key, start, finish, **kwargs):
+            import os
+
+            if finish == "executing" and not os.path.exists(marker):
+                open(marker, "w").close()
+                os._exit(1)
+
+    return DieOnce()
+
+
 @pytest.mark.slow
 def test_a_worker_killed_mid_job_is_retried_and_the_output_is_complete(tmp_path, cluster):
-    import threading
-    import time
-
     _, client = cluster
     a, path = _zarr_image(tmp_path)
     target = tmp_path / "small.zarr"
-    engine = Engine(client, memory="5MB")  # many small blocks: the job lasts a while
-    killed = []
-
-    def kill_one():
-        time.sleep(1.0)
-        workers = list(client.scheduler_info()["workers"])
-        killed.append(time.perf_counter())
-        try:  # the worker dies while answering: the call itself fails
-            client.run(lambda: __import__("os")._exit(1), workers=workers[:1])
-        except Exception:
-            pass
-
-    killer = threading.Thread(target=kill_one)
-    killer.start()
-    resize_to_file(path, target, (1000, 500), engine=engine)
-    finished = time.perf_counter()
-    killer.join()
-    assert killed and killed[0] < finished  # the worker died while the job ran
+    engine = Engine(client, memory="5MB")
+    marker = tmp_path / "a-worker-died"
+    client.register_plugin(_die_once(str(marker)))
+    try:
+        resize_to_file(path, target, (1000, 500), engine=engine)
+    finally:
+        client.unregister_worker_plugin("die-once")
+    assert marker.exists()  # a worker died on one of the job's tasks
     out = open_image(target).read()
     assert np.array_equal(out, resize_area(a, (1000, 500)))
