@@ -361,7 +361,7 @@ def remap(
     dst_shape = output_shape(s.name, src_shape, d.name, size)
     if filter == "auto":
         filter = choose_filter(s.name, src_shape, d.name, dst_shape)
-    base_shape = dst_shape if d.base is d else d.base.shape(d.face_size(dst_shape))
+    base_shape = d.base_shape(dst_shape)
     what = f"remapping {s.name} {w}x{h} to {d.name} {'x'.join(map(str, dst_shape))} ({filter})"
     if filter == "area":
         if s.name == d.name == "latlong" and rotation is None:

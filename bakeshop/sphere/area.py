@@ -128,8 +128,8 @@ def _merge(s: Layout, src_shape, d: Layout, dst_shape, rot, omega, where, parts)
 class _Growing:
     """A pair of arrays (int32 taps, float32 weights) filled from the start, grown on demand."""
 
-    def __init__(self):
-        self.arrays = (np.empty(0, np.int32), np.empty(0, np.float32))
+    def __init__(self) -> None:
+        self.arrays: tuple[np.ndarray, ...] = (np.empty(0, np.int32), np.empty(0, np.float32))
         self.size = 0
 
     def reserve(self, needed: int, expected: int) -> None:
@@ -145,7 +145,9 @@ class _Growing:
         return self.arrays[0][: self.size], self.arrays[1][: self.size]
 
 
-def _rows(splat: _Splat, merged, alpha, inverse, bilinear, src_width: int, dst_width: int):
+def _rows(
+    splat: _Splat, merged, alpha, inverse, bilinear, src_width: int, dst_width: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Stage 3: the deposits transposed into CSR rows, one per output texel, with the bilinear
     taps (weighted 1 - alpha) where the deposits cover too little:
     ``(indptr int64, indices int32, values float32)``."""
@@ -163,7 +165,7 @@ def _rows(splat: _Splat, merged, alpha, inverse, bilinear, src_width: int, dst_w
     rows = (np.empty(indptr[-1], np.int32), np.empty(indptr[-1], np.float32))
     kernels.splat_rows(*deposits, True, *rows)
     kernels.bilinear_rows(alpha, src_width, *bilinear, indptr, counts, True, *rows)
-    return indptr, *rows
+    return indptr, rows[0], rows[1]
 
 
 def _balance(indptr, indices, values, omega_out, omega_in, sums) -> float:
@@ -215,7 +217,7 @@ def _build(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
     src_width, dst_width = s.grid(src_shape)[1], d.grid(dst_shape)[1]
     # the bilinear plan's taps fill in where the deposits cover too little
     bilinear = _plans.cached(src, src_shape, dst, dst_shape, "bilinear", rotation)
-    plan = _rows(splat._replace(acc=None), merged, alpha, inverse, bilinear, src_width, dst_width)
+    plan = _rows(splat, merged, alpha, inverse, bilinear, src_width, dst_width)
     del splat, merged
     _balance(*plan, omega_out, omega, np.zeros((numba.get_num_threads(), len(omega))))
     for a in plan:
@@ -229,7 +231,7 @@ def _build_for(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
     d = layout(dst)
     if d.base is d:
         return _build(src, src_shape, dst, dst_shape, rotation)
-    cube_shape = d.base.shape(d.face_size(dst_shape))
+    cube_shape = d.base_shape(dst_shape)
     indptr, indices, values = _build(src, src_shape, d.base.name, cube_shape, rotation)
     if len(indptr) == 0:
         return indptr, indices, values

@@ -154,28 +154,23 @@ def remap_cost(
     validate_choice(filter, FILTERS, "filter")
     s, d = layout(src), layout(dst)
     src_shape = tuple(int(n) for n in src_shape)
-    base_src = src_shape if s.base is s else s.base.shape(s.face_size(src_shape))
+    base_src = s.base_shape(src_shape)
     dst_shape = remap_shape(s.base, base_src, d, size)
     if filter == "auto":
         filter = auto_filter(s.base, base_src, d, dst_shape)
     return _remap_cost(s, src_shape, d, dst_shape, filter, channels * itemsize)
 
 
-def _base_shape(d: Layout, shape):
-    """The shape of ``d``'s base layout (a cube picture's cube) for ``d``'s ``shape``."""
-    return shape if d.base is d else d.base.shape(d.face_size(shape))
-
-
 def _remap_cost(s: Layout, src_shape, d: Layout, dst_shape, filter: str, texel: int) -> Cost:
     """:func:`remap_cost` of resolved shapes and filter (``texel``: bytes per texel)."""
-    base_src = src_shape if s.base is s else s.base.shape(s.face_size(src_shape))
+    base_src = s.base_shape(src_shape)
     n_src, n_out = math.prod(base_src), math.prod(dst_shape)
     memory = n_out * texel + REMAP_OVERHEAD
     if d.base is not d:  # gathered as a cube, then laid out as the picture
-        memory += math.prod(d.base.shape(d.face_size(dst_shape))) * texel
+        memory += math.prod(d.base_shape(dst_shape)) * texel
     if s.base is not s:  # the cube of the source picture
         memory += n_src * texel
-    if filter == "area" and supersampling(s.base, base_src, d.base, _base_shape(d, dst_shape)):
+    if filter == "area" and supersampling(s.base, base_src, d.base, d.base_shape(dst_shape)):
         memory += SUPERSAMPLE_BYTES  # parts of bounded size, the bright texels' strips
         work = n_src + n_out
     elif filter == "area":
@@ -255,14 +250,14 @@ def remap(
     env = check_environment(image, src)
     s, d = env.layout, layout(dst)
     given = env.image.shape[:-1]
-    src_shape = given if s.base is s else s.base.shape(s.face_size(given))
+    src_shape = s.base_shape(given)
     dst_shape = remap_shape(s.base, src_shape, d, size)
     if filter == "auto":
         filter = auto_filter(s.base, src_shape, d, dst_shape)
     texel = env.image.itemsize * env.image.shape[-1]
     require(_remap_cost(s, given, d, dst_shape, filter, texel))
     img = s.prepare(env.image)
-    base_shape = dst_shape if d.base is d else d.base.shape(d.face_size(dst_shape))
+    base_shape = d.base_shape(dst_shape)
     key = rotation_key(rotation)
     channels = img.shape[-1]
     flat = np.ascontiguousarray(img.reshape(-1, channels))

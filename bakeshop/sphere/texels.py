@@ -151,8 +151,9 @@ class Texels(NamedTuple):
     dirs: np.ndarray
     #: (N,) float64, read-only: solid angle of each texel, 0 where the layout has none.
     omega: np.ndarray
-    #: the checked environment (its image, layout and whether it was 2-D).
-    environment: Environment
+    #: the checked environment (its image, layout and whether it was 2-D); None for texels
+    #: gathered from windows of a file (:mod:`bakeshop.huge`).
+    environment: Environment | None
 
 
 def texels(image, layout_name: str | Layout) -> Texels:
@@ -279,7 +280,7 @@ class _RowGeometry:
         self.h, self.w, self.faces = lay.grid(shape)
         self.kind = lay.kind
         self.trig = _maps.latlong_trig(self.h, self.w) if self.kind == _maps.LATLONG else _NO_TRIG
-        self._full = None
+        self._full: np.ndarray | None = None
         if self.kind == _maps.LATLONG:
             # the bands of LatLong.solid_angles, computed whole so that they are the same numbers
             c = np.cos(np.pi * np.arange(self.h + 1) / self.h)
@@ -436,8 +437,7 @@ def texel_cosines(layout_name: str | Layout, shape, axis=(0.0, 1.0, 0.0)) -> np.
 
 def _texel_cosines(lay: Layout, shape: tuple, up: tuple) -> np.ndarray:
     if lay.base is not lay:
-        s = lay.face_size(shape)
-        cube = _texel_cosines(lay.base, (6, s, s), up)
+        cube = _texel_cosines(lay.base, lay.base_shape(shape), up)
         out = cube_to_view(cube, lay.name, fill=np.nan)
     else:
         h, w, faces = lay.grid(shape)

@@ -170,3 +170,8 @@ class Layout:
     def prepare(self, image: np.ndarray) -> np.ndarray:
         """``image`` in :attr:`base` form: the image itself, or the cube of a cross or strip."""
         return image
+
+    def base_shape(self, shape: Sequence[int]) -> tuple[int, ...]:
+        """The spatial shape of :attr:`base` for this layout's ``shape``: the shape itself, or
+        the ``(6, S, S)`` of a cross's or strip's cube."""
+        return tuple(shape)

@@ -153,5 +153,8 @@ class CubeView(Layout):
     def prepare(self, image: np.ndarray) -> np.ndarray:
         return _cube.view_to_cube(image, self.name)
 
+    def base_shape(self, shape: Sequence[int]) -> tuple[int, ...]:
+        return CUBE.shape(self.face_size(shape))
+
 
 CUBE = Cube()
