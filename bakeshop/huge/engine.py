@@ -171,7 +171,7 @@ class Engine:
         items = [delayed(task, pure=False)(*a) for a in args]
         if not items:
             return []
-        if self.distributed:
+        if self.client is not None:
             from distributed import as_completed
 
             futures = self.client.compute(items)
@@ -199,7 +199,7 @@ class Engine:
         from dask import delayed
 
         task = self._task(fn)
-        if self.distributed:
+        if self.client is not None:
             from distributed import as_completed
 
             items = [delayed(task, pure=False)(r, *args) for r in regions]
@@ -227,7 +227,7 @@ class Engine:
         items = [delayed(task, pure=False)(*a) for a in args]
         if not items:
             raise BakeshopError("nothing to reduce")
-        if self.distributed:
+        if self.client is not None:
             from distributed import as_completed
 
             futures = self.client.compute(items)

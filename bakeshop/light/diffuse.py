@@ -43,7 +43,10 @@ and real environments", SIGGRAPH 1984 course notes (the diffuse convolution).
 
 from __future__ import annotations
 
+import functools
 import math
+import operator
+from collections.abc import Iterable
 from typing import Any
 
 import numba
@@ -261,7 +264,7 @@ def cosine_sum(normals, directions, energy, *, description: str = "irradiance") 
             grouped = _groups(w, e)
     else:
         grouped = _groups(w, e)
-    blocks = range(0, n.shape[0], _BLOCK)
+    blocks: Iterable[int] = range(0, n.shape[0], _BLOCK)
     if n.shape[0] * w.shape[0] ** (2 / 3) > 1e8:  # about a second of work or more
         blocks = progress.track(blocks, description)
     for start in blocks:
@@ -561,9 +564,13 @@ def integrate(
             yield _painted(flat, start, stop, fill), dirs, omega
 
     if method == "sh":
-        return sum(sh.project(v, d, w, order=order) for v, d, w in strips())
+        return functools.reduce(
+            operator.add, (sh.project(v, d, w, order=order) for v, d, w in strips())
+        )
     if method == "exact":
-        return sum(cosine_sum(normals, d, v * w[:, None]) for v, d, w in strips())
+        return functools.reduce(
+            operator.add, (cosine_sum(normals, d, v * w[:, None]) for v, d, w in strips())
+        )
     colour = min(3, flat.shape[1])
     total = sum(_energy(v, w, colour) for v, _, w in strips(False))
     with progress.step("grouping the environment's texels"):

@@ -229,7 +229,7 @@ def bake_fresnel(
         c = cos[lower]
         fetched = sphere.sample(a, layout, dirs - 2.0 * c[:, None] * up, filter="bilinear")
         colour = min(a.shape[-1], 3)
-        out[(*lower, slice(0, colour))] = fetched[:, :colour] * fresnel_dielectric(-c, n)[:, None]
+        out[lower + (slice(0, colour),)] = fetched[:, :colour] * fresnel_dielectric(-c, n)[:, None]
     return env.shaped(out)
 
 

@@ -210,7 +210,7 @@ def _pyramid(cube: np.ndarray):
     to four with zeros, so that the kernel reads fixed-size texels).
     """
     levels, sizes = [], []
-    level = np.zeros(cube.shape[:3] + (4,), np.float32)
+    level: np.ndarray = np.zeros(cube.shape[:3] + (4,), np.float32)
     level[..., : cube.shape[-1]] = cube
     while True:
         s = level.shape[1]
@@ -299,7 +299,9 @@ class _Source:
         if flat.size > MAX_BRIGHT:
             threshold = max(threshold, float(np.partition(flat, -MAX_BRIGHT - 1)[-MAX_BRIGHT - 1]))
         rest = np.minimum(cube, np.float32(threshold)) if threshold > 0 else cube
-        index = np.flatnonzero(flat > threshold)[:MAX_BRIGHT] if threshold > 0 else []
+        index: np.ndarray | list[int] = (
+            np.flatnonzero(flat > threshold)[:MAX_BRIGHT] if threshold > 0 else []
+        )
         dirs, _ = cube_layout.directions((6, s, s))
         self.bright_dirs = np.ascontiguousarray(dirs.reshape(-1, 3)[index])
         self.bright_omega = omega.reshape(-1)[index]
@@ -580,7 +582,9 @@ def prefilter_phong(
     return _chain(image, layout, size, samples, lobes, "Phong")
 
 
-def _chain(image, layout, size: int, samples: int, lobes, name: str) -> list[np.ndarray]:
+def _chain(
+    image, layout, size: int, samples: int, lobes: list[tuple[bool, float] | None], name: str
+) -> list[np.ndarray]:
     """The levels of a chain: ``lobes[m]`` is ``(ggx, param)`` of :class:`_Lobe`, or None
     for the source cube itself. Its memory is checked first (:func:`prefilter_cost`)."""
     env = check_environment(image, layout)

@@ -29,11 +29,13 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from bakeshop.errors import ArgumentError
 from bakeshop.image import LUMINANCE_WEIGHTS
 from bakeshop.resources import Cost, require
 from bakeshop.sphere import (
     STRIP_TEXELS,
     Environment,
+    Layout,
     Texels,
     check_environment,
     texel_rows,
@@ -449,11 +451,13 @@ def split_texels(t: Texels, *, sampler=None) -> Removal | None:
     channels, (..., colour)) stands in for ``t.environment``, which may be None."""
     colour = min(3, t.values.shape[1])
     if sampler is None:
+        if t.environment is None:
+            raise ArgumentError("texels without their environment need a sampler")
         sampler = _image_sampler(t.environment, colour)
     return _split(_Arrays(t.values[:, :colour], t.dirs, t.omega), sampler)
 
 
-def split_sun(image: np.ndarray, layout: str) -> Removal | None:
+def split_sun(image: np.ndarray, layout: str | Layout) -> Removal | None:
     """Find the sun of a probe and compute its fill (:func:`split_texels`) from the image
     itself: its texels' directions are computed strip by strip where they are looked at, so
     a 16k probe costs no per-texel geometry (the whole layout's would be 32 bytes a texel).
@@ -488,10 +492,10 @@ def _image_sampler(env: Environment, colour: int):
     lay, image = env.layout, env.image
     if lay.base is not lay:  # a cross or strip: sampled as its cube
 
-        def sampler(d):
+        def view_sampler(d):
             return sample(image[..., :colour], lay, d, filter="bilinear")
 
-        return sampler
+        return view_sampler
     flat = image.reshape(-1, image.shape[-1])
 
     def sampler(d):
