@@ -24,6 +24,7 @@ import os
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from bakeshop.bake.operations import OPERATIONS, Operation
 from bakeshop.errors import ArgumentError, BakeshopError, FormatError
@@ -186,7 +187,7 @@ def _step(op: Operation, name: str, table: dict, root: Path, where: str, fail) -
     for key in table:
         if key not in op.paths and key not in op.options:
             fail(_unknown_key(op, key, where))
-    options = {}
+    options: dict[str, Any] = {}
     for key, kind in op.paths.items():
         value = table.get(key)
         optional = kind.endswith("?")

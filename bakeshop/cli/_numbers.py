@@ -66,6 +66,8 @@ class Number(click.FloatRange):
         return super().convert(number, param, ctx)
 
     def _describe_range(self) -> str:
+        if self.min is None:  # refused by __init__
+            raise TypeError("a Number needs a lower bound")
         low = f"{_g(float(self.min))}{'<' if self.min_open else '<='}"
         if self.max is None:
             return f"x{'>' if self.min_open else '>='}{_g(float(self.min))}"

@@ -213,7 +213,7 @@ class OutputPath(click.Path):
         check_output_name(os.fspath(value), self.fields)
         path = super().convert(value, param, ctx)
         if not self.directory:
-            record(ctx, "outputs", os.fspath(path))
+            record(ctx, "outputs", str(path))
         return path
 
 

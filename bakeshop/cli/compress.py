@@ -419,13 +419,21 @@ def bake_compressed(
     preset = engines.engine(engine_name)
     folder = out_dir / preset.name
     folder.mkdir(parents=True, exist_ok=True)
-    common = {
-        "quality_profile": quality_profile,
-        "overflow": overflow,
-        "min_psnr": min_psnr,
-        "zstd": zstd and preset.container == "ktx2",
-    }
-    rows = []
+
+    def write(path: Path, levels: list, *, cube: bool, extra: dict) -> tuple[list[Path], dict]:
+        return write_levels(
+            path,
+            levels,
+            "bc6h",
+            cube=cube,
+            extra=extra,
+            quality_profile=quality_profile,
+            overflow=overflow,
+            min_psnr=min_psnr,
+            zstd=zstd and preset.container == "ktx2",
+        )
+
+    rows: list[tuple[Path, str, dict | None]] = []
     extra = {"engine": preset.name, "engine_checked": preset.checked}
     env_path = folder / preset.files["environment"]
     if preset.environment == "panorama":
@@ -433,16 +441,17 @@ def bake_compressed(
 
         pano = sphere.remap(bake.cube, "cube", "latlong", filter="area")
         levels = box_mips(engines.panorama(pano, preset), cube=False)
-        paths, report = write_levels(env_path, levels, "bc6h", cube=False, extra=extra, **common)
+        paths, report = write(env_path, levels, cube=False, extra=extra)
         rows.append((paths[0], f"panorama {pano.shape[1]}x{pano.shape[0]}, BC6H", report))
     else:
         levels = [engines.cube_faces(m, preset) for m in box_mips(bake.cube, cube=True)]
-        paths, report = write_levels(env_path, levels, "bc6h", cube=True, extra=extra, **common)
+        paths, report = write(env_path, levels, cube=True, extra=extra)
         rows.append((paths[0], f"environment 6x{bake.cube.shape[1]}, BC6H", report))
     if "specular" in preset.files:
         count = preset.specular_levels or len(bake.specular)
         count = min(count, specular_size.bit_length())
         rough = engines.mip_roughness(preset, count)
+        assert rough is not None, "an engine that takes a GGX chain states its LOD mapping"
         if count == len(bake.specular) and np.allclose(rough, np.linspace(0, 1, count)):
             chain = bake.specular  # bakeshop's own chain already has this roughness per level
         else:
@@ -451,9 +460,7 @@ def bake_compressed(
             )
         chain = [engines.cube_faces(level, preset) for level in chain]
         spec_extra = {**extra, "roughness_per_level": [float(r) for r in rough]}
-        paths, report = write_levels(
-            folder / preset.files["specular"], chain, "bc6h", cube=True, extra=spec_extra, **common
-        )
+        paths, report = write(folder / preset.files["specular"], chain, cube=True, extra=spec_extra)
         rows.append((paths[0], f"GGX chain, {count} levels for the engine's LOD mapping", report))
     if preset.sh is not None:
         sh_path = folder / preset.files["sh"]

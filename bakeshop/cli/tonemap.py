@@ -191,7 +191,6 @@ def tonemap(
     ev_fixed = parse_exposure_mode(exposure_text)
     adapted = None
     evs = []
-    shown = None
     for path, out in progress.track(
         list(zip(frames, outputs, strict=True)), "tone mapping", total=len(frames)
     ):
@@ -229,13 +228,13 @@ def tonemap(
         )
         how = "" if not isinstance(ev_fixed, str) else f" ({ev_fixed}, adapted)"
         write_image(out, shown.pixels, description=shown.metadata() + how)
+        rule = shown.describe().split(", ", 1)[1]  # the rule after the exposure, as for the others
         if note:
             warn(note, out)
         evs.append(ev)
     how = ev_fixed if isinstance(ev_fixed, str) else "fixed"
     span = f"{evs[0]:+.2f} EV" if len(evs) == 1 else f"{min(evs):+.2f} to {max(evs):+.2f} EV"
     dest = outputs[0] if len(outputs) == 1 else f"{len(outputs)} frames ({target})"
-    rule = shown.describe().split(", ", 1)[1]  # the rule after the exposure, as for the others
     click.echo(f"wrote {dest}: {operator}, {how} exposure {span}; {rule}")
 
 
