@@ -40,7 +40,7 @@ _live_lock = threading.Lock()
 _local = threading.local()
 
 
-def enable(console=None) -> None:
+def enable(console: Console | None = None) -> None:
     """Show progress on ``console`` (a :class:`rich.console.Console`, stderr by default): bars on
     a terminal, periodic log lines elsewhere."""
     global _console
@@ -64,7 +64,7 @@ def enabled() -> bool:
 
 
 @contextlib.contextmanager
-def silenced():
+def silenced() -> Iterator[None]:
     """No progress from this thread while the block runs (the chunked engine wraps each task
     in it: the job reports progress per task, not the library code inside)."""
     before = getattr(_local, "quiet", False)
@@ -249,7 +249,7 @@ def track(items: Iterable[T], description: str, total: int | None = None) -> Ite
 
 
 @contextlib.contextmanager
-def step(description: str):
+def step(description: str) -> Iterator[None]:
     """Show a spinner with elapsed time around one long step when progress is enabled (in a
     log: a line every interval while it runs, and one when it ends)."""
     if not enabled():

@@ -34,6 +34,7 @@ import os
 import re
 import threading
 import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -257,7 +258,7 @@ def _show(value) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-def plan(recipe: Recipe, *, force=()) -> list[Decision]:
+def plan(recipe: Recipe, *, force: Iterable[str] = ()) -> list[Decision]:
     """What :func:`run` would do now, and why, without running anything (a dry run)."""
     force = _check_force(recipe, force)
     records, note = _load_manifest(recipe)
@@ -332,7 +333,13 @@ def _lock(recipe: Recipe):
         os.close(fd)
 
 
-def run(recipe: Recipe, *, force=(), jobs: int = 1, on_decision=None) -> BakeResult:
+def run(
+    recipe: Recipe,
+    *,
+    force: Iterable[str] = (),
+    jobs: int = 1,
+    on_decision: Callable[..., object] | None = None,
+) -> BakeResult:
     """Bake: run every step that is not up to date (see the module notes).
 
     Parameters

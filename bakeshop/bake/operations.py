@@ -14,6 +14,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 
@@ -23,6 +24,9 @@ from bakeshop.sphere import FILE_LAYOUTS
 __all__ = ["OPERATIONS", "Operation", "Option"]
 
 _PROBE_LAYOUTS = ("auto", *FILE_LAYOUTS)
+
+#: how a recipe reports a bad value: ``fail(reason)`` raises (naming the file and the table).
+Fail = Callable[[str], NoReturn]
 
 
 @dataclass(frozen=True)
@@ -38,7 +42,7 @@ class Option:
     choices: tuple = ()
     help: str = ""
 
-    def check(self, value, what: str, fail):
+    def check(self, value: object, what: str, fail: Fail) -> object:
         """``value`` checked (``fail(reason)`` when it is out of its domain) and normalised."""
         if value is None and self.default is None:
             return None
@@ -71,7 +75,9 @@ class Option:
         return int(v) if self.kind == "int" else v
 
 
-def number(value, what: str, fail, low=-math.inf, high=math.inf) -> float:
+def number(
+    value: object, what: str, fail: Fail, low: float = -math.inf, high: float = math.inf
+) -> float:
     """``value`` as a float in [low, high], or fail naming ``what`` and the range."""
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         fail(f"{what} must be a finite number, got {value!r}")

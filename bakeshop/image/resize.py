@@ -17,10 +17,12 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
 
 import numba
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.resources import Cost, require
@@ -67,7 +69,7 @@ def area_footprint(n_in: int, n_out: int, start: int, stop: int) -> tuple[int, i
     return start * n_in // n_out, -(-stop * n_in // n_out)
 
 
-def resize_area_cost(shape, size: tuple[int, int], *, itemsize: int = 4) -> Cost:
+def resize_area_cost(shape: Sequence[int], size: tuple[int, int], *, itemsize: int = 4) -> Cost:
     """What :func:`resize_area` of an image of ``shape`` ((H, W) or (H, W, C)) to ``size``
     (width, height) holds at its peak: the output (``itemsize`` bytes per sample; float32 for
     integer images, which are converted first, a copy of the input), the sparse weights of both
@@ -84,7 +86,7 @@ def resize_area_cost(shape, size: tuple[int, int], *, itemsize: int = 4) -> Cost
     return Cost(int(memory), h * w * channels, what)
 
 
-def resize_area(image, size: tuple[int, int]) -> np.ndarray:
+def resize_area(image: ArrayLike, size: tuple[int, int]) -> np.ndarray:
     """Resize ``image`` to ``size = (width, height)`` preserving its mean (energy).
 
     Parameters
@@ -126,7 +128,13 @@ def resize_area(image, size: tuple[int, int]) -> np.ndarray:
 
 
 def resize_area_part(
-    window, full_shape, size, *, rows=None, cols=None, origin=(0, 0)
+    window: np.ndarray,
+    full_shape: tuple[int, int],
+    size: tuple[int, int],
+    *,
+    rows: tuple[int, int] | None = None,
+    cols: tuple[int, int] | None = None,
+    origin: tuple[int, int] = (0, 0),
 ) -> np.ndarray:
     """Output rows ``rows`` and columns ``cols`` of :func:`resize_area` of an image of which
     only ``window`` is given: the same values, bit for bit, as the same part of the whole.
@@ -172,7 +180,12 @@ def resize_area_part(
     return out
 
 
-def resample_separable(src, rows, cols, out) -> np.ndarray:
+def resample_separable(
+    src: np.ndarray,
+    rows: tuple[np.ndarray, np.ndarray, np.ndarray],
+    cols: tuple[np.ndarray, np.ndarray, np.ndarray],
+    out: np.ndarray,
+) -> np.ndarray:
     """``out[i, j] = sum_k sum_l Ay[i, k] Ax[j, l] src[k, l]``, accumulated in float64.
 
     ``rows = (indptr, indices, weights)`` is ``Ay`` in CSR form (``len(indptr) = out rows +

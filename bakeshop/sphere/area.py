@@ -252,7 +252,14 @@ def _build_for(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
 _matrices = ByteBoundedCache("area filter matrices", AREA_PLAN_BYTES)
 
 
-def area_remap(flat, s: Layout, src_shape, d: Layout, dst_shape, rotation: bytes | None):
+def area_remap(
+    flat: np.ndarray,
+    s: Layout,
+    src_shape: tuple[int, ...],
+    d: Layout,
+    dst_shape: tuple[int, ...],
+    rotation: bytes | None,
+) -> np.ndarray | None:
     """The area filter of the flat source ``flat`` (n, C) into ``d`` (a cube picture: gathered
     straight into it): ``dst_shape + (C,)``, or None where the filter is bilinear (magnifying
     everywhere)."""

@@ -23,8 +23,10 @@ applying a cached plan is one numba-parallel gather over the output.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop._typing import Filter
 from bakeshop.errors import ArgumentError, validate_choice
@@ -58,7 +60,9 @@ SUPERSAMPLE_BYTES = 96 * SUPERSAMPLE_PART + 32 * STRIP_TEXELS
 _NO_FRAC = np.empty((0, 2), np.float32)
 
 
-def sample(image, layout_name: str | Layout, dirs, *, filter: str = "bilinear") -> np.ndarray:
+def sample(
+    image: ArrayLike, layout_name: str | Layout, dirs: ArrayLike, *, filter: str = "bilinear"
+) -> np.ndarray:
     """Values of an environment at directions.
 
     Parameters
@@ -101,7 +105,9 @@ def sample(image, layout_name: str | Layout, dirs, *, filter: str = "bilinear") 
     return env.shaped(out.reshape(d.shape[:-1] + (img.shape[-1],)))
 
 
-def auto_filter(src: str | Layout, src_shape, dst: str | Layout, dst_shape) -> Filter:
+def auto_filter(
+    src: str | Layout, src_shape: Sequence[int], dst: str | Layout, dst_shape: Sequence[int]
+) -> Filter:
     """The filter ``"auto"`` means for a conversion: ``"area"`` (the energy-preserving
     average) when the output holds at most half as many valid texels as the input (a real
     downsampling, where a point filter aliases), else ``"bilinear"``.
@@ -116,7 +122,12 @@ def auto_filter(src: str | Layout, src_shape, dst: str | Layout, dst_shape) -> F
     return "area" if 2 * out_texels <= in_texels else "bilinear"
 
 
-def remap_shape(src: str | Layout, src_shape, dst: str | Layout, size=None) -> tuple[int, ...]:
+def remap_shape(
+    src: str | Layout,
+    src_shape: Sequence[int],
+    dst: str | Layout,
+    size: int | tuple[int, int] | None = None,
+) -> tuple[int, ...]:
     """The spatial shape :func:`remap` gives an image of spatial ``src_shape`` in layout
     ``src`` converted to ``dst`` at ``size`` (None: about as many valid texels as the
     source has; a power-of-two face edge for cubes, crosses and strips)."""
@@ -126,16 +137,16 @@ def remap_shape(src: str | Layout, src_shape, dst: str | Layout, size=None) -> t
     return d.shape(size)
 
 
-def shape_text(shape) -> str:
+def shape_text(shape: Sequence[int]) -> str:
     """``'1024x512'`` for an (H, W) layout, ``'6x256x256'`` for a cube."""
     return "x".join(map(str, shape)) if len(shape) == 3 else f"{shape[1]}x{shape[0]}"
 
 
 def remap_cost(
     src: str | Layout,
-    src_shape,
+    src_shape: Sequence[int],
     dst: str | Layout,
-    size=None,
+    size: int | tuple[int, int] | None = None,
     *,
     filter: str = "bilinear",
     channels: int = 3,
@@ -186,13 +197,13 @@ def _remap_cost(s: Layout, src_shape, d: Layout, dst_shape, filter: str, texel: 
 
 
 def remap(
-    image,
+    image: ArrayLike,
     src: str | Layout,
     dst: str | Layout,
-    size=None,
+    size: int | tuple[int, int] | None = None,
     *,
     filter: str = "bilinear",
-    rotation=None,
+    rotation: ArrayLike | None = None,
 ) -> np.ndarray:
     """Convert an environment from layout ``src`` to layout ``dst``.
 

@@ -25,11 +25,12 @@ shape and are cached (:func:`bakeshop.sphere.clear_caches` frees them).
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from typing import NamedTuple
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.sphere import _maps
@@ -57,7 +58,7 @@ class Environment(NamedTuple):
         return result[..., 0] if self.squeezed else result
 
 
-def check_environment(image, layout_name: str | Layout) -> Environment:
+def check_environment(image: ArrayLike, layout_name: str | Layout) -> Environment:
     """Check ``(image, layout)`` against the environment contract (see the module docstring).
 
     Parameters
@@ -156,7 +157,7 @@ class Texels(NamedTuple):
     environment: Environment | None
 
 
-def texels(image, layout_name: str | Layout) -> Texels:
+def texels(image: ArrayLike, layout_name: str | Layout) -> Texels:
     """An environment's texels as flat arrays, for everything that integrates over it.
 
     ``sum(values * omega[:, None])`` is the integral of radiance over the sphere (W m^-2 for
@@ -184,7 +185,9 @@ def texels(image, layout_name: str | Layout) -> Texels:
 _geometry = ByteBoundedCache("texel directions and solid angles", 0)
 
 
-def texel_geometry(layout_name: str | Layout, shape) -> tuple[np.ndarray, np.ndarray]:
+def texel_geometry(
+    layout_name: str | Layout, shape: Sequence[int]
+) -> tuple[np.ndarray, np.ndarray]:
     """Flat texel directions ``(N, 3)`` and solid angles ``(N,)`` (0 where invalid) of a
     layout's image of spatial ``shape``; float64, read-only, cached (the last one)."""
     lay = layout(layout_name)
@@ -405,7 +408,9 @@ def _index_directions(kind, h, w, index, trig, out):  # pragma: no cover - compi
 _cosines = ByteBoundedCache("texel cosines", 1 << 28)
 
 
-def texel_cosines(layout_name: str | Layout, shape, axis=(0.0, 1.0, 0.0)) -> np.ndarray:
+def texel_cosines(
+    layout_name: str | Layout, shape: Sequence[int], axis: ArrayLike = (0.0, 1.0, 0.0)
+) -> np.ndarray:
     """Cosine between each texel centre's direction and ``axis`` (normalised here).
 
     Computed from the layout's own scalar maps in one kernel, without building a direction
@@ -463,7 +468,7 @@ def _cosine_kernel(kind, faces, h, w, up, out):  # pragma: no cover - compiled
 COUNTED_TEXELS = 1 << 22
 
 
-def valid_texels(lay: str | Layout, shape: tuple[int, ...]) -> int:
+def valid_texels(lay: str | Layout, shape: Sequence[int]) -> int:
     """How many texels of a ``shape`` image in layout ``lay`` hold a direction (a disk's
     inside, a cross's six cells). Counted exactly up to :data:`COUNTED_TEXELS` texels; past
     that, the layout's valid fraction measured on a small image of it, so that a size is
