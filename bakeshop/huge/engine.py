@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Sequence
+from typing import TypeVar
 
 import numba
 import numpy as np
@@ -24,6 +25,8 @@ from bakeshop import progress
 from bakeshop.errors import ArgumentError, BakeshopError, UnsupportedError
 from bakeshop.huge.memory import resolve_memory
 from bakeshop.io.stream import ArrayReader, Reader
+
+T = TypeVar("T")
 
 #: schedulers that run in this process.
 LOCAL_SCHEDULERS = ("threads", "synchronous")
@@ -191,7 +194,7 @@ class Engine:
         out: np.ndarray,
         args: tuple,
         description: str,
-        origin=(0, 0),
+        origin: tuple[int, int] = (0, 0),
     ) -> np.ndarray:
         """Fill ``out[top:bottom, left:right]`` with ``fn(region, *args)`` for each region
         ``(top, bottom, left, right)`` (less ``origin``, where ``out`` starts); blocks are
@@ -218,7 +221,7 @@ class Engine:
         self._compute(items, description)
         return out
 
-    def reduce(self, fn: Callable, args: Sequence[tuple], description: str):
+    def reduce(self, fn: Callable[..., T], args: Sequence[tuple], description: str) -> T:
         """``sum(fn(*a) for a in args)``: partial results (arrays, or tuples of arrays) summed
         by dask in a tree (float64 partials stay float64)."""
         from dask import delayed

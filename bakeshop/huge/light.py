@@ -25,14 +25,15 @@ what the fill removes (linear, so exactly the DIM of the painted probe for ``exa
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+import os
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from bakeshop.errors import UnsupportedError, validate_choice
 from bakeshop.huge.engine import Engine
 from bakeshop.huge.memory import refuse
-from bakeshop.huge.resize import as_reader
+from bakeshop.huge.resize import Source, as_reader
 from bakeshop.image import luminance
 from bakeshop.io.stream import Reader
 from bakeshop.light import sh
@@ -211,11 +212,11 @@ def _find_sun(reader: Reader, brightest: int, rivals: list[int]):
 
 
 def dim_pair(
-    source,
+    source: Source,
     layout: str = "latlong",
     *,
     to: str = "latlong",
-    size=(360, 180),
+    size: int | tuple[int, int] = (360, 180),
     method: str = "auto",
     order: int = 2,
     window: str = "minimal",
@@ -296,7 +297,7 @@ def dim_pair(
 
 
 def sh_coefficients(
-    source, layout: str = "latlong", *, order: int = 2, engine: Engine | None = None
+    source: Source, layout: str = "latlong", *, order: int = 2, engine: Engine | None = None
 ) -> np.ndarray:
     """SH radiance coefficients of a panorama of any size: per-strip projections summed
     (equal to :func:`bakeshop.light.sh_coefficients` to rounding); ((order+1)^2, C) float64."""
@@ -316,14 +317,21 @@ def _project(rows, reader: Reader, order: int):
     return sh.project(reader.read(rows).reshape(-1, c), dirs, omega, order=order)
 
 
-def find_sun(source, layout: str = "latlong", *, engine: Engine | None = None) -> Sun | None:
+def find_sun(
+    source: Source, layout: str = "latlong", *, engine: Engine | None = None
+) -> Sun | None:
     """The sun of a panorama of any size, found and measured at full resolution (as
     :func:`bakeshop.light.find_sun`)."""
     return dim_pair(source, layout, size=(4, 2), method="sh", order=0, engine=engine).sun
 
 
 def write_shadow_probe(
-    source, target, pair: HugeDimPair, *, engine: Engine | None = None, **options
+    source: Source,
+    target: str | os.PathLike,
+    pair: HugeDimPair,
+    *,
+    engine: Engine | None = None,
+    **options: Any,
 ) -> None:
     """Write the probe with its sun painted out (``pair``'s fill) to ``target`` by strips."""
     from bakeshop.io.stream import write_strips

@@ -23,13 +23,15 @@ Sources are flat layouts (latlong, angular, mirrorball, octahedral, dual-parabol
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, UnsupportedError, validate_choice
 from bakeshop.huge.engine import Engine
 from bakeshop.huge.memory import blocks, plan_blocks, refuse
-from bakeshop.huge.resize import as_reader, resize
+from bakeshop.huge.resize import Source, as_reader, resize
 from bakeshop.io.stream import Reader
 from bakeshop.sphere import area, cube_to_view, layout, texel_strips, valid_texels
 from bakeshop.sphere.reductions import box_reduce
@@ -43,7 +45,9 @@ FILTERS = ("auto", "nearest", "bilinear", "area")
 _TEXEL_BYTES = 40
 
 
-def output_shape(src: str, src_shape, dst: str, size=None) -> tuple[int, ...]:
+def output_shape(
+    src: str, src_shape: Sequence[int], dst: str, size: int | tuple[int, int] | None = None
+) -> tuple[int, ...]:
     """The spatial shape of a remap of a ``src`` image of ``src_shape`` to ``dst`` at ``size``
     (None: about as many valid texels), as :func:`bakeshop.sphere.remap_shape` gives it."""
     d = layout(dst)
@@ -52,7 +56,7 @@ def output_shape(src: str, src_shape, dst: str, size=None) -> tuple[int, ...]:
     return d.shape(size)
 
 
-def choose_filter(src: str, src_shape, dst: str, dst_shape) -> str:
+def choose_filter(src: str, src_shape: Sequence[int], dst: str, dst_shape: Sequence[int]) -> str:
     """``"area"`` when the output has at most half the source's valid texels, else
     ``"bilinear"`` (the rule of :func:`bakeshop.sphere.auto_filter`)."""
     small = 2 * valid_texels(dst, dst_shape) <= valid_texels(src, src_shape)
@@ -213,10 +217,10 @@ def supersample_tiles(
     reader: Reader,
     src: str,
     dst: str,
-    dst_shape,
+    dst_shape: Sequence[int],
     *,
     k: int,
-    rotation,
+    rotation: ArrayLike | None,
     engine: Engine,
     what: str,
 ) -> np.ndarray:
@@ -271,10 +275,10 @@ def remap_tiles(
     reader: Reader,
     src: str,
     dst: str,
-    dst_shape,
+    dst_shape: Sequence[int],
     *,
     filter: str,
-    rotation,
+    rotation: ArrayLike | None,
     engine: Engine,
     what: str,
 ) -> np.ndarray:
@@ -314,13 +318,13 @@ def remap_tiles(
 
 
 def remap(
-    source,
+    source: Source,
     src: str,
     dst: str,
-    size=None,
+    size: int | tuple[int, int] | None = None,
     *,
     filter: str = "auto",
-    rotation=None,
+    rotation: ArrayLike | None = None,
     engine: Engine | None = None,
 ) -> np.ndarray:
     """Convert a panorama of any size between layouts within the engine's memory bound.
