@@ -42,6 +42,7 @@ import math
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
@@ -131,7 +132,13 @@ def _dfg_grid(n_dot_v, roughness, xi, schlick, out):
             out[row * width + col, 1] = b / count
 
 
-def dfg_terms(n_dot_v, roughness, *, samples: int = 4096, visibility: str = "height-correlated"):
+def dfg_terms(
+    n_dot_v: ArrayLike,
+    roughness: ArrayLike,
+    *,
+    samples: int = 4096,
+    visibility: str = "height-correlated",
+) -> np.ndarray:
     """The split-sum environment BRDF terms (A, B) at given n.v and roughness.
 
     Integrated by importance sampling GGX's distribution of normals with a Hammersley point set
@@ -187,7 +194,9 @@ def dfg_table_cost(size: int = 128, *, samples: int = 4096) -> Cost:
     )
 
 
-def dfg_table(size: int = 128, *, samples: int = 4096, visibility: str = "height-correlated"):
+def dfg_table(
+    size: int = 128, *, samples: int = 4096, visibility: str = "height-correlated"
+) -> np.ndarray:
     """The DFG lookup texture: ``(size, size, 2)`` float32, columns n.v, rows roughness.
 
     Texel (i, j) holds :func:`dfg_terms` at n.v = (i + 0.5) / size and
@@ -219,7 +228,7 @@ def dfg_table(size: int = 128, *, samples: int = 4096, visibility: str = "height
     return out.reshape(size, size, 2).astype(np.float32)
 
 
-def dfg_approximation(n_dot_v, roughness):
+def dfg_approximation(n_dot_v: ArrayLike, roughness: ArrayLike) -> np.ndarray:
     """Karis' analytic fit of UE4's DFG table (after Lazarov 2013), for comparison and mobile.
 
     ``r = roughness * c0 + c1``, ``a = min(r0^2, 2^(-9.28 n.v)) r0 + r1``,

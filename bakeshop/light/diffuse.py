@@ -46,17 +46,18 @@ from __future__ import annotations
 import functools
 import math
 import operator
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from typing import Any
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.light import sh
 from bakeshop.resources import Cost, require
-from bakeshop.sphere import STRIP_TEXELS, Environment, check_environment, texel_strips
+from bakeshop.sphere import STRIP_TEXELS, Environment, Layout, check_environment, texel_strips
 from bakeshop.sphere import layout as get_layout
 
 #: the irradiance methods, the default first.
@@ -94,11 +95,11 @@ SOURCE_BYTES = 1
 
 
 def irradiance_cost(
-    shape,
+    shape: Sequence[int],
     layout: str,
     *,
     to: str = "latlong",
-    size=(360, 180),
+    size: int | tuple[int, int] = (360, 180),
     method: str = "auto",
     extra: int = 0,
 ) -> Cost:
@@ -219,7 +220,13 @@ def _groups(dirs, energy):
     )
 
 
-def cosine_sum(normals, directions, energy, *, description: str = "irradiance") -> np.ndarray:
+def cosine_sum(
+    normals: ArrayLike,
+    directions: ArrayLike,
+    energy: ArrayLike,
+    *,
+    description: str = "irradiance",
+) -> np.ndarray:
     """Irradiance of a set of point sources: ``E_i = sum_j e_j max(0, n_i . w_j)``.
 
     The exact kernel behind every method: a discretised environment is a set of sources, one per
@@ -355,14 +362,14 @@ def _select(index, subset, rank):  # pragma: no cover - compiled
 
 
 def compress(
-    values,
-    dirs,
-    omega,
+    values: np.ndarray,
+    dirs: np.ndarray,
+    omega: np.ndarray,
     *,
     base: int = BASE_BINS,
     hot_fraction: float = HOT_FRACTION,
     total: float | None = None,
-):
+) -> tuple[np.ndarray, np.ndarray]:
     """Group an environment's texels into moment-preserving bins, finer where energy gathers.
 
     Each bin becomes one source with the bin's energy ``sum L omega`` per channel, at the
@@ -439,7 +446,7 @@ def compress(
     return np.concatenate(out_dirs), np.concatenate(out_energy)
 
 
-def dim_normals(to: str, size) -> tuple[tuple, np.ndarray, np.ndarray]:
+def dim_normals(to: str, size: int | tuple[int, int]) -> tuple[tuple, np.ndarray, np.ndarray]:
     """The output layout's ``(shape, texel normals, valid mask)`` for a DIM, checked against
     :data:`MAX_OUTPUT_TEXELS`."""
     from bakeshop.sphere import layout
@@ -455,7 +462,7 @@ def dim_normals(to: str, size) -> tuple[tuple, np.ndarray, np.ndarray]:
     return shape, dirs, valid
 
 
-def sh_coefficients(image, layout, *, order: int = 2) -> np.ndarray:
+def sh_coefficients(image: ArrayLike, layout: str | Layout, *, order: int = 2) -> np.ndarray:
     """Project an environment on real SH to ``order``, weighting texels by their solid angles.
 
     Returns
@@ -470,11 +477,11 @@ def sh_coefficients(image, layout, *, order: int = 2) -> np.ndarray:
 
 
 def irradiance(
-    image,
+    image: ArrayLike,
     layout: str,
     *,
     to: str = "latlong",
-    size=(360, 180),
+    size: int | tuple[int, int] = (360, 180),
     method: str = "auto",
     order: int = 2,
     window: str = "minimal",
@@ -567,6 +574,8 @@ def integrate(
         return functools.reduce(
             operator.add, (sh.project(v, d, w, order=order) for v, d, w in strips())
         )
+    if normals is None:
+        raise ArgumentError(f"the {method} method integrates at normals: give them")
     if method == "exact":
         return functools.reduce(
             operator.add, (cosine_sum(normals, d, v * w[:, None]) for v, d, w in strips())

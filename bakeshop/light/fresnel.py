@@ -169,7 +169,7 @@ def bake_fresnel(
     layout: str,
     *,
     ior: float = WATER_IOR,
-    up=(0.0, 1.0, 0.0),
+    up: ArrayLike = (0.0, 1.0, 0.0),
     below: str = "zero",
 ) -> np.ndarray:
     """Multiply an environment by the reflectance of a flat dielectric plane (calm water).
@@ -250,7 +250,11 @@ LDR_CLIP_FRACTION = CLIP_FRACTION
 
 
 def ldr_exposure(
-    baked: ArrayLike, layout: str, *, up=(0.0, 1.0, 0.0), clip_fraction: float = LDR_CLIP_FRACTION
+    baked: ArrayLike,
+    layout: str,
+    *,
+    up: ArrayLike = (0.0, 1.0, 0.0),
+    clip_fraction: float = LDR_CLIP_FRACTION,
 ) -> float:
     """Exposure (EV) for storing a fresnel bake in 8 bits: only the brightest spot clips.
 
@@ -286,7 +290,7 @@ def ldr_exposure(
         ) from None
 
 
-def hemisphere_directions(count: int, up=(0.0, 1.0, 0.0)) -> np.ndarray:
+def hemisphere_directions(count: int, up: ArrayLike = (0.0, 1.0, 0.0)) -> np.ndarray:
     """``count`` directions spread evenly (equal solid angle each) over the hemisphere ``up``.
 
     A Fibonacci spiral: cos(theta) = (k + 1/2) / count and phi = 2 pi k / golden ratio, which
@@ -317,7 +321,7 @@ def flat_water_error(
     *,
     ev: float,
     ior: float = WATER_IOR,
-    up=(0.0, 1.0, 0.0),
+    up: ArrayLike = (0.0, 1.0, 0.0),
     below: str = "zero",
     filter: str = "bilinear",
     dither: str = "none",
@@ -449,8 +453,8 @@ def slope_normals(count: int, rms_slope: float, *, seed: int = 0) -> np.ndarray:
 
 
 def baked_fresnel_error(
-    eye: ArrayLike, normals: ArrayLike, *, ior: float = WATER_IOR, up=(0.0, 1.0, 0.0)
-):
+    eye: ArrayLike, normals: ArrayLike, *, ior: float = WATER_IOR, up: ArrayLike = (0.0, 1.0, 0.0)
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Reflectance error of a flat-plane fresnel bake fetched with a perturbed normal.
 
     For the direction e towards the eye and a shading normal n, the shader reflects

@@ -17,9 +17,11 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.light import diffuse, sh, specular
@@ -65,7 +67,7 @@ class ProbeBake(NamedTuple):
     fill: Removal | None = None
 
 
-def default_cube_size(shape, layout: str) -> int:
+def default_cube_size(shape: Sequence[int], layout: str) -> int:
     """The environment cube's face size when none is given: the power of two nearest to as many
     texels as the probe has (a quarter of a latlong's width), at most 2048."""
     lay = layout_of(layout)
@@ -74,11 +76,11 @@ def default_cube_size(shape, layout: str) -> int:
 
 
 def bake_probe_cost(
-    shape,
+    shape: Sequence[int],
     layout: str,
     *,
     cube_size: int | None = None,
-    dim_size=(360, 180),
+    dim_size: int | tuple[int, int] = (360, 180),
     specular_size: int = 256,
     mips: int = 9,
     itemsize: int = 4,
@@ -114,11 +116,11 @@ def bake_probe_cost(
 
 
 def bake_probe(
-    image,
+    image: ArrayLike,
     layout: str,
     *,
     cube_size: int | None = None,
-    dim_size=(360, 180),
+    dim_size: int | tuple[int, int] = (360, 180),
     specular_size: int = 256,
     mips: int = 9,
     sh_order: int = 2,
@@ -255,7 +257,7 @@ def _shadow_thumbnail(thumbnail: np.ndarray, bake: ProbeBake, probe) -> np.ndarr
     return np.maximum(out, 0).astype(np.float32)
 
 
-def sheet_exposure(probe, layout: str, *, thumb_height: int = 128) -> float:
+def sheet_exposure(probe: np.ndarray, layout: str, *, thumb_height: int = 128) -> float:
     """The exposure (EV) of :func:`contact_sheet`: the probe's log-average luminance over the
     sphere (solid-angle weighted, texels that are exactly black left out) mapped to middle
     grey, metered on the sheet's latlong thumbnail."""
@@ -271,7 +273,9 @@ def sheet_exposure(probe, layout: str, *, thumb_height: int = 128) -> float:
     return auto_exposure(env, weights=weights)
 
 
-def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128, ev=None) -> np.ndarray:
+def contact_sheet(
+    bake: ProbeBake, probe: np.ndarray, *, thumb_height: int = 128, ev: float | None = None
+) -> np.ndarray:
     """A labelled overview of a bake: ``(H, W, 3)`` uint8 sRGB (draw it, or save it as PNG).
 
     Every HDR panel is shown as a latlong, at one exposure (``ev``; default

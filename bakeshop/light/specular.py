@@ -63,9 +63,11 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError
@@ -141,7 +143,7 @@ def hammersley(count: int) -> np.ndarray:
 
 
 @numba.njit(cache=True, inline="always")
-def ggx_half_vector(u, v, alpha):
+def ggx_half_vector(u: float, v: float, alpha: float) -> tuple[float, float, float]:
     """Half vector h (tangent frame, n = +z) distributed as D(h) (n.h) for GGX's ``alpha``.
 
     cos^2(theta) = (1 - v) / (1 + (alpha^2 - 1) v), phi = 2 pi u (Walter et al. 2007).
@@ -420,7 +422,7 @@ def _bright_part(source: _Source, dirs: np.ndarray, size: int, lobe: _Lobe) -> n
 # --- public API ----------------------------------------------------------------------------------
 
 
-def source_cube(image, layout: str, *, size: int = 256) -> np.ndarray:
+def source_cube(image: ArrayLike, layout: str, *, size: int = 256) -> np.ndarray:
     """The environment as a ``(6, size, size, C)`` float32 cube: level 0 of every chain.
 
     A cube of the requested size is returned unchanged (as float32); anything else is remapped
@@ -439,7 +441,13 @@ def source_cube(image, layout: str, *, size: int = 256) -> np.ndarray:
 
 
 def prefilter_cost(
-    shape, layout: str, *, size: int = 256, mips: int = 9, samples: int = 256, itemsize: int = 4
+    shape: Sequence[int],
+    layout: str,
+    *,
+    size: int = 256,
+    mips: int = 9,
+    samples: int = 256,
+    itemsize: int = 4,
 ) -> Cost:
     """What :func:`prefilter_ggx` or :func:`prefilter_phong` of an environment of ``shape``
     (with its channel axis) in ``layout`` holds at its peak, and the work it does.
@@ -485,7 +493,7 @@ def mip_roughness(mips: int) -> np.ndarray:
     return np.linspace(0.0, 1.0, mips) if mips > 1 else np.zeros(1)
 
 
-def phong_exponents(mips: int, *, gloss_scale: float = 10.0, gloss_bias: float = 1.0):
+def phong_exponents(mips: int, *, gloss_scale: float = 10.0, gloss_bias: float = 1.0) -> np.ndarray:
     """Cmft's Phong exponent of each level: ``2^(gloss_scale g + gloss_bias)``,
     ``g = 1 - m / (mips - 1)`` (2048 down to 2 with the defaults)."""
     g = 1 - mip_roughness(mips)
@@ -493,12 +501,12 @@ def phong_exponents(mips: int, *, gloss_scale: float = 10.0, gloss_bias: float =
 
 
 def prefilter_ggx(
-    image,
+    image: ArrayLike,
     layout: str,
     *,
     size: int = 256,
     mips: int = 9,
-    roughness=None,
+    roughness: ArrayLike | None = None,
     samples: int = 256,
 ) -> list[np.ndarray]:
     """The GGX prefiltered cube map mip chain (split-sum approximation, n = v = r).
@@ -546,12 +554,12 @@ def prefilter_ggx(
 
 
 def prefilter_phong(
-    image,
+    image: ArrayLike,
     layout: str,
     *,
     size: int = 256,
     mips: int = 9,
-    exponents=None,
+    exponents: ArrayLike | None = None,
     samples: int = 256,
 ) -> list[np.ndarray]:
     """The Phong prefiltered cube map mip chain (HDRShop's specular convolution, cmft's filter).

@@ -24,10 +24,12 @@ Measurements (all from the excess, per channel where a colour is meant):
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.image import LUMINANCE_WEIGHTS
@@ -43,6 +45,9 @@ from bakeshop.sphere import (
     texels_at,
 )
 from bakeshop.sphere import layout as get_layout
+
+#: bilinear samples of an environment's colour channels at directions: (..., 3) -> (..., colour).
+Sampler = Callable[[np.ndarray], np.ndarray]
 
 #: the sun's peak must exceed the sky around it (median of a ring) by this factor.
 CONTRAST = 20.0
@@ -438,7 +443,7 @@ class Removal:
         flat[self.index, : self.filled.shape[1]] = self.filled
 
 
-def split_texels(t: Texels, *, sampler=None) -> Removal | None:
+def split_texels(t: Texels, *, sampler: Sampler | None = None) -> Removal | None:
     """Find the sun among an environment's texels (:func:`bakeshop.sphere.texels`) and compute
     its fill: the texel-level form of :func:`remove_sun`, for callers that already hold the
     texels. Only the colour channels (the first three, or the one) are looked at and filled;
@@ -457,7 +462,7 @@ def split_texels(t: Texels, *, sampler=None) -> Removal | None:
     return _split(_Arrays(t.values[:, :colour], t.dirs, t.omega), sampler)
 
 
-def split_sun(image: np.ndarray, layout: str | Layout) -> Removal | None:
+def split_sun(image: ArrayLike, layout: str | Layout) -> Removal | None:
     """Find the sun of a probe and compute its fill (:func:`split_texels`) from the image
     itself: its texels' directions are computed strip by strip where they are looked at, so
     a 16k probe costs no per-texel geometry (the whole layout's would be 32 bytes a texel).
@@ -542,7 +547,7 @@ def _split(texels, sampler) -> Removal | None:
     return Removal(sun, index, filled.astype(values.dtype))
 
 
-def find_sun_cost(shape, layout: str) -> Cost:
+def find_sun_cost(shape: Sequence[int], layout: str) -> Cost:
     """What :func:`find_sun` (or :func:`remove_sun`) of a probe of ``shape`` in ``layout``
     holds at its peak: :data:`SEARCH_BYTES` per texel of the strips and caps it reads at once
     (four :data:`bakeshop.sphere.STRIP_TEXELS` at most: its texels' directions, solid angles
@@ -554,7 +559,7 @@ def find_sun_cost(shape, layout: str) -> Cost:
     return Cost(memory, n, f"the sun's search in a {lay.name} probe of {n} texels")
 
 
-def find_sun(image, layout: str) -> Sun | None:
+def find_sun(image: ArrayLike, layout: str) -> Sun | None:
     """Find and measure the sun of a light probe.
 
     Parameters
@@ -575,7 +580,7 @@ def find_sun(image, layout: str) -> Sun | None:
     return None if found is None else found.sun
 
 
-def remove_sun(image, layout: str):
+def remove_sun(image: ArrayLike, layout: str) -> tuple[np.ndarray, Sun | None]:
     """The probe with its sun painted out, and the sun.
 
     Parameters
