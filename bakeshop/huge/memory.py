@@ -41,7 +41,7 @@ _MEMORY = re.compile(r"\s*([0-9]*\.?[0-9]+(?:e[+-]?[0-9]+)?)\s*([a-z]*)\s*", re.
 class MemoryBoundError(BakeshopError, ValueError):
     """A job cannot run within its memory bound; ``needed`` says how much it needs."""
 
-    def __init__(self, reason: str, needed: int, path=None):
+    def __init__(self, reason: str, needed: int, path: str | os.PathLike | None = None) -> None:
         super().__init__(reason, path)
         self.needed = needed
 

@@ -198,7 +198,7 @@ def resample_separable(
 
 
 @numba.njit(parallel=True, cache=True)
-def _box(src, fy, fx, out):
+def _box(src: np.ndarray, fy: int, fx: int, out: np.ndarray) -> None:
     scale = 1.0 / (fy * fx)
     for i in numba.prange(out.shape[0]):
         for j in range(out.shape[1]):
@@ -211,7 +211,16 @@ def _box(src, fy, fx, out):
 
 
 @numba.njit(parallel=True, cache=True)
-def _separable(src, ry, ky, wy, rx, kx, wx, out):  # pragma: no cover - compiled
+def _separable(
+    src: np.ndarray,
+    ry: np.ndarray,
+    ky: np.ndarray,
+    wy: np.ndarray,
+    rx: np.ndarray,
+    kx: np.ndarray,
+    wx: np.ndarray,
+    out: np.ndarray,
+) -> None:  # pragma: no cover - compiled
     width, channels = src.shape[1], src.shape[2]
     for i in numba.prange(out.shape[0]):
         row = np.zeros((width, channels))

@@ -79,7 +79,7 @@ DIRECTX_FACES = (
 CONVENTIONS = ("opengl", "vulkan", "directx")
 
 
-def _transform(face, flip_x: bool, flip_y: bool, rot180: bool = False):
+def _transform(face: np.ndarray, flip_x: bool, flip_y: bool, rot180: bool = False) -> np.ndarray:
     fx, fy = flip_x ^ rot180, flip_y ^ rot180
     if fx:
         face = face[:, ::-1]

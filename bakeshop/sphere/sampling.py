@@ -172,7 +172,14 @@ def remap_cost(
     return _remap_cost(s, src_shape, d, dst_shape, filter, channels * itemsize)
 
 
-def _remap_cost(s: Layout, src_shape, d: Layout, dst_shape, filter: str, texel: int) -> Cost:
+def _remap_cost(
+    s: Layout,
+    src_shape: Sequence[int],
+    d: Layout,
+    dst_shape: Sequence[int],
+    filter: str,
+    texel: int,
+) -> Cost:
     """:func:`remap_cost` of resolved shapes and filter (``texel``: bytes per texel)."""
     base_src = s.base_shape(src_shape)
     n_src, n_out = math.prod(base_src), math.prod(dst_shape)
