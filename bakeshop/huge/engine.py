@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Sequence
-from typing import TypeVar
+from typing import Any, TypeVar
 
 import numba
 import numpy as np
@@ -42,7 +42,7 @@ class InTask:
         self.fn = fn
         self.threads = threads
 
-    def __call__(self, *args, **kwargs):
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
         """``fn(*args, **kwargs)`` with numba limited to this worker's share of the threads and
         progress silenced."""
         before = numba.get_num_threads()
@@ -72,9 +72,10 @@ class Engine:
         None for the default (:func:`bakeshop.huge.memory.resolve_memory`).
     """
 
-    def __init__(self, scheduler=None, memory=None):
+    def __init__(self, scheduler: object = None, memory: int | str | None = None) -> None:
         self.memory = resolve_memory(memory)
-        self.client = None
+        #: the dask.distributed Client, or None on this machine's scheduler.
+        self.client: Any | None = None
         self._own_client = False
         if scheduler is None:
             scheduler = os.environ.get("BAKESHOP_SCHEDULER") or "threads"
@@ -99,10 +100,10 @@ class Engine:
             self.client.close()
         self.client = None
 
-    def __enter__(self):
+    def __enter__(self) -> Engine:
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     @property
@@ -147,7 +148,7 @@ class Engine:
         cores = numba.config.NUMBA_NUM_THREADS
         return InTask(fn, max(1, cores // self.workers) if not self.distributed else 1)
 
-    def _compute(self, graph_items, description: str):
+    def _compute(self, graph_items: Sequence[object], description: str) -> tuple[Any, ...]:
         """Compute dask collections locally with a progress task; returns their results."""
         import dask
         from dask.callbacks import Callback
@@ -155,10 +156,12 @@ class Engine:
         with progress.task(description) as t:
 
             class Hook(Callback):
-                def _start_state(self, dsk, state):
+                def _start_state(self, dsk: object, state: dict) -> None:
                     t.set_total(sum(len(state[k]) for k in ("ready", "waiting", "running")))
 
-                def _posttask(self, key, result, dsk, state, worker_id):
+                def _posttask(
+                    self, key: object, result: object, dsk: object, state: object, worker_id: object
+                ) -> None:
                     t.advance()
 
             with Hook():
@@ -253,13 +256,18 @@ class Engine:
         return self._compute(items, description)[0]
 
 
-def _fill(out, region, block, origin=(0, 0)):
+def _fill(
+    out: np.ndarray,
+    region: tuple[int, int, int, int],
+    block: np.ndarray,
+    origin: tuple[int, int] = (0, 0),
+) -> None:
     top, bottom, left, right = region
     oy, ox = origin
     out[top - oy : bottom - oy, left - ox : right - ox] = block
 
 
-def _add(a, b):
+def _add(a: Any, b: Any) -> Any:
     if isinstance(a, tuple):
         return tuple(_add(x, y) for x, y in zip(a, b, strict=True))
     if a is None:
@@ -269,7 +277,7 @@ def _add(a, b):
     return a + b
 
 
-def _connect(address: str):
+def _connect(address: str) -> Any:
     try:
         from distributed import Client
     except ImportError:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 import numpy as np
@@ -45,7 +45,7 @@ def write_bands(
     per_task = max(1, (engine.memory - 2 * rows * w * c * 4) // engine.workers)
     bands = list(range(0, h, rows))
 
-    def strips():
+    def strips() -> Iterator[np.ndarray]:
         with progress.task(what, len(bands)) as t:
             for top in bands:
                 bottom = min(top + rows, h)

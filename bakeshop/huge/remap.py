@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -66,16 +67,16 @@ def choose_filter(src: str, src_shape: Sequence[int], dst: str, dst_shape: Seque
 def _part(
     reader: Reader,
     src: str,
-    src_shape,
+    src_shape: Sequence[int],
     dst: str,
-    dst_shape,
-    face,
-    rows,
-    cols,
-    filter,
-    rotation,
-    per_task,
-):
+    dst_shape: Sequence[int],
+    face: int,
+    rows: tuple[int, int],
+    cols: tuple[int, int],
+    filter: str,
+    rotation: ArrayLike | None,
+    per_task: int,
+) -> np.ndarray:
     """The texels ``rows x cols`` of ``face`` of the output, from their window of the source."""
     c = reader.shape[2]
     taps, frac = remap_part_taps(
@@ -121,7 +122,18 @@ def _part(
     return gather_taps(window.reshape(-1, c), local, frac).reshape(shape)
 
 
-def _block(region, reader, src, src_shape, dst, dst_shape, side, filter, rotation, per_task):
+def _block(
+    region: tuple[int, int, int, int],
+    reader: Reader,
+    src: str,
+    src_shape: Sequence[int],
+    dst: str,
+    dst_shape: Sequence[int],
+    side: int,
+    filter: str,
+    rotation: ArrayLike | None,
+    per_task: int,
+) -> np.ndarray:
     """A block of the output stacked face over face: ``region`` rows of face ``top // side``."""
     top, bottom, left, right = region
     face = top // side
@@ -141,20 +153,32 @@ def _block(region, reader, src, src_shape, dst, dst_shape, side, filter, rotatio
     )
 
 
-def _peaks(rows, reader: Reader, src: str):
+def _peaks(rows: tuple[int, int], reader: Reader, src: str) -> tuple[Any, ...]:
     """A strip's part of the bright texels' pass (:func:`bakeshop.sphere.area.peak_candidates`)."""
     values, omega = _strip_texels(rows, reader, src)
     return area.peak_candidates(values, omega, rows[0] * reader.shape[1])
 
 
-def _strip_texels(rows, reader: Reader, src: str):
+def _strip_texels(rows: tuple[int, int], reader: Reader, src: str) -> tuple[np.ndarray, np.ndarray]:
     h, w, c = reader.shape
     _, _, _, omega = next(texel_strips(src, (h, w), rows=rows, texels=1 << 62, directions=False))
     return reader.read(rows).reshape(-1, c), omega
 
 
-def _supersampled_part(reader: Reader, src: str, src_shape, dst: str, dst_shape, face, rows,
-                       cols, k: int, rotation, clamp: float, per_task: int):  # fmt: skip
+def _supersampled_part(
+    reader: Reader,
+    src: str,
+    src_shape: Sequence[int],
+    dst: str,
+    dst_shape: tuple[int, ...],
+    face: int,
+    rows: tuple[int, int],
+    cols: tuple[int, int],
+    k: int,
+    rotation: ArrayLike | None,
+    clamp: float,
+    per_task: int,
+) -> np.ndarray:
     """The texels ``rows x cols`` of ``face`` of the supersampled area filter
     (:func:`bakeshop.sphere.area.supersample`) from their window of the source, clamped:
     the same samples and weights as in memory, each sample's coordinates computed exactly."""
@@ -204,8 +228,19 @@ def _supersampled_part(reader: Reader, src: str, src_shape, dst: str, dst_shape,
     return out
 
 
-def _supersampled_block(region, reader, src, src_shape, dst, dst_shape, side, k, rotation, clamp,
-                        per_task):  # fmt: skip
+def _supersampled_block(
+    region: tuple[int, int, int, int],
+    reader: Reader,
+    src: str,
+    src_shape: Sequence[int],
+    dst: str,
+    dst_shape: tuple[int, ...],
+    side: int,
+    k: int,
+    rotation: ArrayLike | None,
+    clamp: float,
+    per_task: int,
+) -> np.ndarray:
     top, bottom, left, right = region
     face = top // side
     rows = (top - face * side, bottom - face * side)

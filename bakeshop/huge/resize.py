@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable, Sequence
 from typing import Any, TypeAlias
 
 import numpy as np
@@ -46,7 +47,9 @@ def as_reader(source: Source) -> Reader:
     return ArrayReader(source)
 
 
-def _block(region, reader: Reader, size, weighting: str):
+def _block(
+    region: tuple[int, int, int, int], reader: Reader, size: tuple[int, int], weighting: str
+) -> np.ndarray:
     """One output block (``region`` = top, bottom, left, right) of a resize of ``reader``."""
     top, bottom, left, right = region
     h, w, _ = reader.shape
@@ -68,7 +71,7 @@ def _block(region, reader: Reader, size, weighting: str):
     )
 
 
-def _block_bytes(reader: Reader, size):
+def _block_bytes(reader: Reader, size: tuple[int, int]) -> Callable[[int, int], int]:
     """Bytes a task of (rows, columns) output texels holds: the window (read buffer and the
     array), a float64 row of scratch, and the output block."""
     h, w, c = reader.shape
@@ -104,7 +107,7 @@ def plan(
     return blocks((height, width), block)
 
 
-def _check_size(size) -> tuple[int, int]:
+def _check_size(size: Sequence[int]) -> tuple[int, int]:
     width, height = (int(n) for n in size)
     if width < 1 or height < 1:
         raise ArgumentError(f"invalid output size {width}x{height}")
