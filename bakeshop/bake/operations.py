@@ -27,6 +27,8 @@ _PROBE_LAYOUTS = ("auto", *FILE_LAYOUTS)
 
 #: how a recipe reports a bad value: ``fail(reason)`` raises (naming the file and the table).
 Fail = Callable[[str], NoReturn]
+#: how a recipe resolves a path option: ``resolve(value, what)`` (relative to the recipe).
+Resolve = Callable[[object, str], Path]
 
 
 @dataclass(frozen=True)
@@ -103,7 +105,7 @@ class Operation:
     inputs: Callable[[dict], list] = field(default=None)  # type: ignore[assignment]
     check: Callable[..., dict] = field(default=lambda options, resolve, fail: {})
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.inputs is None:
             keys = [k for k, v in self.paths.items() if v.startswith("input")]
             object.__setattr__(self, "inputs", lambda o: [o[k] for k in keys if o[k] is not None])
@@ -210,7 +212,7 @@ PROBE = Operation(
 _REMAP_TARGETS = tuple(n for n in _PROBE_LAYOUTS if n != "auto") + ("faces",)
 
 
-def _remap_check(o: dict, resolve, fail) -> dict:
+def _remap_check(o: dict, resolve: Resolve, fail: Fail) -> dict:
     from bakeshop.io.containers import is_container
 
     target, to = o["output"], o["to"]
@@ -279,7 +281,7 @@ REMAP = Operation(
 # --- compress ------------------------------------------------------------------------------------
 
 
-def _compress_check(o: dict, resolve, fail) -> dict:
+def _compress_check(o: dict, resolve: Resolve, fail: Fail) -> dict:
     from bakeshop.io.compress import QUALITIES
 
     base = o["format"].removesuffix("-srgb")
@@ -377,7 +379,7 @@ _LAYER = {
 }
 
 
-def _normals_check(o: dict, resolve, fail) -> dict:
+def _normals_check(o: dict, resolve: Resolve, fail: Fail) -> dict:
     if not o["layers"]:
         fail('normals needs layers = [{ detail = "FILE", ... }, ...]')
     layers = []
@@ -473,7 +475,7 @@ NORMALS = Operation(
 # --- water ---------------------------------------------------------------------------------------
 
 
-def _water_check(o: dict, resolve, fail) -> dict:
+def _water_check(o: dict, resolve: Resolve, fail: Fail) -> dict:
     if o["resolution"] & (o["resolution"] - 1):
         fail(f"resolution must be a power of two, got {o['resolution']}")
     return {}
