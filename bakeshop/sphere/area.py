@@ -64,7 +64,14 @@ class _Splat(NamedTuple):
     acc: np.ndarray  # float64 (chunks, m, 2): sums of weights and weighted widths
 
 
-def _splat(s: Layout, src_shape, d: Layout, dst_shape, rot, omega) -> _Splat:
+def _splat(
+    s: Layout,
+    src_shape: tuple[int, ...],
+    d: Layout,
+    dst_shape: tuple[int, ...],
+    rot: np.ndarray,
+    omega: np.ndarray,
+) -> _Splat:
     """Stage 1: the deposits of the source texels that land on a 3x3 block of one image."""
     sh, sw, sfaces = s.grid(src_shape)
     dh, dw, faces = d.grid(dst_shape)
@@ -82,7 +89,16 @@ def _splat(s: Layout, src_shape, d: Layout, dst_shape, rot, omega) -> _Splat:
     return splat
 
 
-def _merge(s: Layout, src_shape, d: Layout, dst_shape, rot, omega, where, parts):
+def _merge(
+    s: Layout,
+    src_shape: tuple[int, ...],
+    d: Layout,
+    dst_shape: tuple[int, ...],
+    rot: np.ndarray,
+    omega: np.ndarray,
+    where: np.ndarray,
+    parts: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Stage 2: the merged deposits of the source texels ``where`` (cut into parts, or
     crossing a seam): ``(offsets, taps, weights)``, texel k's entries at offsets[k] onwards.
 
@@ -122,7 +138,8 @@ def _merge(s: Layout, src_shape, d: Layout, dst_shape, rot, omega, where, parts)
         kept.size = int(kept_ends[-1])
         start = stop
     np.cumsum(offsets, out=offsets)
-    return offsets, *kept.filled()
+    taps, weights = kept.filled()
+    return offsets, taps, weights
 
 
 class _Growing:
@@ -146,7 +163,13 @@ class _Growing:
 
 
 def _rows(
-    splat: _Splat, merged, alpha, inverse, bilinear, src_width: int, dst_width: int
+    splat: _Splat,
+    merged: tuple[np.ndarray, np.ndarray, np.ndarray],
+    alpha: np.ndarray,
+    inverse: np.ndarray,
+    bilinear: tuple[np.ndarray, np.ndarray, np.ndarray],
+    src_width: int,
+    dst_width: int,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Stage 3: the deposits transposed into CSR rows, one per output texel, with the bilinear
     taps (weighted 1 - alpha) where the deposits cover too little:
@@ -168,7 +191,14 @@ def _rows(
     return indptr, rows[0], rows[1]
 
 
-def _balance(indptr, indices, values, omega_out, omega_in, sums) -> float:
+def _balance(
+    indptr: np.ndarray,
+    indices: np.ndarray,
+    values: np.ndarray,
+    omega_out: np.ndarray,
+    omega_in: np.ndarray,
+    sums: np.ndarray,
+) -> float:
     """Stage 4: scale the rows and columns of the sparse matrix M (CSR, nonnegative float32
     ``values``, in place) towards every nonempty row summing to 1 (a constant stays constant)
     and every column p carrying its source texel's solid angle,
@@ -192,7 +222,13 @@ def _balance(indptr, indices, values, omega_out, omega_in, sums) -> float:
     return err
 
 
-def _build(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
+def _build(
+    src: str,
+    src_shape: tuple[int, ...],
+    dst: str,
+    dst_shape: tuple[int, ...],
+    rotation: bytes | None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The area filter's matrix from layout ``src`` to ``dst`` (not a cube picture): read-only
     CSR arrays (int64 row starts, int32 source texels, float32 weights; about 5 entries per
     output texel where the output is as fine as the source, ~48 bytes). Empty arrays when the
@@ -225,7 +261,13 @@ def _build(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
     return plan
 
 
-def _build_for(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
+def _build_for(
+    src: str,
+    src_shape: tuple[int, ...],
+    dst: str,
+    dst_shape: tuple[int, ...],
+    rotation: bytes | None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`_build` into layout ``dst``; for a cube picture, the cube's matrix with its rows
     reordered into the picture's (the unused squares' rows are empty)."""
     d = layout(dst)
@@ -529,7 +571,7 @@ def bright_deposits(
     return q, values
 
 
-def _texel_of(d: Layout, shape, dirs) -> np.ndarray:
+def _texel_of(d: Layout, shape: tuple[int, ...], dirs: np.ndarray) -> np.ndarray:
     """Flat index of the texel of base layout ``d`` holding each direction."""
     dh, dw, _ = d.grid(shape)
     coords = d.coordinates(dirs, shape)
@@ -550,7 +592,9 @@ def sample_taps_of(
     return taps, frac
 
 
-def _bright_texels(flat, s: Layout, src_shape) -> tuple[float, np.ndarray]:
+def _bright_texels(
+    flat: np.ndarray, s: Layout, src_shape: tuple[int, ...]
+) -> tuple[float, np.ndarray]:
     """The clamp of :func:`supersample` and the flat indices of the texels whose brightest
     channel exceeds it (ascending; at most :data:`MAX_BRIGHT`): one pass over strips."""
     parts = [

@@ -297,7 +297,9 @@ def remap(
     plans = _plans.plans
     plan = plans.get(view_key)
     if plan is None and d.base is not d and key_of in plans.entries:
-        plan = plans.put(view_key, _plans.view_plan(plans.get(key_of), d.name, base_shape))
+        cube_plan = plans.get(key_of)
+        if cube_plan is not None:
+            plan = plans.put(view_key, _plans.view_plan(cube_plan, d.name, base_shape))
     if plan is not None:
         out = _plans.apply(flat, plan, s.base.grid(src_shape)[1])
         return env.shaped(out.reshape(dst_shape + (channels,)))

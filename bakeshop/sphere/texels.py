@@ -193,7 +193,7 @@ def texel_geometry(
     lay = layout(layout_name)
     shape = lay.check_shape(shape)
 
-    def build():
+    def build() -> tuple[np.ndarray, np.ndarray]:
         dirs, valid = lay.directions(shape)
         omega = np.where(valid, lay.solid_angles(shape), 0.0).reshape(-1)
         dirs = dirs.reshape(-1, 3)
@@ -363,13 +363,13 @@ def cube_face_solid_angles(s: int) -> np.ndarray:
     return _cube_face_solid_angles(s) if s <= 1024 else _cube_rows_solid_angles(s, 0, s)
 
 
-def _cube_texel_solid_angles(s: int, j, i) -> np.ndarray:
+def _cube_texel_solid_angles(s: int, j: np.ndarray, i: np.ndarray) -> np.ndarray:
     """Solid angles of texels (row j, column i) of a cube face of s texels, broadcast: the
     corner differences of ``layouts.cubemap._cube_face_solid_angles`` (the same numbers), per
     texel."""
     e = 2 * np.arange(s + 1) / s - 1
 
-    def corner(y, x):
+    def corner(y: np.ndarray, x: np.ndarray) -> np.ndarray:
         return np.arctan2(x * y, np.sqrt(x * x + y * y + 1))
 
     j, i = np.asarray(j), np.asarray(i)
