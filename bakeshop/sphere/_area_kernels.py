@@ -42,7 +42,12 @@ _jit = numba.njit(cache=True, error_model="numpy")
 
 
 @_jit
-def _box_weights(c, half, lo, out):
+def _box_weights(
+    c: float,
+    half: float,
+    lo: int,
+    out: np.ndarray,
+) -> None:
     """Overlaps of [c - half, c + half] with texels lo..lo+2 (texel q spans [q, q + 1]) as
     fractions of its length; for a point (half ~ 0), 1 for the texel containing it."""
     for k in range(3):
@@ -54,7 +59,17 @@ def _box_weights(c, half, lo, out):
 
 
 @_jit
-def _local(kind, h, w, x, y, z, cf, cx, cy):
+def _local(
+    kind: int,
+    h: int,
+    w: int,
+    x: float,
+    y: float,
+    z: float,
+    cf: float,
+    cx: float,
+    cy: float,
+) -> tuple[float, float]:
     """Coordinates of (x, y, z) continued across the seams around the centre (cf, cx, cy), for
     differences: a cube's face plane extended, a latlong's longitude unwrapped, an octahedral
     map unfolded over its edges, a paraboloid continued into the other hemisphere and an
@@ -112,7 +127,10 @@ def _local(kind, h, w, x, y, z, cf, cx, cy):
 
 
 @_jit
-def _half_texel_trig(h, w):
+def _half_texel_trig(
+    h: int,
+    w: int,
+) -> np.ndarray:
     """Sin and cos of a latlong's longitude at every half texel (row 0, 1) and of its
     colatitude (rows 2, 3): ``direction`` at (k/2, l/2) without trigonometry."""
     trig = np.empty((4, 2 * max(h, w) + 1))
@@ -126,7 +144,15 @@ def _half_texel_trig(h, w):
 
 
 @_jit
-def _source_direction(kind, h, w, f, u2, v2, trig):
+def _source_direction(
+    kind: int,
+    h: int,
+    w: int,
+    f: float,
+    u2: int,
+    v2: int,
+    trig: np.ndarray,
+) -> tuple[float, float, float]:
     """``direction`` at the half-texel position (u2 / 2, v2 / 2)."""
     if kind == LATLONG:
         return trig[2, v2] * trig[0, u2], trig[3, v2], -trig[2, v2] * trig[1, u2]
@@ -134,14 +160,32 @@ def _source_direction(kind, h, w, f, u2, v2, trig):
 
 
 @_jit
-def _image(skind, sh, sw, f, u2, v2, trig, rot, dkind, dh, dw, cf, cx, cy):
+def _image(
+    skind: int,
+    sh: int,
+    sw: int,
+    f: float,
+    u2: int,
+    v2: int,
+    trig: np.ndarray,
+    rot: np.ndarray,
+    dkind: int,
+    dh: int,
+    dw: int,
+    cf: float,
+    cx: float,
+    cy: float,
+) -> tuple[float, float]:
     x, y, z = _source_direction(skind, sh, sw, f, u2, v2, trig)
     x, y, z = rotate(rot.T, x, y, z)
     return _local(dkind, dh, dw, x, y, z, cf, cx, cy)
 
 
 @_jit
-def _band_centroid(t0, t1):
+def _band_centroid(
+    t0: float,
+    t1: float,
+) -> tuple[float, float]:
     """The colatitude of the centroid of the band t0 <= theta <= t1 (weighted by sin theta:
     [sin t - t cos t] / [-cos t] over the band) and the band's cos t0 - cos t1; a texel at a
     pole holds its energy 2/3 of the way out, not halfway."""
@@ -153,7 +197,19 @@ def _band_centroid(t0, t1):
 
 
 @_jit
-def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
+def _footprint(
+    skind: int,
+    sh: int,
+    sw: int,
+    f: float,
+    i: int,
+    j: int,
+    trig: np.ndarray,
+    rot: np.ndarray,
+    dkind: int,
+    dh: int,
+    dw: int,
+) -> tuple[float, float, float, float, float, float, int, int]:
     """Source texel (f, i, j) in destination coordinates: (face, centre x, centre y, half
     widths of the box bounding its locally affine image (at most 1/2), its narrower width)."""
     x, y, z = _source_direction(skind, sh, sw, f, 2 * i + 1, 2 * j + 1, trig)
@@ -184,7 +240,9 @@ def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
 
 
 @_jit
-def _parts(extent):
+def _parts(
+    extent: float,
+) -> int:
     """Into how many parts a source texel ``extent`` destination texels long is cut so that
     each is at most 1 / AREA_SPLAT_RATIO long (1 for NaN; at most AREA_MAX_PARTS)."""
     if not extent * AREA_SPLAT_RATIO > 1:
@@ -193,7 +251,20 @@ def _parts(extent):
 
 
 @_jit
-def _part_footprint(skind, sh, sw, f, u, v, du, dv, rot, dkind, dh, dw):
+def _part_footprint(
+    skind: int,
+    sh: int,
+    sw: int,
+    f: float,
+    u: float,
+    v: float,
+    du: float,
+    dv: float,
+    rot: np.ndarray,
+    dkind: int,
+    dh: int,
+    dw: int,
+) -> tuple[float, float, float, float, float, float]:
     """The part of a source texel centred at (f, u, v), du x dv source texels large, in
     destination coordinates: (face, centre x, centre y, half widths of its bounding box (at
     most 1/2), its solid angle (the tangent parallelogram's area))."""
@@ -204,7 +275,12 @@ def _part_footprint(skind, sh, sw, f, u, v, du, dv, rot, dkind, dh, dw):
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
-def _latlong_unit(sp, cp, st, ct):
+def _latlong_unit(
+    sp: float,
+    cp: float,
+    st: float,
+    ct: float,
+) -> tuple[float, float, float]:
     """``direction`` of a latlong from the sines and cosines of longitude and colatitude."""
     x, y, z = st * sp, ct, -st * cp
     norm = math.sqrt(x * x + y * y + z * z)
@@ -212,7 +288,21 @@ def _latlong_unit(sp, cp, st, ct):
 
 
 @_jit
-def _part_of(x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw):
+def _part_of(
+    x: float,
+    y: float,
+    z: float,
+    ax: float,
+    ay: float,
+    az: float,
+    bx: float,
+    by: float,
+    bz: float,
+    rot: np.ndarray,
+    dkind: int,
+    dh: int,
+    dw: int,
+) -> tuple[float, float, float, float, float, float]:
     """:func:`_part_footprint` from the source directions at the part's centre (x, y, z) and
     at the midpoints of its right (a) and lower (b) edges."""
     x, y, z = rotate(rot.T, x, y, z)
@@ -234,7 +324,16 @@ def _part_of(x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw):
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
-def _deposit(acc, t, b, row, wq, p, om, values):
+def _deposit(
+    acc: np.ndarray,
+    t: int,
+    b: int,
+    row: int,
+    wq: np.ndarray,
+    p: int,
+    om: float,
+    values: np.ndarray,
+) -> None:
     """acc[t, q] += w values for the 3 x 3 destination texels from flat index b (rows ``row``
     apart), weights w = om x (x weight) x (y weight) from the splat plan's ``wq[p]``."""
     wx0, wx1, wy0, wy1 = float(wq[p, 0]), float(wq[p, 1]), float(wq[p, 2]), float(wq[p, 3])
@@ -253,8 +352,23 @@ def _deposit(acc, t, b, row, wq, p, om, values):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, scale, width, parts,
-               acc):  # fmt: skip
+def splat_plan(
+    skind: int,
+    sh: int,
+    sw: int,
+    sfaces: int,
+    omega: np.ndarray,
+    dkind: int,
+    dh: int,
+    dw: int,
+    rot: np.ndarray,
+    anchor: np.ndarray,
+    wq: np.ndarray,
+    scale: np.ndarray,
+    width: np.ndarray,
+    parts: np.ndarray,
+    acc: np.ndarray,
+) -> None:
     """The area filter's geometry, per source texel ``p`` (transposed by :func:`splat_rows`).
 
     A source texel's footprint in destination coordinates is the box bounding its (locally
@@ -312,8 +426,22 @@ def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, sca
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, offsets, taps,
-                     weights, counts):  # fmt: skip
+def splat_exceptions(
+    skind: int,
+    sh: int,
+    sw: int,
+    omega: np.ndarray,
+    dkind: int,
+    dh: int,
+    dw: int,
+    rot: np.ndarray,
+    where: np.ndarray,
+    parts: np.ndarray,
+    offsets: np.ndarray,
+    taps: np.ndarray,
+    weights: np.ndarray,
+    counts: np.ndarray,
+) -> None:
     """The explicit taps and weights (summing to omega) of the splat plan's EXCEPTION texels
     ``where``: texel k's entries are ``offsets[k]:offsets[k] + counts[k]`` (room for 4 per
     part). A texel whose 3 x 3 destination texels cross a seam deposits into them (-1: a cube
@@ -382,7 +510,13 @@ def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, off
 
 
 @_jit
-def _merge_taps(taps, weights, o, e, om):
+def _merge_taps(
+    taps: np.ndarray,
+    weights: np.ndarray,
+    o: int,
+    e: int,
+    om: float,
+) -> int:
     """Merge the repeated taps of entries o..e-1 (in increasing tap order) and scale their
     weights to sum ``om``; returns how many remain (at o onwards). In place by insertion sort
     for the few taps of most texels (no allocation); through a dense scratch array over the
@@ -432,7 +566,15 @@ def _merge_taps(taps, weights, o, e, om):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def compact_exceptions(at, counts, taps, weights, ends, out_taps, out_weights):
+def compact_exceptions(
+    at: np.ndarray,
+    counts: np.ndarray,
+    taps: np.ndarray,
+    weights: np.ndarray,
+    ends: np.ndarray,
+    out_taps: np.ndarray,
+    out_weights: np.ndarray,
+) -> None:
     """Copy texel k's ``counts[k]`` merged entries from ``at[k]`` in ``taps``/``weights`` (the
     buffers :func:`splat_exceptions` filled) to ``ends[k] - counts[k]`` in the outputs."""
     for k in numba.prange(counts.shape[0]):
@@ -444,7 +586,15 @@ def compact_exceptions(at, counts, taps, weights, ends, out_taps, out_weights):
 
 
 @_jit
-def _deposit_exception(acc, t, offsets, taps, weights, k, values):
+def _deposit_exception(
+    acc: np.ndarray,
+    t: int,
+    offsets: np.ndarray,
+    taps: np.ndarray,
+    weights: np.ndarray,
+    k: int,
+    values: np.ndarray,
+) -> None:
     for m in range(offsets[k], offsets[k + 1]):
         q = taps[m]
         w = weights[m]
@@ -453,7 +603,14 @@ def _deposit_exception(acc, t, offsets, taps, weights, k, values):
 
 
 @_jit
-def deposit_exceptions(where, offsets, taps, weights, width, acc):
+def deposit_exceptions(
+    where: np.ndarray,
+    offsets: np.ndarray,
+    taps: np.ndarray,
+    weights: np.ndarray,
+    width: np.ndarray,
+    acc: np.ndarray,
+) -> None:
     """Add the EXCEPTION texels' weights and weighted widths to ``acc[0, q, :2]``."""
     values = np.ones(2)
     for k in range(where.shape[0]):
@@ -462,8 +619,21 @@ def deposit_exceptions(where, offsets, taps, weights, width, acc):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_rows(anchor, wq, scale, row, offsets, taps, weights, alpha, inverse, cursor, fill,
-               indices, values):  # fmt: skip
+def splat_rows(
+    anchor: np.ndarray,
+    wq: np.ndarray,
+    scale: np.ndarray,
+    row: int,
+    offsets: np.ndarray,
+    taps: np.ndarray,
+    weights: np.ndarray,
+    alpha: np.ndarray,
+    inverse: np.ndarray,
+    cursor: np.ndarray,
+    fill: bool,
+    indices: np.ndarray,
+    values: np.ndarray,
+) -> None:
     """The splat plan (:func:`splat_plan`, :func:`splat_exceptions`) transposed into rows, one
     per destination texel q with alpha > 0: source texel p's weight w into q becomes the entry
     (p, w alpha[q] inverse[q]) of row q. Chunk t of the source texels counts its entries per
@@ -502,7 +672,12 @@ def splat_rows(anchor, wq, scale, row, offsets, taps, weights, alpha, inverse, c
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def area_alpha(acc, omega, alpha, inverse):
+def area_alpha(
+    acc: np.ndarray,
+    omega: np.ndarray,
+    alpha: np.ndarray,
+    inverse: np.ndarray,
+) -> None:
     """The area filter's blend per destination texel from the splat of ones and of the
     source footprints' widths (``acc[t, q] = (sum w, sum w width)``): alpha = 1 (the splat's
     mean) where the source texels (or their parts) landing there are at most
@@ -527,7 +702,11 @@ def area_alpha(acc, omega, alpha, inverse):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def row_starts(cursor, extra, indptr):
+def row_starts(
+    cursor: np.ndarray,
+    extra: np.ndarray,
+    indptr: np.ndarray,
+) -> None:
     """Row q holds sum_t cursor[t, q] + extra[q] entries: ``indptr`` their running sum, and
     ``cursor[t, q]`` becomes where chunk t's entries of row q start (after the earlier
     chunks')."""
@@ -543,7 +722,18 @@ def row_starts(cursor, extra, indptr):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def bilinear_rows(alpha, row, base, frac, taps, indptr, counts, fill, indices, values):
+def bilinear_rows(
+    alpha: np.ndarray,
+    row: int,
+    base: np.ndarray,
+    frac: np.ndarray,
+    taps: np.ndarray,
+    indptr: np.ndarray,
+    counts: np.ndarray,
+    fill: bool,
+    indices: np.ndarray,
+    values: np.ndarray,
+) -> None:
     """Append to row q (at ``indptr[q + 1] - counts[q]``) the bilinear taps of the plan
     (:func:`plan`) weighted by 1 - alpha[q], where alpha[q] < 1 (``fill``); else count them
     into ``counts[q]``. A cube corner's missing tap (the mean of the other three) gives a third
@@ -576,7 +766,12 @@ def bilinear_rows(alpha, row, base, frac, taps, indptr, counts, fill, indices, v
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def scale_rows(indptr, indices, values, factor):
+def scale_rows(
+    indptr: np.ndarray,
+    indices: np.ndarray,
+    values: np.ndarray,
+    factor: np.ndarray,
+) -> None:
     """Multiply each entry by ``factor`` of its column (none: all 1), then scale each nonempty
     row to sum 1."""
     scaled = factor.shape[0] > 0
@@ -592,7 +787,14 @@ def scale_rows(indptr, indices, values, factor):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def balance_rows(indptr, indices, values, omega_out, col, sums):
+def balance_rows(
+    indptr: np.ndarray,
+    indices: np.ndarray,
+    values: np.ndarray,
+    omega_out: np.ndarray,
+    col: np.ndarray,
+    sums: np.ndarray,
+) -> None:
     """One pass of the area filter's balancing of M = diag(r) K diag(col) (K: ``values``):
     the row scales r making every nonempty row sum 1, and the energy each column then sends,
     sum_q omega_out[q] r[q] K[q, p] (x col[p] to come), as partial sums per chunk of rows in
@@ -611,7 +813,12 @@ def balance_rows(indptr, indices, values, omega_out, col, sums):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def balance_columns(sums, omega_in, col, step):
+def balance_columns(
+    sums: np.ndarray,
+    omega_in: np.ndarray,
+    col: np.ndarray,
+    step: np.ndarray,
+) -> float:
     """The column step, over-relaxed with momentum: where source texel p sends ``sent`` =
     col[p] x (sum of its partial sums) > 0, log col[p] moves by ``step[p]`` = 1.5 log(omega_in
     / sent) + 0.5 x its previous step (kept as the factor exp(step), so no logarithms).
@@ -632,7 +839,15 @@ def balance_columns(sums, omega_in, col, step):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def reorder_rows(indptr, indices, values, order, out_indptr, out_indices, out_values):
+def reorder_rows(
+    indptr: np.ndarray,
+    indices: np.ndarray,
+    values: np.ndarray,
+    order: np.ndarray,
+    out_indptr: np.ndarray,
+    out_indices: np.ndarray,
+    out_values: np.ndarray,
+) -> None:
     """Row p of the output matrix = row order[p] of the input (empty where -1)."""
     for p in numba.prange(order.shape[0]):
         q = order[p]
@@ -645,7 +860,13 @@ def reorder_rows(indptr, indices, values, order, out_indptr, out_indices, out_va
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def area_gather(src, indptr, indices, values, out):
+def area_gather(
+    src: np.ndarray,
+    indptr: np.ndarray,
+    indices: np.ndarray,
+    values: np.ndarray,
+    out: np.ndarray,
+) -> None:
     """The area filter applied: out[q] = sum over row q of weight x src[p], in float64, four
     channels at a time in registers."""
     nc = out.shape[1]

@@ -400,7 +400,9 @@ def supersample(
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _source_xy(skind, sh, sw, rot, f, sc, tc):  # pragma: no cover - compiled
+def _source_xy(  # pragma: no cover - compiled
+    skind: int, sh: int, sw: int, rot: np.ndarray, f: int, sc: float, tc: float
+) -> tuple[float, float, float]:
     # source coordinates (face, x, y) of cube face f's point (sc, tc)
     x = _BASES[f, 0, 0] + sc * _BASES[f, 1, 0] + tc * _BASES[f, 2, 0]
     y = _BASES[f, 0, 1] + sc * _BASES[f, 1, 1] + tc * _BASES[f, 2, 1]
@@ -419,7 +421,17 @@ _LINEAR_TOLERANCE = 0.05
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def _supersample_cube(skind, sh, sw, src, clamp, size, k, rot, out):  # pragma: no cover
+def _supersample_cube(  # pragma: no cover - compiled
+    skind: int,
+    sh: int,
+    sw: int,
+    src: np.ndarray,
+    clamp: float,
+    size: int,
+    k: int,
+    rot: np.ndarray,
+    out: np.ndarray,
+) -> None:
     # out[f, j, i] = sum_s w_s R(p_s) / sum_s w_s over the k x k sample points of cube texel
     # (f, i, j) (the centres of its finer grid's texels), w_s = (1 + sc^2 + tc^2)^-1.5 (the
     # face's solid angle density there), R the bilinear lookup of the source clamped at clamp.
@@ -469,7 +481,18 @@ def _supersample_cube(skind, sh, sw, src, clamp, size, k, rot, out):  # pragma: 
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _add_bilinear(kind, h, w, src, clamp, f, x, y, weight, acc):  # pragma: no cover
+def _add_bilinear(  # pragma: no cover - compiled
+    kind: int,
+    h: int,
+    w: int,
+    src: np.ndarray,
+    clamp: float,
+    f: float,
+    x: float,
+    y: float,
+    weight: float,
+    acc: np.ndarray,
+) -> None:
     # acc += weight * the seam-aware bilinear value at coordinates (f, x, y), every texel
     # clamped at clamp (a cube corner's missing texel is the mean of the other three)
     xs, ys = x - 0.5, y - 0.5
@@ -645,7 +668,9 @@ def bright_texels(parts: list) -> tuple[float, np.ndarray, np.ndarray]:
 
 
 @numba.njit(cache=True)
-def _peak_stats(values, omega, stats):  # pragma: no cover - compiled
+def _peak_stats(  # pragma: no cover - compiled
+    values: np.ndarray, omega: np.ndarray, stats: np.ndarray
+) -> None:
     for t in range(values.shape[0]):
         if omega[t] > 0:
             peak = values[t, 0]

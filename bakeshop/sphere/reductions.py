@@ -67,7 +67,9 @@ def reduce_cube(image: np.ndarray, size: int) -> np.ndarray:
 
 
 @numba.njit(parallel=True, cache=True)
-def _box_reduce(fine, omega, k, out):  # pragma: no cover - compiled
+def _box_reduce(  # pragma: no cover - compiled
+    fine: np.ndarray, omega: np.ndarray, k: int, out: np.ndarray
+) -> None:
     # out[J, I] = sum(omega L) / sum(omega) over the k x k fine texels of (J, I); 0 where the
     # block has no solid angle (outside a disk). omega's rows repeat (a cube face's table serves
     # its six faces).

@@ -118,7 +118,7 @@ _AXES = ("face", "row", "column")
 
 
 @numba.njit(parallel=True, cache=True)
-def _count_nonfinite(flat):  # pragma: no cover - compiled
+def _count_nonfinite(flat: np.ndarray) -> tuple[int, int, int]:  # pragma: no cover - compiled
     """(NaNs, infinities, flat index of the first non-finite value or -1)."""
     chunks = 64
     n = flat.shape[0]
@@ -378,7 +378,9 @@ def _cube_texel_solid_angles(s: int, j: np.ndarray, i: np.ndarray) -> np.ndarray
 
 
 @numba.njit(cache=True, inline="always")
-def _texel_direction(kind, h, w, row, i, trig):  # pragma: no cover - compiled
+def _texel_direction(  # pragma: no cover - compiled
+    kind: int, h: int, w: int, row: int, i: int, trig: np.ndarray
+) -> tuple[float, float, float]:
     # texel i of flat row ``row`` (face row // h): latlong as the separable products of
     # LatLong.directions, the others as Layout.directions_at computes them
     if kind == _maps.LATLONG:
@@ -389,7 +391,9 @@ def _texel_direction(kind, h, w, row, i, trig):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _row_directions(kind, h, w, r0, r1, trig, out):  # pragma: no cover - compiled
+def _row_directions(  # pragma: no cover - compiled
+    kind: int, h: int, w: int, r0: int, r1: int, trig: np.ndarray, out: np.ndarray
+) -> None:
     for r in numba.prange(r1 - r0):
         for i in range(w):
             p = r * w + i
@@ -397,7 +401,9 @@ def _row_directions(kind, h, w, r0, r1, trig, out):  # pragma: no cover - compil
 
 
 @numba.njit(parallel=True, cache=True)
-def _index_directions(kind, h, w, index, trig, out):  # pragma: no cover - compiled
+def _index_directions(  # pragma: no cover - compiled
+    kind: int, h: int, w: int, index: np.ndarray, trig: np.ndarray, out: np.ndarray
+) -> None:
     for p in numba.prange(index.shape[0]):
         row = index[p] // w
         i = index[p] - row * w
@@ -453,7 +459,9 @@ def _texel_cosines(lay: Layout, shape: tuple, up: tuple) -> np.ndarray:
 
 
 @numba.njit(cache=True, parallel=True)
-def _cosine_kernel(kind, faces, h, w, up, out):  # pragma: no cover - compiled
+def _cosine_kernel(  # pragma: no cover - compiled
+    kind: int, faces: int, h: int, w: int, up: np.ndarray, out: np.ndarray
+) -> None:
     for row in numba.prange(faces * h):
         f, j = divmod(row, h)
         for i in range(w):

@@ -38,7 +38,23 @@ __all__ = [
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def _part_taps(skind, sh, sw, dkind, dh, dw, rot, f, j0, j1, i0, i1, nearest, taps, frac):
+def _part_taps(
+    skind: int,
+    sh: int,
+    sw: int,
+    dkind: int,
+    dh: int,
+    dw: int,
+    rot: np.ndarray,
+    f: int,
+    j0: int,
+    j1: int,
+    i0: int,
+    i1: int,
+    nearest: bool,
+    taps: np.ndarray,
+    frac: np.ndarray,
+) -> None:
     # pragma: no cover - compiled; the arithmetic of _gather.plan and plan_exceptions, per texel
     trig = latlong_trig(dh, dw)
     nw = i1 - i0
@@ -178,7 +194,9 @@ def gather_taps(window_flat: np.ndarray, taps: np.ndarray, frac: np.ndarray) -> 
 
 
 @numba.njit(parallel=True, cache=True)
-def _latlong_window(h, w, top, bottom, left, right, dirs):  # pragma: no cover - compiled
+def _latlong_window(  # pragma: no cover - compiled
+    h: int, w: int, top: int, bottom: int, left: int, right: int, dirs: np.ndarray
+) -> None:
     trig = latlong_trig(h, w)
     nw = right - left
     for r in numba.prange(bottom - top):
