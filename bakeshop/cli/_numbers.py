@@ -57,7 +57,9 @@ class Number(click.FloatRange):
         super().__init__(low, high, min_open=low_open, max_open=high_open)
         self.allow_inf = allow_inf
 
-    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> float:
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> float:
         try:
             number = float(value)
         except (TypeError, ValueError, OverflowError):

@@ -46,7 +46,7 @@ from __future__ import annotations
 import functools
 import math
 import operator
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from typing import Any
 
 import numba
@@ -119,7 +119,14 @@ def irradiance_cost(
 
 
 @numba.njit(parallel=True, fastmath=True, cache=True)
-def _cosine_sum(normals, dirs, energy, groups, supers, out):  # pragma: no cover - compiled
+def _cosine_sum(  # pragma: no cover - compiled
+    normals: np.ndarray,
+    dirs: np.ndarray,
+    energy: np.ndarray,
+    groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    supers: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    out: np.ndarray,
+) -> None:
     # out[i, c] = sum_j energy[c, j] * max(0, normals[i] . dirs[:, j]), with the sources
     # sorted into cones (groups: members starts[g]..starts[g+1]) and the cones into larger
     # cones (supers: groups starts[s]..starts[s+1]). A cone wholly below the horizon of n adds
@@ -167,7 +174,9 @@ def _cosine_sum(normals, dirs, energy, groups, supers, out):  # pragma: no cover
         out[i, 2] = acc[2]
 
 
-def _cones(d, e, starts):
+def _cones(
+    d: np.ndarray, e: np.ndarray, starts: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Axis, sin(half-angle) and linear sum of the cones of sorted sources ``d`` split at
     ``starts`` (a half-angle of 90 degrees or more gets sin 2: never decided whole)."""
     counts = np.diff(starts)
@@ -189,7 +198,14 @@ def _cones(d, e, starts):
 _GROUP_RATIO = 8
 
 
-def _groups(dirs, energy):
+def _groups(
+    dirs: np.ndarray, energy: np.ndarray
+) -> tuple[
+    np.ndarray,
+    np.ndarray,
+    tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+]:
     """Sort sources into two levels of cone-bounded groups for :func:`_cosine_sum`.
 
     Small cones of angular size h ~ (8 pi / N)**(1/3), nested in cones 8 times larger:
@@ -280,7 +296,7 @@ def cosine_sum(
 
 
 @numba.njit(cache=True)
-def _bin_of(x, y, z, size):  # pragma: no cover - compiled
+def _bin_of(x: float, y: float, z: float, size: int) -> int:  # pragma: no cover - compiled
     # A private spatial hash of directions: cube-face bins, size x size per face, that nest
     # (bin i at 2*size holds bins 2i and 2i+1). Not a panorama layout: faces are unoriented.
     ax, ay, az = abs(x), abs(y), abs(z)
@@ -298,7 +314,7 @@ def _bin_of(x, y, z, size):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _bins(dirs, subset, size):  # pragma: no cover - compiled
+def _bins(dirs: np.ndarray, subset: np.ndarray, size: int) -> np.ndarray:  # pragma: no cover
     count = subset.shape[0] if subset.shape[0] > 0 else dirs.shape[0]
     out = np.empty(count, np.int64)
     for k in numba.prange(count):
@@ -308,9 +324,17 @@ def _bins(dirs, subset, size):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _accumulate(
-    values, dirs, omega, subset, index, n_bins, chunks, size, colour
-):  # pragma: no cover
+def _accumulate(  # pragma: no cover - compiled
+    values: np.ndarray,
+    dirs: np.ndarray,
+    omega: np.ndarray,
+    subset: np.ndarray,
+    index: np.ndarray,
+    n_bins: int,
+    chunks: int,
+    size: int,
+    colour: int,
+) -> np.ndarray:
     # Row b of the result sums, over texel k (of all texels, or of those listed in subset)
     # with index[k] == b: its energy per channel, its weight (sum over the first ``colour``
     # channels of |energy|: alpha is carried, but it is no light),
@@ -343,7 +367,9 @@ def _accumulate(
 
 
 @numba.njit(cache=True)
-def _select(index, subset, rank):  # pragma: no cover - compiled
+def _select(  # pragma: no cover - compiled
+    index: np.ndarray, subset: np.ndarray, rank: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     # The texels (of all, or of subset) whose bin has a rank >= 0, and that rank.
     n = 0
     for k in range(index.shape[0]):
@@ -566,8 +592,8 @@ def integrate(
     flat = env.image.reshape(-1, env.image.shape[-1])
     shape = env.image.shape[:-1]
 
-    def strips(directions=True):
-        for start, stop, dirs, omega in texel_strips(env.layout, shape, directions=directions):
+    def strips() -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        for start, stop, dirs, omega in texel_strips(env.layout, shape):
             yield _painted(flat, start, stop, fill), dirs, omega
 
     if method == "sh":
@@ -581,7 +607,10 @@ def integrate(
             operator.add, (cosine_sum(normals, d, v * w[:, None]) for v, d, w in strips())
         )
     colour = min(3, flat.shape[1])
-    total = sum(_energy(v, w, colour) for v, _, w in strips(False))
+    total = sum(
+        _energy(_painted(flat, start, stop, fill), w, colour)
+        for start, stop, _, w in texel_strips(env.layout, shape, directions=False)
+    )
     with progress.step("grouping the environment's texels"):
         sources = [compress(v, d, w, total=total) for v, d, w in strips()]
     dirs = np.concatenate([d for d, _ in sources])
@@ -590,7 +619,7 @@ def integrate(
 
 
 @numba.njit(parallel=True, cache=True)
-def _energy(values, omega, colour):  # pragma: no cover - compiled
+def _energy(values: np.ndarray, omega: np.ndarray, colour: int) -> float:  # pragma: no cover
     # sum over texels and the colour channels of |L omega|: compress's measure of energy
     chunks = 16
     n = values.shape[0]
@@ -605,7 +634,7 @@ def _energy(values, omega, colour):  # pragma: no cover - compiled
     return partial.sum()
 
 
-def _painted(flat, start: int, stop: int, fill):
+def _painted(flat: np.ndarray, start: int, stop: int, fill: Any) -> np.ndarray:
     """Texels ``[start, stop)`` of the flat image, with the fill's values where it has any (a
     copy of the strip then)."""
     values = flat[start:stop]

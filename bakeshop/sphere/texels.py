@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator, Sequence
-from typing import NamedTuple
+from typing import Literal, NamedTuple, overload
 
 import numba
 import numpy as np
@@ -217,6 +217,24 @@ def texel_rows(layout_name: str | Layout, shape: tuple[int, ...]) -> tuple[int, 
     return faces * h, w
 
 
+@overload
+def texel_strips(
+    layout_name: str | Layout,
+    shape: tuple[int, ...],
+    *,
+    rows: tuple[int, int] | None = None,
+    texels: int = STRIP_TEXELS,
+    directions: Literal[True] = True,
+) -> Iterator[tuple[int, int, np.ndarray, np.ndarray]]: ...
+@overload
+def texel_strips(
+    layout_name: str | Layout,
+    shape: tuple[int, ...],
+    *,
+    rows: tuple[int, int] | None = None,
+    texels: int = STRIP_TEXELS,
+    directions: bool,
+) -> Iterator[tuple[int, int, np.ndarray | None, np.ndarray]]: ...
 def texel_strips(
     layout_name: str | Layout,
     shape: tuple[int, ...],
