@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
-from typing import NamedTuple
+from collections.abc import Callable, Sequence
+from typing import Any, NamedTuple, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -33,6 +33,8 @@ from bakeshop.sphere import check_environment, remap, remap_cost, valid_texels
 from bakeshop.sphere import layout as layout_of
 
 __all__ = ["ProbeBake", "bake_probe", "bake_probe_cost", "contact_sheet", "sheet_exposure"]
+
+T = TypeVar("T")
 
 
 class ProbeBake(NamedTuple):
@@ -165,7 +167,7 @@ def bake_probe(
     """
     timings = {}
 
-    def timed(name, fn, *args, **kwargs):
+    def timed(name: str, fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
         started = time.perf_counter()
         result = fn(*args, **kwargs)
         timings[name] = time.perf_counter() - started
@@ -219,21 +221,21 @@ def bake_probe(
     )
 
 
-def _rgb(picture) -> np.ndarray:
+def _rgb(picture: np.ndarray) -> np.ndarray:
     """A picture's colour for display: ``(H, W, 3)`` (alpha dropped, grey repeated)."""
     a = np.asarray(picture)
     a = a[..., None] if a.ndim == 2 else a
     return np.ascontiguousarray(np.repeat(a, 3, axis=-1) if a.shape[-1] == 1 else a[..., :3])
 
 
-def _to_latlong(image, layout: str, height: int) -> np.ndarray:
+def _to_latlong(image: np.ndarray, layout: str, height: int) -> np.ndarray:
     """An RGB latlong thumbnail of an environment."""
     from bakeshop.sphere import remap
 
     return _rgb(remap(image, layout, "latlong", height, filter="area"))
 
 
-def _shadow_thumbnail(thumbnail: np.ndarray, bake: ProbeBake, probe) -> np.ndarray:
+def _shadow_thumbnail(thumbnail: np.ndarray, bake: ProbeBake, probe: np.ndarray) -> np.ndarray:
     """The latlong thumbnail of the probe without its sun, from the probe's own: each texel the
     fill changed gives up its removed energy (radiance x solid angle) in the thumbnail texel
     its direction falls in (exact for a latlong reduced by an integer factor)."""
@@ -305,7 +307,7 @@ def contact_sheet(
     cube_face = min(bake.cube.shape[1], max(1, thumb_height // 2))
     cross = remap(bake.cube, "cube", "cross-vertical", cube_face, filter="area")
 
-    def show(img):
+    def show(img: np.ndarray) -> np.ndarray:
         return to_picture(_rgb(img), ev=ev, operator="aces").pixels
 
     dirs, _ = layout("latlong").directions(layout("latlong").shape(thumb_height))
