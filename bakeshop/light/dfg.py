@@ -62,7 +62,7 @@ __all__ = ["VISIBILITIES", "dfg_terms", "dfg_table", "dfg_table_cost", "dfg_appr
 
 
 @numba.njit(cache=True, inline="always")
-def _visibility(n_dot_l, n_dot_v, alpha, schlick):
+def _visibility(n_dot_l: float, n_dot_v: float, alpha: float, schlick: bool) -> float:
     """Smith visibility V = G / (4 n.l n.v) for GGX."""
     if schlick:
         k = 0.5 * alpha
@@ -76,7 +76,9 @@ def _visibility(n_dot_l, n_dot_v, alpha, schlick):
 
 
 @numba.njit(cache=True, parallel=True)
-def _dfg_kernel(n_dot_v, roughness, xi, schlick, out):
+def _dfg_kernel(
+    n_dot_v: np.ndarray, roughness: np.ndarray, xi: np.ndarray, schlick: bool, out: np.ndarray
+) -> None:
     n = n_dot_v.size
     count = xi.shape[0]
     for p in numba.prange(n):
@@ -102,7 +104,9 @@ def _dfg_kernel(n_dot_v, roughness, xi, schlick, out):
 
 
 @numba.njit(cache=True, parallel=True)
-def _dfg_grid(n_dot_v, roughness, xi, schlick, out):
+def _dfg_grid(
+    n_dot_v: np.ndarray, roughness: np.ndarray, xi: np.ndarray, schlick: bool, out: np.ndarray
+) -> None:
     """:func:`_dfg_kernel` on the grid ``roughness`` (rows) x ``n_dot_v`` (columns): each row's
     half vectors are drawn once and reused along it (the same numbers, a fraction of the work)."""
     count = xi.shape[0]

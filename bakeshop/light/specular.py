@@ -73,7 +73,7 @@ from bakeshop import progress
 from bakeshop.errors import ArgumentError
 from bakeshop.light._specular_kernels import _filter_kernel, _lobe_kernel
 from bakeshop.resources import Cost, require
-from bakeshop.sphere import check_environment, remap, remap_cost, sample, valid_texels
+from bakeshop.sphere import Layout, check_environment, remap, remap_cost, sample, valid_texels
 from bakeshop.sphere import layout as get_layout
 
 #: Largest cube face accepted (a 6x4096 RGBA float32 pyramid is already 1.6 GB).
@@ -204,7 +204,7 @@ def _border_directions(size: int) -> np.ndarray:
     return get_layout("cube").directions_at(coords, (6, size, size))
 
 
-def _pyramid(cube: np.ndarray):
+def _pyramid(cube: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Box-filtered mip pyramid of a cube map, each face padded with its neighbours' texels.
 
     Returns the levels concatenated in one flat float32 array, each level's offset into it and
@@ -311,7 +311,7 @@ class _Source:
         self.bright_values = np.ascontiguousarray(excess, dtype=np.float64)
         self.pyramid = _pyramid(rest)
 
-    def rest_level(self, k: int):
+    def rest_level(self, k: int) -> tuple[int, np.ndarray]:
         """Pyramid level ``k`` of the rest, unpadded: (face size, (6 s^2, C) float64 values)."""
         flat, offsets, sizes = self.pyramid
         sk = int(sizes[k])
@@ -320,7 +320,9 @@ class _Source:
         return sk, np.ascontiguousarray(values, dtype=np.float64)
 
 
-def _convolve(source: _Source, size: int, lobe: _Lobe, task=None) -> np.ndarray:
+def _convolve(
+    source: _Source, size: int, lobe: _Lobe, task: progress.Task | None = None
+) -> np.ndarray:
     """One output level: the bright texels exactly, plus the rest by exact convolution where it
     is cheap and by filtered importance sampling elsewhere.
 
@@ -474,7 +476,7 @@ def prefilter_cost(
     return Cost(max(chain, to_cube.memory), work, what)
 
 
-def _source(image, layout, size, samples) -> _Source:
+def _source(image: ArrayLike, layout: str, size: int, samples: int) -> _Source:
     if not 1 <= samples <= MAX_SAMPLES:
         raise ArgumentError(f"samples must be in 1..{MAX_SAMPLES}, got {samples}")
     with progress.step("preparing the source cube map"):
@@ -591,7 +593,12 @@ def prefilter_phong(
 
 
 def _chain(
-    image, layout, size: int, samples: int, lobes: list[tuple[bool, float] | None], name: str
+    image: ArrayLike,
+    layout: str,
+    size: int,
+    samples: int,
+    lobes: list[tuple[bool, float] | None],
+    name: str,
 ) -> list[np.ndarray]:
     """The levels of a chain: ``lobes[m]`` is ``(ggx, param)`` of :class:`_Lobe`, or None
     for the source cube itself. Its memory is checked first (:func:`prefilter_cost`)."""
@@ -619,7 +626,7 @@ def _chain(
     return _shaped(out, image, layout)
 
 
-def _shaped(chain: list[np.ndarray], image, layout) -> list[np.ndarray]:
+def _shaped(chain: list[np.ndarray], image: ArrayLike, layout: str | Layout) -> list[np.ndarray]:
     """The chain's levels without their channel axis when the input had none."""
     if np.ndim(image) == (3 if get_layout(layout).cubic else 2):
         return [level[..., 0] for level in chain]
