@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import glob
+import os
 import re
 import string
+from collections.abc import Iterable
 from pathlib import Path
 
 import click
@@ -25,12 +27,12 @@ from bakeshop.io import check_input, stored_bits
 from bakeshop.sphere import FILE_LAYOUTS
 
 
-def _natural_key(path: str):
+def _natural_key(path: str) -> list[tuple[int, int, str]]:
     """Sort key that orders frame_2 before frame_10."""
     return [(0, int(t), "") if t.isdigit() else (1, 0, t) for t in re.split(r"(\d+)", path)]
 
 
-def expand_inputs(patterns) -> list[Path]:
+def expand_inputs(patterns: Iterable[str | os.PathLike]) -> list[Path]:
     """Input frames in order: each argument is a file or a glob pattern, whose matches are
     sorted by name with numbers in numeric order (frame_2 before frame_10)."""
     frames: list[Path] = []
@@ -140,21 +142,21 @@ def frame_paths(target: str, count: int) -> list[Path]:
 )
 @srgb_decode_option
 def tonemap(
-    inputs,
-    target,
-    operator,
-    exposure_text,
-    center_weight,
-    key,
-    white,
-    fps,
-    tau_brighter,
-    tau_darker,
-    dither,
-    layout,
-    bits,
-    srgb_decode,
-):
+    inputs: tuple[Path, ...],
+    target: Path,
+    operator: str,
+    exposure_text: float | str,
+    center_weight: float,
+    key: float,
+    white: float | None,
+    fps: float,
+    tau_brighter: float,
+    tau_darker: float,
+    dither: bool,
+    layout: str | None,
+    bits: str | None,
+    srgb_decode: bool,
+) -> None:
     """Tone-map HDR images (one or a sequence of frames) to 8-bit sRGB pictures.
 
     Each frame: exposure (a fixed EV, or auto), the tone operator, clamp to [0, 1], sRGB
