@@ -16,11 +16,11 @@ P = ParamSpec("P")
 R = TypeVar("R")
 
 #: Sample types the containers store, by name.
-DTYPES = {"float16": np.dtype("<f2"), "float32": np.dtype("<f4")}
+DTYPES: dict[str, np.dtype] = {"float16": np.dtype("<f2"), "float32": np.dtype("<f4")}
 
 #: Unsigned normalised samples (a stored c reads as c / 255), for data textures such as
 #: two-channel normal maps, the input of BC5. Float values are quantised as the PNG writer does.
-UNORM_DTYPES = {"unorm8": np.dtype("u1")}
+UNORM_DTYPES: dict[str, np.dtype] = {"unorm8": np.dtype("u1")}
 
 #: Most mip levels a texture may have (a 2^20 side has 21).
 MAX_LEVELS = 21
