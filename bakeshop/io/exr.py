@@ -74,7 +74,7 @@ ENVMAPS = {"latlong": OpenEXR.Envmap.ENVMAP_LATLONG, "cube": OpenEXR.Envmap.ENVM
 HALF_MAX = 65504.0
 #: an inclusive pixel box, ``((xmin, ymin), (xmax, ymax))``.
 Box = tuple[tuple[int, int], tuple[int, int]]
-T = TypeVar("T")
+_T = TypeVar("_T")
 
 
 _STORED = {np.dtype(np.float16): "half", np.dtype(np.float32): "float", np.dtype(np.uint32): "uint"}
@@ -131,7 +131,7 @@ def _reason(messages: list[str], error: Exception | None = None) -> str:
     return "corrupt or truncated OpenEXR file" + (f" (OpenEXR says: {detail})" if detail else "")
 
 
-def _library(action: Callable[..., T | None], *args: object) -> T:
+def _library(action: Callable[..., _T | None], *args: object) -> _T:
     """Return ``action(*args)`` (a call into OpenEXR); its failures become a FormatError.
 
     The bindings raise RuntimeError, ValueError, IndexError, UnicodeDecodeError ... for corrupt

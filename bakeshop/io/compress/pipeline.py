@@ -83,7 +83,7 @@ def _box(image: np.ndarray, size: tuple[int, int]) -> np.ndarray:
 
 def box_mips(
     level0: ArrayLike, *, cube: bool, levels: int | None = None, normals: bool = False
-) -> list:
+) -> list[np.ndarray]:
     """A mip chain from level 0 by 2x2 box averaging (exact area averaging at odd sizes).
 
     Parameters
