@@ -27,7 +27,7 @@ UNANNOTATED_BASELINE = {
     "bakeshop.figures": 0,
     "bakeshop.huge": 0,
     "bakeshop.image": 0,
-    "bakeshop.io": 70,
+    "bakeshop.io": 0,
     "bakeshop.light": 0,
     "bakeshop.normals": 14,
     "bakeshop.photo": 15,

@@ -20,6 +20,7 @@ from bakeshop.cli._paths import ENVIRONMENT, OUTPUT_CHAIN, refuse_overwriting_in
 from bakeshop.errors import ArgumentError, BakeshopError
 
 if TYPE_CHECKING:
+    from bakeshop.io.compress.texture import Overflow
     from bakeshop.light.probe import ProbeBake
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -96,7 +97,7 @@ def write_levels(
     *,
     cube: bool,
     quality_profile: str = "fast",
-    overflow: str = "refuse",
+    overflow: Overflow = "refuse",
     min_psnr: float | None = None,
     max_angle: float | None = None,
     zstd: bool = False,
@@ -304,7 +305,7 @@ def compress(
     max_angle: float | None,
     rgbm_range: float,
     quality_profile: str,
-    overflow: str,
+    overflow: Overflow,
     min_psnr: float | None,
     zstd: bool,
 ) -> None:
@@ -415,7 +416,7 @@ def bake_compressed(
     *,
     specular_size: int,
     quality_profile: str = "fast",
-    overflow: str = "refuse",
+    overflow: Overflow = "refuse",
     min_psnr: float | None = None,
     zstd: bool = False,
 ) -> list[tuple[Path, str, dict | None]]:
