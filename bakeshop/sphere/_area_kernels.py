@@ -8,6 +8,7 @@ import math
 
 import numba
 import numpy as np
+from numpy import ndarray
 
 from bakeshop.sphere._gather import EXCEPTION, block
 from bakeshop.sphere._maps import (
@@ -42,12 +43,7 @@ _jit = numba.njit(cache=True, error_model="numpy")
 
 
 @_jit
-def _box_weights(
-    c: float,
-    half: float,
-    lo: int,
-    out: np.ndarray,
-) -> None:
+def _box_weights(c: float, half: float, lo: int, out: ndarray) -> None:
     """Overlaps of [c - half, c + half] with texels lo..lo+2 (texel q spans [q, q + 1]) as
     fractions of its length; for a point (half ~ 0), 1 for the texel containing it."""
     for k in range(3):
@@ -59,17 +55,8 @@ def _box_weights(
 
 
 @_jit
-def _local(
-    kind: int,
-    h: int,
-    w: int,
-    x: float,
-    y: float,
-    z: float,
-    cf: float,
-    cx: float,
-    cy: float,
-) -> tuple[float, float]:
+def _local(kind: int, h: int, w: int, x: float, y: float, z: float, cf: float, cx: float,
+           cy: float) -> tuple[float, float]:  # fmt: skip
     """Coordinates of (x, y, z) continued across the seams around the centre (cf, cx, cy), for
     differences: a cube's face plane extended, a latlong's longitude unwrapped, an octahedral
     map unfolded over its edges, a paraboloid continued into the other hemisphere and an
@@ -127,10 +114,7 @@ def _local(
 
 
 @_jit
-def _half_texel_trig(
-    h: int,
-    w: int,
-) -> np.ndarray:
+def _half_texel_trig(h: int, w: int) -> ndarray:
     """Sin and cos of a latlong's longitude at every half texel (row 0, 1) and of its
     colatitude (rows 2, 3): ``direction`` at (k/2, l/2) without trigonometry."""
     trig = np.empty((4, 2 * max(h, w) + 1))
@@ -144,15 +128,8 @@ def _half_texel_trig(
 
 
 @_jit
-def _source_direction(
-    kind: int,
-    h: int,
-    w: int,
-    f: float,
-    u2: int,
-    v2: int,
-    trig: np.ndarray,
-) -> tuple[float, float, float]:
+def _source_direction(kind: int, h: int, w: int, f: float, u2: int, v2: int,
+                      trig: ndarray) -> tuple[float, float, float]:  # fmt: skip
     """``direction`` at the half-texel position (u2 / 2, v2 / 2)."""
     if kind == LATLONG:
         return trig[2, v2] * trig[0, u2], trig[3, v2], -trig[2, v2] * trig[1, u2]
@@ -160,32 +137,16 @@ def _source_direction(
 
 
 @_jit
-def _image(
-    skind: int,
-    sh: int,
-    sw: int,
-    f: float,
-    u2: int,
-    v2: int,
-    trig: np.ndarray,
-    rot: np.ndarray,
-    dkind: int,
-    dh: int,
-    dw: int,
-    cf: float,
-    cx: float,
-    cy: float,
-) -> tuple[float, float]:
+def _image(skind: int, sh: int, sw: int, f: float, u2: int, v2: int, trig: ndarray, rot: ndarray,
+           dkind: int, dh: int, dw: int, cf: float, cx: float,
+           cy: float) -> tuple[float, float]:  # fmt: skip
     x, y, z = _source_direction(skind, sh, sw, f, u2, v2, trig)
     x, y, z = rotate(rot.T, x, y, z)
     return _local(dkind, dh, dw, x, y, z, cf, cx, cy)
 
 
 @_jit
-def _band_centroid(
-    t0: float,
-    t1: float,
-) -> tuple[float, float]:
+def _band_centroid(t0: float, t1: float) -> tuple[float, float]:
     """The colatitude of the centroid of the band t0 <= theta <= t1 (weighted by sin theta:
     [sin t - t cos t] / [-cos t] over the band) and the band's cos t0 - cos t1; a texel at a
     pole holds its energy 2/3 of the way out, not halfway."""
@@ -197,19 +158,9 @@ def _band_centroid(
 
 
 @_jit
-def _footprint(
-    skind: int,
-    sh: int,
-    sw: int,
-    f: float,
-    i: int,
-    j: int,
-    trig: np.ndarray,
-    rot: np.ndarray,
-    dkind: int,
-    dh: int,
-    dw: int,
-) -> tuple[float, float, float, float, float, float, int, int]:
+def _footprint(skind: int, sh: int, sw: int, f: float, i: int, j: int, trig: ndarray, rot: ndarray,
+               dkind: int, dh: int,
+               dw: int) -> tuple[float, float, float, float, float, float, int, int]:  # fmt: skip
     """Source texel (f, i, j) in destination coordinates: (face, centre x, centre y, half
     widths of the box bounding its locally affine image (at most 1/2), its narrower width)."""
     x, y, z = _source_direction(skind, sh, sw, f, 2 * i + 1, 2 * j + 1, trig)
@@ -240,9 +191,7 @@ def _footprint(
 
 
 @_jit
-def _parts(
-    extent: float,
-) -> int:
+def _parts(extent: float) -> int:
     """Into how many parts a source texel ``extent`` destination texels long is cut so that
     each is at most 1 / AREA_SPLAT_RATIO long (1 for NaN; at most AREA_MAX_PARTS)."""
     if not extent * AREA_SPLAT_RATIO > 1:
@@ -251,20 +200,9 @@ def _parts(
 
 
 @_jit
-def _part_footprint(
-    skind: int,
-    sh: int,
-    sw: int,
-    f: float,
-    u: float,
-    v: float,
-    du: float,
-    dv: float,
-    rot: np.ndarray,
-    dkind: int,
-    dh: int,
-    dw: int,
-) -> tuple[float, float, float, float, float, float]:
+def _part_footprint(skind: int, sh: int, sw: int, f: float, u: float, v: float, du: float,
+                    dv: float, rot: ndarray, dkind: int, dh: int,
+                    dw: int) -> tuple[float, float, float, float, float, float]:  # fmt: skip
     """The part of a source texel centred at (f, u, v), du x dv source texels large, in
     destination coordinates: (face, centre x, centre y, half widths of its bounding box (at
     most 1/2), its solid angle (the tangent parallelogram's area))."""
@@ -275,12 +213,8 @@ def _part_footprint(
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
-def _latlong_unit(
-    sp: float,
-    cp: float,
-    st: float,
-    ct: float,
-) -> tuple[float, float, float]:
+def _latlong_unit(sp: float, cp: float, st: float,
+                  ct: float) -> tuple[float, float, float]:  # fmt: skip
     """``direction`` of a latlong from the sines and cosines of longitude and colatitude."""
     x, y, z = st * sp, ct, -st * cp
     norm = math.sqrt(x * x + y * y + z * z)
@@ -288,21 +222,9 @@ def _latlong_unit(
 
 
 @_jit
-def _part_of(
-    x: float,
-    y: float,
-    z: float,
-    ax: float,
-    ay: float,
-    az: float,
-    bx: float,
-    by: float,
-    bz: float,
-    rot: np.ndarray,
-    dkind: int,
-    dh: int,
-    dw: int,
-) -> tuple[float, float, float, float, float, float]:
+def _part_of(x: float, y: float, z: float, ax: float, ay: float, az: float, bx: float, by: float,
+             bz: float, rot: ndarray, dkind: int, dh: int,
+             dw: int) -> tuple[float, float, float, float, float, float]:  # fmt: skip
     """:func:`_part_footprint` from the source directions at the part's centre (x, y, z) and
     at the midpoints of its right (a) and lower (b) edges."""
     x, y, z = rotate(rot.T, x, y, z)
@@ -324,16 +246,8 @@ def _part_of(
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
-def _deposit(
-    acc: np.ndarray,
-    t: int,
-    b: int,
-    row: int,
-    wq: np.ndarray,
-    p: int,
-    om: float,
-    values: np.ndarray,
-) -> None:
+def _deposit(acc: ndarray, t: int, b: int, row: int, wq: ndarray, p: int, om: float,
+             values: ndarray) -> None:  # fmt: skip
     """acc[t, q] += w values for the 3 x 3 destination texels from flat index b (rows ``row``
     apart), weights w = om x (x weight) x (y weight) from the splat plan's ``wq[p]``."""
     wx0, wx1, wy0, wy1 = float(wq[p, 0]), float(wq[p, 1]), float(wq[p, 2]), float(wq[p, 3])
@@ -352,23 +266,9 @@ def _deposit(
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_plan(
-    skind: int,
-    sh: int,
-    sw: int,
-    sfaces: int,
-    omega: np.ndarray,
-    dkind: int,
-    dh: int,
-    dw: int,
-    rot: np.ndarray,
-    anchor: np.ndarray,
-    wq: np.ndarray,
-    scale: np.ndarray,
-    width: np.ndarray,
-    parts: np.ndarray,
-    acc: np.ndarray,
-) -> None:
+def splat_plan(skind: int, sh: int, sw: int, sfaces: int, omega: ndarray, dkind: int, dh: int,
+               dw: int, rot: ndarray, anchor: ndarray, wq: ndarray, scale: ndarray, width: ndarray,
+               parts: ndarray, acc: ndarray) -> None:  # fmt: skip
     """The area filter's geometry, per source texel ``p`` (transposed by :func:`splat_rows`).
 
     A source texel's footprint in destination coordinates is the box bounding its (locally
@@ -426,22 +326,9 @@ def splat_plan(
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_exceptions(
-    skind: int,
-    sh: int,
-    sw: int,
-    omega: np.ndarray,
-    dkind: int,
-    dh: int,
-    dw: int,
-    rot: np.ndarray,
-    where: np.ndarray,
-    parts: np.ndarray,
-    offsets: np.ndarray,
-    taps: np.ndarray,
-    weights: np.ndarray,
-    counts: np.ndarray,
-) -> None:
+def splat_exceptions(skind: int, sh: int, sw: int, omega: ndarray, dkind: int, dh: int, dw: int,
+                     rot: ndarray, where: ndarray, parts: ndarray, offsets: ndarray, taps: ndarray,
+                     weights: ndarray, counts: ndarray) -> None:  # fmt: skip
     """The explicit taps and weights (summing to omega) of the splat plan's EXCEPTION texels
     ``where``: texel k's entries are ``offsets[k]:offsets[k] + counts[k]`` (room for 4 per
     part). A texel whose 3 x 3 destination texels cross a seam deposits into them (-1: a cube
@@ -510,13 +397,7 @@ def splat_exceptions(
 
 
 @_jit
-def _merge_taps(
-    taps: np.ndarray,
-    weights: np.ndarray,
-    o: int,
-    e: int,
-    om: float,
-) -> int:
+def _merge_taps(taps: ndarray, weights: ndarray, o: int, e: int, om: float) -> int:
     """Merge the repeated taps of entries o..e-1 (in increasing tap order) and scale their
     weights to sum ``om``; returns how many remain (at o onwards). In place by insertion sort
     for the few taps of most texels (no allocation); through a dense scratch array over the
@@ -566,15 +447,8 @@ def _merge_taps(
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def compact_exceptions(
-    at: np.ndarray,
-    counts: np.ndarray,
-    taps: np.ndarray,
-    weights: np.ndarray,
-    ends: np.ndarray,
-    out_taps: np.ndarray,
-    out_weights: np.ndarray,
-) -> None:
+def compact_exceptions(at: ndarray, counts: ndarray, taps: ndarray, weights: ndarray, ends: ndarray,
+                       out_taps: ndarray, out_weights: ndarray) -> None:  # fmt: skip
     """Copy texel k's ``counts[k]`` merged entries from ``at[k]`` in ``taps``/``weights`` (the
     buffers :func:`splat_exceptions` filled) to ``ends[k] - counts[k]`` in the outputs."""
     for k in numba.prange(counts.shape[0]):
@@ -586,15 +460,8 @@ def compact_exceptions(
 
 
 @_jit
-def _deposit_exception(
-    acc: np.ndarray,
-    t: int,
-    offsets: np.ndarray,
-    taps: np.ndarray,
-    weights: np.ndarray,
-    k: int,
-    values: np.ndarray,
-) -> None:
+def _deposit_exception(acc: ndarray, t: int, offsets: ndarray, taps: ndarray, weights: ndarray,
+                       k: int, values: ndarray) -> None:  # fmt: skip
     for m in range(offsets[k], offsets[k + 1]):
         q = taps[m]
         w = weights[m]
@@ -603,14 +470,8 @@ def _deposit_exception(
 
 
 @_jit
-def deposit_exceptions(
-    where: np.ndarray,
-    offsets: np.ndarray,
-    taps: np.ndarray,
-    weights: np.ndarray,
-    width: np.ndarray,
-    acc: np.ndarray,
-) -> None:
+def deposit_exceptions(where: ndarray, offsets: ndarray, taps: ndarray, weights: ndarray,
+                       width: ndarray, acc: ndarray) -> None:  # fmt: skip
     """Add the EXCEPTION texels' weights and weighted widths to ``acc[0, q, :2]``."""
     values = np.ones(2)
     for k in range(where.shape[0]):
@@ -619,21 +480,9 @@ def deposit_exceptions(
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_rows(
-    anchor: np.ndarray,
-    wq: np.ndarray,
-    scale: np.ndarray,
-    row: int,
-    offsets: np.ndarray,
-    taps: np.ndarray,
-    weights: np.ndarray,
-    alpha: np.ndarray,
-    inverse: np.ndarray,
-    cursor: np.ndarray,
-    fill: bool,
-    indices: np.ndarray,
-    values: np.ndarray,
-) -> None:
+def splat_rows(anchor: ndarray, wq: ndarray, scale: ndarray, row: int, offsets: ndarray,
+               taps: ndarray, weights: ndarray, alpha: ndarray, inverse: ndarray, cursor: ndarray,
+               fill: bool, indices: ndarray, values: ndarray) -> None:  # fmt: skip
     """The splat plan (:func:`splat_plan`, :func:`splat_exceptions`) transposed into rows, one
     per destination texel q with alpha > 0: source texel p's weight w into q becomes the entry
     (p, w alpha[q] inverse[q]) of row q. Chunk t of the source texels counts its entries per
@@ -672,12 +521,7 @@ def splat_rows(
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def area_alpha(
-    acc: np.ndarray,
-    omega: np.ndarray,
-    alpha: np.ndarray,
-    inverse: np.ndarray,
-) -> None:
+def area_alpha(acc: ndarray, omega: ndarray, alpha: ndarray, inverse: ndarray) -> None:
     """The area filter's blend per destination texel from the splat of ones and of the
     source footprints' widths (``acc[t, q] = (sum w, sum w width)``): alpha = 1 (the splat's
     mean) where the source texels (or their parts) landing there are at most
@@ -702,11 +546,7 @@ def area_alpha(
 
 
 @numba.njit(cache=True, error_model="numpy")
-def row_starts(
-    cursor: np.ndarray,
-    extra: np.ndarray,
-    indptr: np.ndarray,
-) -> None:
+def row_starts(cursor: ndarray, extra: ndarray, indptr: ndarray) -> None:
     """Row q holds sum_t cursor[t, q] + extra[q] entries: ``indptr`` their running sum, and
     ``cursor[t, q]`` becomes where chunk t's entries of row q start (after the earlier
     chunks')."""
@@ -722,18 +562,9 @@ def row_starts(
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def bilinear_rows(
-    alpha: np.ndarray,
-    row: int,
-    base: np.ndarray,
-    frac: np.ndarray,
-    taps: np.ndarray,
-    indptr: np.ndarray,
-    counts: np.ndarray,
-    fill: bool,
-    indices: np.ndarray,
-    values: np.ndarray,
-) -> None:
+def bilinear_rows(alpha: ndarray, row: int, base: ndarray, frac: ndarray, taps: ndarray,
+                  indptr: ndarray, counts: ndarray, fill: bool, indices: ndarray,
+                  values: ndarray) -> None:  # fmt: skip
     """Append to row q (at ``indptr[q + 1] - counts[q]``) the bilinear taps of the plan
     (:func:`plan`) weighted by 1 - alpha[q], where alpha[q] < 1 (``fill``); else count them
     into ``counts[q]``. A cube corner's missing tap (the mean of the other three) gives a third
@@ -766,12 +597,8 @@ def bilinear_rows(
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def scale_rows(
-    indptr: np.ndarray,
-    indices: np.ndarray,
-    values: np.ndarray,
-    factor: np.ndarray,
-) -> None:
+def scale_rows(indptr: ndarray, indices: ndarray, values: ndarray,
+               factor: ndarray) -> None:  # fmt: skip
     """Multiply each entry by ``factor`` of its column (none: all 1), then scale each nonempty
     row to sum 1."""
     scaled = factor.shape[0] > 0
@@ -787,14 +614,8 @@ def scale_rows(
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def balance_rows(
-    indptr: np.ndarray,
-    indices: np.ndarray,
-    values: np.ndarray,
-    omega_out: np.ndarray,
-    col: np.ndarray,
-    sums: np.ndarray,
-) -> None:
+def balance_rows(indptr: ndarray, indices: ndarray, values: ndarray, omega_out: ndarray,
+                 col: ndarray, sums: ndarray) -> None:  # fmt: skip
     """One pass of the area filter's balancing of M = diag(r) K diag(col) (K: ``values``):
     the row scales r making every nonempty row sum 1, and the energy each column then sends,
     sum_q omega_out[q] r[q] K[q, p] (x col[p] to come), as partial sums per chunk of rows in
@@ -813,12 +634,8 @@ def balance_rows(
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def balance_columns(
-    sums: np.ndarray,
-    omega_in: np.ndarray,
-    col: np.ndarray,
-    step: np.ndarray,
-) -> float:
+def balance_columns(sums: ndarray, omega_in: ndarray, col: ndarray,
+                    step: ndarray) -> float:  # fmt: skip
     """The column step, over-relaxed with momentum: where source texel p sends ``sent`` =
     col[p] x (sum of its partial sums) > 0, log col[p] moves by ``step[p]`` = 1.5 log(omega_in
     / sent) + 0.5 x its previous step (kept as the factor exp(step), so no logarithms).
@@ -839,15 +656,9 @@ def balance_columns(
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def reorder_rows(
-    indptr: np.ndarray,
-    indices: np.ndarray,
-    values: np.ndarray,
-    order: np.ndarray,
-    out_indptr: np.ndarray,
-    out_indices: np.ndarray,
-    out_values: np.ndarray,
-) -> None:
+def reorder_rows(indptr: ndarray, indices: ndarray, values: ndarray, order: ndarray,
+                 out_indptr: ndarray, out_indices: ndarray,
+                 out_values: ndarray) -> None:  # fmt: skip
     """Row p of the output matrix = row order[p] of the input (empty where -1)."""
     for p in numba.prange(order.shape[0]):
         q = order[p]
@@ -860,13 +671,8 @@ def reorder_rows(
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def area_gather(
-    src: np.ndarray,
-    indptr: np.ndarray,
-    indices: np.ndarray,
-    values: np.ndarray,
-    out: np.ndarray,
-) -> None:
+def area_gather(src: ndarray, indptr: ndarray, indices: ndarray, values: ndarray,
+                out: ndarray) -> None:  # fmt: skip
     """The area filter applied: out[q] = sum over row q of weight x src[p], in float64, four
     channels at a time in registers."""
     nc = out.shape[1]

@@ -89,16 +89,9 @@ def _splat(
     return splat
 
 
-def _merge(
-    s: Layout,
-    src_shape: tuple[int, ...],
-    d: Layout,
-    dst_shape: tuple[int, ...],
-    rot: np.ndarray,
-    omega: np.ndarray,
-    where: np.ndarray,
-    parts: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _merge(s: Layout, src_shape: tuple[int, ...], d: Layout, dst_shape: tuple[int, ...],
+           rot: np.ndarray, omega: np.ndarray, where: np.ndarray,
+           parts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
     """Stage 2: the merged deposits of the source texels ``where`` (cut into parts, or
     crossing a seam): ``(offsets, taps, weights)``, texel k's entries at offsets[k] onwards.
 
@@ -162,15 +155,9 @@ class _Growing:
         return self.arrays[0][: self.size], self.arrays[1][: self.size]
 
 
-def _rows(
-    splat: _Splat,
-    merged: tuple[np.ndarray, np.ndarray, np.ndarray],
-    alpha: np.ndarray,
-    inverse: np.ndarray,
-    bilinear: tuple[np.ndarray, np.ndarray, np.ndarray],
-    src_width: int,
-    dst_width: int,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _rows(splat: _Splat, merged: tuple[np.ndarray, np.ndarray, np.ndarray], alpha: np.ndarray,
+          inverse: np.ndarray, bilinear: tuple[np.ndarray, np.ndarray, np.ndarray], src_width: int,
+          dst_width: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
     """Stage 3: the deposits transposed into CSR rows, one per output texel, with the bilinear
     taps (weighted 1 - alpha) where the deposits cover too little:
     ``(indptr int64, indices int32, values float32)``."""
@@ -191,14 +178,8 @@ def _rows(
     return indptr, rows[0], rows[1]
 
 
-def _balance(
-    indptr: np.ndarray,
-    indices: np.ndarray,
-    values: np.ndarray,
-    omega_out: np.ndarray,
-    omega_in: np.ndarray,
-    sums: np.ndarray,
-) -> float:
+def _balance(indptr: np.ndarray, indices: np.ndarray, values: np.ndarray, omega_out: np.ndarray,
+             omega_in: np.ndarray, sums: np.ndarray) -> float:  # fmt: skip
     """Stage 4: scale the rows and columns of the sparse matrix M (CSR, nonnegative float32
     ``values``, in place) towards every nonempty row summing to 1 (a constant stays constant)
     and every column p carrying its source texel's solid angle,
@@ -421,17 +402,9 @@ _LINEAR_TOLERANCE = 0.05
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def _supersample_cube(  # pragma: no cover - compiled
-    skind: int,
-    sh: int,
-    sw: int,
-    src: np.ndarray,
-    clamp: float,
-    size: int,
-    k: int,
-    rot: np.ndarray,
-    out: np.ndarray,
-) -> None:
+def _supersample_cube(skind: int, sh: int, sw: int, src: np.ndarray, clamp: float, size: int,
+                      k: int, rot: np.ndarray,
+                      out: np.ndarray) -> None:  # pragma: no cover - compiled  # fmt: skip
     # out[f, j, i] = sum_s w_s R(p_s) / sum_s w_s over the k x k sample points of cube texel
     # (f, i, j) (the centres of its finer grid's texels), w_s = (1 + sc^2 + tc^2)^-1.5 (the
     # face's solid angle density there), R the bilinear lookup of the source clamped at clamp.
@@ -481,18 +454,9 @@ def _supersample_cube(  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _add_bilinear(  # pragma: no cover - compiled
-    kind: int,
-    h: int,
-    w: int,
-    src: np.ndarray,
-    clamp: float,
-    f: float,
-    x: float,
-    y: float,
-    weight: float,
-    acc: np.ndarray,
-) -> None:
+def _add_bilinear(kind: int, h: int, w: int, src: np.ndarray, clamp: float, f: float, x: float,
+                  y: float, weight: float,
+                  acc: np.ndarray) -> None:  # pragma: no cover - compiled  # fmt: skip
     # acc += weight * the seam-aware bilinear value at coordinates (f, x, y), every texel
     # clamped at clamp (a cube corner's missing texel is the mean of the other three)
     xs, ys = x - 0.5, y - 0.5
