@@ -35,6 +35,7 @@ N = 3 for ``start`` and the 1k jobs, 1 for the larger ones; several minutes on 2
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import os
 import shutil
@@ -117,9 +118,11 @@ def contenders(job: str, work: Path, run: peers.Peers) -> dict[str, list[str] | 
                 f"--sh-output={out / 'sh.txt'}", str(src),
             ]  # fmt: skip
         if run.present("cmft"):
-            found["cmft irradiance"] = cmft(
+            # the whole probe as its cube (faces of height / 2), an order-5 SH of it evaluated
+            # on 6x32^2 and written as a 128x64 latlong: the size of bakeshop's DIM
+            found["cmft irradiance (SH order 5)"] = cmft(
                 run, src, out / "cmft_irr", "--filter", "irradiance", "--srcFaceSize", "0",
-                "--dstFaceSize", "0", "--output0params", "hdr,rgbe,latlong",
+                "--dstFaceSize", "32", "--output0params", "hdr,rgbe,latlong",
             )  # fmt: skip
     elif job.startswith("ggx"):
         cmd = [BAKESHOP, "-q", "prefilter", str(src), str(out / "ggx.dds"), "--size", "256",
@@ -166,27 +169,81 @@ def _sh_basis(x, y, z):
     )  # fmt: skip
 
 
+#: the 48 axis permutations and signs: frame[i] maps a direction of bakeshop's frame to a peer's.
+FRAMES = [np.eye(3)[list(p)] * np.array(s)[:, None] for p in itertools.permutations(range(3))
+          for s in itertools.product((1, -1), repeat=3)]  # fmt: skip
+AXES = "xyz"
+
+
+def _frame_name(m: np.ndarray) -> str:
+    """``"x, y, -z"``: which of bakeshop's axes each of a peer's axes is."""
+    return ", ".join(("-" if m[i].sum() < 0 else "") + AXES[int(np.argmax(np.abs(m[i])))]
+                     for i in range(3))  # fmt: skip
+
+
+def _fit_frame(lookup, dirs, ref, weights):
+    """The signed axis permutation ``M`` for which the peer's values at ``M d`` (``lookup``)
+    best match ``ref`` at bakeshop's directions ``d``: (relative RMS, the values, ``M``, the
+    next best RMS)."""
+    fits = []
+    for m in FRAMES:
+        got = lookup(dirs @ m.T)
+        rms = np.sqrt(np.sum(weights * (got - ref) ** 2) / np.sum(weights * ref**2))
+        fits.append((float(rms), got, m))
+    fits.sort(key=lambda f: f[0])
+    return (*fits[0], fits[1][0])
+
+
 def fidelity(job: str, work: Path) -> dict[str, str]:
-    """Errors of each contender's DIM against bakeshop's ``exact`` one (the brute-force sum to
-    rounding, tests/light), on the 1k probe only (``exact`` from larger probes takes minutes).
+    """Errors of each contender's output against a reference, in the frame that fits it best of
+    the 48 axis permutations and signs (a peer's frame may differ from bakeshop's, +Y up, -Z
+    forward).
 
-    cmgen's 9 coefficients are irradiance E (not E/pi) in a frame turned 180 degrees about +Y
-    from bakeshop's (its x and z negated): of the 48 axis permutations and signs, that one fits
-    best (15 % RMS, the next 24 %)."""
-    if job != "dim-1k":
+    ``dim-1k``: each DIM against bakeshop's ``exact`` one (the brute-force sum to rounding,
+    tests/light), on the 1k probe only (``exact`` from larger probes takes minutes). cmgen's 9
+    coefficients are irradiance E (not E/pi) in a frame turned 180 degrees about +Y from
+    bakeshop's (its x and z negated: 15 % RMS, the next 24 %). cmft's 128x64 latlong is E/pi
+    in bakeshop's frame (the identity fits best).
+
+    ``faces-4k``: cmft's six faces (read as an OpenGL cube) against bakeshop's, both sampled
+    at a 512x256 latlong's directions and compared tone-mapped (``v / (1 + v)``, so that the
+    sun's few texels do not decide the fit): cmft reads a latlong mirrored, +Z forward (its z
+    is bakeshop's -z)."""
+    if job not in ("dim-1k", "faces-4k"):
         return {}
-    import re
-
     from bakeshop.io import read_image
-    from bakeshop.light import irradiance
-    from bakeshop.sphere import layout
+    from bakeshop.sphere import layout, sample
 
     out = work / f"out_{job}"
+    lay = layout("latlong")
+    if job == "faces-4k":
+        faces = out / "cmft_faces_{}.hdr"
+        if not faces.with_name(faces.name.format("posx")).exists():
+            return {}
+        names = ["posx", "negx", "posy", "negy", "posz", "negz"]
+        ours = np.stack([read_image(str(out / f"f_{n}.hdr")) for n in names])
+        theirs = np.stack([read_image(str(faces).format(n)) for n in names])
+        dirs = lay.directions((256, 512))[0]
+        weights = lay.solid_angles((256, 512))[..., None]
+        ref = sample(ours, "cube", dirs).astype(np.float64)
+        ref /= 1 + ref
+
+        def look(d):
+            v = sample(theirs, "cube", d).astype(np.float64)
+            return v / (1 + v)
+
+        rms, _, m, second = _fit_frame(look, dirs, ref, weights)
+        return {"cmft (filter none)": f"{rms:.1e} RMS tone-mapped off bakeshop's faces, in "
+                f"the frame ({_frame_name(m)}) (next best {second:.1e})"}  # fmt: skip
+
+    import re
+
+    from bakeshop.light import irradiance
+
     ours = read_image(out / "dim.pfm").astype(np.float64)
     h, w = ours.shape[:2]
     exact = irradiance(read_image(work / "probe_1k.hdr"), "latlong", size=(w, h), method="exact")
     exact = exact.astype(np.float64)
-    lay = layout("latlong")
     weights = lay.solid_angles((h, w))[..., None]
     dirs = lay.directions((h, w))[0]
 
@@ -202,6 +259,14 @@ def fidelity(job: str, work: Path) -> dict[str, str]:
                          for ln in lines])  # fmt: skip
         basis = _sh_basis(-dirs[..., 0], dirs[..., 1], -dirs[..., 2])
         found["cmgen --sh=3 --sh-irradiance"] = errors(np.maximum(basis @ coef, 0) / np.pi)
+    cmft_dim = out / "cmft_irr.hdr"
+    if cmft_dim.exists():
+        theirs = read_image(cmft_dim).astype(np.float64)
+        _, got, m, second = _fit_frame(lambda d: sample(theirs, "latlong", d), dirs, exact,
+                                       weights)  # fmt: skip
+        found["cmft irradiance (SH order 5)"] = (
+            f"{errors(got)} (frame {_frame_name(m)}; next best {second:.1e} RMS)"
+        )
     return found
 
 
@@ -245,14 +310,16 @@ def main() -> None:
             for name, command in found.items():
                 if name.startswith("bakeshop") and not isinstance(command, tuple):
                     timer(command, cache)()
+            load = os.getloadavg()[0]
             timed = peers.alternate({n: timer(c, cache) for n, c in found.items()}, repeats)
+            load = f"load average {load:.1f} at its start, {os.getloadavg()[0]:.1f} at its end"
             for name in timed:
                 for peer in ("cmgen", "cmft"):
                     if name.startswith(peer):
                         run.measured(peer, job)
             results[job] = timed
             errors = fidelity(job, work)
-            print(f"\n{job} ({repeats} run{'s' if repeats > 1 else ''} each, alternated)")
+            print(f"\n{job} ({repeats} run{'s' if repeats > 1 else ''} each, alternated; {load})")
             print("| command | wall s | CPU s | wall / bakeshop's | CPU / bakeshop's | vs exact |")
             print("|---|---|---|---|---|---|")
             # against bakeshop's warm run (its plan cache filled by an earlier run)
