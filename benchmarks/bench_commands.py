@@ -3,7 +3,8 @@ the same run, alternated.
 
 Every figure is a fresh process from start to exit (start-up, decoding the input, the work,
 encoding the outputs), timed by wall clock and by CPU time (user + system, every thread:
-steadier than wall time when other work shares the cores). Peers (see ``peers.py``): Filament's
+steadier than wall time when other work shares the cores), with its peak resident memory and the
+load average at the start and end of each job. Peers (see ``peers.py``): Filament's
 ``cmgen`` on PATH (Debian: ``apt-get install libfilament-tools``) and cmft when ``CMFT`` names
 its binary. A peer that is absent is reported as not measured.
 
@@ -12,15 +13,20 @@ Jobs (input: Poly Haven's Quarry 01, 1024x512, upsampled bilinearly to 4096x2048
 - ``start``: ``bakeshop --version``, ``--help``, ``info`` of the 1k probe (.hdr and .exr);
 - ``dim-1k``, ``dim-4k``: diffuse irradiance. bakeshop ``irradiance`` (``auto``: exact to the
   bound of docs/irradiance.md, a 128x64 latlong DIM); cmgen ``--sh=3 --sh-irradiance`` (9 SH
-  coefficients, approximate); cmft ``--filter irradiance`` (its SH-based cube, approximate).
-  From the 1k probe, each DIM's error against bakeshop's ``exact`` one too (fidelity);
+  coefficients, approximate); cmft ``--filter irradiance`` (an order-5 SH, 25 coefficients,
+  of the whole probe as a cube, evaluated on 6x32^2 and written as a 128x64 latlong: the size
+  of bakeshop's DIM). From the 1k probe, each DIM's error against bakeshop's ``exact`` one too
+  (fidelity);
 - ``dims-12mp``: the same on the team's probe size, 5020x2510 (12.6 MP), with bakeshop's
   ``dims`` (the sun found and painted out, the sun DIM and the shadow DIM, four files) beside
   its single ``irradiance``;
 - ``ggx-4k``: a 6x256 cube mip chain of 9 levels. bakeshop ``prefilter`` (GGX); cmgen
-  ``--ibl-ld`` (GGX, importance sampled); cmft ``--filter radiance`` (Phong, source faces 256);
+  ``--ibl-ld`` (GGX, importance sampled); cmft ``--filter radiance`` with its source resized
+  to 6x256^2 first (cmft has Phong and Blinn lobes, not GGX: ``phongbrdf``, gloss 10 x + 1;
+  at its default, the source at full size, it takes minutes);
 - ``faces-4k``: the latlong as six 1024x1024 faces. bakeshop ``remap --to faces``; cmgen
-  ``--extract``; cmft ``--filter none``.
+  ``--extract``; cmft ``--filter none`` (its faces against bakeshop's, fidelity: cmft reads a
+  latlong mirrored, +Z forward).
 
 bakeshop runs twice per job where it builds a geometry plan: "cold" with an empty plan cache (a
 new cache directory per run) and warm (the user cache directory of a previous run: a second
@@ -320,8 +326,8 @@ def main() -> None:
             results[job] = timed
             errors = fidelity(job, work)
             print(f"\n{job} ({repeats} run{'s' if repeats > 1 else ''} each, alternated; {load})")
-            print("| command | wall s | CPU s | wall / bakeshop's | CPU / bakeshop's | vs exact |")
-            print("|---|---|---|---|---|---|")
+            print("| command | wall s | CPU s | peak MB | wall / ours | CPU / ours | error |")
+            print("|---|---|---|---|---|---|---|")
             # against bakeshop's warm run (its plan cache filled by an earlier run)
             ours = [r for n, r in timed.items() if n.startswith("bakeshop") and "cold" not in n][-1]
             for name, r in timed.items():
@@ -330,7 +336,9 @@ def main() -> None:
                     if job == "start"
                     else f"{r['wall'] / ours['wall']:.2f} | {r['cpu'] / ours['cpu']:.2f}"
                 )
-                times = f"{peers.spread(r)} | {peers.spread(r, 'cpu')}"
+                times = (
+                    f"{peers.spread(r)} | {peers.spread(r, 'cpu')} | {peers.spread(r, 'mem', 0)}"
+                )
                 print(f"| {name} | {times} | {ratios} | {errors.get(name, '-')} |")
     print("\n" + json.dumps(results))
     run.finish()
