@@ -22,8 +22,8 @@ Jobs (input: Poly Haven's Quarry 01, 1024x512, upsampled bilinearly to 4096x2048
   its single ``irradiance``;
 - ``ggx-4k``: a 6x256 cube mip chain of 9 levels. bakeshop ``prefilter`` (GGX); cmgen
   ``--ibl-ld`` (GGX, importance sampled); cmft ``--filter radiance`` with its source resized
-  to 6x256^2 first (cmft has Phong and Blinn lobes, not GGX: ``phongbrdf``, gloss 10 x + 1;
-  at its default, the source at full size, it takes minutes);
+  to 6x256^2 first, the issue's setting (cmft has Phong and Blinn lobes, not GGX: ``phongbrdf``,
+  gloss 10 x + 1);
 - ``faces-4k``: the latlong as six 1024x1024 faces. bakeshop ``remap --to faces``; cmgen
   ``--extract``; cmft ``--filter none`` (its faces against bakeshop's, fidelity: cmft reads a
   latlong mirrored, +Z forward).
