@@ -200,7 +200,7 @@ def _fit_frame(lookup, dirs, ref, weights):
     return (*fits[0], fits[1][0])
 
 
-def fidelity(job: str, work: Path) -> dict[str, str]:
+def fidelity(job: str, work: Path, ran: list[str]) -> dict[str, str]:
     """Errors of each contender's output against a reference, in the frame that fits it best of
     the 48 axis permutations and signs (a peer's frame may differ from bakeshop's, +Y up, -Z
     forward).
@@ -214,7 +214,9 @@ def fidelity(job: str, work: Path) -> dict[str, str]:
     ``faces-4k``: cmft's six faces (read as an OpenGL cube) against bakeshop's, both sampled
     at a 512x256 latlong's directions and compared tone-mapped (``v / (1 + v)``, so that the
     sun's few texels do not decide the fit): cmft reads a latlong mirrored, +Z forward (its z
-    is bakeshop's -z)."""
+    is bakeshop's -z).
+
+    ``ran``: the contenders that ran; a peer that ran without writing its output is an error."""
     if job not in ("dim-1k", "faces-4k"):
         return {}
     from bakeshop.io import read_image
@@ -224,7 +226,7 @@ def fidelity(job: str, work: Path) -> dict[str, str]:
     lay = layout("latlong")
     if job == "faces-4k":
         faces = out / "cmft_faces_{}.hdr"
-        if not faces.with_name(faces.name.format("posx")).exists():
+        if "cmft (filter none)" not in ran:
             return {}
         names = ["posx", "negx", "posy", "negy", "posz", "negz"]
         ours = np.stack([read_image(str(out / f"f_{n}.hdr")) for n in names])
@@ -266,7 +268,7 @@ def fidelity(job: str, work: Path) -> dict[str, str]:
         basis = _sh_basis(-dirs[..., 0], dirs[..., 1], -dirs[..., 2])
         found["cmgen --sh=3 --sh-irradiance"] = errors(np.maximum(basis @ coef, 0) / np.pi)
     cmft_dim = out / "cmft_irr.hdr"
-    if cmft_dim.exists():
+    if "cmft irradiance (SH order 5)" in ran:
         theirs = read_image(cmft_dim).astype(np.float64)
         _, got, m, second = _fit_frame(lambda d: sample(theirs, "latlong", d), dirs, exact,
                                        weights)  # fmt: skip
@@ -324,7 +326,7 @@ def main() -> None:
                     if name.startswith(peer):
                         run.measured(peer, job)
             results[job] = timed
-            errors = fidelity(job, work)
+            errors = fidelity(job, work, list(timed))
             print(f"\n{job} ({repeats} run{'s' if repeats > 1 else ''} each, alternated; {load})")
             print("| command | wall s | CPU s | peak MB | wall / ours | CPU / ours | error |")
             print("|---|---|---|---|---|---|---|")
