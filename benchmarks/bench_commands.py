@@ -8,7 +8,8 @@ load average at the start and end of each job. Peers (see ``peers.py``): Filamen
 ``cmgen`` on PATH (Debian: ``apt-get install libfilament-tools``) and cmft when ``CMFT`` names
 its binary. A peer that is absent is reported as not measured.
 
-Jobs (input: Poly Haven's Quarry 01, 1024x512, upsampled bilinearly to 4096x2048 for "4k"):
+Jobs (input: Poly Haven's Quarry 01, 1024x512, upsampled bilinearly to 4096x2048 for "4k" and
+area-averaged to 64x32 for "64"):
 
 - ``start``: ``bakeshop --version``, ``--help``, ``info`` of the 1k probe (.hdr and .exr);
 - ``dim-1k``, ``dim-4k``: diffuse irradiance. bakeshop ``irradiance`` (``auto``: exact to the
@@ -27,6 +28,8 @@ Jobs (input: Poly Haven's Quarry 01, 1024x512, upsampled bilinearly to 4096x2048
 - ``faces-4k``: the latlong as six 1024x1024 faces. bakeshop ``remap --to faces``; cmgen
   ``--extract``; cmft ``--filter none`` (its faces against bakeshop's, fidelity: cmft reads a
   latlong mirrored, +Z forward).
+- ``dims-64``, ``faces-64``: the same commands on a 64x32 probe (six 16^2 faces), whose work
+  is nothing: what each command costs before its work (start-up, loading its kernels).
 
 bakeshop runs twice per job where it builds a geometry plan: "cold" with an empty plan cache (a
 new cache directory per run) and warm (the user cache directory of a previous run: a second
@@ -34,7 +37,7 @@ run at the same sizes). numba's compiled kernels are on disk in both (see README
 run after install).
 
 Usage: ``python benchmarks/bench_commands.py [--repeats N] [JOB ...]`` (default: every job,
-N = 3 for ``start`` and the 1k jobs, 1 for the larger ones; several minutes on 2 cores).
+N = 3 for ``start``, the 1k and the 64x32 jobs, 1 for the larger ones; several minutes on 2 cores).
 ``CMFT=/path/to/cmftRelease`` adds cmft.
 """
 
@@ -55,9 +58,13 @@ import peers
 ROOT = Path(__file__).resolve().parents[1]
 BAKESHOP = str(ROOT / ".venv" / "bin" / "bakeshop")
 SOURCE = ROOT / "tests" / "data" / "quarry_01_1k.hdr"
-JOBS = ["start", "dim-1k", "dim-4k", "dims-12mp", "ggx-4k", "faces-4k"]
+JOBS = ["start", "dim-1k", "dim-4k", "dims-12mp", "ggx-4k", "faces-4k", "dims-64", "faces-64"]
 #: input name -> (width, height).
-SIZES = {"1k": (1024, 512), "4k": (4096, 2048), "12mp": (5020, 2510)}
+SIZES = {"1k": (1024, 512), "4k": (4096, 2048), "12mp": (5020, 2510), "64": (64, 32)}
+#: input name -> the face edge of the ``faces`` job (a quarter of the latlong's width).
+FACES = {"4k": 1024, "64": 16}
+#: jobs repeated 3 times by default (the short ones).
+SHORT = ("start", "dim-1k", "dims-64", "faces-64")
 THREADS = 2  # cmft's CPU threads: the machine's cores
 
 
@@ -72,7 +79,8 @@ def prepare(work: Path) -> None:
     write_image(work / "probe_1k.exr", probe)
     for name, size in SIZES.items():
         if name != "1k":
-            big = cv2.resize(probe, size, interpolation=cv2.INTER_LINEAR)
+            how = cv2.INTER_AREA if size[0] < 1024 else cv2.INTER_LINEAR
+            big = cv2.resize(probe, size, interpolation=how)
             write_image(work / f"probe_{name}.hdr", np.maximum(big, 0))
 
 
@@ -149,17 +157,17 @@ def contenders(job: str, work: Path, run: peers.Peers) -> dict[str, list[str] | 
             )  # fmt: skip
     else:
         cmd = [BAKESHOP, "-q", "remap", str(src), str(out / "f_{face}.hdr"), "--to", "faces",
-               "--size", "1024"]  # fmt: skip
+               "--size", str(FACES[size])]  # fmt: skip
         found["bakeshop remap --to faces (plan cache cold)"] = ("cold", cmd)
         found["bakeshop remap --to faces"] = cmd
         if run.present("cmgen"):
             found["cmgen --extract"] = [
-                run.path("cmgen"), "-q", "--format=hdr", "--size=1024",
+                run.path("cmgen"), "-q", "--format=hdr", f"--size={FACES[size]}",
                 f"--extract={out / 'cmgen'}", str(src),
             ]  # fmt: skip
         if run.present("cmft"):
             found["cmft (filter none)"] = cmft(
-                run, src, out / "cmft_faces", "--filter", "none", "--dstFaceSize", "1024",
+                run, src, out / "cmft_faces", "--filter", "none", "--dstFaceSize", str(FACES[size]),
                 "--output0params", "hdr,rgbe,facelist",
             )  # fmt: skip
     return found
@@ -312,7 +320,7 @@ def main() -> None:
         cache = work / "plan-cache"
         prepare(work)
         for job in jobs:
-            repeats = args.repeats or (3 if job in ("start", "dim-1k") else 1)
+            repeats = args.repeats or (3 if job in SHORT else 1)
             found = contenders(job, work, run)
             # a warm-up of each bakeshop command fills the plan cache (and numba's), untimed
             for name, command in found.items():
