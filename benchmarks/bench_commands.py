@@ -13,9 +13,9 @@ area-averaged to 64x32 for "64"):
 
 - ``start``: ``bakeshop --version``, ``--help``, ``info`` of the 1k probe (.hdr and .exr);
 - ``dim-1k``, ``dim-4k``: diffuse irradiance. bakeshop ``irradiance`` (``auto``: exact to the
-  bound of docs/irradiance.md, a 128x64 latlong DIM); cmgen ``--sh=3 --sh-irradiance`` (9 SH
+  bound of docs/irradiance.md, a 360x180 latlong DIM); cmgen ``--sh=3 --sh-irradiance`` (9 SH
   coefficients, approximate); cmft ``--filter irradiance`` (an order-5 SH, 25 coefficients,
-  of the whole probe as a cube, evaluated on 6x32^2 and written as a 128x64 latlong: the size
+  of the whole probe as a cube, evaluated on 6x90^2 and written as a 360x180 latlong: the size
   of bakeshop's DIM). From the 1k probe, each DIM's error against bakeshop's ``exact`` one too
   (fidelity);
 - ``dims-12mp``: the same on the team's probe size, 5020x2510 (12.6 MP), with bakeshop's
@@ -133,10 +133,10 @@ def contenders(job: str, work: Path, run: peers.Peers) -> dict[str, list[str] | 
             ]  # fmt: skip
         if run.present("cmft"):
             # the whole probe as its cube (faces of height / 2), an order-5 SH of it evaluated
-            # on 6x32^2 and written as a 128x64 latlong: the size of bakeshop's DIM
+            # on 6x90^2 and written as a 360x180 latlong: the size of bakeshop's DIM
             found["cmft irradiance (SH order 5)"] = cmft(
                 run, src, out / "cmft_irr", "--filter", "irradiance", "--srcFaceSize", "0",
-                "--dstFaceSize", "32", "--output0params", "hdr,rgbe,latlong",
+                "--dstFaceSize", "90", "--output0params", "hdr,rgbe,latlong",
             )  # fmt: skip
     elif job.startswith("ggx"):
         cmd = [BAKESHOP, "-q", "prefilter", str(src), str(out / "ggx.dds"), "--size", "256",
@@ -216,7 +216,7 @@ def fidelity(job: str, work: Path, ran: list[str]) -> dict[str, str]:
     ``dim-1k``: each DIM against bakeshop's ``exact`` one (the brute-force sum to rounding,
     tests/light), on the 1k probe only (``exact`` from larger probes takes minutes). cmgen's 9
     coefficients are irradiance E (not E/pi) in a frame turned 180 degrees about +Y from
-    bakeshop's (its x and z negated: 15 % RMS, the next 24 %). cmft's 128x64 latlong is E/pi
+    bakeshop's (its x and z negated: 15 % RMS, the next 24 %). cmft's 360x180 latlong is E/pi
     in bakeshop's frame (the identity fits best).
 
     ``faces-4k``: cmft's six faces (read as an OpenGL cube) against bakeshop's, both sampled
