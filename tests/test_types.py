@@ -29,12 +29,12 @@ UNANNOTATED_BASELINE = {
     "bakeshop.image": 4,
     "bakeshop.io": 70,
     "bakeshop.light": 35,
-    "bakeshop.normals": 14,
-    "bakeshop.photo": 15,
+    "bakeshop.normals": 0,
+    "bakeshop.photo": 0,
     "bakeshop.preview": 27,
     "bakeshop.progress": 3,
     "bakeshop.sphere": 32,
-    "bakeshop.water": 25,
+    "bakeshop.water": 0,
 }
 
 
