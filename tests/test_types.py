@@ -31,7 +31,7 @@ UNANNOTATED_BASELINE = {
     "bakeshop.light": 35,
     "bakeshop.normals": 0,
     "bakeshop.photo": 0,
-    "bakeshop.preview": 27,
+    "bakeshop.preview": 0,
     "bakeshop.progress": 3,
     "bakeshop.sphere": 32,
     "bakeshop.water": 0,
