@@ -213,12 +213,11 @@ def render_water(
         vao.render(moderngl.TRIANGLES, vertices=3)
         image = np.frombuffer(fbo.read(components=4, dtype="f4"), np.float32)
         image = image.reshape(height, width, 4)[::-1].copy()  # GL's first row is the bottom
-        objects: list[
-            mgl.Texture | mgl.TextureArray | mgl.VertexArray | mgl.Framebuffer | mgl.Program
-        ]
-        objects = [*textures, vao, fbo, prog]
-        for obj in objects:
-            obj.release()
+        for tex in textures:
+            tex.release()
+        vao.release()
+        fbo.release()
+        prog.release()
         return image
     finally:
         ctx.release()
