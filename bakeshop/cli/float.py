@@ -301,7 +301,7 @@ def float_command(
     result = float_body(
         body,
         shape=shape,
-        size=None if size is None else size[0] if len(size) == 1 else size,
+        size=None if size is None else size[0] if len(size) == 1 else (size[0], size[1], size[2]),
         density=density,
         resolution=10 if resolution is None else resolution,
         model=model,
@@ -319,7 +319,7 @@ def float_command(
     )
     summary = result.summary
     if plot is not None:
-        label = shape if mesh is None else mesh.name  # one of them is given (checked above)
+        label = mesh.name if mesh is not None else str(shape)  # exactly one is given (checked)
         picture = plot_trace(
             result.trace.time,
             result.clearance[:, None],
