@@ -14,7 +14,7 @@ from bakeshop.buoyancy.mass import make_body, pack
 from bakeshop.buoyancy.metrics import clearance, summarize
 from bakeshop.buoyancy.shapes import closed_mesh, make_shape, resize
 from bakeshop.buoyancy.state import axis_angle_quaternion, quaternion_to_matrix
-from bakeshop.buoyancy.stepping import Trace, release, simulate
+from bakeshop.buoyancy.stepping import release, simulate
 from bakeshop.buoyancy.water import Water
 from bakeshop.errors import ArgumentError
 
