@@ -5,8 +5,10 @@ pictures, bit depths and display-encoded inputs. Path types and output safety li
 from __future__ import annotations
 
 import functools
+import os
+from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import NamedTuple
+from typing import Any, NamedTuple, TypeVar
 
 import click
 import numpy as np
@@ -16,8 +18,11 @@ from bakeshop.cli._paths import OUT_DIR
 from bakeshop.errors import ArgumentError
 from bakeshop.io import stored_bits
 
+#: a command callback, returned unchanged by the option builders.
+F = TypeVar("F", bound=Callable[..., Any])
 
-def _parse_value(text: str):
+
+def _parse_value(text: str) -> bool | int | float | str:
     lowered = text.lower()
     if lowered in ("true", "yes", "on"):
         return True
@@ -33,7 +38,7 @@ def _parse_value(text: str):
 
 def parse_options(pairs: tuple[str, ...]) -> dict:
     """``('compression=piz', 'bits=16')`` -> ``{'compression': 'piz', 'bits': 16}``."""
-    options = {}
+    options: dict[str, Any] = {}
     for pair in pairs:
         key, sep, value = pair.partition("=")
         if not sep or not key:
@@ -42,17 +47,17 @@ def parse_options(pairs: tuple[str, ...]) -> dict:
     return options
 
 
-def writer_option(help: str):
+def writer_option(help: str) -> Callable[[F], F]:
     """The repeatable ``-O/--option KEY=VALUE`` writer option (read with :func:`parse_options`)."""
     return click.option("-O", "--option", "options", multiple=True, metavar="KEY=VALUE", help=help)
 
 
-def out_dir_option(help: str):
+def out_dir_option(help: str) -> Callable[[F], F]:
     """The ``--out-dir``/``-o`` option of commands that write a set of files."""
     return click.option("--out-dir", "-o", required=True, type=OUT_DIR, help=help)
 
 
-def float_format_option(help: str):
+def float_format_option(help: str) -> Callable[[F], F]:
     """The ``--format`` option (hdr, exr, pfm) of commands that write a set of float images."""
     return click.option(
         "--format",
@@ -64,7 +69,7 @@ def float_format_option(help: str):
     )
 
 
-def convention_option(help: str):
+def convention_option(help: str) -> Callable[[F], F]:
     """The ``--convention`` option: the engine whose cube face set is read or written."""
     from bakeshop.sphere import CONVENTIONS
 
@@ -77,7 +82,7 @@ def convention_option(help: str):
     )
 
 
-def is_ldr(path) -> bool:
+def is_ldr(path: str | os.PathLike) -> bool:
     """True when ``path``'s format stores 8-bit display-encoded pictures (PNG, JPEG, TGA)."""
     from bakeshop.io import HDR_CODECS, codec_for
 
@@ -87,19 +92,23 @@ def is_ldr(path) -> bool:
 # -- pictures: the display rule, bit depth and display-encoded inputs -----------------------------
 
 
-def warn(message: str, path=None) -> None:
+def warn(message: str, path: str | os.PathLike | None = None) -> None:
     """One warning line on stderr: ``bakeshop: warning: FILE: message``."""
     where = f"{path}: " if path is not None else ""
     click.echo(f"bakeshop: warning: {where}{message}", err=True)
 
 
-def _picture_cap(path) -> int:
+def _picture_cap(path: str | os.PathLike) -> int:
     """The deepest samples a picture format stores: 16 for PNG, 8 for TGA and JPEG."""
     return 16 if Path(str(path)).suffix.lower() == ".png" else 8
 
 
 def output_bits(
-    path, *, requested: int | None = None, inputs=(), display: bool = False
+    path: str | os.PathLike,
+    *,
+    requested: int | None = None,
+    inputs: Iterable[int | None] = (),
+    display: bool = False,
 ) -> tuple[int, str | None]:
     """The sample depth of a picture file, and a one-line note when it is less than the inputs'.
 
@@ -177,7 +186,9 @@ def parse_exposure_mode(text: str | float) -> float | str:
         ) from None
 
 
-def picture_options(*, exposure: str = "0", operator: str = "none"):
+def picture_options(
+    *, exposure: str = "0", operator: str = "none"
+) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """The display rule's options, shared by every command that can write a picture from HDR
     data: ``--exposure``, ``--tonemap``, ``--linear``, ``--dither``, ``--bits``. The command
     receives them as one ``picture`` argument (a :class:`PictureRule`)."""
@@ -222,9 +233,9 @@ def picture_options(*, exposure: str = "0", operator: str = "none"):
         ),
     ]
 
-    def decorate(command):
+    def decorate(command: Callable[..., Any]) -> Callable[..., Any]:
         @functools.wraps(command)
-        def wrapper(*args, **kwargs):
+        def wrapper(*args: Any, **kwargs: Any) -> Any:
             rule = PictureRule(
                 parse_exposure_mode(kwargs.pop("picture_exposure")),
                 kwargs.pop("picture_operator"),
@@ -258,7 +269,13 @@ class MadePicture(NamedTuple):
 
 
 def make_picture(
-    image, rule: PictureRule, target, *, weights=None, inputs=(), linear_input: bool = True
+    image: np.ndarray,
+    rule: PictureRule,
+    target: str | os.PathLike,
+    *,
+    weights: np.ndarray | None = None,
+    inputs: Iterable[int | None] = (),
+    linear_input: bool = True,
 ) -> MadePicture:
     """Apply the one display rule to ``image`` for the picture file ``target``.
 
@@ -303,7 +320,7 @@ def make_picture(
     return MadePicture(picture.pixels, line, f"bakeshop: {line}", note, 0.0)
 
 
-def srgb_decode_option(command):
+def srgb_decode_option(command: F) -> F:
     """The ``--srgb-decode`` flag of commands that read radiance: linearise 8/16-bit input."""
     return click.option(
         "--srgb-decode",
@@ -313,7 +330,9 @@ def srgb_decode_option(command):
     )(command)
 
 
-def linearise(image, path, metadata: dict, decode: bool) -> tuple[np.ndarray, bool]:
+def linearise(
+    image: np.ndarray, path: str | os.PathLike, metadata: dict, decode: bool
+) -> tuple[np.ndarray, bool]:
     """``(image, linear)``: an integer-stored input is sRGB-decoded when ``decode``, else kept
     as stored with one warning (its values are display-encoded, not radiance); ``decode`` on a
     float input is refused. Alpha is never decoded."""
@@ -337,7 +356,7 @@ def linearise(image, path, metadata: dict, decode: bool) -> tuple[np.ndarray, bo
     return out, True
 
 
-def is_picture(path) -> bool:
+def is_picture(path: str | os.PathLike) -> bool:
     """True when ``path`` (a ``{face}``/``{mip}`` pattern too) names picture files (PNG, TGA,
     JPEG); False for float formats and cube map containers."""
     from bakeshop.io import HDR_CODECS, codec_for
@@ -346,7 +365,7 @@ def is_picture(path) -> bool:
     return not is_container(path) and codec_for(path) not in HDR_CODECS
 
 
-def refuse_unused_picture_rule(rule: PictureRule, target) -> None:
+def refuse_unused_picture_rule(rule: PictureRule, target: str | os.PathLike) -> None:
     """Refuse picture options given for an output that is not a picture."""
     if rule.ev != 0 or rule.operator != "none" or rule.linear or rule.dither or rule.bits:
         raise ArgumentError(
@@ -356,7 +375,9 @@ def refuse_unused_picture_rule(rule: PictureRule, target) -> None:
         )
 
 
-def environment_weights(layout: str, spatial_shape, *, up=None) -> np.ndarray:
+def environment_weights(
+    layout: str, spatial_shape: tuple[int, ...], *, up: np.ndarray | None = None
+) -> np.ndarray:
     """Metering weights of an environment: each texel's solid angle (0 outside the layout's
     valid texels: a disk's outside, a cross's empty cells), and 0 below the plane whose
     normal is ``up`` when given."""
@@ -369,7 +390,15 @@ def environment_weights(layout: str, spatial_shape, *, up=None) -> np.ndarray:
     return weights
 
 
-def write_any(target, image, rule: PictureRule, *, inputs=(), linear: bool, options=None):
+def write_any(
+    target: str | os.PathLike,
+    image: np.ndarray,
+    rule: PictureRule,
+    *,
+    inputs: Iterable[int | None] = (),
+    linear: bool,
+    options: dict[str, Any] | None = None,
+) -> str | None:
     """Write ``image`` to ``target`` by the one rule: a picture file through
     :func:`make_picture` (its precision note warned), a float file with the rule's exposure
     only (a number of stops, or auto/fit metered on the frame). Returns the line saying what
