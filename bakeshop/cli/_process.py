@@ -34,7 +34,10 @@ import sys
 import threading
 import time
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
+from types import FrameType
+from typing import Any
 
 import click
 
@@ -57,17 +60,17 @@ class Interrupted(BaseException):
     KeyboardInterrupt into a blank line and an ``Abort``.
     """
 
-    def __init__(self, signum: int):
+    def __init__(self, signum: int) -> None:
         super().__init__(signal.Signals(signum).name)
         self.signum = signum
 
 
-def _quiet(unraisable) -> None:
+def _quiet(unraisable: Any) -> None:
     """An unraisable-exception hook that says nothing (installed once a signal arrived)."""
 
 
 @contextlib.contextmanager
-def signals_as_exceptions():
+def signals_as_exceptions() -> Iterator[list[int]]:
     """Within the block (in the main thread), the :data:`SIGNALS` raise :class:`Interrupted`.
 
     Yields the list of signal numbers received, in order. Elsewhere than in the main thread,
@@ -76,7 +79,7 @@ def signals_as_exceptions():
     received: list[int] = []
     first: list[float] = []
 
-    def handler(signum, frame):
+    def handler(signum: int, frame: FrameType | None) -> None:
         received.append(signum)
         if not first:
             first.append(time.monotonic())
@@ -104,7 +107,7 @@ def signals_as_exceptions():
 
 
 @contextlib.contextmanager
-def library_messages():
+def library_messages() -> Iterator[list[str]]:
     """Collect the Python warnings and the log records (WARNING and above) of the block.
 
     Yields the list of one-line messages. The warning filters in force are kept (what Python
@@ -113,7 +116,7 @@ def library_messages():
     notes: list[str] = []
 
     class Collect(logging.Handler):
-        def emit(self, record):
+        def emit(self, record: logging.LogRecord) -> None:
             notes.append(f"{record.name.partition('.')[0]}: {record.getMessage()}")
 
     handler = Collect(logging.WARNING)
@@ -151,11 +154,11 @@ class InputPath(click.ParamType):
 
     name = "file"
 
-    def __init__(self, patterns: bool = False, stores: bool = False):
+    def __init__(self, patterns: bool = False, stores: bool = False) -> None:
         self.patterns = patterns
         self.stores = stores
 
-    def convert(self, value, param, ctx):
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Path:
         from bakeshop.io import check_input
 
         path = Path(value)
@@ -189,7 +192,7 @@ class ByteSize(click.ParamType):
     name = "size"
     _UNITS = {"": 1, "k": 1 << 10, "m": 1 << 20, "g": 1 << 30, "t": 1 << 40}
 
-    def convert(self, value, param, ctx):
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> int:
         if isinstance(value, int):
             return value
         match = re.fullmatch(r"\s*([0-9.eE+]+)\s*([kKmMgGtT]?)(?:i?[bB])?\s*", str(value))
@@ -296,7 +299,9 @@ def run(group: click.Group, argv: list[str] | None) -> int:
     return status
 
 
-def _invoke(group: click.Group, argv, received: list[int]) -> tuple[int, str | None]:
+def _invoke(
+    group: click.Group, argv: list[str] | None, received: list[int]
+) -> tuple[int, str | None]:
     """Run the command; return its exit status and the error line's message (None if none)."""
     try:
         return group.main(args=argv, prog_name="bakeshop", standalone_mode=False) or 0, None
