@@ -13,7 +13,7 @@ RIPPLE_TEXEL_BYTES = 24
 
 
 @click.group(context_settings=CONTEXT)
-def water():
+def water() -> None:
     """Water textures an engine loads: tileable, time-looping ocean normal maps (with heights,
     slopes, displacement and foam), impact ripples, and underwater murk constants.
 

@@ -3,6 +3,7 @@ arrays, their previews, and the ``--outputs`` list."""
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -10,13 +11,13 @@ import numpy as np
 from bakeshop.errors import ArgumentError
 
 
-def _write_png(path: Path, values, bits: int) -> None:
+def _write_png(path: Path, values: np.ndarray, bits: int) -> None:
     from bakeshop.io import write_image
 
     write_image(path, values, bits=bits)
 
 
-def _write_exr(path: Path, values) -> None:
+def _write_exr(path: Path, values: np.ndarray) -> None:
     from bakeshop.io import write_image
 
     write_image(path, np.asarray(values, np.float32), pixel_type="float")
@@ -51,8 +52,8 @@ class TextureSet:
     """Receives frames of named outputs in batches and writes them as numbered frames, a
     flipbook atlas or a texture array. Each output is (kind, channels, encoding)."""
 
-    def __init__(self, out_dir: Path, name: str, layout: str, *, container: str, columns,
-                 gutter: int, mips: bool, frames: int):  # fmt: skip
+    def __init__(self, out_dir: Path, name: str, layout: str, *, container: str, columns: int | None,
+                 gutter: int, mips: bool, frames: int) -> None:  # fmt: skip
         self.out_dir, self.name, self.layout = out_dir, name, layout
         self.container, self.columns, self.gutter, self.mips = container, columns, gutter, mips
         self.frames = frames
@@ -65,7 +66,7 @@ class TextureSet:
         digits = max(4, len(str(self.frames - 1)))
         return self.out_dir / f"{self.name}_{output}_{index:0{digits}d}{ext}"
 
-    def add(self, output: str, values: np.ndarray, fmt: str, indices) -> None:
+    def add(self, output: str, values: np.ndarray, fmt: str, indices: Iterable[int]) -> None:
         """``values`` (B, N, N, C) float32 texel values ready to store (packed normals in
         [0, 1], metres for heights ...) for frames ``indices``; ``fmt`` is png8, png16, exr."""
         self.formats[output] = fmt
@@ -138,7 +139,7 @@ def _preview_indices(frames: int, count: int = 16) -> np.ndarray:
     return np.unique(np.linspace(0, frames - 1, min(count, frames)).round().astype(int))
 
 
-def _parse_outputs(text: str, allowed) -> list[str]:
+def _parse_outputs(text: str, allowed: Sequence[str]) -> list[str]:
     names = [t.strip() for t in text.split(",") if t.strip()]
     bad = [n for n in names if n not in allowed]
     if not names or bad:

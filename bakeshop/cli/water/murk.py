@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 import numpy as np
@@ -10,6 +11,9 @@ import numpy as np
 from bakeshop.cli._numbers import Number, Size
 from bakeshop.cli._paths import OUT_DIR
 from bakeshop.cli.water._group import CONTEXT, water
+
+if TYPE_CHECKING:
+    from bakeshop.water.murk import Water
 
 
 @water.command(context_settings=CONTEXT)
@@ -54,7 +58,7 @@ from bakeshop.cli.water._group import CONTEXT, water
 )
 @click.option("--name", default="murk", show_default=True, help="Prefix of the file names.")
 @click.option("--no-preview", is_flag=True, help="Skip the preview PNG.")
-def murk(out_dir: Path, **o):
+def murk(out_dir: Path, **o: Any) -> None:
     """Underwater murk constants from measured water: per-channel beam attenuation (what fades
     the view, absorption + scattering) and diffuse attenuation (what dims the light with depth),
     for Unreal's Single Layer Water, Unity HDRP, Crest, a plain GLSL function and Source-style
@@ -125,7 +129,7 @@ def murk(out_dir: Path, **o):
     )
 
 
-def _murk_preview(path: Path, w, reach: float, max_depth: float) -> str:
+def _murk_preview(path: Path, w: Water, reach: float, max_depth: float) -> str:
     """White and 18 % grey targets seen through 0..reach metres of water at the surface (top
     half) and at max_depth (bottom half), sRGB."""
     from bakeshop.image import to_srgb8
