@@ -4,10 +4,14 @@
 from __future__ import annotations
 
 import os
+from typing import TYPE_CHECKING
 
 import click
 
 from bakeshop.cli._numbers import MemorySize
+
+if TYPE_CHECKING:
+    from bakeshop.huge import Engine
 
 memory_option = click.option(
     "--memory",
@@ -26,14 +30,14 @@ scheduler_option = click.option(
 )
 
 
-def engine(memory: str | None, scheduler: str | None):
+def engine(memory: str | None, scheduler: str | None) -> Engine:
     """The :class:`bakeshop.huge.Engine` of the options."""
     from bakeshop.huge import Engine
 
     return Engine(scheduler, memory)
 
 
-def chunked(source, memory: str | None, scheduler: str | None) -> bool:
+def chunked(source: str | os.PathLike, memory: str | None, scheduler: str | None) -> bool:
     """True when a command should run chunked: asked for (--memory, --scheduler,
     BAKESHOP_SCHEDULER), or the input is a chunked store (.zarr, .tif), or its decoded pixels
     would take more than a quarter of the memory bound."""

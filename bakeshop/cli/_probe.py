@@ -4,8 +4,11 @@
 from __future__ import annotations
 
 import math
+import os
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -14,6 +17,11 @@ from bakeshop.cli._paths import parse_size
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import LAYOUT_ENVMAPS, is_cube, read_environment
 from bakeshop.sphere import FILE_LAYOUTS
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from bakeshop.light import Sun
 
 #: output texels of a DIM when no --size is given (360x180, the pipeline's latlong).
 DEFAULT_TEXELS = 360 * 180
@@ -67,7 +75,16 @@ order_option = click.option(
 )
 
 
-def timed(compute, image, layout, dst_layout, size, method, order, window="minimal"):
+def timed(
+    compute: Callable[..., Any],
+    image: np.ndarray,
+    layout: str,
+    dst_layout: str,
+    size: str | None,
+    method: str,
+    order: int,
+    window: str = "minimal",
+) -> tuple[Any, float]:
     """``(compute(image, layout, to=..., ...), seconds)``: the DIM or the DIM pair, timed."""
     started = time.perf_counter()
     result = compute(
@@ -82,7 +99,7 @@ def timed(compute, image, layout, dst_layout, size, method, order, window="minim
     return result, time.perf_counter() - started
 
 
-def output_size(layout: str, size: str | None):
+def output_size(layout: str, size: str | None) -> tuple[int, int] | int:
     from bakeshop.sphere import layout as get_layout
 
     if size is not None:
@@ -92,7 +109,7 @@ def output_size(layout: str, size: str | None):
     return get_layout(layout).default_size(DEFAULT_TEXELS)
 
 
-def sun_lines(sun) -> list[str]:
+def sun_lines(sun: Sun) -> list[str]:
     x, y, z = sun.direction
     elevation = math.degrees(math.asin(max(-1.0, min(1.0, y))))
     azimuth = math.degrees(math.atan2(x, -z))  # 0 forward (-Z), 90 right (+X)
@@ -115,7 +132,7 @@ def read_probe(
     *,
     convention: str = "opengl",
     with_metadata: bool = False,
-):
+) -> tuple[Any, ...]:
     """``(image, layout, path)`` of the input probe (and its file's metadata with
     ``with_metadata``); the embedded default when ``source`` is None (see
     :func:`bakeshop.io.read_environment`)."""
@@ -136,7 +153,7 @@ def picture_layout(layout: str) -> str:
     return "cross-vertical" if is_cube(layout) else layout
 
 
-def check_picture_format(layout: str, fmt: str, source) -> None:
+def check_picture_format(layout: str, fmt: str, source: str | os.PathLike) -> None:
     """Refuse, before any work, to write a probe picture in OpenEXR's layouts to a format that
     cannot say so (only an .exr's envmap attribute can)."""
     if layout in LAYOUT_ENVMAPS and fmt != "exr":

@@ -139,10 +139,10 @@ CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 class _Lazy(click.Group):
     """The root group: commands listed from :data:`COMMANDS`, each module imported on use."""
 
-    def list_commands(self, ctx):
+    def list_commands(self, ctx: click.Context) -> list[str]:
         return list(COMMANDS)
 
-    def get_command(self, ctx, name):
+    def get_command(self, ctx: click.Context, name: str) -> click.Command | None:
         if name not in self.commands and name in COMMANDS:
             from bakeshop.cli._paths import guard_outputs
 
@@ -151,7 +151,7 @@ class _Lazy(click.Group):
             guard_outputs(self)
         return self.commands.get(name)
 
-    def format_commands(self, ctx, formatter):
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
         # the listing needs each command's first words only: no module is imported for it
         placeholders = {
             name: click.Command(name, help=text) for name, (_, text) in COMMANDS.items()
@@ -178,7 +178,7 @@ class _Lazy(click.Group):
     "per byte of the file when that is more; a larger result is refused as a possible "
     "decompression bomb); 1 byte to 1 EiB.",
 )
-def cli(quiet: bool, max_decoded: int | None):
+def cli(quiet: bool, max_decoded: int | None) -> None:
     """The content pipeline of a real-time renderer: HDR light probes, panoramas and cube maps,
     diffuse irradiance, fresnel bakes, normal maps and buoyancy.
 

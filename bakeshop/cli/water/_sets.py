@@ -52,8 +52,8 @@ class TextureSet:
     """Receives frames of named outputs in batches and writes them as numbered frames, a
     flipbook atlas or a texture array. Each output is (kind, channels, encoding)."""
 
-    def __init__(self, out_dir: Path, name: str, layout: str, *, container: str, columns: int | None,
-                 gutter: int, mips: bool, frames: int) -> None:  # fmt: skip
+    def __init__(self, out_dir: Path, name: str, layout: str, *, container: str,
+                 columns: int | None, gutter: int, mips: bool, frames: int) -> None:  # fmt: skip
         self.out_dir, self.name, self.layout = out_dir, name, layout
         self.container, self.columns, self.gutter, self.mips = container, columns, gutter, mips
         self.frames = frames
