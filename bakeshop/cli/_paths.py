@@ -26,7 +26,7 @@ from bakeshop.errors import ArgumentError
 # --- outputs that would overwrite inputs -----------------------------------------------------
 
 
-def refuse_overwriting_inputs(output: str | os.PathLike, *inputs: str | os.PathLike) -> None:
+def refuse_overwriting_inputs(output: str | os.PathLike, *inputs: str | os.PathLike | None) -> None:
     """Refuse, before any work, an ``output`` that would write over one of the command's inputs.
 
     ``output`` may be a pattern (``{face}``, ``{mip}``, ``{frame}``); the inputs are ``inputs``

@@ -80,7 +80,7 @@ def timed(
     image: np.ndarray,
     layout: str,
     dst_layout: str,
-    size: str | None,
+    size: int | tuple[int, int] | None,
     method: str,
     order: int,
     window: str = "minimal",
@@ -99,7 +99,7 @@ def timed(
     return result, time.perf_counter() - started
 
 
-def output_size(layout: str, size: str | None) -> tuple[int, int] | int:
+def output_size(layout: str, size: str | int | tuple[int, int] | None) -> tuple[int, int] | int:
     from bakeshop.sphere import layout as get_layout
 
     if size is not None:

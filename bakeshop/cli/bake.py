@@ -4,10 +4,14 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
 from bakeshop.cli._numbers import Integer
+
+if TYPE_CHECKING:
+    from bakeshop.bake import Decision
 
 
 def _operations_text() -> str:
@@ -79,11 +83,11 @@ def bake(
     recipe: Path | None,
     explain: bool,
     dry_run: bool,
-    force: tuple,
+    force: tuple[str, ...],
     jobs: int,
     init: bool,
     operations: bool,
-):
+) -> None:
     """Bake a level from RECIPE (TOML): probes, panoramas, normal maps, compressed textures and
     water, rebuilding only the steps whose inputs, options or bakeshop version changed, or
     whose outputs were deleted or altered. Every file written is read back through bakeshop and
@@ -145,7 +149,7 @@ def bake(
             click.echo(f"nothing to do: all {len(decisions)} steps are up to date")
         return
 
-    def report(decision, record):
+    def report(decision: Decision, record: dict | None) -> None:
         if record is not None:
             outs = record["outputs"]
             checked = sum(bool(o["reload"].get("ok")) for o in outs)

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import time
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -19,6 +21,9 @@ from bakeshop.io.environment import (
     write_environment,
     write_table,
 )
+
+if TYPE_CHECKING:
+    from bakeshop.io.compress.texture import Overflow
 
 _from = click.option(
     "--from",
@@ -55,9 +60,22 @@ _from = click.option(
               "this engine loads (faces, LOD mapping, SH layout; implies --compress).")  # fmt: skip
 @quality_options
 def bake_probe(
-    source, out_dir, src_layout, fmt, container, cube_size, specular_size, mips, srgb_decode,
-    compress, engine, quality_profile, overflow, min_psnr, zstd,
-):  # fmt: skip
+    source: Path | None,
+    out_dir: Path,
+    src_layout: str | None,
+    fmt: str,
+    container: str,
+    cube_size: int | None,
+    specular_size: int,
+    mips: int,
+    srgb_decode: bool,
+    compress: bool,
+    engine: str | None,
+    quality_profile: str,
+    overflow: Overflow,
+    min_psnr: float | None,
+    zstd: bool,
+) -> None:
     """Bake everything the renderer needs from one probe IN (default: the embedded probe).
 
     \b

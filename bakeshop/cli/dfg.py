@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
 import click
 
@@ -31,7 +32,7 @@ _float32 = click.option(
     "Schlick-Smith (k = alpha/2).",
 )
 @_float32
-def dfg(target, size, samples, visibility, float32):
+def dfg(target: Path, size: int, samples: int, visibility: str, float32: bool) -> None:
     """Write the split-sum DFG lookup table to OUT: scale and bias on F0 per (n.v, roughness).
 
     Columns are n.v and rows roughness (row 0 smoothest), both at texel centres:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 import numpy as np
 
@@ -34,7 +36,18 @@ from bakeshop.io.environment import as_picture, check_openexr_target, describe
 @size_option
 @window_option
 @srgb_decode_option
-def dims(source, out_dir, src_layout, fmt, method, order, dst_layout, size, window, srgb_decode):
+def dims(
+    source: Path,
+    out_dir: Path,
+    src_layout: str | None,
+    fmt: str,
+    method: str,
+    order: int,
+    dst_layout: str,
+    size: int | tuple[int, int] | None,
+    window: str,
+    srgb_decode: bool,
+) -> None:
     """Make the DIM pair of the probe IN: sun_dim, shadow_dim, shadow_probe and sun.json.
 
     The sun is found and painted out of the probe (shadow_probe, same layout and size as IN,

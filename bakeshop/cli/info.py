@@ -13,7 +13,7 @@ from bakeshop.cli._paths import INPUT
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("files", nargs=-1, type=INPUT)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object per file instead.")
-def info(files: tuple[Path, ...], as_json: bool):
+def info(files: tuple[Path, ...], as_json: bool) -> None:
     """Describe image files: format, size, channels, stored type, per-channel min/max/mean,
     NaN/Inf counts, dynamic range in stops, and a guess of the panorama layout from the shape
     (labelled as a guess). A .dds, .ktx or .ktx2 texture (block-compressed ones decoded) is
