@@ -2,10 +2,20 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
 import click
 import numpy as np
 
-from bakeshop.cli._common import parse_options, picture_options, write_any, writer_option
+from bakeshop.cli._common import (
+    PictureRule,
+    parse_options,
+    picture_options,
+    write_any,
+    writer_option,
+)
 from bakeshop.cli._paths import OUTPUT, SOURCE, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
 from bakeshop.io import stored_bits
@@ -24,7 +34,13 @@ from bakeshop.io import stored_bits
     "PNG bits=8|16; JPEG quality=1..100; TGA rle=true; PFM byteorder=<|>."
 )
 @picture_options()
-def convert(source, target, srgb_decode, options, picture):
+def convert(
+    source: Path,
+    target: Path,
+    srgb_decode: bool,
+    options: tuple[str, ...],
+    picture: PictureRule,
+) -> None:
     """Convert SOURCE to TARGET, any supported format to any other (by extension: .hdr .pfm
     .exr .tga .png .jpg).
 
@@ -89,7 +105,7 @@ def convert(source, target, srgb_decode, options, picture):
 _STREAMED = (".pfm", ".hdr", ".pic", ".rgbe", ".exr", ".tif", ".tiff", ".zarr")
 
 
-def _streams(source, target) -> bool:
+def _streams(source: Path, target: Path) -> bool:
     """Strip by strip when a .zarr or .tif is involved, or both ends stream and the image is
     larger than a quarter of the memory available."""
     s, t = source.suffix.lower(), target.suffix.lower()
@@ -112,7 +128,13 @@ def _streams(source, target) -> bool:
         return False
 
 
-def _convert_strips(source, target, picture, srgb_decode, options) -> None:
+def _convert_strips(
+    source: Path,
+    target: Path,
+    picture: PictureRule,
+    srgb_decode: bool,
+    options: dict[str, Any],
+) -> None:
     from bakeshop import progress
     from bakeshop.huge.memory import resolve_memory
     from bakeshop.io.stream import open_image, write_strips
@@ -133,7 +155,7 @@ def _convert_strips(source, target, picture, srgb_decode, options) -> None:
     rows = max(rows - rows % 256, min(rows, 256))  # whole rows of zarr and TIFF chunks
     scale = np.float32(2.0**exposure)
 
-    def strips():
+    def strips() -> Iterator[np.ndarray]:
         for top in progress.track(range(0, h, rows), f"converting {source.name}"):
             block = reader.read((top, min(top + rows, h)))[:, :, :c]
             yield block * scale if exposure else block

@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from bakeshop.cli._common import (
+    PictureRule,
     environment_weights,
     is_picture,
     linearise,
@@ -53,19 +56,19 @@ from bakeshop.io.environment import check_openexr_target, describe
 @srgb_decode_option
 @picture_options()
 def irradiance(
-    source,
-    target,
-    src_layout,
-    method,
-    order,
-    dst_layout,
-    size,
-    sh_json,
-    shader,
-    window,
-    srgb_decode,
-    picture,
-):
+    source: Path,
+    target: Path,
+    src_layout: str | None,
+    method: str,
+    order: int,
+    dst_layout: str,
+    size: int | tuple[int, int] | None,
+    sh_json: Path | None,
+    shader: Path | None,
+    window: str,
+    srgb_decode: bool,
+    picture: PictureRule,
+) -> None:
     """Compute the diffuse irradiance map (DIM) of the probe IN and write it to OUT.
 
     A DIM texel holds E(n) / pi for the surface normal n it looks along: the radiance that a

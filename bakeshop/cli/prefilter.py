@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
 import click
 
 from bakeshop.cli._common import (
+    PictureRule,
     convention_option,
     environment_weights,
     is_picture,
@@ -71,19 +73,19 @@ _float32 = click.option(
 @srgb_decode_option
 @picture_options()
 def prefilter(
-    source,
-    target,
-    brdf,
-    exponent,
-    size,
-    mips,
-    src_layout,
-    samples,
-    convention,
-    float32,
-    srgb_decode,
-    picture,
-):
+    source: Path,
+    target: Path,
+    brdf: str,
+    exponent: float | None,
+    size: int,
+    mips: int | None,
+    src_layout: str | None,
+    samples: int,
+    convention: str,
+    float32: bool,
+    srgb_decode: bool,
+    picture: PictureRule,
+) -> None:
     """Prefilter the environment IN into a glossy-reflection cube mip chain OUT.
 
     GGX (the split-sum approximation of UE4): level m has roughness m / (mips - 1), so level 0

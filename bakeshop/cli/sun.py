@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import click
 
@@ -20,7 +21,7 @@ from bakeshop.cli._probe import (
 @from_option
 @click.option("--json", "as_json", is_flag=True, help="Print sun.json instead.")
 @srgb_decode_option
-def sun(source, src_layout, as_json, srgb_decode):
+def sun(source: Path, src_layout: str | None, as_json: bool, srgb_decode: bool) -> None:
     """Find the sun of the probe IN and print its direction, size, colour and irradiance.
 
     The sun is the brightest compact light that stands well above the sky around it and
