@@ -12,6 +12,7 @@ from typing import Any, NamedTuple, TypeVar
 
 import click
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.cli._numbers import Exposure
 from bakeshop.cli._paths import OUT_DIR
@@ -376,7 +377,7 @@ def refuse_unused_picture_rule(rule: PictureRule, target: str | os.PathLike) -> 
 
 
 def environment_weights(
-    layout: str, spatial_shape: tuple[int, ...], *, up: np.ndarray | None = None
+    layout: str, spatial_shape: tuple[int, ...], *, up: ArrayLike | None = None
 ) -> np.ndarray:
     """Metering weights of an environment: each texel's solid angle (0 outside the layout's
     valid texels: a disk's outside, a cross's empty cells), and 0 below the plane whose

@@ -30,14 +30,14 @@ scheduler_option = click.option(
 )
 
 
-def engine(memory: str | None, scheduler: str | None) -> Engine:
+def engine(memory: int | str | None, scheduler: str | None) -> Engine:
     """The :class:`bakeshop.huge.Engine` of the options."""
     from bakeshop.huge import Engine
 
     return Engine(scheduler, memory)
 
 
-def chunked(source: str | os.PathLike, memory: str | None, scheduler: str | None) -> bool:
+def chunked(source: str | os.PathLike, memory: int | str | None, scheduler: str | None) -> bool:
     """True when a command should run chunked: asked for (--memory, --scheduler,
     BAKESHOP_SCHEDULER), or the input is a chunked store (.zarr, .tif), or its decoded pixels
     would take more than a quarter of the memory bound."""

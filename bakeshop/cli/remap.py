@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from bakeshop.cli._common import (
+    PictureRule,
     convention_option,
     environment_weights,
     is_picture,
@@ -105,20 +106,20 @@ def _check_target(target: Path, layout: str) -> None:
 @memory_option
 @scheduler_option
 def remap(
-    source,
-    target,
-    src,
-    dst,
-    size_text,
-    filter_name,
-    rotate,
-    convention,
-    short_face_names,
-    srgb_decode,
-    picture,
-    memory,
-    scheduler,
-):
+    source: Path,
+    target: Path,
+    src: str | None,
+    dst: str,
+    size_text: int | tuple[int, int] | None,
+    filter_name: str,
+    rotate: tuple[float, ...] | None,
+    convention: str,
+    short_face_names: bool,
+    srgb_decode: bool,
+    picture: PictureRule,
+    memory: int | str | None,
+    scheduler: str | None,
+) -> None:
     """Convert the panorama SOURCE from one layout to another and write TARGET.
 
     Layouts: latlong (equirectangular), angular (Debevec light probe) and mirrorball as HDRShop
@@ -212,8 +213,19 @@ def remap(
             warn(made.note, target)
 
 
-def _remap_chunked(source, target, src, dst, size_text, filter_name, rotation, convention,
-                   short, memory, scheduler) -> None:  # fmt: skip
+def _remap_chunked(
+    source: Path,
+    target: Path,
+    src: str | None,
+    dst: str,
+    size_text: int | tuple[int, int] | None,
+    filter_name: str,
+    rotation: list[float] | None,
+    convention: str,
+    short: bool,
+    memory: int | str | None,
+    scheduler: str | None,
+) -> None:
     from bakeshop import sphere
     from bakeshop.huge import remap as remap_chunked
     from bakeshop.io.stream import open_image

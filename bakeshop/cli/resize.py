@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
-from bakeshop.cli._common import picture_options, write_any
+from bakeshop.cli._common import PictureRule, picture_options, write_any
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 from bakeshop.cli._numbers import Size
 from bakeshop.cli._paths import OUTPUT, SOURCE, parse_size, refuse_overwriting_inputs
@@ -24,7 +26,14 @@ from bakeshop.io import stored_bits
 @picture_options()
 @memory_option
 @scheduler_option
-def resize(source, target, size, picture, memory, scheduler):
+def resize(
+    source: Path,
+    target: Path,
+    size: int | tuple[int, int],
+    picture: PictureRule,
+    memory: int | str | None,
+    scheduler: str | None,
+) -> None:
     """Resize SOURCE to TARGET with energy-preserving area resampling.
 
     Each output texel is the exact mean of the input over its footprint (the exact box filter
@@ -78,7 +87,13 @@ def resize(source, target, size, picture, memory, scheduler):
 _STRIPS = (".zarr", ".tif", ".tiff", ".pfm", ".hdr", ".exr")
 
 
-def _resize_chunked(source, target, wanted, memory, scheduler) -> None:
+def _resize_chunked(
+    source: Path,
+    target: Path,
+    wanted: int | tuple[int, int],
+    memory: int | str | None,
+    scheduler: str | None,
+) -> None:
     from bakeshop.huge import resize_to_file
     from bakeshop.io.stream import open_image
 

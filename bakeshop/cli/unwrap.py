@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 import numpy as np
@@ -10,6 +11,9 @@ import numpy as np
 from bakeshop.cli._numbers import Integer, Number, Numbers
 from bakeshop.cli._paths import INPUT, OUTPUT, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
+
+if TYPE_CHECKING:
+    from bakeshop.photo.mirrorball import BallConvention, UnwrapLayout
 
 #: Largest pixel coordinate or box side the options take (a photo 2^20 pixels across).
 PIXELS = 1 << 20
@@ -85,9 +89,18 @@ PIXELS = 1 << 20
     help="The same card's reflection in the ball (pixel box).",
 )
 def unwrap(
-    balls, output, to, size, convention, circles, angle, exclude, reflectance, card,
-    card_reflection,
-):  # fmt: skip
+    balls: tuple[Path, ...],
+    output: Path,
+    to: UnwrapLayout,
+    size: int | None,
+    convention: BallConvention,
+    circles: tuple[tuple[float, ...], ...],
+    angle: float,
+    exclude: float,
+    reflectance: tuple[float, ...] | None,
+    card: tuple[float, ...] | None,
+    card_reflection: tuple[float, ...] | None,
+) -> None:
     """Unwrap photographs of a mirror ball (BALLS: one, or two taken about 90 degrees apart
     around the vertical) into one probe.
 
@@ -162,7 +175,7 @@ def unwrap(
                 f"against {max(plus, minus):.3f} the other way), {100 * unseen:.2f}% seen by "
                 "neither"
             )
-    if card is not None:
+    if card is not None and card_reflection is not None:  # both or neither (checked above)
         factor = mb.card_reflectance(
             photos[0],
             list(card),

@@ -21,7 +21,7 @@ from bakeshop.cli._numbers import Integer
     help="Port on 127.0.0.1 (0: a free one).",
 )
 @click.option("--no-browser", is_flag=True, help="Print the address; do not open a browser.")
-def view(bake_dir, port, no_browser):
+def view(bake_dir: Path, port: int, no_browser: bool) -> None:
     """Show what `bake-probe` wrote into BAKE_DIR in the browser, until Ctrl-C.
 
     A local page (served by the standard library on 127.0.0.1 only, answering a fixed set of
