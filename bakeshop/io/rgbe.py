@@ -27,11 +27,20 @@ import math
 import os
 import re
 
-import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
+from bakeshop.io._rgbe_codes import (
+    _EMPTY_RUN,
+    _LENGTH,
+    _NO_PREVIOUS,
+    _OK,
+    _OVERRUN,
+    _RLE_MAX,
+    _RLE_MIN,
+    _TRUNCATED,
+)
 from bakeshop.io.budget import check_decode
 
 NAME = "Radiance HDR"
@@ -59,11 +68,6 @@ XYZ_TO_RGB = _xyz_to_rgb(RADIANCE_PRIMARIES)
 _MAX_HEADER = 1 << 20
 _RESOLUTION = re.compile(rb"\s*([-+])([XY])\s+(\d{1,12})\s+([-+])([XY])\s+(\d{1,12})\s*")
 _FORMATS = {b"32-bit_rle_rgbe": "rgbe", b"32-bit_rle_xyze": "xyze"}
-#: Scanline lengths that the new run-length form can encode (Radiance's MINELEN, MAXELEN).
-_RLE_MIN, _RLE_MAX = 8, 0x7FFF
-
-# Status codes of the numba decoder.
-_OK, _TRUNCATED, _OVERRUN, _EMPTY_RUN, _LENGTH, _NO_PREVIOUS = range(6)
 _PROBLEMS = {
     _TRUNCATED: "the file ends inside the scanline",
     _OVERRUN: "a run overruns the end of the scanline",
@@ -163,100 +167,73 @@ def _variables(lines: list[bytes]) -> dict:
     return facts
 
 
-@numba.njit(cache=True, nogil=True)
-def _decode(data, pos, nscan, scanlen, out, factors, dry):
-    """Decode ``nscan`` scanlines of ``scanlen`` pixels from ``data[pos:]`` into ``out[scan,
-    pixel, channel]`` (float32, any strides), multiplying channel c by ``factors[c]``.
+#: images up to this many pixels whose scanlines are all new-style runs are decoded without
+#: numba (:func:`_decode_runs`): loading numba and its kernel costs about a second of start-up,
+#: more than decoding a 1024x512 probe in Python takes.
+_SMALL = 1 << 20
 
-    With ``dry`` nothing is written: the pass only checks that the data holds the whole image.
-    Returns (status, scanline, position after the last byte used).
-    """
-    n = data.size
-    line = np.zeros((scanlen, 4), np.uint8)
-    previous = np.zeros(4, np.uint8)
-    has_previous = False
-    scale = np.empty(256, np.float64)
-    for e in range(256):
-        scale[e] = math.ldexp(1.0, e - 136)
+
+def _decode(data, pos, nscan, scanlen, out, factors, dry):
+    """Decode as the numba kernel :func:`bakeshop.io._rgbe_kernels._decode` does (same
+    arguments, same result, the same float32 bits): small run-length files in Python and
+    numpy, everything else (and any file whose scanlines are not all new-style) by the kernel."""
+    if nscan * scanlen <= _SMALL and _RLE_MIN <= scanlen <= _RLE_MAX:
+        result = _decode_runs(data, pos, nscan, scanlen, out, factors, dry)
+        if result is not None:
+            return result
+    from bakeshop.io._rgbe_kernels import _decode as kernel  # numba: large or old-style files
+
+    return kernel(data, pos, nscan, scanlen, out, factors, dry)
+
+
+def _decode_runs(data, pos, nscan, scanlen, out, factors, dry):
+    """The new-style run-length decoder in Python, a packet at a time, and the conversion to
+    float in numpy (``(m + 0.5) * 2**(e - 136) * factor`` in float64, rounded once to float32,
+    as the kernel). Returns the kernel's (status, scanline, position), or None when a scanline
+    is not new-style (the kernel then decodes the whole file)."""
+    raw = data.tobytes()
+    n = len(raw)
+    lines = None if dry else np.empty((nscan, 4, scanlen), np.uint8)
     for s in range(nscan):
-        if (
-            _RLE_MIN <= scanlen <= _RLE_MAX
-            and pos + 4 <= n
-            and data[pos] == 2
-            and data[pos + 1] == 2
-            and data[pos + 2] < 128
-        ):
-            if (np.int64(data[pos + 2]) << 8) + data[pos + 3] != scanlen:
-                return _LENGTH, s, pos
-            pos += 4
-            for c in range(4):
-                j = 0
-                while j < scanlen:
+        if not (pos + 4 <= n and raw[pos] == 2 and raw[pos + 1] == 2 and raw[pos + 2] < 128):
+            return None
+        if (raw[pos + 2] << 8) + raw[pos + 3] != scanlen:
+            return _LENGTH, s, pos
+        pos += 4
+        for c in range(4):
+            plane = bytearray()
+            j = 0
+            while j < scanlen:
+                if pos >= n:
+                    return _TRUNCATED, s, pos
+                code = raw[pos]
+                pos += 1
+                if code > 128:
+                    count = code - 128
+                    if j + count > scanlen:
+                        return _OVERRUN, s, pos
                     if pos >= n:
                         return _TRUNCATED, s, pos
-                    code = np.int64(data[pos])
+                    plane += raw[pos : pos + 1] * count
                     pos += 1
-                    if code > 128:
-                        count = code - 128
-                        if j + count > scanlen:
-                            return _OVERRUN, s, pos
-                        if pos >= n:
-                            return _TRUNCATED, s, pos
-                        value = data[pos]
-                        pos += 1
-                        for k in range(j, j + count):
-                            line[k, c] = value
-                    else:
-                        count = code
-                        if count == 0:
-                            return _EMPTY_RUN, s, pos
-                        if j + count > scanlen:
-                            return _OVERRUN, s, pos
-                        if pos + count > n:
-                            return _TRUNCATED, s, pos
-                        for k in range(count):
-                            line[j + k, c] = data[pos + k]
-                        pos += count
-                    j += count
-        else:
-            j = 0
-            shift = 0
-            while j < scanlen:
-                if pos + 4 > n:
-                    return _TRUNCATED, s, pos
-                if data[pos] == 1 and data[pos + 1] == 1 and data[pos + 2] == 1:
-                    e = np.int64(data[pos + 3])
-                    pos += 4
-                    if e != 0:
-                        if shift > 24 or j + (e << shift) > scanlen:
-                            return _OVERRUN, s, pos
-                        if j == 0 and not has_previous:
-                            return _NO_PREVIOUS, s, pos
-                        count = e << shift
-                        for k in range(j, j + count):
-                            for c in range(4):
-                                line[k, c] = previous[c] if k == 0 else line[k - 1, c]
-                        j += count
-                    shift += 8
                 else:
-                    for c in range(4):
-                        line[j, c] = data[pos + c]
-                    pos += 4
-                    j += 1
-                    shift = 0
-        for c in range(4):
-            previous[c] = line[scanlen - 1, c]
-        has_previous = True
-        if not dry:
-            for j in range(scanlen):
-                e = line[j, 3]
-                if e == 0:
-                    for c in range(3):
-                        out[s, j, c] = 0.0
-                else:
-                    f = scale[e]
-                    for c in range(3):
-                        out[s, j, c] = (line[j, c] + 0.5) * f * factors[c]
+                    count = code
+                    if count == 0:
+                        return _EMPTY_RUN, s, pos
+                    if j + count > scanlen:
+                        return _OVERRUN, s, pos
+                    if pos + count > n:
+                        return _TRUNCATED, s, pos
+                    plane += raw[pos : pos + count]
+                    pos += count
+                j += count
+            if lines is not None:
+                lines[s, c] = np.frombuffer(plane, np.uint8)
+    if lines is not None:
+        e = lines[:, 3]
+        scale = np.where(e == 0, 0.0, np.ldexp(1.0, e.astype(np.int64) - 136))
+        for c in range(3):
+            out[:, :, c] = (lines[:, c] + 0.5) * scale * factors[c]
     return _OK, nscan, pos
 
 
@@ -355,157 +332,6 @@ def _to_rgb(image: np.ndarray, rows: int = 256) -> None:
         image[top : top + rows] = image[top : top + rows].astype(np.float64) @ XYZ_TO_RGB.T
 
 
-#: float32 bit patterns: +infinity (larger patterns are NaN) and the sign bit.
-_INF_BITS, _SIGN_BIT = 0x7F800000, 0x80000000
-_FLOAT32_MAX = float(np.finfo(np.float32).max)
-
-
-#: the bits of float32's largest finite value (infinities are stored as it).
-_MAX_BITS = 0x7F7FFFFF
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
-def _mantissa(b, e):  # pragma: no cover - compiled
-    """``floor(value * 2**(136 - e))`` capped at 255 for a non-negative finite float32 of bits
-    ``b``: the significand (implicit 1 included) shifted right by the exponents' difference,
-    exact in integers (it is the float64 product, rounded down)."""
-    biased = b >> 23
-    mant = (b & 0x7FFFFF) | (0x800000 if biased > 0 else 0)
-    shift = min(e + 14 - max(biased, 1), 31)
-    return min(mant >> shift, 255)
-
-
-@numba.njit(cache=True, nogil=True)
-def _rgbe_row(values, bits, line):  # pragma: no cover - compiled
-    """Encode one row of linear pixels into ``line[0:4, x]`` (R, G, B mantissas and exponent).
-
-    ``values`` is a (W, C) float32 row (C = 1 grey, or 3) and ``bits`` the same memory as
-    uint32. The bytes minimise the error of the (m + 0.5) reconstruction: the largest component
-    picks the smallest exponent that holds it (its mantissa in [128, 256)) and each mantissa is
-    the floor, the interval holding the value, whose centre is the nearest reconstruction.
-    NaN and negatives become 0; values beyond RGBE's largest (about 1.7e38, infinities
-    included) saturate to it; values below 2**-128 make a black pixel. Everything is read from
-    the bit patterns (non-negative floats order like their bits; NaN and negatives are the
-    patterns above +infinity's), without a data-dependent branch per component: noisy images
-    made the old comparisons mispredict.
-    """
-    width, channels = values.shape
-    smallest = 1 << 21  # the bits of 2**-128 (a float32 subnormal), the least normalised RGBE
-    g = 1 if channels == 3 else 0
-    r = 2 if channels == 3 else 0
-    for x in range(width):
-        b0, b1, b2 = np.int64(bits[x, 0]), np.int64(bits[x, g]), np.int64(bits[x, r])
-        b0 = min(b0, _MAX_BITS) if b0 <= _INF_BITS else 0
-        b1 = min(b1, _MAX_BITS) if b1 <= _INF_BITS else 0
-        b2 = min(b2, _MAX_BITS) if b2 <= _INF_BITS else 0
-        top = max(b0, b1, b2)
-        if top < smallest:
-            line[0, x] = line[1, x] = line[2, x] = line[3, x] = 0
-            continue
-        biased = top >> 23
-        if biased >= 2:
-            e = min(biased + 2, 255)
-        else:  # a subnormal float32 or the smallest normals: let frexp find the exponent
-            v = values[x, 0] if top == b0 else (values[x, g] if top == b1 else values[x, r])
-            e = math.frexp(np.float64(v))[1] + 128
-        line[0, x] = _mantissa(b0, e)
-        line[1, x] = _mantissa(b1, e)
-        line[2, x] = _mantissa(b2, e)
-        line[3, x] = e
-
-
-@numba.njit(cache=True, nogil=True)
-def _rle_plane(plane, buf, pos, differ):  # pragma: no cover - compiled
-    """Append one byte plane as new-style runs (>= 4 equal bytes, <= 127 per run) and literals
-    (<= 128 per packet) to ``buf`` at ``pos``; return the new position (``differ``: scratch of
-    ``plane.size`` rounded up to 8 bytes). This is the packing of
-    Radiance's fwritecolrs and of Walter's rgbe.c: the next run is the first place where four
-    equal bytes start (one before it would start a run too, so it begins a fresh one); the
-    literal bytes before it are written as a short run when they are 2 or 3 equal bytes.
-    Where runs of four start is computed for the whole plane first and searched eight bytes
-    a step."""
-    n = plane.size
-    # differ[i] == 0 where plane[i] == plane[i + 1] == plane[i + 2] == plane[i + 3]: a run
-    # can start there (xor and or over the plane: vectorised); padded with 1, no run.
-    differ[max(n - 3, 0) :] = 1
-    for i in range(n - 3):
-        p = plane[i]
-        differ[i] = (p ^ plane[i + 1]) | (p ^ plane[i + 2]) | (p ^ plane[i + 3])
-    words = differ.view(np.uint64)
-    ones, highs = np.uint64(0x0101010101010101), np.uint64(0x8080808080808080)
-    cur = 0
-    while cur < n:
-        begin = cur
-        while begin < n and differ[begin] != 0:  # to the next run, eight bytes a step
-            w = words[begin // 8]
-            if begin % 8 == 0 and ((w - ones) & ~w & highs) == 0:  # no zero byte in w
-                begin += 8
-            else:
-                begin += 1
-        begin = min(begin, n)
-        short = 2 <= begin - cur <= 3
-        if short and plane[cur] == plane[cur + 1] and plane[cur] == plane[begin - 1]:
-            buf[pos] = 128 + begin - cur
-            buf[pos + 1] = plane[cur]
-            pos += 2
-            cur = begin
-        while cur < begin:
-            count = min(begin - cur, 128)
-            buf[pos] = count
-            buf[pos + 1 : pos + 1 + count] = plane[cur : cur + count]
-            pos += count + 1
-            cur += count
-        if begin < n:
-            run = 4
-            while begin + run < n and run < 127 and plane[begin + run] == plane[begin]:
-                run += 1
-            buf[pos] = 128 + run
-            buf[pos + 1] = plane[begin]
-            pos += 2
-            cur += run
-    return pos
-
-
-#: scanlines per task of the parallel encoder.
-_BLOCK_ROWS = 32
-
-
-@numba.njit(cache=True, nogil=True, parallel=True)
-def _encode(image, rle):  # pragma: no cover - compiled
-    """Encode a C-contiguous (H, W, C) float32 image (C = 1 grey or 3 RGB) into Radiance
-    scanlines, blocks of :data:`_BLOCK_ROWS` scanlines in parallel, each into its own part of one
-    buffer sized for the worst case (pages never written are never touched). Returns the buffer
-    and each block's (start, stop): the file's bytes are the blocks' bytes in order."""
-    height, width, channels = image.shape
-    per_line = 4 + 4 * (width + (width + 127) // 128) if rle else 4 * width
-    buf = np.empty(height * per_line, np.uint8)
-    bits = image.view(np.uint32)
-    blocks = (height + _BLOCK_ROWS - 1) // _BLOCK_ROWS
-    starts, stops = np.empty(blocks, np.int64), np.empty(blocks, np.int64)
-    for k in numba.prange(blocks):
-        line = np.empty((4, width), np.uint8)
-        differ = np.empty((width + 7) // 8 * 8, np.uint8)
-        pos = k * _BLOCK_ROWS * per_line
-        starts[k] = pos
-        for y in range(k * _BLOCK_ROWS, min(height, (k + 1) * _BLOCK_ROWS)):
-            _rgbe_row(image[y], bits[y], line)
-            if rle:
-                buf[pos] = 2
-                buf[pos + 1] = 2
-                buf[pos + 2] = width >> 8
-                buf[pos + 3] = width & 255
-                pos += 4
-                for c in range(4):
-                    pos = _rle_plane(line[c], buf, pos, differ)
-            else:
-                for x in range(width):
-                    for c in range(4):
-                        buf[pos + c] = line[c, x]
-                    pos += 4
-        stops[k] = pos
-    return buf, starts, stops
-
-
 def write(path: str | os.PathLike, image, *, rle: bool = True) -> None:
     """Write a Radiance RGBE file, scanlines top to bottom (``-Y H +X W``).
 
@@ -534,10 +360,17 @@ def write(path: str | os.PathLike, image, *, rle: bool = True) -> None:
             "drop the alpha channel first (image[..., :3])"
         )
     rle = bool(rle) and _RLE_MIN <= width <= _RLE_MAX
-    image = np.ascontiguousarray(image, dtype=np.float32)
-    encoded, starts, stops = _encode(image, rle)
+    chunks = _scanlines(np.ascontiguousarray(image, dtype=np.float32), rle)
     header = f"#?RADIANCE\nSOFTWARE=bakeshop\nFORMAT=32-bit_rle_rgbe\n\n-Y {height} +X {width}\n"
     with open(path, "wb") as f:
         f.write(header.encode("ascii"))
-        for start, stop in zip(starts.tolist(), stops.tolist(), strict=True):
-            f.write(encoded[start:stop].data)
+        f.writelines(chunks)
+
+
+def _scanlines(image: np.ndarray, rle: bool) -> list[memoryview]:
+    """The encoded scanlines of a C-contiguous (H, W, C) float32 image, C in {1, 3}, as the
+    consecutive pieces of the file that the parallel encoder made (no copy)."""
+    from bakeshop.io._rgbe_kernels import _encode  # numba: loaded by writers only
+
+    encoded, starts, stops = _encode(image, rle)
+    return [encoded[a:b].data for a, b in zip(starts.tolist(), stops.tolist(), strict=True)]

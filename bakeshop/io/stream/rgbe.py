@@ -201,5 +201,5 @@ def write_strips(path, shape, strips, *, rle: bool = True) -> None:
     with atomic_path(path) as tmp, builtins.open(tmp, "wb") as f:
         f.write(header.encode("ascii"))
         for strip in strips:
-            encoded, length = rgbe._encode(np.ascontiguousarray(strip, dtype=np.float32), rle)
-            f.write(encoded[:length].data)
+            for chunk in rgbe._scanlines(np.ascontiguousarray(strip, dtype=np.float32), rle):
+                f.write(chunk)
