@@ -20,7 +20,7 @@ __all__ = ["half_planes"]
 
 
 @numba.njit(inline="always")
-def _half_bits(x):  # pragma: no cover - compiled
+def _half_bits(x: int) -> int:  # pragma: no cover - compiled
     """The half bits of the float32 whose bits are ``x`` (see the module notes)."""
     sign = (x >> 16) & 0x8000
     a = x & 0x7FFFFFFF
@@ -46,7 +46,7 @@ def _half_bits(x):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _convert(bits, out):  # pragma: no cover - compiled
+def _convert(bits: np.ndarray, out: np.ndarray) -> None:  # pragma: no cover - compiled
     height, width, channels = bits.shape
     for y in numba.prange(height):
         for x in range(width):

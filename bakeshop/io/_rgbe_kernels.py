@@ -24,7 +24,15 @@ from bakeshop.io._rgbe_codes import (
 
 
 @numba.njit(cache=True, nogil=True)
-def _decode(data, pos, nscan, scanlen, out, factors, dry):
+def _decode(
+    data: np.ndarray,
+    pos: int,
+    nscan: int,
+    scanlen: int,
+    out: np.ndarray,
+    factors: np.ndarray,
+    dry: bool,
+) -> tuple[int, int, int]:
     """Decode ``nscan`` scanlines of ``scanlen`` pixels from ``data[pos:]`` into ``out[scan,
     pixel, channel]`` (float32, any strides), multiplying channel c by ``factors[c]``.
 
@@ -121,7 +129,7 @@ def _decode(data, pos, nscan, scanlen, out, factors, dry):
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
-def _mantissa(b, e):  # pragma: no cover - compiled
+def _mantissa(b: int, e: int) -> int:
     """``floor(value * 2**(136 - e))`` capped at 255 for a non-negative finite float32 of bits
     ``b``: the significand (implicit 1 included) shifted right by the exponents' difference,
     exact in integers (it is the float64 product, rounded down)."""
@@ -132,7 +140,7 @@ def _mantissa(b, e):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, nogil=True)
-def _rgbe_row(values, bits, line):  # pragma: no cover - compiled
+def _rgbe_row(values: np.ndarray, bits: np.ndarray, line: np.ndarray) -> None:
     """Encode one row of linear pixels into ``line[0:4, x]`` (R, G, B mantissas and exponent).
 
     ``values`` is a (W, C) float32 row (C = 1 grey, or 3) and ``bits`` the same memory as
@@ -171,7 +179,7 @@ def _rgbe_row(values, bits, line):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, nogil=True)
-def _rle_plane(plane, buf, pos, differ):  # pragma: no cover - compiled
+def _rle_plane(plane: np.ndarray, buf: np.ndarray, pos: int, differ: np.ndarray) -> int:
     """Append one byte plane as new-style runs (>= 4 equal bytes, <= 127 per run) and literals
     (<= 128 per packet) to ``buf`` at ``pos``; return the new position (``differ``: scratch of
     ``plane.size`` rounded up to 8 bytes). This is the packing of
@@ -227,7 +235,7 @@ _BLOCK_ROWS = 32
 
 
 @numba.njit(cache=True, nogil=True, parallel=True)
-def _encode(image, rle):  # pragma: no cover - compiled
+def _encode(image: np.ndarray, rle: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Encode a C-contiguous (H, W, C) float32 image (C = 1 grey or 3 RGB) into Radiance
     scanlines, blocks of :data:`_BLOCK_ROWS` scanlines in parallel, each into its own part of one
     buffer sized for the worst case (pages never written are never touched). Returns the buffer

@@ -26,8 +26,11 @@ from __future__ import annotations
 import math
 import os
 import re
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
@@ -50,7 +53,7 @@ NAME = "Radiance HDR"
 RADIANCE_PRIMARIES = ((0.640, 0.330), (0.290, 0.600), (0.150, 0.060), (1 / 3, 1 / 3))
 
 
-def _xyz_to_rgb(primaries) -> np.ndarray:
+def _xyz_to_rgb(primaries: Sequence[tuple[float, float]]) -> np.ndarray:
     """The CIE XYZ -> linear RGB matrix of ``primaries`` ((x, y) of R, G, B, white), scaled so
     that the white point with Y = 1 maps to RGB (1, 1, 1): the derivation of Radiance's
     ``compxyz2rgbmat``."""
@@ -89,7 +92,7 @@ def _header(data: np.ndarray) -> tuple[dict, int]:
     if not head.startswith(b"#?"):
         raise FormatError("not a Radiance file (it does not start with '#?')")
     position = 0
-    lines = []
+    lines: list[bytes] = []
     while True:
         end = head.find(b"\n", position)
         if end < 0:
@@ -136,7 +139,7 @@ def _numbers(value: bytes, count: int, name: str, *, positive: bool = True) -> l
 
 def _variables(lines: list[bytes]) -> dict:
     """The meaning of the header lines (the first is the ``#?PROGRAM`` magic)."""
-    facts = {
+    facts: dict[str, Any] = {
         "program": lines[0][2:].decode("latin-1").strip(),
         "stored": "rgbe",
         "exposure": 1.0,
@@ -173,7 +176,15 @@ def _variables(lines: list[bytes]) -> dict:
 _SMALL = 1 << 20
 
 
-def _decode(data, pos, nscan, scanlen, out, factors, dry):
+def _decode(
+    data: np.ndarray,
+    pos: int,
+    nscan: int,
+    scanlen: int,
+    out: np.ndarray,
+    factors: np.ndarray,
+    dry: bool,
+) -> tuple[int, int, int]:
     """Decode as the numba kernel :func:`bakeshop.io._rgbe_kernels._decode` does (same
     arguments, same result, the same float32 bits): small run-length files in Python and
     numpy, everything else (and any file whose scanlines are not all new-style) by the kernel."""
@@ -186,7 +197,15 @@ def _decode(data, pos, nscan, scanlen, out, factors, dry):
     return kernel(data, pos, nscan, scanlen, out, factors, dry)
 
 
-def _decode_runs(data, pos, nscan, scanlen, out, factors, dry):
+def _decode_runs(
+    data: np.ndarray,
+    pos: int,
+    nscan: int,
+    scanlen: int,
+    out: np.ndarray,
+    factors: np.ndarray,
+    dry: bool,
+) -> tuple[int, int, int] | None:
     """The new-style run-length decoder in Python, a packet at a time, and the conversion to
     float in numpy (``(m + 0.5) * 2**(e - 136) * factor`` in float64, rounded once to float32,
     as the kernel). Returns the kernel's (status, scanline, position), or None when a scanline
@@ -237,7 +256,9 @@ def _decode_runs(data, pos, nscan, scanlen, out, factors, dry):
     return _OK, nscan, pos
 
 
-def read(path: str | os.PathLike, *, raw: bool = False, max_pixels: int = MAX_PIXELS):
+def read(
+    path: str | os.PathLike, *, raw: bool = False, max_pixels: int = MAX_PIXELS
+) -> tuple[np.ndarray, dict]:
     """Read a Radiance .hdr / .pic file.
 
     Parameters
@@ -318,7 +339,7 @@ def read(path: str | os.PathLike, *, raw: bool = False, max_pixels: int = MAX_PI
     return image, metadata
 
 
-def _check(result, nscan: int) -> None:
+def _check(result: tuple[int, int, int], nscan: int) -> None:
     status, scanline, _ = result
     if status != _OK:
         raise FormatError(
@@ -332,7 +353,7 @@ def _to_rgb(image: np.ndarray, rows: int = 256) -> None:
         image[top : top + rows] = image[top : top + rows].astype(np.float64) @ XYZ_TO_RGB.T
 
 
-def write(path: str | os.PathLike, image, *, rle: bool = True) -> None:
+def write(path: str | os.PathLike, image: ArrayLike, *, rle: bool = True) -> None:
     """Write a Radiance RGBE file, scanlines top to bottom (``-Y H +X W``).
 
     Parameters

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 import numpy as np
@@ -21,6 +23,10 @@ from bakeshop.cli.water._sets import (
 from bakeshop.errors import ArgumentError
 from bakeshop.resources import Cost, require
 
+if TYPE_CHECKING:
+    from bakeshop.water.ocean import FieldName, Ocean
+    from bakeshop.water.spectra import Spectrum
+
 _OCEAN_OUTPUTS = ("normal", "height", "derivatives", "displacement", "foam")
 
 
@@ -33,7 +39,7 @@ _OCEAN_OUTPUTS = ("normal", "height", "derivatives", "displacement", "foam")
               "(Tessendorf 2001).")  # fmt: skip
 @click.option(
     "--wind",
-    type=Number(0.1, 60),
+    type=Number(0.1, 60),  # bakeshop.water.spectra.MIN_WIND_SPEED (not imported: start-up)
     default=10.0,
     show_default=True,
     metavar="M/S",
@@ -183,7 +189,7 @@ _OCEAN_OUTPUTS = ("normal", "height", "derivatives", "displacement", "foam")
 )
 @click.option("--name", default="ocean", show_default=True, help="Prefix of the file names.")
 @click.option("--no-preview", is_flag=True, help="Skip the preview PNGs.")
-def ocean(out_dir: Path, **o):
+def ocean(out_dir: Path, **o: Any) -> None:
     """Tileable, time-looping ocean textures from a wind-wave spectrum (FFT synthesis,
     Tessendorf 2001): normal-map sequences, heights, slopes, displacement and foam, as numbered
     frames, a flipbook atlas or a texture array, with a JSON sidecar (tile size in metres, loop
@@ -223,7 +229,6 @@ def ocean(out_dir: Path, **o):
         cutoff=o["cutoff"],
         amplitude=o["phillips_amplitude"],
     )
-    out_dir.mkdir(parents=True, exist_ok=True)
     with progress.step("seeding the wave lattice"):
         if o["cascades"] > 1:
             sizes = cascade_sizes(o["size"], o["cascades"], ratio=o["ratio"])
@@ -234,6 +239,13 @@ def ocean(out_dir: Path, **o):
             oceans = [make_ocean(spectrum, size=o["size"], resolution=resolution, seed=o["seed"],
                                  loop_period=o["period"])]  # fmt: skip
             names = [o["name"]]
+    if not any(x.report["spectrum_variance"] > 0 for x in oceans):
+        raise ArgumentError(
+            f"no wave of this sea fits the tile: the lattice holds wavelengths from "
+            f"{o['size']:g} m down to {2 * o['size'] / resolution:.3g} m and a {o['wind']:g} m/s "
+            "wind puts no energy there; raise --wind, or lower --size or raise --resolution"
+        )
+    out_dir.mkdir(parents=True, exist_ok=True)
     needed = max(x.minimum_frames() for x in oceans)
     frames = o["frames"] or 8 * math.ceil(needed / 8)
     documents = []
@@ -244,7 +256,15 @@ def ocean(out_dir: Path, **o):
         click.echo(_ocean_summary(doc, name))
 
 
-def _ocean_set(oc, name, out_dir, outputs, frames, spectrum, o) -> dict:
+def _ocean_set(
+    oc: Ocean,
+    name: str,
+    out_dir: Path,
+    outputs: Sequence[str],
+    frames: int,
+    spectrum: Spectrum,
+    o: dict[str, Any],
+) -> dict:
     from bakeshop.water.gerstner import gerstner_frames, gerstner_waves
     from bakeshop.water.ocean import fit_to_frames, ocean_frames
     from bakeshop.water.textures import (
@@ -257,7 +277,7 @@ def _ocean_set(oc, name, out_dir, outputs, frames, spectrum, o) -> dict:
 
     n = oc.resolution
     lam = o["choppiness"]
-    fields = []
+    fields: list[FieldName] = []
     if "normal" in outputs or not o["no_preview"]:
         fields.append("normal")
     if "height" in outputs or "displacement" in outputs:
@@ -363,7 +383,7 @@ def _ocean_set(oc, name, out_dir, outputs, frames, spectrum, o) -> dict:
                    frames=frames, files=files, parameters=parameters, report=report)  # fmt: skip
 
 
-def _batch_guess(n, fields, lam) -> int:
+def _batch_guess(n: int, fields: Sequence[str], lam: float) -> int:
     from bakeshop.water.ocean import BATCH_BYTES, frame_bytes
 
     return max(1, BATCH_BYTES // frame_bytes(n, fields, lam, "float32"))
@@ -371,12 +391,16 @@ def _batch_guess(n, fields, lam) -> int:
 
 def _ocean_summary(doc: dict, name: str) -> str:
     r = doc["report"]
+    share = (
+        f"{100 * r['captured']:.1f}% of the spectrum's {r['spectrum_hs']:.3g} m in its band"
+        if r["spectrum_variance"] > 0
+        else "the spectrum holds nothing in its band"
+    )
     lines = [
         f"{name}: {doc['resolution']}x{doc['resolution']} texels over {doc['tile_size_m']:g} m, "
         f"{doc['frames']} frames per {doc['loop_period_s']:g} s loop "
         f"({doc['frame_rate_hz']:.3g} frames/s)",
-        f"  Hs {r['hs']:.3f} m on the lattice ({100 * r['captured']:.1f}% of the spectrum's "
-        f"{r['spectrum_hs']:.3f} m in its band), {r['modes']} waves",
+        f"  Hs {r['hs']:.3g} m on the lattice ({share}), {r['modes']} waves",
         f"  loop: {r['frozen_modes']} waves frozen ({100 * r['frozen_fraction']:.3f}% of the "
         f"variance), frequencies moved by up to {100 * r['max_frequency_shift']:.2f}%, "
         f"fastest wave {r['max_cycles']} turns per loop (>= {r['minimum_frames']} frames)",
