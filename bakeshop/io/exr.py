@@ -77,6 +77,11 @@ Box = tuple[tuple[int, int], tuple[int, int]]
 _T = TypeVar("_T")
 
 
+#: images larger than this (pixels) are converted to half by the one-pass numba kernel of
+#: :mod:`bakeshop.io._half`; smaller ones by numpy, the same bits without loading numba (about
+#: a second of start-up, more than numpy's three passes cost below a megapixel).
+_KERNEL_PIXELS = 1 << 20
+
 _STORED = {np.dtype(np.float16): "half", np.dtype(np.float32): "float", np.dtype(np.uint32): "uint"}
 _FLOAT = Imath.PixelType(Imath.PixelType.FLOAT)
 #: float32 bytes converted per block of rows when reading the first part.
@@ -423,8 +428,8 @@ def write(
     if a.dtype.kind not in "fiu":
         raise ArgumentError(f"cannot write {a.dtype} samples to OpenEXR")
     names = {1: "Y", 3: "RGB", 4: "RGBA"}[a.shape[2]]
-    if pixel_type == "half" and a.dtype == np.float32:
-        from bakeshop.io._half import half_planes  # numba: loaded by writers only
+    if pixel_type == "half" and a.dtype == np.float32 and a.shape[0] * a.shape[1] > _KERNEL_PIXELS:
+        from bakeshop.io._half import half_planes  # numba: large images only
 
         planes = list(half_planes(a))  # converted and split in one pass
     else:

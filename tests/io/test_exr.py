@@ -163,10 +163,13 @@ def test_half_overflow_clamps_finite_values_and_keeps_nan_and_inf(tmp_path):
     assert same_bits(read_image(tmp_path / "f.exr"), image)
 
 
-def test_half_rounding_of_every_kind_of_float32_is_numpys(tmp_path):
-    """The writer's one-pass float32 -> half kernel against numpy's IEEE conversion (round to
-    nearest even) plus the clamp rule: random bit patterns of every exponent, and every pattern
-    around the subnormal, normal and overflow boundaries of half, both signs."""
+@pytest.mark.parametrize("kernel", [True, False])
+def test_half_rounding_of_every_kind_of_float32_is_numpys(tmp_path, monkeypatch, kernel):
+    """The writer's float32 -> half conversions (the one-pass numba kernel of large images, and
+    numpy's for small ones) against numpy's IEEE conversion (round to nearest even) plus the
+    clamp rule: random bit patterns of every exponent, and every pattern around the subnormal,
+    normal and overflow boundaries of half, both signs."""
+    monkeypatch.setattr(exr, "_KERNEL_PIXELS", 0 if kernel else 1 << 40)
     rng = np.random.default_rng(7)
     edges = [0x33000000, 0x33800000, 0x38000000, 0x38800000, 0x477FE000, 0x47800000]
     near = np.concatenate([np.arange(e - 0x2000, e + 0x2000, dtype=np.uint32) for e in edges])
