@@ -17,10 +17,12 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
 
 import numba
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.resources import Cost, require
@@ -67,7 +69,7 @@ def area_footprint(n_in: int, n_out: int, start: int, stop: int) -> tuple[int, i
     return start * n_in // n_out, -(-stop * n_in // n_out)
 
 
-def resize_area_cost(shape, size: tuple[int, int], *, itemsize: int = 4) -> Cost:
+def resize_area_cost(shape: Sequence[int], size: tuple[int, int], *, itemsize: int = 4) -> Cost:
     """What :func:`resize_area` of an image of ``shape`` ((H, W) or (H, W, C)) to ``size``
     (width, height) holds at its peak: the output (``itemsize`` bytes per sample; float32 for
     integer images, which are converted first, a copy of the input), the sparse weights of both
@@ -84,7 +86,7 @@ def resize_area_cost(shape, size: tuple[int, int], *, itemsize: int = 4) -> Cost
     return Cost(int(memory), h * w * channels, what)
 
 
-def resize_area(image, size: tuple[int, int]) -> np.ndarray:
+def resize_area(image: ArrayLike, size: tuple[int, int]) -> np.ndarray:
     """Resize ``image`` to ``size = (width, height)`` preserving its mean (energy).
 
     Parameters
@@ -126,7 +128,13 @@ def resize_area(image, size: tuple[int, int]) -> np.ndarray:
 
 
 def resize_area_part(
-    window, full_shape, size, *, rows=None, cols=None, origin=(0, 0)
+    window: np.ndarray,
+    full_shape: tuple[int, int],
+    size: tuple[int, int],
+    *,
+    rows: tuple[int, int] | None = None,
+    cols: tuple[int, int] | None = None,
+    origin: tuple[int, int] = (0, 0),
 ) -> np.ndarray:
     """Output rows ``rows`` and columns ``cols`` of :func:`resize_area` of an image of which
     only ``window`` is given: the same values, bit for bit, as the same part of the whole.
@@ -172,7 +180,12 @@ def resize_area_part(
     return out
 
 
-def resample_separable(src, rows, cols, out) -> np.ndarray:
+def resample_separable(
+    src: np.ndarray,
+    rows: tuple[np.ndarray, np.ndarray, np.ndarray],
+    cols: tuple[np.ndarray, np.ndarray, np.ndarray],
+    out: np.ndarray,
+) -> np.ndarray:
     """``out[i, j] = sum_k sum_l Ay[i, k] Ax[j, l] src[k, l]``, accumulated in float64.
 
     ``rows = (indptr, indices, weights)`` is ``Ay`` in CSR form (``len(indptr) = out rows +
@@ -195,7 +208,7 @@ def _rows(src: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(inline="always")
-def _add_rows(row, src, y, k, n, first):  # pragma: no cover - compiled
+def _add_rows(row: np.ndarray, src: np.ndarray, y: int, k: int, n: int, first: bool) -> None:
     """``row[:n] (+)= src[y] + ... + src[y + k - 1]`` for k in 1, 2, 4, left to right in
     float64: the same sums, rounding for rounding, as adding the rows one at a time from zero
     (0 + a = a exactly), with one pass over ``row`` per k rows instead of per row."""
@@ -226,7 +239,7 @@ def _add_rows(row, src, y, k, n, first):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _box(src, fy, fx, out):  # pragma: no cover - compiled
+def _box(src: np.ndarray, fy: int, fx: int, out: np.ndarray) -> None:
     """``out[i, j, c]`` = the mean of the ``fy x fx`` block of ``src`` (h, w * C rows) it
     covers: the block's columns summed down its rows (vectorised along the row, four rows a
     pass), then the ``fx`` column sums of each texel, in float64, rounded once."""
@@ -250,7 +263,16 @@ def _box(src, fy, fx, out):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _separable(src, ry, ky, wy, rx, kx, wx, out):  # pragma: no cover - compiled
+def _separable(
+    src: np.ndarray,
+    ry: np.ndarray,
+    ky: np.ndarray,
+    wy: np.ndarray,
+    rx: np.ndarray,
+    kx: np.ndarray,
+    wx: np.ndarray,
+    out: np.ndarray,
+) -> None:
     """``out[i, j, c] = sum_t wx[t] sum_s wy[s] src[ky[s], kx[t] * C + c]`` over the CSR
     rows ``i`` of (ry, ky, wy) and ``j`` of (rx, kx, wx): the weighted input rows summed into
     one float64 row (vectorised along it), then each texel's column taps."""

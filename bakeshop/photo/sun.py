@@ -275,8 +275,8 @@ def recover_sun(
     clipped_all = status.reshape(-1) == CLIPPED
     if not clipped_all.any():
         return radiance, status, None
-    values, dirs, omega, env = texels(radiance, layout)
-    shape = env.image.shape[:-1]
+    values, dirs, omega, _ = texels(radiance, layout)
+    shape = radiance.shape[:-1]  # (H, W), checked above
     seed = _brightest_clipped(status == CLIPPED, values, omega)
     near = clipped_all & (dirs @ dirs[seed] > math.cos(math.radians(search_deg)))
     centre = (omega[near, None] * dirs[near]).sum(0)
