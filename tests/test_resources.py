@@ -34,8 +34,10 @@ BUDGET = 100_000_000
 ALLOCATED = 64_000_000
 #: the least that each call below asks for.
 ASKED = 500_000_000
-#: the refusal is immediate: seconds (a first call may import a module or two).
-REFUSED_WITHIN = 5.0
+#: the refusal comes before the work: seconds. The work itself takes minutes; a first call may
+#: import modules and compile a kernel or two on the way (tens of seconds on a fresh clone's empty
+#: numba cache and a loaded machine: 37 s was seen at 5 s).
+REFUSED_WITHIN = 60.0
 
 
 def test_the_address_space_limit_is_read_and_is_real():
