@@ -137,10 +137,26 @@ def _block(region, reader, src, src_shape, dst, dst_shape, side, filter, rotatio
     )
 
 
-def _peaks(rows, reader: Reader, src: str):
-    """A strip's part of the bright texels' pass (:func:`bakeshop.sphere.area.peak_candidates`)."""
+class _Peaks:
+    """A strip's part of the bright texels' pass (:func:`bakeshop.sphere.area.peak_candidates`);
+    the sum of two keeps the sums of both and their MAX_BRIGHT + 1 texels of largest peak, all
+    that :func:`bakeshop.sphere.area.bright_texels` reads of the whole image's, so that the
+    engine reduces the strips' parts as they come (never one per strip at once)."""
+
+    def __init__(self, part):
+        self.part = part
+
+    def __add__(self, other: _Peaks) -> _Peaks:
+        (s1, i1, p1, v1), (s2, i2, p2, v2) = self.part, other.part
+        index, peaks = np.concatenate([i1, i2]), np.concatenate([p1, p2])
+        keep = min(len(peaks), area.MAX_BRIGHT + 1)
+        top = np.argpartition(peaks, len(peaks) - keep)[len(peaks) - keep :]
+        return _Peaks((s1 + s2, index[top], peaks[top], np.concatenate([v1, v2])[top]))
+
+
+def _peaks(rows, reader: Reader, src: str) -> _Peaks:
     values, omega = _strip_texels(rows, reader, src)
-    return area.peak_candidates(values, omega, rows[0] * reader.shape[1])
+    return _Peaks(area.peak_candidates(values, omega, rows[0] * reader.shape[1]))
 
 
 def _strip_texels(rows, reader: Reader, src: str):
@@ -233,8 +249,8 @@ def supersample_tiles(
     dh, dw, faces = d.grid(dst_shape)
     out_bytes = faces * dh * dw * c * 4
     strips = _strips(reader, engine, out_bytes, what)
-    parts = engine.gather(_peaks, [(r, reader, src) for r in strips], f"{what}: bright texels")
-    clamp, bright, values = area.bright_texels(parts)
+    peaks = engine.reduce(_peaks, [(r, reader, src) for r in strips], f"{what}: bright texels")
+    clamp, bright, values = area.bright_texels([peaks.part])
     per_task = engine.per_task(out_bytes)
     sample_bytes = 64 + 24 * c  # taps, fractions, local taps, weights, the clamped window
 
