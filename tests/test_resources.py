@@ -275,6 +275,25 @@ MEASURED = {
         "closed_mesh_cost(len(mesh.faces))",
         "make_body(closed_mesh(mesh), 500.0).hull_vertices",
     ),
+    **{
+        name: (
+            "from bakeshop import light\n"
+            "def sunny(h, w):\n"
+            "    a = np.random.default_rng(0).lognormal(0, 0.5, (h, w, 3)).astype(np.float32)\n"
+            "    a[h // 8 : h // 8 + 4, w // 4 : w // 4 + 4] = 5e4\n"
+            "    return a\n"
+            "image = sunny(1024, 2048)\n"
+            f"light.{call.format(image='sunny(64, 128)')}",
+            f"light.{name}_cost(image.shape, 'latlong')",
+            f"light.{call.format(image='image')}",
+        )
+        for name, call in {
+            "find_sun": "find_sun({image}, 'latlong')",
+            "irradiance": "irradiance({image}, 'latlong')",
+            "dim_pair": "dim_pair({image}, 'latlong')",
+            "bake_probe": "bake_probe({image}, 'latlong')",
+        }.items()
+    },
     "compress_levels": (
         "from bakeshop.io.compress.pipeline import box_mips, compress_levels, "
         "compress_levels_cost\n"

@@ -27,7 +27,7 @@ UNANNOTATED_BASELINE = {
     "bakeshop.figures": 2,
     "bakeshop.huge": 20,
     "bakeshop.image": 4,
-    "bakeshop.io": 70,
+    "bakeshop.io": 0,
     "bakeshop.light": 35,
     "bakeshop.normals": 14,
     "bakeshop.photo": 15,

@@ -151,6 +151,8 @@ def _probe(o: dict) -> dict:
     write_image(out / f"sun_dim.{fmt}", baked.sun_dim)
     write_image(out / f"shadow_dim.{fmt}", baked.shadow_dim)
     picture = "cross-vertical" if is_cube(layout) else layout
+    assert baked.shadow_probe is not None  # bake_probe paints it unless told not to
+
     write_environment(out / f"shadow_probe.{fmt}", as_picture(baked.shadow_probe, layout), picture)
     write_json(out / "sun.json", sun_document(baked.sun))
     write_json(out / "sh.json", sh.to_document(baked.sh, irradiance=baked.sh_irradiance))

@@ -142,6 +142,7 @@ PATTERNS = {
     "face": "{face} (the six cube faces: posx ... negz)",
     "mip": "{mip} (the mip level: 0, 1, ...)",
     "frame": "{frame} (the frame: 0, 1, ...; {frame:04d} pads it)",
+    "scene": "{scene} (the preview's scene: sky, balls, golf)",
 }
 
 

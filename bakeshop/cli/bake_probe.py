@@ -100,7 +100,17 @@ def bake_probe(
         "dfg": out_dir / f"dfg.{container}",
         "sheet": out_dir / "contact_sheet.png",
     }
-    for path in paths.values():  # before any work
+    outputs = list(paths.values())
+    if compress or engine:  # and the engine's files in DIR/ENGINE/
+        from bakeshop.engines import engine as engine_preset
+        from bakeshop.io.compress.pipeline import sidecar_path
+
+        preset = engine_preset(engine or "generic")
+        for name in preset.files.values():
+            outputs.append(out_dir / preset.name / name)
+            if not name.endswith(".json"):
+                outputs.append(sidecar_path(outputs[-1]))
+    for path in outputs:  # before any work
         refuse_overwriting_inputs(path, source)
     out_dir.mkdir(parents=True, exist_ok=True)
     image, layout, source, meta = read_probe(source, src_layout, with_metadata=True)

@@ -9,7 +9,7 @@ import click
 
 from bakeshop.cli._common import parse_exposure_mode
 from bakeshop.cli._numbers import Exposure, Fields, Number, Size
-from bakeshop.cli._paths import parse_size, refuse_overwriting_inputs
+from bakeshop.cli._paths import check_output_name, parse_size, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
 
 #: what ``--scene all`` renders.
@@ -156,6 +156,7 @@ def preview(
     orbit = camera
     if target is None:
         target = str(bake_dir / "preview_{scene}.png")
+    check_output_name(target, ("scene",))
     if len(chosen) > 1 and "{scene}" not in target:
         raise ArgumentError("several scenes need {scene} in the output name", target)
     outputs = {name: Path(target.replace("{scene}", name)) for name in chosen}

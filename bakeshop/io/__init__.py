@@ -21,9 +21,13 @@ from __future__ import annotations
 import importlib
 import inspect
 import os
+from collections.abc import Callable
 from pathlib import Path
+from types import ModuleType
+from typing import Any, Literal, overload
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import BakeshopError, FormatError, UnsupportedError
 from bakeshop.io import _intent, verify
@@ -96,7 +100,7 @@ __all__ = [
 ]
 
 
-def _module(name: str):
+def _module(name: str) -> ModuleType:
     return importlib.import_module(f"bakeshop.io.{name}")
 
 
@@ -129,13 +133,43 @@ def sniff_format(head: bytes) -> str | None:
     return None
 
 
+@overload
+def read_image(
+    path: str | os.PathLike,
+    *,
+    with_metadata: Literal[False] = False,
+    max_decoded: int | None = None,
+    **options: Any,
+) -> np.ndarray: ...
+
+
+@overload
+def read_image(
+    path: str | os.PathLike,
+    *,
+    with_metadata: Literal[True],
+    max_decoded: int | None = None,
+    **options: Any,
+) -> tuple[np.ndarray, dict]: ...
+
+
+@overload
+def read_image(
+    path: str | os.PathLike,
+    *,
+    with_metadata: bool,
+    max_decoded: int | None = None,
+    **options: Any,
+) -> np.ndarray | tuple[np.ndarray, dict]: ...
+
+
 def read_image(
     path: str | os.PathLike,
     *,
     with_metadata: bool = False,
     max_decoded: int | None = None,
-    **options,
-):
+    **options: Any,
+) -> np.ndarray | tuple[np.ndarray, dict]:
     """Read an image file as a float32 ``(H, W, C)`` array.
 
     Parameters
@@ -201,7 +235,7 @@ def read_image(
     return (image, meta) if with_metadata else image
 
 
-def write_image(path: str | os.PathLike, image, **options) -> None:
+def write_image(path: str | os.PathLike, image: ArrayLike, **options: Any) -> None:
     """Write ``image`` ((H, W) or (H, W, C) array, C in {1, 3, 4}) to ``path``, atomically.
 
     The codec is picked by the extension; ``options`` go to it (see each codec's ``write``). The
@@ -223,7 +257,9 @@ def write_image(path: str | os.PathLike, image, **options) -> None:
             raise
 
 
-def _check_options(function, options: dict, format_name: str, path) -> None:
+def _check_options(
+    function: Callable[..., object], options: dict, format_name: str, path: str | os.PathLike
+) -> None:
     """Refuse options that the codec function does not take, naming the ones it does."""
     parameters = inspect.signature(function).parameters
     if any(p.kind is p.VAR_KEYWORD for p in parameters.values()):
@@ -240,7 +276,7 @@ def _check_options(function, options: dict, format_name: str, path) -> None:
         )
 
 
-def as_image(image, path=None) -> np.ndarray:
+def as_image(image: ArrayLike, path: str | os.PathLike | None = None) -> np.ndarray:
     """Return ``image`` as a C-contiguous ``(H, W, C)`` array (C in {1, 3, 4}) of its own dtype.
 
     A 2-D array becomes one channel. Any other shape raises :class:`ArgumentError`.

@@ -9,7 +9,9 @@ import os
 import secrets
 import stat
 import threading
+from collections.abc import Iterator
 from pathlib import Path
+from typing import BinaryIO
 
 from bakeshop.errors import BakeshopError, FormatError
 from bakeshop.io._intent import check_written
@@ -58,7 +60,7 @@ def check_input(path: str | os.PathLike) -> os.stat_result:
     return status
 
 
-def _input_problem(path, error: OSError) -> str:
+def _input_problem(path: str | os.PathLike, error: OSError) -> str:
     if error.errno == errno.ELOOP:
         return "a symbolic link loop (too many levels of symbolic links)"
     if error.errno == errno.ENOENT:
@@ -68,7 +70,7 @@ def _input_problem(path, error: OSError) -> str:
     return f"cannot read the file: {describe_os_error(error)}"
 
 
-def open_input(path: str | os.PathLike):
+def open_input(path: str | os.PathLike) -> BinaryIO:
     """:func:`check_input`, then open ``path`` for reading in binary mode, without blocking.
 
     The file is opened with ``O_NONBLOCK`` and checked again through its descriptor, so a
@@ -121,7 +123,7 @@ _journals: list[tuple[list[Path], int | None]] = []
 
 
 @contextlib.contextmanager
-def record_writes(*, this_thread: bool = False):
+def record_writes(*, this_thread: bool = False) -> Iterator[list[Path]]:
     """Within the block, collect every file that :func:`atomic_path` completes (in order);
     with ``this_thread``, only those written by the calling thread (a bake running steps at
     once keeps one per step).
@@ -142,7 +144,7 @@ def record_writes(*, this_thread: bool = False):
 
 
 @contextlib.contextmanager
-def atomic_path(target: str | os.PathLike):
+def atomic_path(target: str | os.PathLike) -> Iterator[Path]:
     """Yield a temporary path beside ``target`` (same extension); rename it over ``target`` on
     success, delete it on failure. A failed write leaves no partial file and the old one intact.
 
@@ -203,7 +205,9 @@ def _name_target(error: BakeshopError, tmp: str, target: Path) -> None:
     error.args = (error.reason, *error.args[1:])
 
 
-def check_dimensions(width: int, height: int, channels: int = 1, *, max_pixels: int = MAX_PIXELS):
+def check_dimensions(
+    width: int, height: int, channels: int = 1, *, max_pixels: int = MAX_PIXELS
+) -> None:
     """Refuse absurd sizes before anything is allocated."""
     if width < 1 or height < 1:
         raise FormatError(f"invalid image size {width}x{height}")
@@ -214,7 +218,7 @@ def check_dimensions(width: int, height: int, channels: int = 1, *, max_pixels: 
         )
 
 
-def check_payload(needed: int, available: int, what: str = "pixel data"):
+def check_payload(needed: int, available: int, what: str = "pixel data") -> None:
     """Refuse a header that promises more bytes than the file holds."""
     if needed > available:
         raise FormatError(

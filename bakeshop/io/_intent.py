@@ -11,7 +11,9 @@ import contextlib
 import json
 import os
 import threading
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 from bakeshop.errors import FormatError
 
@@ -29,12 +31,14 @@ def verifying() -> bool:
 
 
 @contextlib.contextmanager
-def session(check, log: str | os.PathLike | None = None, *, this_thread: bool = False):
+def session(
+    check: Callable[..., dict], log: str | os.PathLike | None = None, *, this_thread: bool = False
+) -> Iterator[list[dict]]:
     """Within the block, every completed :func:`~bakeshop.io.atomic_path` write (with
     ``this_thread``, of the calling thread only) is passed to ``check(tmp, kind, data,
     **context)`` (which returns a record with ``ok`` and ``reason``) before it is renamed;
     yields the list of records."""
-    state = {
+    state: dict[str, Any] = {
         "check": check,
         "records": [],
         "log": None if log is None else os.fspath(log),
@@ -50,7 +54,7 @@ def session(check, log: str | os.PathLike | None = None, *, this_thread: bool = 
 
 
 @contextlib.contextmanager
-def intent(target, kind: str, data, **context):
+def intent(target: str | os.PathLike, kind: str, data: object, **context: object) -> Iterator[None]:
     """Within the block, a write of ``target`` is meant to hold ``data`` (of ``kind``:
     ``"image"``, ``"mips"``, ``"blocks"``, ``"json"``, ``"text"``); ``context`` says how it
     is stored (codec options, sample type). An outer intent for the same target wins (a JSON

@@ -2,17 +2,25 @@
 
 from __future__ import annotations
 
+import os
+from collections.abc import Callable, Sequence
+from typing import Concatenate, ParamSpec, TypeVar
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.io._files import MAX_SIDE
 
+P = ParamSpec("P")
+R = TypeVar("R")
+
 #: Sample types the containers store, by name.
-DTYPES = {"float16": np.dtype("<f2"), "float32": np.dtype("<f4")}
+DTYPES: dict[str, np.dtype] = {"float16": np.dtype("<f2"), "float32": np.dtype("<f4")}
 
 #: Unsigned normalised samples (a stored c reads as c / 255), for data textures such as
 #: two-channel normal maps, the input of BC5. Float values are quantised as the PNG writer does.
-UNORM_DTYPES = {"unorm8": np.dtype("u1")}
+UNORM_DTYPES: dict[str, np.dtype] = {"unorm8": np.dtype("u1")}
 
 #: Most mip levels a texture may have (a 2^20 side has 21).
 MAX_LEVELS = 21
@@ -23,7 +31,9 @@ def mip_size(size: int, level: int) -> int:
     return max(1, size >> level)
 
 
-def check_levels(mips, *, array: bool = False) -> tuple[list[np.ndarray], bool]:
+def check_levels(
+    mips: Sequence[ArrayLike], *, array: bool = False
+) -> tuple[list[np.ndarray], bool]:
     """Validate a mip chain and return it as a list of float arrays plus whether it is a cube.
 
     Parameters
@@ -107,15 +117,17 @@ def encode(level: np.ndarray, dtype: np.dtype) -> np.ndarray:
     return level.astype(dtype, copy=False)
 
 
-def names_its_file(read):
+def names_its_file(
+    read: Callable[Concatenate[str | os.PathLike, P], R],
+) -> Callable[Concatenate[str | os.PathLike, P], R]:
     """Decorate a container reader so that every error it raises names the file it read."""
     import functools
-    import os
 
     from bakeshop.errors import BakeshopError
 
     @functools.wraps(read)
-    def wrapper(path, *args, **kwargs):
+    def wrapper(path: str | os.PathLike, *args: P.args, **kwargs: P.kwargs) -> R:
+
         try:
             return read(path, *args, **kwargs)
         except BakeshopError as e:

@@ -7,6 +7,8 @@ every value a reader returned goes back to the same integer.
 
 from __future__ import annotations
 
+import os
+
 import numba
 import numpy as np
 
@@ -24,7 +26,9 @@ def unsigned_to_float(values: np.ndarray, bits: int) -> np.ndarray:
     return np.divide(values, np.float32((1 << bits) - 1), dtype=np.float32)
 
 
-def float_to_unsigned(image: np.ndarray, bits: int, path=None) -> np.ndarray:
+def float_to_unsigned(
+    image: np.ndarray, bits: int, path: str | os.PathLike | None = None
+) -> np.ndarray:
     """Quantise an image to ``bits``-bit unsigned samples (8 -> uint8, 16 -> uint16).
 
     Float input is read as values in [0, 1]: NaN becomes 0, values are clipped to [0, 1]
@@ -51,7 +55,7 @@ def float_to_unsigned(image: np.ndarray, bits: int, path=None) -> np.ndarray:
 
 
 @numba.njit(cache=True, parallel=True)
-def _quantize(values, top, out):  # pragma: no cover - compiled
+def _quantize(values: np.ndarray, top: int, out: np.ndarray) -> None:  # pragma: no cover
     """Out = rint(clip(v, 0, 1) * top), NaN -> 0, in one pass."""
     scale = np.float32(top)
     for i in numba.prange(values.size):

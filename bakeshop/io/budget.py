@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+from collections.abc import Iterator
 
 from bakeshop.errors import ArgumentError, FormatError
 
@@ -49,7 +50,7 @@ def decode_limit(file_size: int) -> int:
 
 
 @contextlib.contextmanager
-def decode_budget(max_bytes: int | None):
+def decode_budget(max_bytes: int | None) -> Iterator[None]:
     """Within the block, every file may decode to at most ``max_bytes`` bytes, whatever its
     size (None: the default rule, ``max(DECODE_FLOOR, DECODE_RATIO * file size)``).
 

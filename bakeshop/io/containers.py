@@ -10,7 +10,9 @@ from __future__ import annotations
 
 import importlib
 import os
+from collections.abc import Sequence
 from pathlib import Path
+from types import ModuleType
 
 import numpy as np
 
@@ -39,7 +41,7 @@ def is_container(path: str | os.PathLike) -> bool:
     return container_for(path) is not None
 
 
-def _module(path):
+def _module(path: str | os.PathLike) -> tuple[str, ModuleType]:
     name = container_for(path)
     if name is None:
         from bakeshop.errors import UnsupportedError
@@ -56,7 +58,9 @@ def read_container(path: str | os.PathLike) -> tuple[list[np.ndarray], dict]:
     return getattr(module, f"read_{name}")(path)
 
 
-def write_container(path: str | os.PathLike, mips, *, float32: bool = False) -> None:
+def write_container(
+    path: str | os.PathLike, mips: Sequence[np.ndarray], *, float32: bool = False
+) -> None:
     """Write ``mips`` (level 0 first; ``(H, W, C)`` or ``(6, S, S, C)`` each) to a .dds, .ktx
     or .ktx2 file, atomically: half floats unless ``float32`` or a value would overflow them
     (above :data:`HALF_MAX`, as a sun often is)."""

@@ -47,8 +47,11 @@ from __future__ import annotations
 
 import os
 import struct
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Literal, overload
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
 from bakeshop.io import _intent
@@ -64,7 +67,11 @@ from bakeshop.io._levels import (
 )
 from bakeshop.io._quantize import unsigned_to_float
 
+if TYPE_CHECKING:
+    from bakeshop.io.compress.texture import BlockTexture
+
 NAME = "DDS"
+
 MAGIC = b"DDS "
 
 # DDS_HEADER flags, caps and pixel-format flags (Microsoft's names).
@@ -124,7 +131,11 @@ def sniff(head: bytes) -> bool:
 
 
 def write_dds(
-    path: str | os.PathLike, mips, *, dtype: str = "float16", array: bool = False
+    path: str | os.PathLike,
+    mips: Sequence[ArrayLike],
+    *,
+    dtype: str = "float16",
+    array: bool = False,
 ) -> None:
     """Write a mip chain (a cube map, a 2-D texture or a 2-D texture array) as a DDS file with
     the DX10 header.
@@ -189,7 +200,7 @@ def write_dds(
                     f.write(np.ascontiguousarray(encode(texels, SAMPLE_TYPES[dtype])).tobytes())
 
 
-def write_dds_blocks(path: str | os.PathLike, texture) -> None:
+def write_dds_blocks(path: str | os.PathLike, texture: BlockTexture) -> None:
     """Write a block-compressed texture (:class:`bakeshop.io.compress.BlockTexture`) as a DDS file
     with the DX10 header: faces in file order (each face's whole mip chain, then the next
     face), the exact DXGI format, the cube flag and the mip count.
@@ -225,7 +236,9 @@ def write_dds_blocks(path: str | os.PathLike, texture) -> None:
 
 
 @names_its_file
-def read_dds_blocks(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
+def read_dds_blocks(
+    path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS
+) -> tuple[BlockTexture, dict]:
     """Read a block-compressed DDS file without decoding it.
 
     Returns
@@ -246,7 +259,9 @@ def read_dds_blocks(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
 
 
 @names_its_file
-def read_dds(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
+def read_dds(
+    path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS
+) -> tuple[list[np.ndarray], dict]:
     """Read a DDS file (a cube map, a 2-D texture or a 2-D texture array with its mips) as
     float mips.
 
@@ -284,7 +299,21 @@ def read_dds(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     return mips, metadata
 
 
-def _read(path, max_pixels: int, decode: bool):
+@overload
+def _read(
+    path: str | os.PathLike, max_pixels: int, decode: Literal[True]
+) -> tuple[list[np.ndarray], dict]: ...
+
+
+@overload
+def _read(
+    path: str | os.PathLike, max_pixels: int, decode: Literal[False]
+) -> tuple[BlockTexture | None, dict]: ...
+
+
+def _read(
+    path: str | os.PathLike, max_pixels: int, decode: bool
+) -> tuple[list[np.ndarray] | BlockTexture | None, dict]:
     """Parse a DDS file: (float mips or BlockTexture or None, metadata)."""
     from bakeshop.io.compress.formats import FORMATS
 
@@ -365,8 +394,8 @@ def _read(path, max_pixels: int, decode: bool):
         check_payload(faces * sum(sizes), size - offset)
         with open(path, "rb") as f:
             f.seek(offset)
-            raw = f.read(faces * sum(sizes))
-        chains = [raw[i * sum(sizes) : (i + 1) * sum(sizes)] for i in range(faces)]
+            blob = f.read(faces * sum(sizes))
+        chains = [blob[i * sum(sizes) : (i + 1) * sum(sizes)] for i in range(faces)]
         starts = np.concatenate([[0], np.cumsum(sizes)])
         data = tuple(
             b"".join(chain[starts[m] : starts[m + 1]] for chain in chains) for m in range(levels)

@@ -26,7 +26,7 @@ def write_text(path: str | os.PathLike, text: str) -> None:
             f.write(text if text.endswith("\n") else text + "\n")
 
 
-def _plain(value):
+def _plain(value: object) -> object:
     """Numpy scalars and arrays as Python numbers and lists, paths as strings, non-finite
     floats as null (JSON has neither NaN nor infinity)."""
     if isinstance(value, dict):

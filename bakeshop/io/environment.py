@@ -18,10 +18,12 @@ environment written in one of them to an .exr file carries the attribute.
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from pathlib import Path
-from typing import NamedTuple
+from typing import Literal, NamedTuple, overload
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.io._files import check_input
@@ -63,21 +65,21 @@ def face_paths(pattern: str | os.PathLike, *, short: bool = False) -> list[Path]
     return [Path(str(pattern).replace(FACE_FIELD, name)) for name in names]
 
 
-def describe(image, layout: str) -> str:
+def describe(image: np.ndarray, layout: str) -> str:
     """``'latlong 1024x512'`` or ``'cube (6 faces of 256x256)'``: for summaries."""
     if is_cube(layout):
         return f"cube (6 faces of {image.shape[2]}x{image.shape[1]})"
     return f"{layout} {image.shape[1]}x{image.shape[0]}"
 
 
-def as_picture(image, layout: str) -> np.ndarray:
+def as_picture(image: np.ndarray, layout: str) -> np.ndarray:
     """``image`` as one picture: a cube becomes a vertical cross, other layouts are pictures."""
     from bakeshop.sphere import cube_to_view
 
     return cube_to_view(image, "cross-vertical") if is_cube(layout) else image
 
 
-def guess_input_layout(image, path=None) -> str:
+def guess_input_layout(image: np.ndarray, path: str | os.PathLike | None = None) -> str:
     """The one layout whose pictures have ``image``'s shape
     (:func:`bakeshop.sphere.guess_layout`); :class:`ArgumentError` naming the candidates when
     the shape fits several (a square may be angular, mirror ball or octahedral) or none."""
@@ -95,6 +97,39 @@ def guess_input_layout(image, path=None) -> str:
     return candidates[0]
 
 
+@overload
+def read_environment(
+    path: str | os.PathLike,
+    layout: str | None = None,
+    *,
+    convention: str = "opengl",
+    short: bool = False,
+    with_metadata: Literal[False] = False,
+) -> EnvironmentFile: ...
+
+
+@overload
+def read_environment(
+    path: str | os.PathLike,
+    layout: str | None = None,
+    *,
+    convention: str = "opengl",
+    short: bool = False,
+    with_metadata: Literal[True],
+) -> tuple[EnvironmentFile, dict]: ...
+
+
+@overload
+def read_environment(
+    path: str | os.PathLike,
+    layout: str | None = None,
+    *,
+    convention: str = "opengl",
+    short: bool = False,
+    with_metadata: bool,
+) -> EnvironmentFile | tuple[EnvironmentFile, dict]: ...
+
+
 def read_environment(
     path: str | os.PathLike,
     layout: str | None = None,
@@ -102,7 +137,7 @@ def read_environment(
     convention: str = "opengl",
     short: bool = False,
     with_metadata: bool = False,
-):
+) -> EnvironmentFile | tuple[EnvironmentFile, dict]:
     """Read an environment: one image file, six ``{face}`` files, or a .dds/.ktx/.ktx2 cube.
 
     Parameters
@@ -134,7 +169,9 @@ def read_environment(
     return (env, meta) if with_metadata else env
 
 
-def _read_environment(path, layout, convention, short) -> tuple[EnvironmentFile, dict]:
+def _read_environment(
+    path: str | os.PathLike, layout: str | None, convention: str, short: bool
+) -> tuple[EnvironmentFile, dict]:
     from bakeshop import sphere
     from bakeshop.io import read_image
 
@@ -161,11 +198,11 @@ def _read_environment(path, layout, convention, short) -> tuple[EnvironmentFile,
         mips, meta = read_container(path)
         if not meta.get("cube"):
             raise ArgumentError("this texture is not a cube map", path)
-        faces = _without_padding(mips[0])
-        cube = sphere.faces_to_cube(faces, convention=convention)
+        cube = sphere.faces_to_cube(_without_padding(mips[0]), convention=convention)
         return EnvironmentFile(cube, "cube", "a cube map file"), dict(meta)
     image, meta = read_image(path, with_metadata=True)
-    envmap = ENVMAP_LAYOUTS.get(meta.get("envmap"))
+    envmap = ENVMAP_LAYOUTS.get(meta.get("envmap", ""))
+
     if layout is not None and is_cube(layout):
         raise ArgumentError(
             "a cube input is six files (put {face} in the name), a .dds, .ktx or .ktx2 file, "
@@ -212,7 +249,7 @@ def _without_padding(faces: np.ndarray) -> np.ndarray:
 
 def write_environment(
     path: str | os.PathLike,
-    image,
+    image: ArrayLike,
     layout: str,
     *,
     convention: str = "opengl",
@@ -312,7 +349,7 @@ def check_chain_path(path: str | os.PathLike) -> None:
 
 def write_chain(
     path: str | os.PathLike,
-    chain,
+    chain: Sequence[ArrayLike],
     *,
     convention: str = "opengl",
     float32: bool = False,
@@ -346,7 +383,7 @@ def write_chain(
     return paths
 
 
-def write_table(path: str | os.PathLike, table, *, float32: bool = False) -> None:
+def write_table(path: str | os.PathLike, table: ArrayLike, *, float32: bool = False) -> None:
     """Write a 2-D lookup table of linear data (``(H, W, C)``, C <= 4), such as the split-sum
     DFG table: a .dds/.ktx/.ktx2 2-D texture holds its channels; an image file holds them
     padded to RGB with zeros (16-bit for PNG: the table is data, not a picture)."""

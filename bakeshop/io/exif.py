@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import os
 import warnings
+from typing import Any
 
 from bakeshop.errors import BakeshopError, FormatError
 
@@ -24,7 +25,7 @@ _TAGS = {
 }
 
 
-def _number(value) -> float | None:
+def _number(value: Any) -> float | None:
     """An EXIF rational, integer or tuple of them -> a finite positive float, or None."""
     if isinstance(value, (tuple, list)):
         value = value[0] if value else None

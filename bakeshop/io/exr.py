@@ -37,10 +37,13 @@ import io
 import os
 import sys
 import tempfile
+from collections.abc import Callable, Iterator
+from typing import Any, TypeVar
 
 import Imath  # the frame-buffer interface's pixel types, shipped with the OpenEXR bindings
 import numpy as np
 import OpenEXR
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import (
     ArgumentError,
@@ -69,6 +72,10 @@ PIXEL_TYPES = {"half": np.float16, "float": np.float32}
 #: values of the standard ``envmap`` attribute (``ImfEnvmap.h``): an environment's mapping.
 ENVMAPS = {"latlong": OpenEXR.Envmap.ENVMAP_LATLONG, "cube": OpenEXR.Envmap.ENVMAP_CUBE}
 HALF_MAX = 65504.0
+#: an inclusive pixel box, ``((xmin, ymin), (xmax, ymax))``.
+Box = tuple[tuple[int, int], tuple[int, int]]
+_T = TypeVar("_T")
+
 
 _STORED = {np.dtype(np.float16): "half", np.dtype(np.float32): "float", np.dtype(np.uint32): "uint"}
 _FLOAT = Imath.PixelType(Imath.PixelType.FLOAT)
@@ -87,7 +94,7 @@ def sniff(head: bytes) -> bool:
 
 
 @contextlib.contextmanager
-def _library_messages():
+def _library_messages() -> Iterator[list[str]]:
     """Collect what OpenEXR prints while reading (Python stdout and C stderr) into a list.
 
     The bindings report a corrupt chunk by printing a warning and returning an empty file, and
@@ -124,7 +131,7 @@ def _reason(messages: list[str], error: Exception | None = None) -> str:
     return "corrupt or truncated OpenEXR file" + (f" (OpenEXR says: {detail})" if detail else "")
 
 
-def _library(action, *args):
+def _library(action: Callable[..., _T | None], *args: object) -> _T:
     """Return ``action(*args)`` (a call into OpenEXR); its failures become a FormatError.
 
     The bindings raise RuntimeError, ValueError, IndexError, UnicodeDecodeError ... for corrupt
@@ -146,7 +153,7 @@ def _library(action, *args):
 _LEVELS = {"ONE_LEVEL": "one", "MIPMAP_LEVELS": "mipmap", "RIPMAP_LEVELS": "ripmap"}
 
 
-def _headers(path) -> list[dict] | None:
+def _headers(path: str | os.PathLike) -> list[dict] | None:
     """What bakeshop needs of each part's header, as plain Python values.
 
     ``channels`` is a list of (name, x sampling, y sampling); a missing required attribute
@@ -172,7 +179,7 @@ def _headers(path) -> list[dict] | None:
     return parts or None
 
 
-def _pixels(path, part: int, names: list[str]) -> dict[str, np.ndarray] | None:
+def _pixels(path: str | os.PathLike, part: int, names: list[str]) -> dict[str, np.ndarray] | None:
     """The pixel arrays of the named channels of one part (every channel of every part is
     decoded: ``OpenEXR.File`` reads whole files)."""
     f = OpenEXR.File(os.fspath(path), separate_channels=True)
@@ -182,7 +189,9 @@ def _pixels(path, part: int, names: list[str]) -> dict[str, np.ndarray] | None:
     return {n: channels[n].pixels for n in names if n in channels}
 
 
-def _first_part(path, names: list[str], window) -> tuple[np.ndarray, dict[str, str]]:
+def _first_part(
+    path: str | os.PathLike, names: list[str], window: Box
+) -> tuple[np.ndarray, dict[str, str]]:
     """The named channels of the first part as a float32 ``(H, W, len(names))`` image, and
     the stored type of each, read through the frame buffer: only those channels are filled,
     converted to float by OpenEXR itself, block of rows by block of rows."""
@@ -206,7 +215,7 @@ def _first_part(path, names: list[str], window) -> tuple[np.ndarray, dict[str, s
     return image, types
 
 
-def _window(box) -> tuple[tuple[int, int], tuple[int, int]]:
+def _window(box: Any) -> Box:  # the header's (min, max) corners, as the bindings give them
     lo, hi = box
     return (int(lo[0]), int(lo[1])), (int(hi[0]), int(hi[1]))
 
@@ -262,7 +271,11 @@ def _pick_channels(names: list[str], layer: str | None) -> tuple[str, list[str],
 
 
 def read(
-    path, *, part: int = 0, layer: str | None = None, max_pixels: int = MAX_PIXELS
+    path: str | os.PathLike,
+    *,
+    part: int = 0,
+    layer: str | None = None,
+    max_pixels: int = MAX_PIXELS,
 ) -> tuple[np.ndarray, dict]:
     """Read one part of an OpenEXR file as a float32 image.
 
@@ -372,8 +385,8 @@ def to_half(image: np.ndarray) -> np.ndarray:
 
 
 def write(
-    path,
-    image,
+    path: str | os.PathLike,
+    image: ArrayLike,
     *,
     pixel_type: str = "half",
     compression: str = "zip",

@@ -34,8 +34,11 @@ from __future__ import annotations
 
 import os
 import struct
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Literal, overload
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice
 from bakeshop.io import _intent
@@ -49,7 +52,11 @@ from bakeshop.io._levels import (
     names_its_file,
 )
 
+if TYPE_CHECKING:
+    from bakeshop.io.compress.texture import BlockTexture
+
 NAME = "KTX"
+
 IDENTIFIER = b"\xabKTX 11\xbb\r\n\x1a\n"
 ENDIANNESS = 0x04030201
 
@@ -84,7 +91,9 @@ def _pad4(n: int) -> int:
     return (n + 3) & ~3
 
 
-def write_ktx(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None:
+def write_ktx(
+    path: str | os.PathLike, mips: Sequence[ArrayLike], *, dtype: str = "float16"
+) -> None:
     """Write a mip chain (a cube map or a 2-D texture) as a KTX 1.1 file.
 
     Parameters
@@ -129,7 +138,7 @@ def write_ktx(path: str | os.PathLike, mips, *, dtype: str = "float16") -> None:
                 f.write(np.ascontiguousarray(data).tobytes())
 
 
-def write_ktx_blocks(path: str | os.PathLike, texture) -> None:
+def write_ktx_blocks(path: str | os.PathLike, texture: BlockTexture) -> None:
     """Write a block-compressed texture (:class:`bakeshop.io.compress.BlockTexture`) as KTX 1.1.
 
     Parameters
@@ -154,7 +163,9 @@ def write_ktx_blocks(path: str | os.PathLike, texture) -> None:
 
 
 @names_its_file
-def read_ktx_blocks(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
+def read_ktx_blocks(
+    path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS
+) -> tuple[BlockTexture, dict]:
     """Read a block-compressed KTX 1 file without decoding it.
 
     Returns
@@ -170,7 +181,9 @@ def read_ktx_blocks(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
 
 
 @names_its_file
-def read_ktx(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
+def read_ktx(
+    path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS
+) -> tuple[list[np.ndarray], dict]:
     """Read a KTX 1.1 file (a cube map or a 2-D texture with its mips) as float mips.
 
     Float files are returned as stored; block-compressed files are decoded with bakeshop's own
@@ -195,7 +208,22 @@ def read_ktx(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     return _read(path, max_pixels, decode=True)
 
 
-def _read(path, max_pixels: int, decode: bool):
+@overload
+def _read(
+    path: str | os.PathLike, max_pixels: int, decode: Literal[True]
+) -> tuple[list[np.ndarray], dict]: ...
+
+
+@overload
+def _read(
+    path: str | os.PathLike, max_pixels: int, decode: Literal[False]
+) -> tuple[BlockTexture | None, dict]: ...
+
+
+def _read(
+    path: str | os.PathLike, max_pixels: int, decode: bool
+) -> tuple[list[np.ndarray] | BlockTexture | None, dict]:
+
     from bakeshop.io.compress.formats import FORMATS, level_bytes
 
     with open_input(path) as f:

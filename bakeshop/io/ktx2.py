@@ -44,8 +44,11 @@ from __future__ import annotations
 import math
 import os
 import struct
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING, Literal, overload
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import __version__
 from bakeshop.errors import (
@@ -68,6 +71,11 @@ from bakeshop.io._levels import (
 )
 from bakeshop.io._quantize import unsigned_to_float
 from bakeshop.io.ktx import _key_values
+
+if TYPE_CHECKING:
+    from bakeshop.io.compress.formats import BlockFormat
+    from bakeshop.io.compress.texture import BlockTexture
+
 
 NAME = "KTX2"
 IDENTIFIER = b"\xabKTX 20\xbb\r\n\x1a\n"
@@ -143,7 +151,7 @@ def data_format_descriptor(dtype: str, channels: int) -> bytes:
     return struct.pack(f"<{len(words) + 1}I", 4 + block, *words)
 
 
-def block_format_descriptor(fmt) -> bytes:
+def block_format_descriptor(fmt: BlockFormat) -> bytes:
     """The basic data format descriptor of a block-compressed format (with its total size), as
     the Khronos Data Format spec's example descriptors give it: 4x4x1x1 texel blocks, one plane
     of the block's bytes, and one sample per stored part of the block (BC3: alpha then colour,
@@ -182,7 +190,7 @@ def block_format_descriptor(fmt) -> bytes:
     return struct.pack(f"<{len(words) + 1}I", 4 + block, *words)
 
 
-def _key_value_data(pairs) -> bytes:
+def _key_value_data(pairs: Iterable[tuple[bytes, bytes]]) -> bytes:
     kv = b""
     for key, value in pairs:
         entry = key + b"\x00" + value + b"\x00"
@@ -193,7 +201,7 @@ def _key_value_data(pairs) -> bytes:
 
 def write_ktx2_blocks(
     path: str | os.PathLike,
-    texture,
+    texture: BlockTexture,
     *,
     supercompression: str = "none",
     zstd_level: int = 19,
@@ -265,7 +273,11 @@ def write_ktx2_blocks(
 
 
 def write_ktx2(
-    path: str | os.PathLike, mips, *, dtype: str = "float16", array: bool = False
+    path: str | os.PathLike,
+    mips: Sequence[ArrayLike],
+    *,
+    dtype: str = "float16",
+    array: bool = False,
 ) -> None:
     """Write a mip chain (a cube map, a 2-D texture or a 2-D texture array) as a KTX 2.0 file.
 
@@ -323,7 +335,9 @@ def write_ktx2(
 
 
 @names_its_file
-def read_ktx2_blocks(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
+def read_ktx2_blocks(
+    path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS
+) -> tuple[BlockTexture, dict]:
     """Read a block-compressed KTX 2.0 file without decoding it (Zstandard levels inflated).
 
     Returns
@@ -339,7 +353,9 @@ def read_ktx2_blocks(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
 
 
 @names_its_file
-def read_ktx2(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
+def read_ktx2(
+    path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS
+) -> tuple[list[np.ndarray], dict]:
     """Read a KTX 2.0 file (a cube map, a 2-D texture or a 2-D texture array with its mips) as
     float mips.
 
@@ -368,7 +384,21 @@ def read_ktx2(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     return _read(path, max_pixels, decode=True)
 
 
-def _read(path, max_pixels: int, decode: bool):
+@overload
+def _read(
+    path: str | os.PathLike, max_pixels: int, decode: Literal[True]
+) -> tuple[list[np.ndarray], dict]: ...
+
+
+@overload
+def _read(
+    path: str | os.PathLike, max_pixels: int, decode: Literal[False]
+) -> tuple[BlockTexture | None, dict]: ...
+
+
+def _read(
+    path: str | os.PathLike, max_pixels: int, decode: bool
+) -> tuple[list[np.ndarray] | BlockTexture | None, dict]:
     from bakeshop.io.compress.formats import FORMATS, level_bytes
 
     with open_input(path) as f:
@@ -459,11 +489,11 @@ def _read(path, max_pixels: int, decode: bool):
         return None, metadata
     stored = np.dtype(SAMPLE_TYPES[dtype])
     mips = []
-    for m, level in enumerate(raw_levels):
+    for m, raw in enumerate(raw_levels):
         h, w = mip_size(height, m), mip_size(width, m)
-        level = np.frombuffer(level, stored)
+        values = np.frombuffer(raw, stored)
         if dtype in UNORM_DTYPES:
-            level = unsigned_to_float(level, 8)
-        level = level.reshape(max(layers, 1) * faces, h, w, channels).astype(np.float32)
-        mips.append(level if cube or layers else level[0])
+            values = unsigned_to_float(values, 8)
+        values = values.reshape(max(layers, 1) * faces, h, w, channels).astype(np.float32)
+        mips.append(values if cube or layers else values[0])
     return mips, metadata

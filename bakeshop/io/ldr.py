@@ -43,13 +43,16 @@ References: ISO/IEC 15948:2004 (PNG), W3C PNG Specification (Second Edition); IT
 from __future__ import annotations
 
 import io
+import os
 import struct
 import warnings
 import zlib
+from collections.abc import Iterator
 from pathlib import Path
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 from PIL import Image
 
 from bakeshop.errors import ArgumentError, BakeshopError, FormatError, UnsupportedError
@@ -92,7 +95,11 @@ def sniff(head: bytes) -> bool:
 # --- PNG structure ------------------------------------------------------------------------------
 
 
-def _png_chunks(data: bytes) -> tuple[dict, list[tuple[bytes, int, int]], list[str]]:
+#: a PNG chunk: its type and where it starts and ends in the file.
+Chunk = tuple[bytes, int, int]
+
+
+def _png_chunks(data: bytes) -> tuple[dict, list[Chunk], list[str]]:
     """Walk the chunks: (IHDR fields, [(type, start, end) of kept chunks], dropped chunk names)."""
     pos = len(PNG_MAGIC)
     view = memoryview(data)  # checksums without copying each chunk
@@ -135,7 +142,9 @@ def _png_chunks(data: bytes) -> tuple[dict, list[tuple[bytes, int, int]], list[s
     return header, kept, dropped
 
 
-def _passes(width: int, height: int, interlaced: bool):
+def _passes(
+    width: int, height: int, interlaced: bool
+) -> Iterator[tuple[int, int, int, int, int, int]]:
     """(x0, y0, dx, dy, pass width, pass height) of each non-empty (sub-)image."""
     for x0, y0, dx, dy in ADAM7 if interlaced else ((0, 0, 1, 1),):
         w, h = -(-(width - x0) // dx), -(-(height - y0) // dy)
@@ -151,7 +160,9 @@ def _raw_size(header: dict) -> int:
 
 
 @numba.njit(cache=True)
-def _unfilter(buf, start, height, stride, bpp, out):  # pragma: no cover - compiled
+def _unfilter(
+    buf: np.ndarray, start: int, height: int, stride: int, bpp: int, out: np.ndarray
+) -> int:  # pragma: no cover - compiled
     """Undo PNG filters of ``height`` rows of ``stride`` bytes (each after its filter byte).
 
     Returns 0, or the 1-based row number whose filter type is invalid.
@@ -180,7 +191,7 @@ def _unfilter(buf, start, height, stride, bpp, out):  # pragma: no cover - compi
     return 0
 
 
-def _inflate(data: bytes, chunks, size: int) -> np.ndarray:
+def _inflate(data: bytes, chunks: list[Chunk], size: int) -> np.ndarray:
     idat = b"".join(data[s + 8 : e - 4] for kind, s, e in chunks if kind == b"IDAT")
     try:
         raw = zlib.decompressobj().decompress(idat, size)
@@ -193,7 +204,7 @@ def _inflate(data: bytes, chunks, size: int) -> np.ndarray:
     return np.frombuffer(raw, np.uint8)
 
 
-def _decode_png16(data: bytes, header: dict, chunks) -> np.ndarray:
+def _decode_png16(data: bytes, header: dict, chunks: list[Chunk]) -> np.ndarray:
     """16-bit RGB, RGBA or grey+alpha PNG -> (H, W, samples) uint16."""
     width, height = header["width"], header["height"]
     samples = COLOUR_TYPES[header["colour"]][1]
@@ -241,9 +252,10 @@ def _open_with_pillow(data: bytes, max_pixels: int) -> Image.Image:
     except BakeshopError:
         raise
     except Image.DecompressionBombError:
+        limit = Image.MAX_IMAGE_PIXELS
+        assert limit is not None  # Pillow raises this error only when it has a limit
         raise FormatError(
-            f"the image is larger than Pillow's decompression-bomb limit of "
-            f"{2 * Image.MAX_IMAGE_PIXELS} pixels"
+            f"the image is larger than Pillow's decompression-bomb limit of {2 * limit} pixels"
         ) from None
     except (OSError, SyntaxError, ValueError, struct.error, EOFError, IndexError) as e:
         raise FormatError(f"corrupt or truncated image: {e}") from None
@@ -278,7 +290,7 @@ def _pillow_values(image: Image.Image) -> tuple[np.ndarray, int]:
     return values, bits
 
 
-def read(path, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
+def read(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
     """Read a PNG or JPEG file (the content decides, not the extension).
 
     Returns
@@ -382,7 +394,9 @@ def _read_jpeg(data: bytes, max_pixels: int) -> tuple[np.ndarray, dict]:
 
 
 @numba.njit(cache=True, inline="always")
-def _filtered(rows, y, i, kind, bpp):  # pragma: no cover - compiled
+def _filtered(
+    rows: np.ndarray, y: int, i: int, kind: int, bpp: int
+) -> int:  # pragma: no cover - compiled
     """Byte i of row y under PNG filter ``kind`` (0 none, 1 sub, 2 up, 3 average, 4 Paeth)."""
     x = np.int32(rows[y, i])
     if kind == 0:
@@ -402,7 +416,7 @@ def _filtered(rows, y, i, kind, bpp):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, parallel=True)
-def _filter_rows(rows, bpp, out):  # pragma: no cover - compiled
+def _filter_rows(rows: np.ndarray, bpp: int, out: np.ndarray) -> None:  # pragma: no cover
     """Filter each row of ``rows`` ((H, S) uint8) into ``out`` ((H, S + 1)), choosing per row the
     filter with the least sum of absolute signed bytes (libpng's heuristic).
     """
@@ -432,7 +446,13 @@ def _chunk(kind: bytes, payload: bytes) -> bytes:
     )
 
 
-def _write_png(path, values: np.ndarray, bits: int, compression: int, description=None) -> None:
+def _write_png(
+    path: str | os.PathLike,
+    values: np.ndarray,
+    bits: int,
+    compression: int,
+    description: str | None = None,
+) -> None:
     height, width, channels = values.shape
     colour = {1: 0, 3: 2, 4: 6}[channels]
     rows = values.astype(">u2") if bits == 16 else values
@@ -441,7 +461,7 @@ def _write_png(path, values: np.ndarray, bits: int, compression: int, descriptio
     _filter_rows(rows, channels * bits // 8, filtered)
     compressor = zlib.compressobj(compression)
     block = max(1, (1 << 22) // filtered.shape[1])  # about 4 MB per call
-    parts = [compressor.compress(filtered[y : y + block]) for y in range(0, height, block)]
+    parts = [compressor.compress(filtered[y : y + block].data) for y in range(0, height, block)]
     parts.append(compressor.flush())
     idat = b"".join(parts)
     with open(path, "wb") as f:
@@ -456,8 +476,8 @@ def _write_png(path, values: np.ndarray, bits: int, compression: int, descriptio
 
 
 def write(
-    path,
-    image,
+    path: str | os.PathLike,
+    image: ArrayLike,
     *,
     bits: int | None = None,
     compression: int | None = None,

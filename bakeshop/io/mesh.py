@@ -48,7 +48,7 @@ class Mesh:
     uv: np.ndarray | None = None
     uv2: np.ndarray | None = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         self.positions = np.asarray(self.positions, np.float64)
         self.faces = np.asarray(self.faces, np.int64)
         v = len(self.positions)
@@ -75,7 +75,7 @@ class Mesh:
             setattr(self, name, a)
 
 
-def angle_weighted_normals(positions, faces) -> np.ndarray:
+def angle_weighted_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """Vertex normals: the sum of the incident faces' unit normals weighted by the corner's
     angle (Thürmer and Wüthrich 1998), normalised; (0, 0, 1) for an isolated vertex."""
     p = positions[faces]

@@ -30,6 +30,7 @@ import math
 import os
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, FormatError
 from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
@@ -55,13 +56,13 @@ def sniff(head: bytes) -> bool:
     )
 
 
-def _tokens(head: bytes, count: int):
+def _tokens(head: bytes, count: int) -> tuple[list[bytes], int]:
     """The first ``count`` whitespace-separated tokens of ``head`` and the offset after the last.
 
     ``#`` starts a comment that runs to the end of its line. Raises FormatError when the header
     is not complete within ``head``.
     """
-    tokens = []
+    tokens: list[bytes] = []
     i, n = 0, len(head)
     while len(tokens) < count:
         while i < n and (head[i] in _WHITESPACE or head[i] == ord("#")):
@@ -121,7 +122,7 @@ def _header(path: str | os.PathLike, max_pixels: int) -> dict:
     }
 
 
-def read(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
+def read(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
     """Read a PFM file into memory.
 
     Parameters
@@ -151,7 +152,7 @@ def read(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
         for top in range(0, height, rows):
             count = min(rows, height - top)
             part = block[: count * row]
-            if f.readinto(part.view(np.uint8)) != part.nbytes:
+            if f.readinto(part.view(np.uint8).data) != part.nbytes:
                 raise FormatError(
                     "truncated PFM pixel data: the file is shorter than its header says (it "
                     "was truncated while being read)"
@@ -167,7 +168,9 @@ def read(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS):
     return image, metadata
 
 
-def write(path: str | os.PathLike, image, *, byteorder: str = "<", scale: float = 1.0) -> None:
+def write(
+    path: str | os.PathLike, image: ArrayLike, *, byteorder: str = "<", scale: float = 1.0
+) -> None:
     """Write a 1- or 3-channel image as a PFM file (``Pf`` or ``PF``), rows bottom to top.
 
     Parameters

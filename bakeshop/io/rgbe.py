@@ -26,9 +26,12 @@ from __future__ import annotations
 import math
 import os
 import re
+from collections.abc import Sequence
+from typing import Any
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
@@ -41,7 +44,7 @@ NAME = "Radiance HDR"
 RADIANCE_PRIMARIES = ((0.640, 0.330), (0.290, 0.600), (0.150, 0.060), (1 / 3, 1 / 3))
 
 
-def _xyz_to_rgb(primaries) -> np.ndarray:
+def _xyz_to_rgb(primaries: Sequence[tuple[float, float]]) -> np.ndarray:
     """The CIE XYZ -> linear RGB matrix of ``primaries`` ((x, y) of R, G, B, white), scaled so
     that the white point with Y = 1 maps to RGB (1, 1, 1): the derivation of Radiance's
     ``compxyz2rgbmat``."""
@@ -85,7 +88,7 @@ def _header(data: np.ndarray) -> tuple[dict, int]:
     if not head.startswith(b"#?"):
         raise FormatError("not a Radiance file (it does not start with '#?')")
     position = 0
-    lines = []
+    lines: list[bytes] = []
     while True:
         end = head.find(b"\n", position)
         if end < 0:
@@ -132,7 +135,7 @@ def _numbers(value: bytes, count: int, name: str, *, positive: bool = True) -> l
 
 def _variables(lines: list[bytes]) -> dict:
     """The meaning of the header lines (the first is the ``#?PROGRAM`` magic)."""
-    facts = {
+    facts: dict[str, Any] = {
         "program": lines[0][2:].decode("latin-1").strip(),
         "stored": "rgbe",
         "exposure": 1.0,
@@ -164,7 +167,15 @@ def _variables(lines: list[bytes]) -> dict:
 
 
 @numba.njit(cache=True, nogil=True)
-def _decode(data, pos, nscan, scanlen, out, factors, dry):
+def _decode(
+    data: np.ndarray,
+    pos: int,
+    nscan: int,
+    scanlen: int,
+    out: np.ndarray,
+    factors: np.ndarray,
+    dry: bool,
+) -> tuple[int, int, int]:
     """Decode ``nscan`` scanlines of ``scanlen`` pixels from ``data[pos:]`` into ``out[scan,
     pixel, channel]`` (float32, any strides), multiplying channel c by ``factors[c]``.
 
@@ -260,7 +271,9 @@ def _decode(data, pos, nscan, scanlen, out, factors, dry):
     return _OK, nscan, pos
 
 
-def read(path: str | os.PathLike, *, raw: bool = False, max_pixels: int = MAX_PIXELS):
+def read(
+    path: str | os.PathLike, *, raw: bool = False, max_pixels: int = MAX_PIXELS
+) -> tuple[np.ndarray, dict]:
     """Read a Radiance .hdr / .pic file.
 
     Parameters
@@ -341,7 +354,7 @@ def read(path: str | os.PathLike, *, raw: bool = False, max_pixels: int = MAX_PI
     return image, metadata
 
 
-def _check(result, nscan: int) -> None:
+def _check(result: tuple[int, int, int], nscan: int) -> None:
     status, scanline, _ = result
     if status != _OK:
         raise FormatError(
@@ -361,7 +374,7 @@ _FLOAT32_MAX = float(np.finfo(np.float32).max)
 
 
 @numba.njit(cache=True, nogil=True)
-def _rgbe_row(values, bits, line):
+def _rgbe_row(values: np.ndarray, bits: np.ndarray, line: np.ndarray) -> None:
     """Encode one row of linear pixels into ``line[0:4, x]`` (R, G, B mantissas and exponent).
 
     ``values`` is a (W, C) float32 row (C = 1 grey, or 3) and ``bits`` the same memory as
@@ -408,7 +421,7 @@ def _rgbe_row(values, bits, line):
 
 
 @numba.njit(cache=True, nogil=True)
-def _rle_plane(plane, buf, pos):
+def _rle_plane(plane: np.ndarray, buf: np.ndarray, pos: int) -> int:
     """Append one byte plane as new-style runs (>= 4 equal bytes, <= 127 per run) and literals
     (<= 128 per packet) to ``buf`` at ``pos``; return the new position. This is the packing of
     Radiance's fwritecolrs and of Walter's rgbe.c."""
@@ -445,7 +458,7 @@ def _rle_plane(plane, buf, pos):
 
 
 @numba.njit(cache=True, nogil=True)
-def _encode(image, rle):
+def _encode(image: np.ndarray, rle: bool) -> tuple[np.ndarray, int]:
     """Encode a C-contiguous (H, W, C) float32 image (C = 1 grey or 3 RGB) into Radiance
     scanlines; return the bytes (only the first ``length`` are used) and ``length``."""
     height, width, channels = image.shape
@@ -472,7 +485,7 @@ def _encode(image, rle):
     return buf, pos
 
 
-def write(path: str | os.PathLike, image, *, rle: bool = True) -> None:
+def write(path: str | os.PathLike, image: ArrayLike, *, rle: bool = True) -> None:
     """Write a Radiance RGBE file, scanlines top to bottom (``-Y H +X W``).
 
     Parameters

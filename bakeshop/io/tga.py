@@ -115,7 +115,9 @@ def sniff(head: bytes) -> bool:
 
 
 @numba.njit(cache=True)
-def _unrle(data, start, count, bpp, out):  # pragma: no cover - compiled
+def _unrle(
+    data: np.ndarray, start: int, count: int, bpp: int, out: np.ndarray
+) -> int:  # pragma: no cover - compiled
     """Decode ``count`` pixels of ``bpp`` bytes from ``data[start:]`` into ``out``.
 
     Returns the offset after the last packet, -1 if the data ends early, -2 if a packet runs
@@ -150,7 +152,7 @@ def _unrle(data, start, count, bpp, out):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
-def _same(row, a, b, bpp):  # pragma: no cover - compiled
+def _same(row: np.ndarray, a: int, b: int, bpp: int) -> bool:  # pragma: no cover - compiled
     for k in range(bpp):
         if row[a * bpp + k] != row[b * bpp + k]:
             return False
@@ -158,7 +160,7 @@ def _same(row, a, b, bpp):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
-def _rle(rows, width, bpp):  # pragma: no cover - compiled
+def _rle(rows: np.ndarray, width: int, bpp: int) -> np.ndarray:  # pragma: no cover - compiled
     """Run-length encode each row of ``rows`` ((H, W * bpp) uint8) into TGA packets."""
     height = rows.shape[0]
     out = np.empty(height * width * (bpp + 1), np.uint8)
@@ -190,7 +192,17 @@ def _rle(rows, width, bpp):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, parallel=True)
-def _expand8(raw, height, width, bpp, order, flip_x, flip_y, lut, out):  # pragma: no cover
+def _expand8(
+    raw: np.ndarray,
+    height: int,
+    width: int,
+    bpp: int,
+    order: np.ndarray,
+    flip_x: bool,
+    flip_y: bool,
+    lut: np.ndarray,
+    out: np.ndarray,
+) -> None:  # pragma: no cover - compiled
     """out[y, x, c] = lut[byte order[c] of the stored pixel that lands at (x, y)]."""
     channels = order.size
     for y in numba.prange(height):
@@ -232,7 +244,7 @@ def _decode_entries(raw: np.ndarray, bits: int, alpha_bits: int) -> np.ndarray:
     return out[0]
 
 
-def read(path, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
+def read(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
     """Read a TGA file.
 
     Returns
@@ -323,7 +335,12 @@ def read(path, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
 
 
 def write(
-    path, image, *, rle: bool = False, origin: str = "top-left", description: str | None = None
+    path: str | os.PathLike,
+    image: np.ndarray,
+    *,
+    rle: bool = False,
+    origin: str = "top-left",
+    description: str | None = None,
 ) -> None:
     """Write an 8-bit grey, 24-bit RGB or 32-bit RGBA TGA file.
 
@@ -363,5 +380,6 @@ def write(
     with open(path, "wb") as f:
         f.write(header)
         f.write(image_id)
-        f.write(_rle(rows, width, channels) if rle else rows)
+        f.write((_rle(rows, width, channels) if rle else rows).data)
+
         f.write(struct.pack("<II", 0, 0) + FOOTER_SIGNATURE)

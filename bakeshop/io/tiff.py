@@ -28,7 +28,11 @@ Reference: Adobe, TIFF Revision 6.0 (1992); tifffile by Christoph Gohlke.
 
 from __future__ import annotations
 
+import os
+from types import ModuleType
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, BakeshopError, FormatError, UnsupportedError
 from bakeshop.io._files import MAX_PIXELS, check_dimensions
@@ -50,7 +54,7 @@ def sniff(head: bytes) -> bool:
     return head[:4] in MAGICS
 
 
-def _tifffile():
+def _tifffile() -> ModuleType:
     try:
         import tifffile
     except ImportError:  # pragma: no cover - a base dependency
@@ -66,7 +70,7 @@ def _imagecodecs_available() -> bool:
     return True
 
 
-def read(path, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
+def read(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS) -> tuple[np.ndarray, dict]:
     """Read the first image of a TIFF or BigTIFF file.
 
     Returns
@@ -132,7 +136,9 @@ def _to_image(values: np.ndarray, axes: str) -> np.ndarray:
     raise UnsupportedError(f"unsupported TIFF sample type {values.dtype}")
 
 
-def write(path, image, *, bits: int | None = None, compression: str = "zlib") -> None:
+def write(
+    path: str | os.PathLike, image: ArrayLike, *, bits: int | None = None, compression: str = "zlib"
+) -> None:
     """Write one image as a TIFF.
 
     Parameters

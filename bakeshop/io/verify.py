@@ -44,13 +44,20 @@ import json
 import math
 import os
 import time
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import BakeshopError
 from bakeshop.io import _intent
 from bakeshop.io._intent import intent
+
+if TYPE_CHECKING:
+    from bakeshop.io.compress.texture import BlockTexture
+
 
 __all__ = ["JPEG_MIN_PSNR", "check_file", "intent", "verify_writes", "verifying"]
 
@@ -69,7 +76,9 @@ def verifying() -> bool:
 
 
 @contextlib.contextmanager
-def verify_writes(log: str | os.PathLike | None = None, *, this_thread: bool = False):
+def verify_writes(
+    log: str | os.PathLike | None = None, *, this_thread: bool = False
+) -> Iterator[list[dict]]:
     """Check every file written within the block (see the module notes).
 
     Parameters
@@ -89,7 +98,9 @@ def verify_writes(log: str | os.PathLike | None = None, *, this_thread: bool = F
         yield records
 
 
-def check_file(path, kind: str | None = None, data=None, **context) -> dict:
+def check_file(
+    path: str | os.PathLike, kind: str | None = None, data: Any = None, **context: Any
+) -> dict:
     """Read ``path`` back through bakeshop and compare it with ``data`` (see the module notes).
 
     Returns
@@ -111,8 +122,16 @@ def check_file(path, kind: str | None = None, data=None, **context) -> dict:
     return record
 
 
-def _record(writer, check, ok, *, max_error=None, tolerance=None, reason="") -> dict:
-    def number(v):
+def _record(
+    writer: str,
+    check: str,
+    ok: bool | np.bool_,
+    *,
+    max_error: float | None = None,
+    tolerance: float | None = None,
+    reason: str = "",
+) -> dict:
+    def number(v: float | None) -> float | None:
         return None if v is None or not math.isfinite(v) else float(v)
 
     return {
@@ -128,7 +147,7 @@ def _record(writer, check, ok, *, max_error=None, tolerance=None, reason="") -> 
 # --- loads (no intent) ---------------------------------------------------------------------------
 
 
-def _loads(path: Path, data=None, **context) -> dict:
+def _loads(path: Path, data: object = None, **context: object) -> dict:
     """Load-only check by extension: an image (its header, when a streaming reader exists),
     a container, a JSON document, a text."""
     from bakeshop.io import CODECS
@@ -158,7 +177,7 @@ def _loads(path: Path, data=None, **context) -> dict:
 # --- images --------------------------------------------------------------------------------------
 
 
-def _image(path: Path, image, *, codec: str, options: dict) -> dict:
+def _image(path: Path, image: ArrayLike, *, codec: str, options: dict) -> dict:
     from bakeshop.io import read_image
 
     intended = np.asarray(image)
@@ -223,7 +242,7 @@ def _half(values: np.ndarray) -> np.ndarray:
     return half.astype(np.float32)
 
 
-def _floats(writer, read, intended, *, half: bool) -> dict:
+def _floats(writer: str, read: np.ndarray, intended: np.ndarray, *, half: bool) -> dict:
     want = _as_float(intended)
     if half:
         want = _half(want)
@@ -243,7 +262,7 @@ def _floats(writer, read, intended, *, half: bool) -> dict:
     )
 
 
-def _rgbe(writer, read, intended) -> dict:
+def _rgbe(writer: str, read: np.ndarray, intended: np.ndarray) -> dict:
     want = np.nan_to_num(_as_float(intended), nan=0.0, posinf=1.7e38)
     want = np.clip(want, 0.0, 1.7e38)
     peak = want.max(axis=2, keepdims=True)
@@ -263,7 +282,9 @@ def _rgbe(writer, read, intended) -> dict:
     )
 
 
-def _codes(writer, read, intended, bits: int, *, jpeg: bool = False) -> dict:
+def _codes(
+    writer: str, read: np.ndarray, intended: np.ndarray, bits: int, *, jpeg: bool = False
+) -> dict:
     top = (1 << bits) - 1
     got = np.rint(read.astype(np.float64) * top)
     if intended.dtype.kind == "u":
@@ -301,7 +322,7 @@ def _codes(writer, read, intended, bits: int, *, jpeg: bool = False) -> dict:
 # --- containers, blocks, documents ---------------------------------------------------------------
 
 
-def _mips(path: Path, mips, *, dtype: str, array: bool = False) -> dict:
+def _mips(path: Path, mips: Sequence[ArrayLike], *, dtype: str, array: bool = False) -> dict:
     from bakeshop.io.containers import read_container
 
     read, meta = read_container(path)
@@ -339,7 +360,7 @@ def _mips(path: Path, mips, *, dtype: str, array: bool = False) -> dict:
     return _record(writer, "exact", True, reason=f"{len(levels)} level(s) bit-exact ({dtype})")
 
 
-def _blocks(path: Path, texture) -> dict:
+def _blocks(path: Path, texture: BlockTexture) -> dict:
     ext = path.suffix.lower()
     if ext == ".dds":
         from bakeshop.io.dds import read_dds_blocks as read
@@ -368,7 +389,7 @@ def _blocks(path: Path, texture) -> dict:
     )
 
 
-def _json(path: Path, document) -> dict:
+def _json(path: Path, document: dict) -> dict:
     from bakeshop.io.documents import _plain, read_json
 
     got = read_json(path)
@@ -382,11 +403,19 @@ def _json(path: Path, document) -> dict:
     )
 
 
-def _text(path: Path, text) -> dict:
+def _text(path: Path, text: str) -> dict:
     got = path.read_bytes().decode("utf-8")
     want = text if text.endswith("\n") else text + "\n"
     ok = got == want
     return _record("text", "exact", ok, reason="the same text" if ok else "the text differs")
 
 
-_CHECKS = {"image": _image, "mips": _mips, "blocks": _blocks, "json": _json, "text": _text}
+#: the check of each kind of intent; a file written without one is only loaded (:func:`_loads`).
+
+_CHECKS: dict[str | None, Callable[..., dict]] = {
+    "image": _image,
+    "mips": _mips,
+    "blocks": _blocks,
+    "json": _json,
+    "text": _text,
+}

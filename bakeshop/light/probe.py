@@ -86,7 +86,7 @@ def bake_probe_cost(
 ) -> Cost:
     """What :func:`bake_probe` of a probe of ``shape`` (with its channel axis) holds at its
     peak: what it keeps (the cube, the painted probe unless ``shadow_probe`` is False, the
-    chain) plus the largest of its steps
+    chain, the chain's cached area filter) plus the largest of its steps
     (:func:`~bakeshop.sphere.remap_cost`, :func:`~bakeshop.light.dims.dim_pair_cost`,
     :func:`~bakeshop.light.specular.prefilter_cost`, :func:`~bakeshop.light.dfg.dfg_table_cost`).
     ``work`` is the chain's (the longest step)."""
@@ -99,6 +99,11 @@ def bake_probe_cost(
     texel = channels * itemsize
     painted = math.prod(spatial) if shadow_probe else 0  # the copy painted without the sun
     kept = (6 * size * size + painted + 8 * specular_size**2) * texel
+    # the area filter matrix of the chain's source cube stays in the plan cache
+    # (bakeshop.sphere.cache_info) while the environment cube's is built
+    kept += remap_cost(
+        lay, spatial, "cube", specular_size, filter="auto", channels=channels, itemsize=itemsize
+    ).memory
     steps = [
         remap_cost(lay, spatial, "cube", size, filter="auto", channels=channels, itemsize=itemsize),
         dim_pair_cost(shape, layout, to="latlong", size=dim_size, painted=False),

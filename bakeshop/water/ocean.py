@@ -240,8 +240,10 @@ def ocean(
     Ocean
         With ``report``: ``modes`` (non-zero modes), ``variance`` (m^2, of the lattice),
         ``hs`` (m, 4 sqrt(variance)), ``spectrum_variance`` and ``spectrum_hs`` (the spectrum's
-        own over k_range), ``captured`` (their ratio), and when looping ``frozen_modes``,
-        ``frozen_variance`` (m^2), ``frozen_fraction``, ``max_cycles``,
+        own over k_range and the lattice's disc |k| < pi n / size), ``captured`` (the
+        lattice's variance within that disc over the spectrum's; nan when the spectrum holds
+        nothing there), and when looping ``frozen_modes``, ``frozen_variance`` (m^2),
+        ``frozen_fraction``, ``max_cycles``,
         ``max_frequency_shift`` (largest |w_q - w| / w of a moving mode) and
         ``minimum_frames``.
     """
@@ -308,10 +310,15 @@ def ocean(
     report["modes"] = int((f > 0).sum())
     report["variance"] = variance
     report["hs"] = 4 * math.sqrt(variance)
-    total = spectrum.variance(max(k_min, dk / 2), min(k_max, math.pi * n / size))
+    # both sides of the ratio over the disc dk / 2 <= |k| < pi n / size (the lattice's
+    # corners reach sqrt(2) times further: where the spectrum's tail rises towards them, a
+    # light wind's whole lattice variance can sit there)
+    k_top = min(k_max, math.pi * n / size)
+    total = spectrum.variance(max(k_min, dk / 2), k_top)
     report["spectrum_variance"] = total
     report["spectrum_hs"] = 4 * math.sqrt(total)
-    report["captured"] = variance / total if total > 0 else float("nan")
+    in_band = float((f * dk * dk)[k < k_top].sum())
+    report["captured"] = in_band / total if total > 0 else float("nan")
     if loop_period is not None:
         report["frozen_fraction"] = (
             report["frozen_variance"] / variance_all if variance_all > 0 else 0.0

@@ -79,6 +79,10 @@ JONSWAP_SIGMA = (0.07, 0.09)
 #: Dimensionless fetch g F / U10^2 beyond which JONSWAP's peak would fall below the fully
 #: developed Pierson-Moskowitz peak; the fetch is capped there (fully developed sea).
 JONSWAP_DEVELOPED_FETCH = (22.0 / (0.877 / U19_5_PER_U10)) ** 3
+#: Slowest wind accepted, m/s. The spectra are wind-sea forms whose peak wavelength grows as U^2
+#: (2 pi U^2 / g): at 0.1 m/s it is 6 mm, far below any lattice, and slower winds only push
+#: the spectra's U^2 and U^-4 terms towards underflow and overflow.
+MIN_WIND_SPEED = 0.1
 
 
 def dispersion(
@@ -184,7 +188,7 @@ class Spectrum:
         (Hasselmann et al. 1973). ``tma``: JONSWAP times Kitaigorodskii's depth factor (Bouws et
         al. 1985), for finite ``depth``.
     wind_speed : float
-        U10, m/s, wind 10 m above the sea (> 0).
+        U10, m/s, wind 10 m above the sea (>= :data:`MIN_WIND_SPEED`).
     wind_direction : float
         Degrees in the texture plane from +u towards +v (up the picture).
     fetch : float
@@ -235,7 +239,7 @@ class Spectrum:
         validate_choice(self.kind, SPECTRA, "spectrum")
         validate_choice(self.spreading, SPREADINGS, "directional spreading")
         checks = {
-            "wind speed (m/s)": (self.wind_speed, 0, False),
+            "wind speed (m/s)": (self.wind_speed, MIN_WIND_SPEED, True),
             "fetch (m)": (self.fetch, 0, False),
             "depth (m)": (self.depth, 0, False),
             "gamma": (self.gamma, 1, True),

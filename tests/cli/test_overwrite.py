@@ -143,6 +143,12 @@ def test_every_output_of_a_command(tmp_path, capfd):
     folder = tmp_path / "dims"
     inside = probe(folder / "sun_dim.hdr")
     refused(capfd, tmp_path, ["dims", inside, "-o", folder, "--size", "8x4"], inside)
+    # an engine's file in bake-probe's DIR/ENGINE/ (here a hard link to the probe)
+    engine_file = tmp_path / "baked" / "unity" / "environment.dds"
+    engine_file.parent.mkdir(parents=True)
+    os.link(source, engine_file)
+    args = ["bake-probe", source, "-o", tmp_path / "baked", "--engine", "unity"]
+    refused(capfd, tmp_path, args, engine_file, "a hard link")
     # an input given inside a --layer specification (normals combine)
     n = tmp_path / "n.png"
     flat = np.zeros((8, 8, 3), np.float32)

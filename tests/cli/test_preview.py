@@ -52,6 +52,8 @@ def test_preview_writes_each_scene_as_the_library_renders_it(bake_dir, tmp_path)
         (["--exposure", "inf"], "not a finite number"),
         (["--scene", "all", "-o", "one.png"], "{scene}"),
         (["-o", "x.jpg"], "name the output .png"),
+        (["-o", "x_{view}.png"], "{view} is not a pattern this command writes"),
+        (["--scene", "all", "-o", "x_{scene!r}.png"], "is not a pattern"),
     ],
 )
 def test_bad_arguments_give_one_line(bake_dir, capsys, extra, reason):

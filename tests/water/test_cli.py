@@ -90,6 +90,7 @@ def test_too_few_frames_are_refused_in_one_line(tmp_path, capsys):
     [
         ["ocean", "--wind", "nan"],
         ["ocean", "--wind", "-3"],
+        ["ocean", "--wind", "0.1", "--size", "64"],  # no wave fits the tile
         ["ocean", "--period", "inf"],
         ["ocean", "--outputs", "normal,colour"],
         ["ocean", "--outputs", "foam"],  # foam needs choppiness
@@ -103,6 +104,7 @@ def test_bad_arguments_give_one_line(tmp_path, capsys, args):
     code = main(["water", args[0], str(tmp_path / "out"), *args[1:]])
     err = capsys.readouterr().err.strip()
     assert code == 2 and err.startswith("bakeshop: error:") and err.count("\n") == 0
+    assert not (tmp_path / "out").exists()  # refused before anything is made
 
 
 def test_ripples_analytic_and_wave(tmp_path):

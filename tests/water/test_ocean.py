@@ -348,3 +348,22 @@ def test_bad_arguments_are_refused():
 def test_a_lattice_too_large_to_seed_is_refused_with_the_number():
     with pytest.raises(ArgumentError, match="GiB to seed"):
         ocean(SEA, size=64.0, resolution=8192)
+
+
+@pytest.mark.parametrize("wind", [0.5, 1.0, 3.0])
+def test_a_light_wind_lattice_holds_the_spectrum_tail_of_its_disc(wind):
+    """A light wind's peak lies far past the lattice's shortest wave: the band holds only the
+    spectrum's steep tail, rising towards the band's edge. The spectrum's share (the closed
+    form of test_significant_wave_height_is_four_root_m0 over dk/2 <= k < pi n / size) and the
+    lattice's variance inside that disc agree (its corners, up to sqrt(2) times further out,
+    are not compared: there a light wind's tail is larger than the whole disc's)."""
+    g, size, res = 9.81, 64.0, 64
+    sp = Spectrum("pierson-moskowitz", wind_speed=wind, surface_tension=0.0)
+    r = ocean(sp, size=size, resolution=res).report
+    dk, k_max = 2 * math.pi / size, math.pi * res / size
+    w0 = g / (U19_5_PER_U10 * wind)
+    w_min, w_max = math.sqrt(g * dk / 2), math.sqrt(g * k_max)
+    c = PM_ALPHA * g * g / (4 * PM_BETA * w0**4)
+    m0 = c * (math.exp(-PM_BETA * (w0 / w_max) ** 4) - math.exp(-PM_BETA * (w0 / w_min) ** 4))
+    assert r["spectrum_variance"] == pytest.approx(m0, rel=1e-6)
+    assert 0.75 < r["captured"] < 1.25, r["captured"]

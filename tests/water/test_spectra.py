@@ -143,6 +143,7 @@ def test_jonswap_fetch_and_fully_developed_cap():
         {"kind": "bogus"},
         {"wind_speed": 0.0},
         {"wind_speed": float("nan")},
+        {"wind_speed": 1e-300},  # its square underflows: refused, not a division by zero
         {"fetch": -1.0},
         {"gamma": 0.5},
         {"spreading": "wide"},

@@ -33,7 +33,7 @@ _OCEAN_OUTPUTS = ("normal", "height", "derivatives", "displacement", "foam")
               "(Tessendorf 2001).")  # fmt: skip
 @click.option(
     "--wind",
-    type=Number(0.1, 60),
+    type=Number(0.1, 60),  # bakeshop.water.spectra.MIN_WIND_SPEED (not imported: start-up)
     default=10.0,
     show_default=True,
     metavar="M/S",
@@ -223,7 +223,6 @@ def ocean(out_dir: Path, **o):
         cutoff=o["cutoff"],
         amplitude=o["phillips_amplitude"],
     )
-    out_dir.mkdir(parents=True, exist_ok=True)
     with progress.step("seeding the wave lattice"):
         if o["cascades"] > 1:
             sizes = cascade_sizes(o["size"], o["cascades"], ratio=o["ratio"])
@@ -234,6 +233,13 @@ def ocean(out_dir: Path, **o):
             oceans = [make_ocean(spectrum, size=o["size"], resolution=resolution, seed=o["seed"],
                                  loop_period=o["period"])]  # fmt: skip
             names = [o["name"]]
+    if not any(x.report["spectrum_variance"] > 0 for x in oceans):
+        raise ArgumentError(
+            f"no wave of this sea fits the tile: the lattice holds wavelengths from "
+            f"{o['size']:g} m down to {2 * o['size'] / resolution:.3g} m and a {o['wind']:g} m/s "
+            "wind puts no energy there; raise --wind, or lower --size or raise --resolution"
+        )
+    out_dir.mkdir(parents=True, exist_ok=True)
     needed = max(x.minimum_frames() for x in oceans)
     frames = o["frames"] or 8 * math.ceil(needed / 8)
     documents = []
@@ -371,12 +377,16 @@ def _batch_guess(n, fields, lam) -> int:
 
 def _ocean_summary(doc: dict, name: str) -> str:
     r = doc["report"]
+    share = (
+        f"{100 * r['captured']:.1f}% of the spectrum's {r['spectrum_hs']:.3g} m in its band"
+        if r["spectrum_variance"] > 0
+        else "the spectrum holds nothing in its band"
+    )
     lines = [
         f"{name}: {doc['resolution']}x{doc['resolution']} texels over {doc['tile_size_m']:g} m, "
         f"{doc['frames']} frames per {doc['loop_period_s']:g} s loop "
         f"({doc['frame_rate_hz']:.3g} frames/s)",
-        f"  Hs {r['hs']:.3f} m on the lattice ({100 * r['captured']:.1f}% of the spectrum's "
-        f"{r['spectrum_hs']:.3f} m in its band), {r['modes']} waves",
+        f"  Hs {r['hs']:.3g} m on the lattice ({share}), {r['modes']} waves",
         f"  loop: {r['frozen_modes']} waves frozen ({100 * r['frozen_fraction']:.3f}% of the "
         f"variance), frequencies moved by up to {100 * r['max_frequency_shift']:.2f}%, "
         f"fastest wave {r['max_cycles']} turns per loop (>= {r['minimum_frames']} frames)",

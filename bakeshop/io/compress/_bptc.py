@@ -360,6 +360,8 @@ def bc6h_bit_table() -> np.ndarray:
                 position += int(token[1:])
                 continue
             match = re.fullmatch(r"(\w\w)\[(\d+)(?::(\d+))?\]", token)
+            assert match is not None, token  # the layouts above are constants of this form
+
             field, high, low = match[1], int(match[2]), int(match[3] or match[2])
             step = 1 if high >= low else -1
             for bit in range(low, high + step, step):

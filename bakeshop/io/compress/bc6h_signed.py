@@ -30,7 +30,7 @@ _W4 = np.array([0, 4, 9, 13, 17, 21, 26, 30, 34, 38, 43, 47, 51, 55, 60, 64], np
 
 
 @numba.njit(cache=True, inline="always")
-def _unquantize(x, bits):  # pragma: no cover - compiled
+def _unquantize(x: int, bits: int) -> int:  # pragma: no cover - compiled
     """The spec's signed unquantisation of an endpoint of ``bits`` bits."""
     if bits >= 16:
         return x
@@ -47,7 +47,7 @@ def _unquantize(x, bits):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, inline="always")
-def _quantize(q, bits):  # pragma: no cover - compiled
+def _quantize(q: float, bits: int) -> int:  # pragma: no cover - compiled
     """The endpoint of ``bits`` bits whose unquantised value is nearest ``q``."""
     top = (1 << (bits - 1)) - 1
     guess = int(np.round(q * (1 << (bits - 1)) / 32768.0))
@@ -61,7 +61,7 @@ def _quantize(q, bits):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, inline="always")
-def _finish(v):  # pragma: no cover - compiled
+def _finish(v: int) -> int:  # pragma: no cover - compiled
     """The interpolated integer -> the signed q domain value the half float represents."""
     if v < 0:
         return -(((-v) * 31) >> 5)
@@ -69,7 +69,9 @@ def _finish(v):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
-def _fit(q, mode, ends, quantized, indices):  # pragma: no cover - compiled
+def _fit(
+    q: np.ndarray, mode: int, ends: np.ndarray, quantized: np.ndarray, indices: np.ndarray
+) -> float:  # pragma: no cover - compiled
     """Quantise the endpoints ``ends`` (2, 3) for mode slot ``mode``, choose indices; returns the
     squared error in the q domain (the endpoints and indices are written in place)."""
     epb, delta = _EPB[mode], _DELTA[mode]
@@ -105,7 +107,7 @@ def _fit(q, mode, ends, quantized, indices):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
-def _encode_block(q, out, layout):  # pragma: no cover - compiled
+def _encode_block(q: np.ndarray, out: np.ndarray, layout: np.ndarray) -> None:  # pragma: no cover
     """Encode one block of 16 texels in the q domain (16, 3) into 16 bytes."""
     mean = np.zeros(3)
     for t in range(16):
@@ -203,7 +205,10 @@ def _encode_block(q, out, layout):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, parallel=True)
-def _encode(q_blocks, out, layout):  # pragma: no cover - compiled
+def _encode(
+    q_blocks: np.ndarray, out: np.ndarray, layout: np.ndarray
+) -> None:  # pragma: no cover - compiled
+
     for b in numba.prange(q_blocks.shape[0]):
         _encode_block(q_blocks[b], out[b], layout)
 

@@ -66,7 +66,9 @@ _A32 = _bptc.ANCHOR3_2.astype(np.int64)
 
 
 @numba.njit(cache=True, inline="always")
-def _bits(lo, hi, position, count):  # pragma: no cover - compiled
+def _bits(
+    lo: np.uint64, hi: np.uint64, position: int, count: int
+) -> np.int64:  # pragma: no cover - compiled
     """``count`` bits of a 128-bit little-endian block (two uint64 halves) from ``position``."""
     mask = (np.uint64(1) << np.uint64(count)) - np.uint64(1)
     if position >= 64:
@@ -78,7 +80,7 @@ def _bits(lo, hi, position, count):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, inline="always")
-def _halves(blocks, b):  # pragma: no cover - compiled
+def _halves(blocks: np.ndarray, b: int) -> tuple[np.uint64, np.uint64]:  # pragma: no cover
     lo = np.uint64(0)
     hi = np.uint64(0)
     for k in range(8):
@@ -88,7 +90,17 @@ def _halves(blocks, b):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, parallel=True)
-def _decode_bc7(blocks, out, modes, weights, p2, p3, a2, a31, a32):  # pragma: no cover
+def _decode_bc7(
+    blocks: np.ndarray,
+    out: np.ndarray,
+    modes: np.ndarray,
+    weights: np.ndarray,
+    p2: np.ndarray,
+    p3: np.ndarray,
+    a2: np.ndarray,
+    a31: np.ndarray,
+    a32: np.ndarray,
+) -> None:  # pragma: no cover - compiled
     """BC7 blocks (n, 16) uint8 -> RGBA texels (n, 16, 4) uint8."""
     for b in numba.prange(blocks.shape[0]):
         lo, hi = _halves(blocks, b)
@@ -182,14 +194,14 @@ def _decode_bc7(blocks, out, modes, weights, p2, p3, a2, a31, a32):  # pragma: n
 
 
 @numba.njit(cache=True, inline="always")
-def _extend(value, bits):  # pragma: no cover - compiled
+def _extend(value: int, bits: int) -> int:  # pragma: no cover - compiled
     """Sign-extend the low ``bits`` bits of ``value``."""
     value &= (1 << bits) - 1
     return value - (1 << bits) if value >> (bits - 1) & 1 else value
 
 
 @numba.njit(cache=True, inline="always")
-def _unquantize(x, bits, signed):  # pragma: no cover - compiled
+def _unquantize(x: int, bits: int, signed: bool) -> int:  # pragma: no cover - compiled
     if not signed:
         if bits >= 15 or x == 0:
             return x
@@ -211,7 +223,16 @@ def _unquantize(x, bits, signed):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, parallel=True)
-def _decode_bc6h(blocks, out, signed, modes, layout, weights, p2, a2):  # pragma: no cover
+def _decode_bc6h(
+    blocks: np.ndarray,
+    out: np.ndarray,
+    signed: bool,
+    modes: np.ndarray,
+    layout: np.ndarray,
+    weights: np.ndarray,
+    p2: np.ndarray,
+    a2: np.ndarray,
+) -> None:  # pragma: no cover - compiled
     """BC6H blocks (n, 16) uint8 -> half-float bit patterns (n, 16, 3) uint16."""
     for b in numba.prange(blocks.shape[0]):
         lo, hi = _halves(blocks, b)
@@ -268,7 +289,9 @@ def _decode_bc6h(blocks, out, signed, modes, layout, weights, p2, a2):  # pragma
 
 
 @numba.njit(cache=True, inline="always")
-def _bc1_colors(c0, c1, four, colors):  # pragma: no cover - compiled
+def _bc1_colors(
+    c0: np.int64, c1: np.int64, four: bool, colors: np.ndarray
+) -> None:  # pragma: no cover - compiled
     """The four RGBA colours of a BC1 colour block (real arithmetic, values in [0, 1])."""
     r0, g0, b0 = (c0 >> 11) / 31.0, ((c0 >> 5) & 63) / 63.0, (c0 & 31) / 31.0
     r1, g1, b1 = (c1 >> 11) / 31.0, ((c1 >> 5) & 63) / 63.0, (c1 & 31) / 31.0
@@ -291,7 +314,9 @@ def _bc1_colors(c0, c1, four, colors):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, inline="always")
-def _bc4_values(blocks, b, offset, values):  # pragma: no cover - compiled
+def _bc4_values(
+    blocks: np.ndarray, b: int, offset: int, values: np.ndarray
+) -> None:  # pragma: no cover - compiled
     """The eight values of a BC4 block (or BC3's alpha, BC5's channel) at ``offset``."""
     r0 = np.float64(blocks[b, offset])
     r1 = np.float64(blocks[b, offset + 1])
@@ -308,7 +333,7 @@ def _bc4_values(blocks, b, offset, values):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, inline="always")
-def _bc4_codes(blocks, b, offset):  # pragma: no cover - compiled
+def _bc4_codes(blocks: np.ndarray, b: int, offset: int) -> np.uint64:  # pragma: no cover
     bits = np.uint64(0)
     for k in range(6):
         bits |= np.uint64(blocks[b, offset + 2 + k]) << np.uint64(8 * k)
@@ -316,7 +341,7 @@ def _bc4_codes(blocks, b, offset):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, parallel=True)
-def _decode_s3tc(blocks, out, kind):  # pragma: no cover - compiled
+def _decode_s3tc(blocks: np.ndarray, out: np.ndarray, kind: int) -> None:  # pragma: no cover
     """BC1 (kind 1), BC3 (3), BC4 (4) and BC5 (5) blocks -> texels (n, 16, C) float32."""
     for b in numba.prange(blocks.shape[0]):
         colors = np.zeros((4, 4))
@@ -374,7 +399,7 @@ def decode_blocks(blocks: np.ndarray, fmt: BlockFormat) -> np.ndarray:
     return texels
 
 
-def decode_image(data, fmt: str | BlockFormat, width: int, height: int) -> np.ndarray:
+def decode_image(data: bytes, fmt: str | BlockFormat, width: int, height: int) -> np.ndarray:
     """Decode one block-compressed image (a face of one mip level) to float32 ``(H, W, C)``.
 
     Parameters

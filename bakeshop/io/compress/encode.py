@@ -15,12 +15,18 @@ from __future__ import annotations
 
 import os
 from concurrent.futures import ThreadPoolExecutor
+from types import ModuleType
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError, BakeshopError, validate_choice
 from bakeshop.io.compress.formats import BlockFormat, block_format
+
+if TYPE_CHECKING:
+    from ispc_texcomp import BC6HEncSettings, BC7EncSettings
+
 
 __all__ = ["QUALITIES", "HALF_MAX", "encode_image", "image_jobs", "run_jobs", "linear_to_srgb"]
 
@@ -43,7 +49,7 @@ QUALITIES = {
 _STRIP_ROWS = 64
 
 
-def _ispc():
+def _ispc() -> ModuleType:
     try:
         import ispc_texcomp
     except ImportError:
@@ -87,7 +93,7 @@ def _rgba(image: np.ndarray, fill: float) -> np.ndarray:
 
 
 @numba.njit(cache=True, inline="always")
-def _half_bits(bits):  # pragma: no cover - compiled
+def _half_bits(bits: int) -> int:  # pragma: no cover - compiled
     """IEEE binary16 bits of a float32 given by its bits (uint32), rounded to nearest even;
     beyond +-65504 (and infinity) saturated to +-65504, never infinity. NaN is refused before.
 
@@ -111,7 +117,7 @@ def _half_bits(bits):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, parallel=True)
-def _half_rgba(bits, out):  # pragma: no cover - compiled
+def _half_rgba(bits: np.ndarray, out: np.ndarray) -> None:  # pragma: no cover - compiled
     """``out[:H, :W]`` (uint16 RGBA) = half floats of ``bits`` ((H, W, C) float32 bits as
     uint32): grey repeated to RGB, missing blue 0, missing alpha 1 (0x3C00)."""
     h, w, c = bits.shape
@@ -166,7 +172,10 @@ def _surface_data(image: np.ndarray, fmt: BlockFormat) -> np.ndarray:
     return float_to_unsigned(_rgba(image, 1.0), 8)
 
 
-def _settings(it, fmt: BlockFormat, quality: str, opaque: bool):
+def _settings(
+    it: ModuleType, fmt: BlockFormat, quality: str, opaque: bool
+) -> BC6HEncSettings | BC7EncSettings | None:
+
     family = fmt.name.split("-")[0]
     if family == "bc6h":
         return it.BC6HEncSettings.from_profile(quality)

@@ -19,6 +19,7 @@ float arrays; quantisation happens in the writer (PNG) or the encoder (BC7).
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 
@@ -44,7 +45,7 @@ DECODE_FORMULAS = {
 }
 
 
-def _rgb(image) -> np.ndarray:
+def _rgb(image: ArrayLike) -> np.ndarray:
     a = np.asarray(image, np.float32)
     if a.ndim < 1 or a.shape[-1] < 3:
         raise ArgumentError(f"RGBM and RGBD pack RGB values; got shape {a.shape}")
@@ -53,7 +54,7 @@ def _rgb(image) -> np.ndarray:
     return np.maximum(a[..., :3], 0)
 
 
-def encode_rgbm(image, *, range: float = 8.0) -> np.ndarray:
+def encode_rgbm(image: ArrayLike, *, range: float = 8.0) -> np.ndarray:
     """Pack linear RGB values (``(..., C)``, C >= 3; negatives become 0) into RGBM.
 
     Parameters
@@ -77,13 +78,13 @@ def encode_rgbm(image, *, range: float = 8.0) -> np.ndarray:
     return out.astype(np.float32)
 
 
-def decode_rgbm(rgbm, *, range: float = 8.0) -> np.ndarray:
+def decode_rgbm(rgbm: ArrayLike, *, range: float = 8.0) -> np.ndarray:
     """Unpack RGBM (``(..., 4)`` in [0, 1]) to linear RGB: ``range * A * RGB``."""
     a = np.asarray(rgbm, np.float32)
     return (range * a[..., 3:4] * a[..., :3]).astype(np.float32)
 
 
-def encode_rgbd(image) -> np.ndarray:
+def encode_rgbd(image: ArrayLike) -> np.ndarray:
     """Pack linear RGB values (``(..., C)``, C >= 3; negatives become 0, values above 255 are
     clipped) into Babylon's RGBD.
 
@@ -99,7 +100,7 @@ def encode_rgbd(image) -> np.ndarray:
     return np.concatenate([stored, d], axis=-1).astype(np.float32)
 
 
-def decode_rgbd(rgbd) -> np.ndarray:
+def decode_rgbd(rgbd: ArrayLike) -> np.ndarray:
     """Unpack RGBD (``(..., 4)`` in [0, 1]) to linear RGB: ``RGB ^ 2.2 / A``."""
     a = np.asarray(rgbd, np.float32)
     d = np.maximum(a[..., 3:4], 1 / 255)

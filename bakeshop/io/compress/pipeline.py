@@ -19,16 +19,18 @@ import json
 import math
 import os
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, BakeshopError, validate_choice
 from bakeshop.io.compress import packing, quality
 from bakeshop.io.compress.encode import linear_to_srgb
 from bakeshop.io.compress.formats import FORMATS, block_format
-from bakeshop.io.compress.texture import BlockTexture, encode_texture
+from bakeshop.io.compress.texture import BlockTexture, Overflow, encode_texture
 from bakeshop.resources import Cost, require
 
 __all__ = [
@@ -79,7 +81,9 @@ def _box(image: np.ndarray, size: tuple[int, int]) -> np.ndarray:
     return resize_area(image, size)
 
 
-def box_mips(level0, *, cube: bool, levels: int | None = None, normals: bool = False) -> list:
+def box_mips(
+    level0: ArrayLike, *, cube: bool, levels: int | None = None, normals: bool = False
+) -> list[np.ndarray]:
     """A mip chain from level 0 by 2x2 box averaging (exact area averaging at odd sizes).
 
     Parameters
@@ -131,7 +135,7 @@ def _measure(kind: str, reference: list, decoded: list, srgb: bool, convention: 
     for m, (ref, dec) in enumerate(zip(reference, decoded, strict=True)):
         ref = np.asarray(ref, np.float32).reshape(-1, ref.shape[-1])
         dec = np.asarray(dec, np.float32).reshape(-1, dec.shape[-1])
-        entry = {"level": m}
+        entry: dict[str, float] = {"level": m}
         if kind == "hdr":
             entry["mpsnr_db"] = quality.mpsnr(ref[:, :3], dec[:, :3])
             entry["log2_rmse"] = quality.log2_rmse(ref[:, :3], dec[:, :3])
@@ -165,7 +169,7 @@ def _measure(kind: str, reference: list, decoded: list, srgb: bool, convention: 
 TEXEL_BYTES = 192
 
 
-def compress_levels_cost(shapes, name: str) -> Cost:
+def compress_levels_cost(shapes: Sequence[tuple[int, ...]], name: str) -> Cost:
     """What :func:`compress_levels` of levels of ``shapes`` (each with its channel axis) holds
     at its peak (:data:`TEXEL_BYTES` per texel); ``work`` is in texels."""
     texels = sum(math.prod(shape[:-1]) for shape in shapes)
@@ -174,12 +178,12 @@ def compress_levels_cost(shapes, name: str) -> Cost:
 
 
 def compress_levels(
-    mips,
+    mips: Sequence[ArrayLike],
     name: str,
     *,
     cube: bool,
     quality_profile: str = "fast",
-    overflow: str = "refuse",
+    overflow: Overflow = "refuse",
     normals: bool = False,
     normal_convention: str = "gl",
     rgbm_range: float = 8.0,
@@ -283,7 +287,7 @@ def sidecar_path(target: str | os.PathLike) -> Path:
     return target.with_name(name + ".json")
 
 
-def _finite(value):
+def _finite(value: object) -> object:
     if isinstance(value, float) and not math.isfinite(value):
         return None  # JSON has no infinity: a lossless level has no finite PSNR
     if isinstance(value, dict):
@@ -358,6 +362,7 @@ def write_compressed(
     else:
         from bakeshop.sphere import FACE_NAMES
 
+        assert result.packed is not None  # no texture: a PNG packing's levels
         if suffix != ".png":
             raise ArgumentError("RGBM and RGBD without BC7 are written as 8-bit PNG", target)
         if result.cube and "{face}" not in target.name:
@@ -376,7 +381,8 @@ def write_compressed(
     try:
         import ispc_texcomp
 
-        encoder = f"ispc-texcomp {ispc_texcomp.__version__}"
+        # the package's stub (__init__.pyi) omits the __version__ its module defines
+        encoder = f"ispc-texcomp {ispc_texcomp.__version__}"  # type: ignore[attr-defined]
     except ImportError:  # PNG packings need no encoder
         encoder = None
     if result.format == "bc6h-signed":

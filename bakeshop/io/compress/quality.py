@@ -21,8 +21,10 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 
@@ -41,7 +43,9 @@ EXPOSURES = tuple(range(-4, 5))
 LOG_FLOOR = 2.0**-14
 
 
-def _pair(reference, decoded, channels=3):
+def _pair(
+    reference: ArrayLike, decoded: ArrayLike, channels: int = 3
+) -> tuple[np.ndarray, np.ndarray]:
     a = np.asarray(reference, np.float64)
     b = np.asarray(decoded, np.float64)
     if a.shape[:-1] != b.shape[:-1] or min(a.shape[-1], b.shape[-1]) < channels:
@@ -55,7 +59,13 @@ def _db(mse: float, peak_squared: float) -> float:
     return math.inf if mse == 0 else 10 * math.log10(peak_squared / mse)
 
 
-def mpsnr(reference, decoded, *, exposures=EXPOSURES, gamma: float = 2.2) -> float:
+def mpsnr(
+    reference: ArrayLike,
+    decoded: ArrayLike,
+    *,
+    exposures: Sequence[int] = EXPOSURES,
+    gamma: float = 2.2,
+) -> float:
     """Multi-exposure PSNR in dB of RGB values (any leading shape, last axis >= 3 channels).
 
     Parameters
@@ -84,14 +94,14 @@ def mpsnr(reference, decoded, *, exposures=EXPOSURES, gamma: float = 2.2) -> flo
     return _db(total / len(exposures), 3 * 255.0**2)
 
 
-def log2_rmse(reference, decoded, *, floor: float = LOG_FLOOR) -> float:
+def log2_rmse(reference: ArrayLike, decoded: ArrayLike, *, floor: float = LOG_FLOOR) -> float:
     """RMS difference of log2 values in stops, values below ``floor`` raised to it."""
     a, b = _pair(reference, decoded)
     d = np.log2(np.maximum(a, floor)) - np.log2(np.maximum(b, floor))
     return float(np.sqrt(np.mean(d * d)))
 
 
-def psnr(reference, decoded, *, channels: int | None = None) -> float:
+def psnr(reference: ArrayLike, decoded: ArrayLike, *, channels: int | None = None) -> float:
     """PSNR in dB of values in [0, 1] (peak 1), over the first ``channels`` (default all)."""
     a = np.asarray(reference, np.float64)
     n = a.shape[-1] if channels is None else channels
@@ -99,7 +109,7 @@ def psnr(reference, decoded, *, channels: int | None = None) -> float:
     return _db(float(np.mean((a - b) ** 2)), 1.0)
 
 
-def rebuild_z(xy) -> np.ndarray:
+def rebuild_z(xy: ArrayLike) -> np.ndarray:
     """Unit normals from their x and y (the last axis, signed components in [-1, 1]):
     ``z = sqrt(max(0, 1 - x^2 - y^2))``, then normalised, as a shader rebuilds BC5 normals."""
     xy = np.asarray(xy, np.float64)[..., :2]
@@ -108,7 +118,7 @@ def rebuild_z(xy) -> np.ndarray:
     return n / np.linalg.norm(n, axis=-1, keepdims=True)
 
 
-def angular_error(reference, decoded) -> dict:
+def angular_error(reference: ArrayLike, decoded: ArrayLike) -> dict:
     """Angles between unit normals (the last axis: x, y, z), in degrees.
 
     Returns

@@ -13,10 +13,13 @@ infinity (a photographed sun often reaches 10^5 to 10^6 in linear units).
 
 from __future__ import annotations
 
+import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, FormatError, validate_choice
 from bakeshop.io.compress.decode import decode_image
@@ -46,7 +49,7 @@ class BlockTexture:
     #: what the encoder did beyond compressing (clamping), for sidecars and messages.
     notes: dict = field(default_factory=dict, compare=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for m, data in enumerate(self.levels):
             expected = self.faces * self.face_bytes(m)
             if len(data) != expected:
@@ -82,7 +85,11 @@ class BlockTexture:
 
 
 def check_range(
-    mips, fmt: str | BlockFormat, *, overflow: Overflow = "refuse", path=None
+    mips: Sequence[ArrayLike],
+    fmt: str | BlockFormat,
+    *,
+    overflow: Overflow = "refuse",
+    path: str | os.PathLike | None = None,
 ) -> tuple[list[np.ndarray], dict]:
     """Apply the explicit choice for values a half-float block format cannot store.
 
@@ -151,7 +158,7 @@ def check_range(
 
 
 def encode_texture(
-    mips,
+    mips: Sequence[ArrayLike],
     fmt: str | BlockFormat,
     *,
     quality: str = "fast",

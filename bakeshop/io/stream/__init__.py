@@ -37,10 +37,13 @@ from __future__ import annotations
 
 import importlib
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
+from types import ModuleType
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, BakeshopError, UnsupportedError
 from bakeshop.io.stream._base import ArrayReader, Reader, window_of
@@ -79,11 +82,11 @@ def stream_codec_for(path: str | os.PathLike) -> str:
     )
 
 
-def _module(name: str):
+def _module(name: str) -> ModuleType:
     return importlib.import_module(f"bakeshop.io.stream.{name}")
 
 
-def open_image(path: str | os.PathLike, **options) -> Reader:
+def open_image(path: str | os.PathLike, **options: Any) -> Reader:
     """Open an image for window reads: the header is read and checked, no pixel is.
 
     Parameters
@@ -109,7 +112,9 @@ def open_image(path: str | os.PathLike, **options) -> Reader:
         raise
 
 
-def write_strips(path: str | os.PathLike, shape, strips: Iterable[np.ndarray], **options) -> None:
+def write_strips(
+    path: str | os.PathLike, shape: Sequence[int], strips: Iterable[np.ndarray], **options: Any
+) -> None:
     """Write an image of ``shape`` (H, W, C) from strips of rows, top to bottom, atomically.
 
     Parameters
@@ -143,7 +148,9 @@ def write_strips(path: str | os.PathLike, shape, strips: Iterable[np.ndarray], *
         raise
 
 
-def _checked(strips: Iterable[np.ndarray], shape, path):
+def _checked(
+    strips: Iterable[ArrayLike], shape: tuple[int, int, int], path: str | os.PathLike
+) -> Iterator[np.ndarray]:
     """The strips as float32 (h, W, C) arrays, refusing any that does not fit ``shape``."""
     h, w, c = shape
     done = 0

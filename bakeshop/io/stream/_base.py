@@ -3,13 +3,20 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 
+#: a ``(start, stop)`` range of rows or columns.
+Window = tuple[int, int]
 
-def window_of(shape, rows=None, cols=None) -> tuple[int, int, int, int]:
+
+def window_of(
+    shape: Sequence[int], rows: Window | None = None, cols: Window | None = None
+) -> tuple[int, int, int, int]:
     """``(top, bottom, left, right)`` of a window of an image of ``shape`` (H, W, ...).
 
     ``rows`` and ``cols`` are ``(start, stop)`` pairs (None: all); they must lie inside the
@@ -58,7 +65,7 @@ class Reader:
         h, w, c = self.shape
         return h * w * c * 4
 
-    def read(self, rows=None, cols=None) -> np.ndarray:
+    def read(self, rows: Window | None = None, cols: Window | None = None) -> np.ndarray:
         """The window ``rows = (top, bottom)``, ``cols = (left, right)`` (None: all) as a
         float32 ``(bottom - top, right - left, C)`` array, row 0 at the top."""
         top, bottom, left, right = window_of(self.shape, rows, cols)
@@ -78,14 +85,15 @@ class ArrayReader(Reader):
 
     format = "array"
 
-    def __init__(self, image, name: str | os.PathLike | None = None):
+    def __init__(self, image: ArrayLike, name: str | os.PathLike | None = None) -> None:
         a = np.asarray(image)
         if a.ndim == 2:
             a = a[:, :, None]
         if a.ndim != 3 or not 1 <= a.shape[2] <= 4:
             raise ArgumentError(f"an image must be (H, W) or (H, W, C); got shape {a.shape}")
         self.image = a
-        self.shape = tuple(int(n) for n in a.shape)
+        h, w, c = (int(n) for n in a.shape)
+        self.shape = (h, w, c)
         self.stored = str(a.dtype)
         self.block = (self.shape[0], self.shape[1])
         self.path = None if name is None else os.fspath(name)
@@ -94,5 +102,5 @@ class ArrayReader(Reader):
     def nbytes(self) -> int:
         return int(self.image.nbytes)
 
-    def _read(self, top, bottom, left, right):
+    def _read(self, top: int, bottom: int, left: int, right: int) -> np.ndarray:
         return np.asarray(self.image[top:bottom, left:right], dtype=np.float32)

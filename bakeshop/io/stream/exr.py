@@ -19,6 +19,8 @@ first part, and .exr files are written by strips as scanline images. The channel
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable
+from types import ModuleType
 
 import numpy as np
 import OpenEXR
@@ -32,7 +34,7 @@ from bakeshop.io.stream._base import Reader
 MAX_PIXELS = 1 << 40
 
 
-def _imath():
+def _imath() -> ModuleType:
     import Imath  # shipped with the OpenEXR bindings, for their 1.x-compatible classes
 
     return Imath
@@ -43,7 +45,7 @@ class ExrReader(Reader):
 
     format = "OpenEXR"
 
-    def __init__(self, path, *, layer: str | None = None):
+    def __init__(self, path: str | os.PathLike, *, layer: str | None = None) -> None:
         headers = exr._library(exr._headers, path)
         header = headers[0]
         if header["storage"].startswith("deep"):
@@ -65,18 +67,18 @@ class ExrReader(Reader):
         self.parts = len(headers)
         self.block = (64, self.shape[1])  # zip compresses 16 scanlines, piz 32: whole blocks
 
-    def _read(self, top, bottom, left, right):
+    def _read(self, top: int, bottom: int, left: int, right: int) -> np.ndarray:
         imath = _imath()
         pixel = imath.PixelType(imath.PixelType.FLOAT)
 
-        def planes():
+        def read_planes() -> list[bytes]:
             f = OpenEXR.InputFile(self.path)
             try:
                 return f.channels(self.channels, pixel, self.y0 + top, self.y0 + bottom - 1)
             finally:
                 f.close()
 
-        data = exr._library(planes)
+        data = exr._library(read_planes)
         w = self.shape[1]
         planes = [np.frombuffer(p, np.float32).reshape(bottom - top, w) for p in data]
         if self.grey_alpha:
@@ -87,12 +89,19 @@ class ExrReader(Reader):
         return out
 
 
-def open(path, *, layer: str | None = None) -> ExrReader:  # noqa: A001 - the codec interface
+def open(path: str | os.PathLike, *, layer: str | None = None) -> ExrReader:  # noqa: A001 - the codec interface
     """An :class:`ExrReader` of ``path``'s first part (header checked)."""
     return ExrReader(path, layer=layer)
 
 
-def write_strips(path, shape, strips, *, pixel_type: str = "half", compression: str = "zip"):
+def write_strips(
+    path: str | os.PathLike,
+    shape: tuple[int, int, int],
+    strips: Iterable[np.ndarray],
+    *,
+    pixel_type: str = "half",
+    compression: str = "zip",
+) -> None:
     """Write a scanline OpenEXR file strip by strip (options as :func:`bakeshop.io.exr.write`:
     half clamps finite values beyond +-65504)."""
     validate_choice(pixel_type, tuple(exr.PIXEL_TYPES), "EXR pixel type")

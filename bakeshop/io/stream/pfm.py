@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Iterable
 
 import numpy as np
 
@@ -37,8 +38,9 @@ class PfmReader(Reader):
     """Window reads of a PFM file (see the module docstring)."""
 
     format = "PFM"
+    path: str
 
-    def __init__(self, path):
+    def __init__(self, path: str | os.PathLike) -> None:
         header = pfm._header(path, MAX_PIXELS)
         self.path = os.fspath(path)
         self.shape = (header["height"], header["width"], header["channels"])
@@ -48,7 +50,7 @@ class PfmReader(Reader):
         self.scale = header["scale"]
         self.block = (max(1, (1 << 22) // (self.shape[1] * self.shape[2] * 4)), self.shape[1])
 
-    def _read(self, top, bottom, left, right):
+    def _read(self, top: int, bottom: int, left: int, right: int) -> np.ndarray:
         h, w, c = self.shape
         row_bytes = w * c * 4
         out = np.empty((bottom - top, right - left, c), np.float32)
@@ -73,7 +75,7 @@ class PfmReader(Reader):
 
 
 def _pread_into(fd: int, buf: np.ndarray, offset: int) -> None:
-    view = memoryview(buf).cast("B")
+    view = buf.data.cast("B")
     done = 0
     while done < len(view):
         n = os.preadv(fd, [view[done:]], offset + done)
@@ -82,12 +84,19 @@ def _pread_into(fd: int, buf: np.ndarray, offset: int) -> None:
         done += n
 
 
-def open(path) -> PfmReader:  # noqa: A001 - the codec interface's name
+def open(path: str | os.PathLike) -> PfmReader:  # noqa: A001 - the codec interface's name
     """A :class:`PfmReader` of ``path`` (its header checked against the file's size)."""
     return PfmReader(path)
 
 
-def write_strips(path, shape, strips, *, byteorder: str = "<", scale: float = 1.0) -> None:
+def write_strips(
+    path: str | os.PathLike,
+    shape: tuple[int, int, int],
+    strips: Iterable[np.ndarray],
+    *,
+    byteorder: str = "<",
+    scale: float = 1.0,
+) -> None:
     """Write a 1- or 3-channel PFM from strips top to bottom, each at its place in the file."""
     from bakeshop.errors import validate_choice
 
@@ -109,7 +118,7 @@ def write_strips(path, shape, strips, *, byteorder: str = "<", scale: float = 1.
                 n = strip.shape[0]
                 data = np.ascontiguousarray(strip[::-1], dtype=dtype)
                 at = len(header) + (h - top - n) * row_bytes
-                view = memoryview(data).cast("B")
+                view = data.data.cast("B")
                 done = 0
                 while done < len(view):
                     done += os.pwrite(fd, view[done:], at + done)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import builtins
 import os
+from collections.abc import Iterable
 
 import numba
 import numpy as np
@@ -32,7 +33,9 @@ MAX_PIXELS = 1 << 40
 
 
 @numba.njit(cache=True, nogil=True)
-def _scan(data, pos, scanlen, count, starts, first):  # pragma: no cover - compiled
+def _scan(
+    data: np.ndarray, pos: int, scanlen: int, count: int, starts: np.ndarray, first: int
+) -> tuple[int, int, int]:  # pragma: no cover - compiled
     """Walk up to ``count`` scanlines of ``data[pos:]``, writing each one's start (plus
     ``first``, the offset of ``data`` in the file) into ``starts``; return (scanlines walked,
     position after the last complete one, status). Stops, status 0, at an incomplete scanline."""
@@ -105,8 +108,9 @@ class RgbeReader(Reader):
 
     format = "Radiance HDR"
     stored = "rgbe"
+    path: str
 
-    def __init__(self, path, *, raw: bool = False):
+    def __init__(self, path: str | os.PathLike, *, raw: bool = False) -> None:
         self.path = os.fspath(path)
         size = os.path.getsize(path)
         with builtins.open(path, "rb") as f:
@@ -159,7 +163,7 @@ class RgbeReader(Reader):
         starts[height] = pos
         return starts
 
-    def _read(self, top, bottom, left, right):
+    def _read(self, top: int, bottom: int, left: int, right: int) -> np.ndarray:
         height, width, _ = self.shape
         # the window's scanlines in file order
         first, last = (height - bottom, height - top) if self.flip_rows else (top, bottom)
@@ -186,12 +190,18 @@ class RgbeReader(Reader):
         return out
 
 
-def open(path, *, raw: bool = False) -> RgbeReader:  # noqa: A001 - the codec interface's name
+def open(path: str | os.PathLike, *, raw: bool = False) -> RgbeReader:  # noqa: A001 - the codec interface's name
     """A :class:`RgbeReader` of ``path`` (header checked, scanlines indexed)."""
     return RgbeReader(path, raw=raw)
 
 
-def write_strips(path, shape, strips, *, rle: bool = True) -> None:
+def write_strips(
+    path: str | os.PathLike,
+    shape: tuple[int, int, int],
+    strips: Iterable[np.ndarray],
+    *,
+    rle: bool = True,
+) -> None:
     """Write a Radiance RGBE file strip by strip, scanlines top to bottom (``-Y H +X W``)."""
     h, w, c = shape
     if c not in (1, 3):

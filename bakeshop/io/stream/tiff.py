@@ -10,6 +10,8 @@ band of rows as it arrives, so strips are held one band at a time.
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable, Iterator
+from types import ModuleType
 
 import numpy as np
 
@@ -23,7 +25,7 @@ MAX_PIXELS = 1 << 40
 _SCALE = {np.dtype(np.uint8): 1 / 255, np.dtype(np.uint16): 1 / 65535}
 
 
-def _tifffile():
+def _tifffile() -> ModuleType:
     try:
         import tifffile
     except ImportError:  # pragma: no cover - depends on the installation
@@ -38,7 +40,7 @@ class TiffReader(Reader):
 
     format = "TIFF"
 
-    def __init__(self, path):
+    def __init__(self, path: str | os.PathLike) -> None:
         tifffile = _tifffile()
         try:
             with tifffile.TiffFile(path) as t:
@@ -63,7 +65,7 @@ class TiffReader(Reader):
         self.stored = str(dtype)
         self.block = (int(block[0]), int(block[1]) or w)
 
-    def _read(self, top, bottom, left, right):
+    def _read(self, top: int, bottom: int, left: int, right: int) -> np.ndarray:
         tifffile = _tifffile()
         a = tifffile.imread(self.path, selection=(slice(top, bottom), slice(left, right)))
         a = a.reshape(bottom - top, right - left, self.shape[2])
@@ -74,32 +76,32 @@ class TiffReader(Reader):
         return out
 
 
-def open(path) -> TiffReader:  # noqa: A001 - the codec interface's name
+def open(path: str | os.PathLike) -> TiffReader:  # noqa: A001 - the codec interface's name
     """A :class:`TiffReader` of ``path``."""
     return TiffReader(path)
 
 
 def write_strips(
-    path,
-    shape,
-    strips,
+    path: str | os.PathLike,
+    shape: tuple[int, int, int],
+    strips: Iterable[np.ndarray],
     *,
     tile: int = 256,
     compression: str | None = None,
     pixel_type: str = "float",
-):
+) -> None:
     """Write a tiled BigTIFF of float samples from strips (``tile`` x ``tile`` tiles;
     ``compression`` as tifffile names it: None, ``"zlib"``, ``"zstd"`` ...)."""
     tifffile = _tifffile()
     h, w, c = shape
     dtype = np.float16 if pixel_type == "half" else np.float32
 
-    def row_of_tiles(rows):
+    def row_of_tiles(rows: np.ndarray) -> Iterator[np.ndarray]:
         for x in range(0, w, tile):
             t = np.ascontiguousarray(rows[:, x : x + tile], dtype=dtype)
             yield t[:, :, 0] if c == 1 else t
 
-    def tiles():
+    def tiles() -> Iterator[np.ndarray]:
         band = np.empty((0, w, c), np.float32)
         for strip in strips:
             band = np.concatenate([band, strip])

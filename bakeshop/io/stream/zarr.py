@@ -15,7 +15,10 @@ import contextlib
 import os
 import shutil
 import tempfile
+from collections.abc import Iterable, Iterator
 from pathlib import Path
+from types import ModuleType
+from typing import Any
 
 import numpy as np
 
@@ -29,7 +32,7 @@ MAX_PIXELS = 1 << 40
 CHUNK = 256
 
 
-def _zarr():
+def _zarr() -> ModuleType:
     try:
         import zarr
     except ImportError:  # pragma: no cover - depends on the installation
@@ -42,7 +45,7 @@ class ZarrReader(Reader):
 
     format = "zarr"
 
-    def __init__(self, path):
+    def __init__(self, path: str | os.PathLike) -> None:
         zarr = _zarr()
         try:
             a = zarr.open_array(os.fspath(path), mode="r")
@@ -61,22 +64,22 @@ class ZarrReader(Reader):
         self.block = (int(a.chunks[0]), int(a.chunks[1]))
         self.attributes = dict(a.attrs)
 
-    def array(self):
+    def array(self) -> Any:  # a zarr.Array (zarr is an optional dependency)
         """The zarr array itself, opened read-only (for dask.array.from_zarr)."""
         return _zarr().open_array(self.path, mode="r")
 
-    def _read(self, top, bottom, left, right):
+    def _read(self, top: int, bottom: int, left: int, right: int) -> np.ndarray:
         a = self.array()[top:bottom, left:right]
         return np.asarray(a, dtype=np.float32).reshape(bottom - top, right - left, self.shape[2])
 
 
-def open(path) -> ZarrReader:  # noqa: A001 - the codec interface's name
+def open(path: str | os.PathLike) -> ZarrReader:  # noqa: A001 - the codec interface's name
     """A :class:`ZarrReader` of the store ``path``."""
     return ZarrReader(path)
 
 
 @contextlib.contextmanager
-def atomic_directory(target: str | os.PathLike):
+def atomic_directory(target: str | os.PathLike) -> Iterator[Path]:
     """Yield a temporary directory beside ``target``; on success it replaces ``target``, on
     failure it is removed (a failed write leaves the old store, or nothing)."""
     target = Path(target)
@@ -98,7 +101,14 @@ def atomic_directory(target: str | os.PathLike):
         raise
 
 
-def create(path, shape, *, chunks=None, pixel_type: str = "float", attributes=None):
+def create(
+    path: str | os.PathLike,
+    shape: tuple[int, int, int],
+    *,
+    chunks: tuple[int, int] | None = None,
+    pixel_type: str = "float",
+    attributes: dict | None = None,
+) -> Any:
     """Create an empty zarr array for an image of ``shape`` (H, W, C) at ``path`` (a plain
     directory: the caller makes it atomic) and return it; ``chunks`` (rows, columns)."""
     zarr = _zarr()
@@ -117,7 +127,15 @@ def create(path, shape, *, chunks=None, pixel_type: str = "float", attributes=No
     return a
 
 
-def write_strips(path, shape, strips, *, chunks=None, pixel_type: str = "float", attributes=None):
+def write_strips(
+    path: str | os.PathLike,
+    shape: tuple[int, int, int],
+    strips: Iterable[np.ndarray],
+    *,
+    chunks: tuple[int, int] | None = None,
+    pixel_type: str = "float",
+    attributes: dict | None = None,
+) -> None:
     """Write a zarr store from strips top to bottom (chunks of ``chunks`` = (rows, columns),
     default 256 x 256); strips are buffered into whole rows of chunks before writing."""
     with atomic_directory(path) as tmp:
