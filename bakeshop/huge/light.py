@@ -364,7 +364,7 @@ def dim_pair(
     sun, fill_index, found = None, np.empty(0, np.int64), None
     fill_values = np.empty((0, min(3, c)), np.float32)
     if lum > 0:
-        texels = max(w, engine.per_task(out_bytes) // _PIECE_BYTES)
+        texels = max(w, min(engine.per_task(out_bytes), STRIP_BYTES) // _PIECE_BYTES)
         sun, fill_index, fill_values, found = _find_sun(reader, brightest, rivals, texels)
     if method == "sh":
         lit = sh.evaluate(sh.windowed_irradiance(coeffs, window=window).coefficients, normals)

@@ -39,6 +39,11 @@ from bakeshop.sphere.windows import gather_taps, localise_taps, remap_part_taps,
 #: layouts a chunked remap reads (one image file each, addressed by rows and columns).
 FLAT_SOURCES = ("latlong", "angular", "mirrorball", "octahedral", "dual-paraboloid")
 FILTERS = ("auto", "nearest", "bilinear", "area")
+#: the largest tile task's samples, and its window: larger ones save nothing (the work is per
+#: texel) and, times the tasks running at once, would go past the bound (a polar tile's window
+#: spans every column: a 16k source's cube remap peaked at 1280 MB under 1 GB with windows up
+#: to a task's whole share).
+TILE_BYTES = 64 << 20
 #: bytes per output texel of a tile's task besides its window: taps (16), fractions (8),
 #: local taps (16), the blended texel (4 per channel) and the block (4 per channel).
 _TEXEL_BYTES = 40
@@ -261,7 +266,7 @@ def supersample_tiles(
     block = plan_blocks(
         (dh, dw),
         cost,
-        min(per_task, 64 << 20),
+        min(per_task, TILE_BYTES),
         at_least=max(1, 4 * engine.total_workers // faces),
         what=what,
         memory=engine.memory,
@@ -274,7 +279,8 @@ def supersample_tiles(
         for top, bottom, left, right in blocks((dh, dw), block)
     ]
     out = np.empty((faces * dh, dw, c), np.float32)
-    args = (reader, src, (h, w), dst, tuple(dst_shape), dh, k, rotation, clamp, per_task)
+    share = min(per_task, TILE_BYTES)  # a tile's window, as its samples: at most TILE_BYTES
+    args = (reader, src, (h, w), dst, tuple(dst_shape), dh, k, rotation, clamp, share)
     engine.assemble(_supersampled_block, regions, out, args, what)
     if len(bright):
         key = rotation_key(rotation)
@@ -312,7 +318,7 @@ def remap_tiles(
     block = plan_blocks(
         (dh, dw),
         cost,
-        min(per_task, 64 << 20),
+        min(per_task, TILE_BYTES),
         at_least=max(1, 4 * engine.total_workers // faces),
         what=what,
         memory=engine.memory,
@@ -325,7 +331,8 @@ def remap_tiles(
         for top, bottom, left, right in blocks((dh, dw), block)
     ]
     out = np.empty((faces * dh, dw, c), np.float32)
-    args = (reader, src, (h, w), dst, tuple(dst_shape), dh, filter, rotation, per_task)
+    share = min(per_task, TILE_BYTES)  # a tile's window, as its taps: at most TILE_BYTES
+    args = (reader, src, (h, w), dst, tuple(dst_shape), dh, filter, rotation, share)
     engine.assemble(_block, regions, out, args, what)
     return out.reshape(tuple(dst_shape) + (c,))
 
