@@ -19,10 +19,10 @@ as the output: one per strip at once would grow with the image). The sun is then
 measured at full resolution by :func:`bakeshop.light.sun.split_texels` among the texels within
 :data:`SUN_REACH` of the brightest texel and within :data:`RIVAL_REACH` of each rival (what its
 measurements read), read piece by piece where the search looks (the texels of one cap are held
-at a time, ~8 degrees: 0.5 % of the image, never the windows whole), and its fill, a few
-thousand texels at most, is subtracted exactly: the shadow DIM is the DIM of the probe less the
-DIM of what the fill removes (linear, so exactly the DIM of the painted probe for ``exact`` and
-``sh``), the sun DIM adds it back, as :func:`bakeshop.light.dim_pair` does.
+at a time, ~8 degrees: 0.5 % of the image, 4.4 % at a pole, never the windows whole), and its
+fill, a few thousand texels at most, is subtracted exactly: the shadow DIM is the DIM of the
+probe less the DIM of what the fill removes (linear, so exactly the DIM of the painted probe
+for ``exact`` and ``sh``), the sun DIM adds it back, as :func:`bakeshop.light.dim_pair` does.
 """
 
 from __future__ import annotations
