@@ -19,7 +19,7 @@ class _LazyPackage(types.ModuleType):
 
     _exports: dict[str, str]
 
-    def __getattr__(self, name: str):
+    def __getattr__(self, name: str) -> object:
         sub = self._exports.get(name)
         if sub is None:
             raise AttributeError(f"module {self.__name__!r} has no attribute {name!r}")
@@ -27,14 +27,14 @@ class _LazyPackage(types.ModuleType):
         self.__dict__[name] = value
         return value
 
-    def __setattr__(self, name: str, value) -> None:
+    def __setattr__(self, name: str, value: object) -> None:
         # the import system binds a submodule to its package when it first loads it; where an
         # exported name is also a submodule's (``sphere.texels``), the exported one keeps it
         if name in self._exports and isinstance(value, types.ModuleType):
             return
         super().__setattr__(name, value)
 
-    def __dir__(self):
+    def __dir__(self) -> list[str]:
         return sorted(set(super().__dir__()) | set(self._exports))
 
 

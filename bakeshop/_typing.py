@@ -48,6 +48,6 @@ class Face(enum.IntEnum):
     NEGATIVE_Z = 5
 
 
-def choices(alias) -> tuple[str, ...]:
+def choices(alias: object) -> tuple[str, ...]:
     """The strings of a ``Literal`` alias, in order (for ``validate_choice`` and ``--help``)."""
     return get_args(alias)

@@ -98,17 +98,17 @@ class Engine:
     warnings: tuple = ()
 
 
-def _unity_lod(r, levels):
+def _unity_lod(r: float, levels: int) -> float:
     """Unity (built-in, URP, HDRP): lod = r (1.7 - 0.7 r) * UNITY_SPECCUBE_LOD_STEPS (6)."""
     return r * (1.7 - 0.7 * r) * 6
 
 
-def _filament_lod(r, levels):
+def _filament_lod(r: float, levels: int) -> float:
     """Filament: lod = iblRoughnessOneLevel * r (2 - r), iblRoughnessOneLevel = levels - 1."""
     return (levels - 1) * r * (2 - r)
 
 
-def _linear_lod(r, levels):
+def _linear_lod(r: float, levels: int) -> float:
     """Bakeshop's own chain (and UE4's split-sum course notes): lod = r * (levels - 1)."""
     return r * (levels - 1)
 

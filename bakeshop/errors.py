@@ -8,6 +8,7 @@ file it concerns (when there is one) and a plain reason. The command line prints
 from __future__ import annotations
 
 import os
+from collections.abc import Collection
 
 
 class BakeshopError(Exception):
@@ -34,7 +35,7 @@ class ArgumentError(BakeshopError, ValueError):
     """An argument is out of its domain: a bad layout name, size, option or array shape."""
 
 
-def validate_choice(value: str, choices, what: str) -> str:
+def validate_choice(value: str, choices: Collection[object], what: str) -> str:
     """Return ``value`` if it is one of ``choices``, else raise :class:`ArgumentError` naming it.
 
     >>> validate_choice("bilinear", ("nearest", "bilinear"), "filter")

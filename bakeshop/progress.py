@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, TypeVar
 
 if TYPE_CHECKING:
     from rich.console import Console
+    from rich.progress import Progress, TaskID
 
 T = TypeVar("T")
 
@@ -40,7 +41,7 @@ _live_lock = threading.Lock()
 _local = threading.local()
 
 
-def enable(console=None) -> None:
+def enable(console: Console | None = None) -> None:
     """Show progress on ``console`` (a :class:`rich.console.Console`, stderr by default): bars on
     a terminal, periodic log lines elsewhere."""
     global _console
@@ -64,7 +65,7 @@ def enabled() -> bool:
 
 
 @contextlib.contextmanager
-def silenced():
+def silenced() -> Iterator[None]:
     """No progress from this thread while the block runs (the chunked engine wraps each task
     in it: the job reports progress per task, not the library code inside)."""
     before = getattr(_local, "quiet", False)
@@ -105,15 +106,15 @@ class Task:
         self.completed = 0
         self.started = time.perf_counter()
         self._lock = threading.Lock()
-        self._bar = None
-        self._id = None
+        self._bar: Progress | None = None
+        self._id: TaskID | None = None
         self._last_log = self.started
 
     def advance(self, amount: int = 1) -> None:
         """Count ``amount`` more units done."""
         with self._lock:
             self.completed += amount
-            if self._bar is not None:
+            if self._bar is not None and self._id is not None:
                 self._bar.update(self._id, completed=self.completed)
             elif _logging():
                 now = time.perf_counter()
@@ -125,7 +126,7 @@ class Task:
         """Change the number of units (dask knows it once its graph is built)."""
         with self._lock:
             self.total = total
-            if self._bar is not None:
+            if self._bar is not None and self._id is not None:
                 self._bar.update(self._id, total=total)
 
     def line(self, now: float | None = None) -> str:
@@ -158,15 +159,16 @@ def task(description: str, total: int | None = None) -> Iterator[Task]:
         return
     if not _logging():
         with _bar() as bar:
-            t._bar, t._id = bar, bar.add_task(description, total=total)
+            task_id = bar.add_task(description, total=total)
+            t._bar, t._id = bar, task_id
             try:
                 yield t
             finally:
-                bar.remove_task(t._id)
+                bar.remove_task(task_id)
         return
     stop = threading.Event()
 
-    def heartbeat():
+    def heartbeat() -> None:
         while not stop.wait(_interval()):
             with t._lock:
                 now = time.perf_counter()
@@ -193,7 +195,7 @@ def task(description: str, total: int | None = None) -> Iterator[Task]:
 
 
 @contextlib.contextmanager
-def _bar():
+def _bar() -> Iterator[Progress]:
     """The Progress on screen, started by the outermost task and shared by nested ones."""
     global _live, _live_users
     with _live_lock:
@@ -212,7 +214,7 @@ def _bar():
                 _live = None
 
 
-def _progress():
+def _progress() -> Progress:
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,
@@ -249,7 +251,7 @@ def track(items: Iterable[T], description: str, total: int | None = None) -> Ite
 
 
 @contextlib.contextmanager
-def step(description: str):
+def step(description: str) -> Iterator[None]:
     """Show a spinner with elapsed time around one long step when progress is enabled (in a
     log: a line every interval while it runs, and one when it ends)."""
     if not enabled():

@@ -59,7 +59,9 @@ class MemoryLimitError(BakeshopError, MemoryError):
     """A computation needs more memory than is available; ``needed`` and ``available`` say
     how much (bytes)."""
 
-    def __init__(self, reason: str, needed: int, available: int, path=None):
+    def __init__(
+        self, reason: str, needed: int, available: int, path: str | os.PathLike | None = None
+    ) -> None:
         super().__init__(reason, path)
         self.needed = needed
         self.available = available

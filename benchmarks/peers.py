@@ -14,18 +14,18 @@ sources), and the Python packages ``py360convert``, ``opencv`` (cv2), ``oiio``
 Timing: :func:`alternate` runs several contenders in turn (A B C A B C ...), so that a machine
 whose load changes during the run slows all of them alike, and reports the median and the range
 of wall time and of CPU time (user + system of the process and its children: steadier than wall
-time when other work shares the cores).
+time when other work shares the cores), and for whole processes their peak memory.
 """
 
 from __future__ import annotations
 
 import importlib.util
 import os
-import resource
 import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Callable, Sequence
 
@@ -120,19 +120,33 @@ def machine() -> str:
     return f"{model}, {os.cpu_count()} cores, load average {load:.1f}"
 
 
-def run_process(cmd: Sequence[str], **kwargs) -> tuple[float, float]:
+#: GNU time, which reports its child's peak memory: the child of a small process (a child forked
+#: from this Python process would carry this process's resident memory into its own peak).
+GNU_TIME = "/usr/bin/time"
+
+
+def run_process(cmd: Sequence[str], **kwargs) -> tuple[float, float, float]:
     """Run a whole process to its end (output discarded; non-zero exit raises): (wall s, CPU s
-    of the process and its children)."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    start = time.perf_counter()
-    done = subprocess.run(list(cmd), capture_output=True, **kwargs)
-    wall = time.perf_counter() - start
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if done.returncode:
-        tail = (done.stderr or b"")[-400:].decode(errors="replace")
-        raise RuntimeError(f"{' '.join(map(str, cmd))} exited {done.returncode}: {tail}")
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return wall, cpu
+    of the process and its children, its peak resident memory in MB, NaN without GNU time)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        peak = os.path.join(tmp, "peak")
+        timed = os.access(GNU_TIME, os.X_OK)
+        full = [GNU_TIME, "-f", "%M", "-o", peak, *cmd] if timed else list(cmd)
+        with open(os.path.join(tmp, "err"), "w+b") as err:
+            start = time.perf_counter()
+            proc = subprocess.Popen(full, stdout=subprocess.DEVNULL, stderr=err, **kwargs)
+            _, status, usage = os.wait4(proc.pid, 0)
+            wall = time.perf_counter() - start
+            proc.returncode = os.waitstatus_to_exitcode(status)
+            if proc.returncode:
+                err.seek(0)
+                tail = err.read()[-400:].decode(errors="replace")
+                raise RuntimeError(f"{' '.join(map(str, cmd))} exited {proc.returncode}: {tail}")
+        mb = float("nan")
+        if timed:
+            with open(peak) as f:
+                mb = int(f.read().split()[-1]) / 1024  # kilobytes
+    return wall, usage.ru_utime + usage.ru_stime, mb
 
 
 def call(fn: Callable[[], object]) -> tuple[float, float]:
@@ -142,32 +156,26 @@ def call(fn: Callable[[], object]) -> tuple[float, float]:
     return time.perf_counter() - start, time.process_time() - start_cpu
 
 
-def alternate(contenders: dict[str, Callable[[], tuple[float, float]]], repeats: int) -> dict:
+def alternate(contenders: dict[str, Callable[[], tuple[float, ...]]], repeats: int) -> dict:
     """Run each contender ``repeats`` times, in turn; per contender: median and range of wall
-    and CPU seconds (``{"wall", "wall_min", "wall_max", "cpu", "cpu_min", "cpu_max", "n"}``)."""
-    walls: dict[str, list[float]] = {n: [] for n in contenders}
-    cpus: dict[str, list[float]] = {n: [] for n in contenders}
+    and CPU seconds (``{"wall", "wall_min", "wall_max", "cpu", "cpu_min", "cpu_max", "n"}``),
+    and of peak memory in MB (``"mem"``...) when the contender reports it (a third value)."""
+    samples: dict[str, dict[str, list[float]]] = {n: {} for n in contenders}
     for _ in range(repeats):
         for name, run in contenders.items():
-            wall, cpu = run()
-            walls[name].append(wall)
-            cpus[name].append(cpu)
-    return {
-        n: {
-            "wall": statistics.median(walls[n]),
-            "wall_min": min(walls[n]),
-            "wall_max": max(walls[n]),
-            "cpu": statistics.median(cpus[n]),
-            "cpu_min": min(cpus[n]),
-            "cpu_max": max(cpus[n]),
-            "n": repeats,
-        }
-        for n in contenders
-    }
+            for key, value in zip(("wall", "cpu", "mem"), run(), strict=False):
+                samples[name].setdefault(key, []).append(value)
+    found: dict[str, dict] = {}
+    for name, keys in samples.items():
+        found[name] = {"n": repeats}
+        for key, values in keys.items():
+            found[name].update({key: statistics.median(values), f"{key}_min": min(values),
+                                f"{key}_max": max(values)})  # fmt: skip
+    return found
 
 
-def spread(r: dict, key: str = "wall") -> str:
+def spread(r: dict, key: str = "wall", digits: int = 2) -> str:
     """``'1.23 (1.20-1.31)'``: the median and range of a result of :func:`alternate`."""
     if r["n"] == 1:
-        return f"{r[key]:.2f}"
-    return f"{r[key]:.2f} ({r[key + '_min']:.2f}-{r[key + '_max']:.2f})"
+        return f"{r[key]:.{digits}f}"
+    return f"{r[key]:.{digits}f} ({r[key + '_min']:.{digits}f}-{r[key + '_max']:.{digits}f})"

@@ -34,8 +34,10 @@ BUDGET = 100_000_000
 ALLOCATED = 64_000_000
 #: the least that each call below asks for.
 ASKED = 500_000_000
-#: the refusal is immediate: seconds (a first call may import a module or two).
-REFUSED_WITHIN = 5.0
+#: the refusal comes before the work: seconds. The work itself takes minutes; a first call may
+#: import modules and compile a kernel or two on the way (tens of seconds on a fresh clone's empty
+#: numba cache and a loaded machine: 37 s was seen at 5 s).
+REFUSED_WITHIN = 60.0
 
 
 def test_the_address_space_limit_is_read_and_is_real():
@@ -74,10 +76,12 @@ def test_the_address_space_limit_is_read_and_is_real():
     assert out[2] == "numpy: MemoryError"
 
 
-def test_the_machine_memory_bounds_everything():
-    limits = resources.memory_limits()
-    assert 0 < limits["memory available"]
-    assert resources.available_memory() == min(limits.values())
+def test_the_machine_memory_bounds_everything(monkeypatch):
+    assert 0 < resources.memory_limits()["memory available"]
+    # the least bound wins (fixed numbers: two reads of a shared machine's free memory differ)
+    limits = {"memory available": 5 << 30, "cgroup limit": 3 << 30, "address-space": 4 << 30}
+    monkeypatch.setattr(resources, "memory_limits", lambda: limits)
+    assert resources.available_memory() == 3 << 30
 
 
 def test_require_returns_what_fits_and_skips_small_costs(monkeypatch):

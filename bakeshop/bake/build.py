@@ -34,8 +34,10 @@ import os
 import re
 import threading
 import time
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from bakeshop import __version__, progress
 from bakeshop.bake.operations import OPERATIONS
@@ -150,7 +152,8 @@ class BakeResult:
         return [d.step for d in self.decisions if d.action == "skip"]
 
 
-def _canonical(value, recipe: Recipe):
+def _canonical(value: object, recipe: Recipe) -> Any:
+    """``value`` as JSON data: paths relative to the recipe, dict keys sorted, tuples as lists."""
     if isinstance(value, Path):
         return recipe.relative(value)
     if isinstance(value, dict):
@@ -252,12 +255,12 @@ def _decide(
     return Decision(step.name, "build" if reasons else "skip", reasons), inputs
 
 
-def _show(value) -> str:
+def _show(value: object) -> str:
     text = json.dumps(value)
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-def plan(recipe: Recipe, *, force=()) -> list[Decision]:
+def plan(recipe: Recipe, *, force: Iterable[str] = ()) -> list[Decision]:
     """What :func:`run` would do now, and why, without running anything (a dry run)."""
     force = _check_force(recipe, force)
     records, note = _load_manifest(recipe)
@@ -277,7 +280,15 @@ def plan(recipe: Recipe, *, force=()) -> list[Decision]:
     return list(decisions.values())
 
 
-def _decide_waiting(step, recipe, record, hashes, force, note, remade):
+def _decide_waiting(
+    step: Step,
+    recipe: Recipe,
+    record: dict | None,
+    hashes: FileHashes,
+    force: bool,
+    note: str | None,
+    remade: list[str],
+) -> tuple[Decision, dict]:
     """A dry run's decision for a step that reads outputs remade first: it rebuilds for its own
     reasons, or it waits to see whether those outputs change."""
     made = {p for p in step.inputs if any(_made_by(recipe, d, p) for d in remade)}
@@ -306,7 +317,7 @@ def _made_by(recipe: Recipe, name: str, path: Path) -> bool:
     return path == out or out in path.parents
 
 
-def _check_force(recipe: Recipe, force) -> set:
+def _check_force(recipe: Recipe, force: Iterable[str]) -> set[str]:
     names = set(force)
     for name in names:
         recipe.step(name)  # raises, listing the steps
@@ -314,7 +325,7 @@ def _check_force(recipe: Recipe, force) -> set:
 
 
 @contextlib.contextmanager
-def _lock(recipe: Recipe):
+def _lock(recipe: Recipe) -> Iterator[None]:
     """One bake of a recipe at a time (its manifest and cache are shared)."""
     import fcntl
 
@@ -332,7 +343,13 @@ def _lock(recipe: Recipe):
         os.close(fd)
 
 
-def run(recipe: Recipe, *, force=(), jobs: int = 1, on_decision=None) -> BakeResult:
+def run(
+    recipe: Recipe,
+    *,
+    force: Iterable[str] = (),
+    jobs: int = 1,
+    on_decision: Callable[..., object] | None = None,
+) -> BakeResult:
     """Bake: run every step that is not up to date (see the module notes).
 
     Parameters
@@ -374,7 +391,7 @@ def run(recipe: Recipe, *, force=(), jobs: int = 1, on_decision=None) -> BakeRes
         failed: dict[str, BakeshopError] = {}
         lock = threading.RLock()  # the records, the lists above, the manifest and callbacks
 
-        def save():
+        def save() -> None:
             write_json(
                 recipe.manifest,
                 {
@@ -386,11 +403,11 @@ def run(recipe: Recipe, *, force=(), jobs: int = 1, on_decision=None) -> BakeRes
             )
             hashes.save()
 
-        def report(decision, record=None):
+        def report(decision: Decision, record: dict | None = None) -> None:
             if on_decision:
                 on_decision(decision, record)
 
-        def bake_step(step: Step, *_done) -> None:
+        def bake_step(step: Step, *_done: object) -> None:
             with lock:
                 broken = [d for d in step.after if d in failed or decided[d].action == "blocked"]
                 if broken:

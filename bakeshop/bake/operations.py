@@ -14,6 +14,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 
@@ -23,6 +24,11 @@ from bakeshop.sphere import FILE_LAYOUTS
 __all__ = ["OPERATIONS", "Operation", "Option"]
 
 _PROBE_LAYOUTS = ("auto", *FILE_LAYOUTS)
+
+#: how a recipe reports a bad value: ``fail(reason)`` raises (naming the file and the table).
+Fail = Callable[[str], NoReturn]
+#: how a recipe resolves a path option: ``resolve(value, what)`` (relative to the recipe).
+Resolve = Callable[[object, str], Path]
 
 
 @dataclass(frozen=True)
@@ -38,7 +44,7 @@ class Option:
     choices: tuple = ()
     help: str = ""
 
-    def check(self, value, what: str, fail):
+    def check(self, value: object, what: str, fail: Fail) -> object:
         """``value`` checked (``fail(reason)`` when it is out of its domain) and normalised."""
         if value is None and self.default is None:
             return None
@@ -71,7 +77,9 @@ class Option:
         return int(v) if self.kind == "int" else v
 
 
-def number(value, what: str, fail, low=-math.inf, high=math.inf) -> float:
+def number(
+    value: object, what: str, fail: Fail, low: float = -math.inf, high: float = math.inf
+) -> float:
     """``value`` as a float in [low, high], or fail naming ``what`` and the range."""
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         fail(f"{what} must be a finite number, got {value!r}")
@@ -97,7 +105,7 @@ class Operation:
     inputs: Callable[[dict], list] = field(default=None)  # type: ignore[assignment]
     check: Callable[..., dict] = field(default=lambda options, resolve, fail: {})
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.inputs is None:
             keys = [k for k, v in self.paths.items() if v.startswith("input")]
             object.__setattr__(self, "inputs", lambda o: [o[k] for k in keys if o[k] is not None])
@@ -206,7 +214,7 @@ PROBE = Operation(
 _REMAP_TARGETS = tuple(n for n in _PROBE_LAYOUTS if n != "auto") + ("faces",)
 
 
-def _remap_check(o: dict, resolve, fail) -> dict:
+def _remap_check(o: dict, resolve: Resolve, fail: Fail) -> dict:
     from bakeshop.io.containers import is_container
 
     target, to = o["output"], o["to"]
@@ -275,7 +283,7 @@ REMAP = Operation(
 # --- compress ------------------------------------------------------------------------------------
 
 
-def _compress_check(o: dict, resolve, fail) -> dict:
+def _compress_check(o: dict, resolve: Resolve, fail: Fail) -> dict:
     from bakeshop.io.compress import QUALITIES
 
     base = o["format"].removesuffix("-srgb")
@@ -373,7 +381,7 @@ _LAYER = {
 }
 
 
-def _normals_check(o: dict, resolve, fail) -> dict:
+def _normals_check(o: dict, resolve: Resolve, fail: Fail) -> dict:
     if not o["layers"]:
         fail('normals needs layers = [{ detail = "FILE", ... }, ...]')
     layers = []
@@ -469,7 +477,7 @@ NORMALS = Operation(
 # --- water ---------------------------------------------------------------------------------------
 
 
-def _water_check(o: dict, resolve, fail) -> dict:
+def _water_check(o: dict, resolve: Resolve, fail: Fail) -> dict:
     if o["resolution"] & (o["resolution"] - 1):
         fail(f"resolution must be a power of two, got {o['resolution']}")
     return {}

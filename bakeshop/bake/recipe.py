@@ -24,8 +24,9 @@ import os
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, NoReturn
 
-from bakeshop.bake.operations import OPERATIONS, Operation
+from bakeshop.bake.operations import OPERATIONS, Fail, Operation
 from bakeshop.errors import ArgumentError, BakeshopError, FormatError
 
 if sys.version_info >= (3, 11):
@@ -125,7 +126,7 @@ def parse_recipe(document: dict, path: str | os.PathLike) -> Recipe:
     path = Path(path).resolve()
     root = path.parent
 
-    def fail(reason: str):
+    def fail(reason: str) -> NoReturn:
         raise ArgumentError(reason, path)
 
     known = ["bake", "defaults", *OPERATIONS]
@@ -182,11 +183,11 @@ def _unknown_key(op: Operation, key: str, where: str) -> str:
     return f"unknown key {key!r} in {where}; {op.name} takes: {', '.join(valid)}"
 
 
-def _step(op: Operation, name: str, table: dict, root: Path, where: str, fail) -> Step:
+def _step(op: Operation, name: str, table: dict, root: Path, where: str, fail: Fail) -> Step:
     for key in table:
         if key not in op.paths and key not in op.options:
             fail(_unknown_key(op, key, where))
-    options = {}
+    options: dict[str, Any] = {}
     for key, kind in op.paths.items():
         value = table.get(key)
         optional = kind.endswith("?")
@@ -200,10 +201,10 @@ def _step(op: Operation, name: str, table: dict, root: Path, where: str, fail) -
         value = table.get(key, spec.default)
         options[key] = spec.check(value, f"{where} {key}", fail)
 
-    def step_fail(reason: str):
+    def step_fail(reason: str) -> NoReturn:
         fail(f"{where} {reason}")
 
-    def resolve(value, what: str) -> Path:
+    def resolve(value: object, what: str) -> Path:
         return _resolve(value, root, f"{where} {what}", fail)
 
     options.update(op.check(options, resolve, step_fail))  # cross-option rules, nested tables
@@ -212,7 +213,7 @@ def _step(op: Operation, name: str, table: dict, root: Path, where: str, fail) -
     return Step(name=name, operation=op.name, options=options, inputs=inputs, output=output)
 
 
-def _resolve(value, root: Path, what: str, fail) -> Path:
+def _resolve(value: object, root: Path, what: str, fail: Fail) -> Path:
     if not isinstance(value, str) or not value:
         fail(f"{what} must be a path (a string)")
     return (root / value).resolve()
@@ -222,7 +223,7 @@ def _inside(path: Path, output: Path) -> bool:
     return path == output or output in path.parents
 
 
-def _order(steps: list[Step], fail) -> list[Step]:
+def _order(steps: list[Step], fail: Fail) -> list[Step]:
     """Link each step to the steps whose outputs it reads; order them; refuse circles, two
     steps writing one path and inputs that neither exist nor are made."""
     for i, a in enumerate(steps):
@@ -245,7 +246,7 @@ def _order(steps: list[Step], fail) -> list[Step]:
     done: list[Step] = []
     state: dict[str, int] = {}
 
-    def visit(step: Step, chain: list[str]):
+    def visit(step: Step, chain: list[str]) -> None:
         if state.get(step.name) == 2:
             return
         if state.get(step.name) == 1:

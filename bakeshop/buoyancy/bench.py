@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -17,6 +18,15 @@ from bakeshop.buoyancy.stepping import release, simulate
 from bakeshop.buoyancy.water import Water
 from bakeshop.errors import ArgumentError
 
+if TYPE_CHECKING:
+    import os
+
+    import trimesh
+
+    from bakeshop.buoyancy.mass import Fleet
+    from bakeshop.buoyancy.stepping import Trace
+    from bakeshop.io.mesh import Mesh
+
 
 @dataclass
 class BenchResult:
@@ -25,16 +35,16 @@ class BenchResult:
     the ``clearance`` (S,) of the body over it, and the fleet."""
 
     summary: dict
-    trace: object
+    trace: Trace
     clearance: np.ndarray
-    fleet: object
+    fleet: Fleet
 
 
 def float_body(
-    mesh=None,
+    mesh: Mesh | trimesh.Trimesh | None = None,
     *,
     shape: str | None = None,
-    size=None,
+    size: float | tuple[float, float, float] | None = None,
     density: float,
     resolution: int = 10,
     model: ForceModel | None = None,
@@ -47,8 +57,8 @@ def float_body(
     tilt: float = 0.0,
     backend: str = "builtin",
     repair: bool = False,
-    path=None,
-    **backend_options,
+    path: str | os.PathLike | None = None,
+    **backend_options: Any,
 ) -> BenchResult:
     """Float a mesh or built-in shape once and measure it.
 
@@ -61,12 +71,12 @@ def float_body(
     small-oscillation heave frequency ``sqrt(rho g A_wp / m)`` times the time a force is held
     (the solver step, or the frame in per-frame mode): semi-implicit Euler diverges above 2.
     """
-    if (mesh is None) == (shape is None):
-        raise ArgumentError("give either a mesh or a built-in shape, not both or neither")
-    if shape is not None:
+    if shape is not None and mesh is None:
         mesh = make_shape(shape, size=size)
-    else:
+    elif mesh is not None and shape is None:
         mesh = resize(closed_mesh(mesh, repair=repair, path=path), size)
+    else:
+        raise ArgumentError("give either a mesh or a built-in shape, not both or neither")
     if not np.isfinite(tilt):
         raise ArgumentError(f"tilt must be a finite number of degrees, got {tilt}")
     model = ForceModel() if model is None else model

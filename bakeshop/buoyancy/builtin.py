@@ -13,10 +13,15 @@ stable for ``omega * dt < 2``; see docs/buoyancy.md.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numba
 import numpy as np
 
 from bakeshop.buoyancy.state import State, rotation
+
+if TYPE_CHECKING:
+    from bakeshop.buoyancy.mass import Fleet
 
 
 class BuiltinBackend:
@@ -27,7 +32,7 @@ class BuiltinBackend:
 
     name = "builtin"
 
-    def __init__(self, fleet, state: State, *, timestep: float, gravity: float):
+    def __init__(self, fleet: Fleet, state: State, *, timestep: float, gravity: float) -> None:
         self.fleet = fleet
         self._state = state.copy()
         self.timestep = float(timestep)
@@ -54,7 +59,19 @@ class BuiltinBackend:
 
 
 @numba.njit(cache=True)
-def _step(position, quaternion, velocity, omega, force, torque, mass, inertia, inverse, dt, g):
+def _step(
+    position: np.ndarray,
+    quaternion: np.ndarray,
+    velocity: np.ndarray,
+    omega: np.ndarray,
+    force: np.ndarray,
+    torque: np.ndarray,
+    mass: np.ndarray,
+    inertia: np.ndarray,
+    inverse: np.ndarray,
+    dt: float,
+    g: float,
+) -> None:
     for b in range(position.shape[0]):
         for a in range(3):
             velocity[b, a] += dt * force[b, a] / mass[b]

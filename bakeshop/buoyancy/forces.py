@@ -35,6 +35,7 @@ Archimedes says: 1 to 4 % for the test shapes.)
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
@@ -42,6 +43,11 @@ import numpy as np
 from bakeshop.buoyancy.hydrostatics import GRAVITY, RHO_WATER
 from bakeshop.buoyancy.state import rotation
 from bakeshop.errors import ArgumentError, validate_choice
+
+if TYPE_CHECKING:
+    from bakeshop.buoyancy.mass import Fleet
+    from bakeshop.buoyancy.state import State
+    from bakeshop.buoyancy.water import Water
 
 DAMPINGS = ("team", "drag", "none")
 #: Below this many points a force evaluation runs on one thread: waking a thread pool costs
@@ -83,7 +89,7 @@ class ForceModel:
     rho_water: float = RHO_WATER
     gravity: float = GRAVITY
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         validate_choice(self.damping, DAMPINGS, "damping")
         validate_choice(self.stabilize, STABILIZERS, "stabiliser")
         if not self.predict_c > 1 or not 0 < self.predict_m < 1:
@@ -115,7 +121,9 @@ class Forces:
     submerged_volume: np.ndarray
 
 
-def evaluate(fleet, state, water, model: ForceModel, time: float, horizon: float) -> Forces:
+def evaluate(
+    fleet: Fleet, state: State, water: Water, model: ForceModel, time: float, horizon: float
+) -> Forces:
     """Buoyancy and friction on every body of ``fleet`` in ``state`` at ``time`` (s).
 
     ``horizon`` (s) is how long the forces will be held (the frame time in per-frame mode, the
@@ -141,7 +149,7 @@ def evaluate(fleet, state, water, model: ForceModel, time: float, horizon: float
 
 
 @numba.njit(cache=True, inline="always")
-def _surface(waves, level, x, z, t):
+def _surface(waves: np.ndarray, level: float, x: float, z: float, t: float) -> float:
     eta = level
     for w in range(waves.shape[0]):
         eta += waves[w, 0] * np.sin(
@@ -152,12 +160,15 @@ def _surface(waves, level, x, z, t):
 
 @numba.njit(cache=True, parallel=True, fastmath=True)
 def _point_forces(
-    offsets, points, volumes, heights, body_volume, mass, inertia,
-    position, quaternion, velocity, omega,
-    waves, level, t, rho, g,
-    damping, c_lin, c_ang, c_drag, predict, c_predict, m_predict, horizon,
-    force, torque, submerged_points, submerged_volume,
-):  # fmt: skip
+    offsets: np.ndarray, points: np.ndarray, volumes: np.ndarray, heights: np.ndarray,
+    body_volume: np.ndarray, mass: np.ndarray, inertia: np.ndarray,
+    position: np.ndarray, quaternion: np.ndarray, velocity: np.ndarray, omega: np.ndarray,
+    waves: np.ndarray, level: float, t: float, rho: float, g: float,
+    damping: int, c_lin: float, c_ang: float, c_drag: float, predict: bool, c_predict: float,
+    m_predict: float, horizon: float,
+    force: np.ndarray, torque: np.ndarray, submerged_points: np.ndarray,
+    submerged_volume: np.ndarray,
+) -> None:  # fmt: skip
     for b in numba.prange(offsets.shape[0] - 1):
         r = rotation(quaternion[b, 0], quaternion[b, 1], quaternion[b, 2], quaternion[b, 3])
         px, py, pz = position[b, 0], position[b, 1], position[b, 2]

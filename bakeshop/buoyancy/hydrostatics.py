@@ -42,7 +42,9 @@ def submerged_volume(triangles: np.ndarray, level: float) -> float:
     return float(total)
 
 
-def archimedes_draft(triangles: np.ndarray, mass: float, *, rho_water: float = RHO_WATER):
+def archimedes_draft(
+    triangles: np.ndarray, mass: float, *, rho_water: float = RHO_WATER
+) -> float | None:
     """Draft (m) at which the mesh, held in its given orientation, displaces ``mass`` of water.
 
     Solves ``submerged_volume(level) = mass / rho_water`` for the water level by Brent's method
@@ -66,13 +68,13 @@ def archimedes_draft(triangles: np.ndarray, mass: float, *, rho_water: float = R
     return float(level - lo)
 
 
-def _cut(a, b):
+def _cut(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Point where segment a-b crosses y = 0 (the two ends are on opposite sides)."""
     t = a[:, 1] / (a[:, 1] - b[:, 1])
     return a + t[:, None] * (b - a)
 
 
-def _tetra(tri):
+def _tetra(tri: np.ndarray) -> np.ndarray:
     """Signed volumes of the tetrahedra (origin, t0, t1, t2); the origin lies on the plane."""
     return np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0
 

@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from bakeshop.buoyancy.sampling import SamplePoints, sample_points
 from bakeshop.errors import ArgumentError
+
+if TYPE_CHECKING:
+    import trimesh
 
 
 @dataclass(frozen=True)
@@ -32,7 +37,7 @@ class Body:
         Where the centre of mass was in the original mesh's coordinates (metres).
     """
 
-    mesh: object
+    mesh: trimesh.Trimesh
     density: float
     mass: float
     inertia: np.ndarray
@@ -54,7 +59,9 @@ class Body:
         return points[np.sort(ConvexHull(points).vertices)]
 
 
-def make_body(mesh, density: float, *, resolution: int = 10, subsamples: int = 4) -> Body:
+def make_body(
+    mesh: trimesh.Trimesh, density: float, *, resolution: int = 10, subsamples: int = 4
+) -> Body:
     """Make a uniform rigid body of ``density`` (kg/m^3) from a closed mesh.
 
     Mass, centre of mass and inertia tensor are the exact volume integrals over the mesh
@@ -108,7 +115,7 @@ class Fleet:
         Body-frame inertia tensors about the centre of mass (kg m^2) and their inverses.
     """
 
-    bodies: tuple
+    bodies: tuple[Body, ...]
     offsets: np.ndarray
     points: np.ndarray
     volumes: np.ndarray
@@ -122,7 +129,7 @@ class Fleet:
         return len(self.bodies)
 
 
-def pack(bodies) -> Fleet:
+def pack(bodies: Sequence[Body]) -> Fleet:
     """Pack a sequence of :class:`Body` into a :class:`Fleet`."""
     bodies = tuple(bodies)
     if not bodies:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import csv
 import io
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -52,10 +53,10 @@ class Matrix:
 
 def run_matrix(
     *,
-    shapes=SHAPES,
-    frame_rates=FRAME_RATES,
-    treatments=tuple(TREATMENTS),
-    modes=FORCE_MODES,
+    shapes: Sequence[str] = SHAPES,
+    frame_rates: Sequence[float] = FRAME_RATES,
+    treatments: Sequence[str] = tuple(TREATMENTS),
+    modes: Sequence[str] = FORCE_MODES,
     density: float = 500.0,
     release_height: float = -2.0,
     seconds: float = 8.0,
@@ -121,7 +122,7 @@ def to_markdown(matrix: Matrix) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _fmt(value):
+def _fmt(value: object) -> object:
     if value is None:
         return ""
     if isinstance(value, float):

@@ -7,17 +7,25 @@ above the water surface there; the body is in the water while the clearance is n
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numba
 import numpy as np
 
 from bakeshop.buoyancy.hydrostatics import archimedes_draft
 from bakeshop.buoyancy.state import quaternion_to_matrix, rotation
 
+if TYPE_CHECKING:
+    from bakeshop.buoyancy.forces import ForceModel
+    from bakeshop.buoyancy.mass import Fleet
+    from bakeshop.buoyancy.stepping import Trace
+    from bakeshop.buoyancy.water import Water
+
 #: Fraction of a run, at its end, over which the settled draft is averaged.
 SETTLED_WINDOW = 0.25
 
 
-def clearance(fleet, trace, water) -> np.ndarray:
+def clearance(fleet: Fleet, trace: Trace, water: Water) -> np.ndarray:
     """(S, B) height (m) of each body's lowest point above the water surface below it."""
     out = np.empty(trace.position.shape[:2])
     for b, body in enumerate(fleet.bodies):
@@ -31,7 +39,7 @@ def clearance(fleet, trace, water) -> np.ndarray:
 
 
 @numba.njit(cache=True)
-def _lowest_points(hull, quaternion, position):
+def _lowest_points(hull: np.ndarray, quaternion: np.ndarray, position: np.ndarray) -> np.ndarray:
     """(S, 3) world position of the lowest hull vertex at each recorded step."""
     out = np.empty((quaternion.shape[0], 3))
     for s in range(quaternion.shape[0]):
@@ -48,7 +56,7 @@ def _lowest_points(hull, quaternion, position):
     return out
 
 
-def energy(fleet, trace, water, model) -> np.ndarray:
+def energy(fleet: Fleet, trace: Trace, water: Water, model: ForceModel) -> np.ndarray:
     """(S, B) total mechanical energy (J) in calm water: kinetic + gravity + buoyancy potential.
 
     The buoyancy of a column point of volume V, height h, centre y has the potential
@@ -75,7 +83,9 @@ def energy(fleet, trace, water, model) -> np.ndarray:
     return out
 
 
-def summarize(fleet, trace, water, model, *, settle_tolerance: float = 0.01) -> list[dict]:
+def summarize(
+    fleet: Fleet, trace: Trace, water: Water, model: ForceModel, *, settle_tolerance: float = 0.01
+) -> list[dict]:
     """The test bench's numbers for each body.
 
     Returns

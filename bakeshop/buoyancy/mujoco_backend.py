@@ -24,13 +24,18 @@ is an :class:`~bakeshop.errors.ArgumentError` carrying MuJoCo's reason.
 from __future__ import annotations
 
 import warnings
+from typing import TYPE_CHECKING
 
 import mujoco
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.buoyancy.state import State
 from bakeshop.buoyancy.state import quaternion_to_matrix as _rotations
 from bakeshop.errors import ArgumentError
+
+if TYPE_CHECKING:
+    from bakeshop.buoyancy.mass import Fleet
 
 
 def _warn(message: str) -> None:
@@ -63,7 +68,7 @@ class MujocoBackend:
 
     def __init__(
         self,
-        fleet,
+        fleet: Fleet,
         state: State,
         *,
         timestep: float,
@@ -72,7 +77,7 @@ class MujocoBackend:
         shore: float | None = None,
         shore_slope: float = 15.0,
         friction: float = 0.6,
-    ):
+    ) -> None:
         self.fleet = fleet
         self.xml = model_xml(
             fleet,
@@ -132,9 +137,20 @@ class MujocoBackend:
         mujoco.mj_step2(self.model, self.data)
 
 
-def model_xml(fleet, *, timestep, gravity, floor, shore, shore_slope, friction) -> str:
+def model_xml(
+    fleet: Fleet,
+    *,
+    timestep: float,
+    gravity: float,
+    floor: float,
+    shore: float | None,
+    shore_slope: float,
+    friction: float,
+) -> str:
     """The MJCF text of the fleet's scene (see :class:`MujocoBackend`)."""
-    assets, bodies, mesh_names = [], [], {}
+    assets: list[str] = []
+    bodies: list[str] = []
+    mesh_names: dict[int, str] = {}
     for i, body in enumerate(fleet.bodies):
         key = id(body)
         if key not in mesh_names:
@@ -173,5 +189,5 @@ def model_xml(fleet, *, timestep, gravity, floor, shore, shore_slope, friction) 
     )
 
 
-def _numbers(a) -> str:
+def _numbers(a: ArrayLike) -> str:
     return " ".join(map(repr, np.asarray(a).ravel().tolist()))

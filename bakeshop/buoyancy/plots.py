@@ -3,12 +3,25 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from bakeshop.figures import new_figure, to_rgb
 
+if TYPE_CHECKING:
+    from bakeshop.buoyancy.matrix import Matrix
 
-def plot_trace(time, clear, *, labels, title: str, draft=None) -> np.ndarray:
+
+def plot_trace(
+    time: np.ndarray,
+    clear: np.ndarray,
+    *,
+    labels: Sequence[str],
+    title: str,
+    draft: Sequence[float | None] | None = None,
+) -> np.ndarray:
     """The clearance (height of the lowest point above the water, m) of each body over time
     (s); ``draft`` (optional, m per body) is drawn as the expected settled clearance
     ``-draft``. Every line is named in the legend. Returns the picture, ``(H, W, 3)`` uint8."""
@@ -21,9 +34,10 @@ def plot_trace(time, clear, *, labels, title: str, draft=None) -> np.ndarray:
     ax.axhline(0.0, color="k", lw=0.8, alpha=0.6, label="water surface")
     for b, label in enumerate(labels):
         (line,) = ax.plot(time, clear[:, b], lw=1.2, label=label)
-        if draft is not None and draft[b] is not None:
+        settled = None if draft is None else draft[b]
+        if settled is not None:
             rest = "at rest (Archimedes draft)" + (f": {label}" if len(labels) > 1 else "")
-            ax.axhline(-draft[b], color=line.get_color(), lw=0.8, ls=":", label=rest)
+            ax.axhline(-settled, color=line.get_color(), lw=0.8, ls=":", label=rest)
     ax.set_xlabel("time (s)")
     ax.set_ylabel("lowest point above water (m)")
     ax.set_title(title, fontsize=10)
@@ -33,7 +47,7 @@ def plot_trace(time, clear, *, labels, title: str, draft=None) -> np.ndarray:
     return to_rgb(fig)
 
 
-def plot_grid(matrix, *, forces: str = "per-frame") -> np.ndarray:
+def plot_grid(matrix: Matrix, *, forces: str = "per-frame") -> np.ndarray:
     """The matrix as a grid of clearance traces: treatments down, frame rates across, one line
     per shape, for one force mode. Returns the picture, ``(H, W, 3)`` uint8."""
     keys = [k for k in matrix.clearances if k[0] == forces]

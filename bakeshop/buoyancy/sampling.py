@@ -12,11 +12,15 @@ boxes aligned with the grid.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError
+
+if TYPE_CHECKING:
+    import trimesh
 
 #: Upper bound on cells (points before culling) so a typo cannot allocate gigabytes.
 MAX_CELLS = 4_000_000
@@ -49,7 +53,9 @@ class SamplePoints:
         return len(self.volumes)
 
 
-def sample_points(mesh, *, resolution: int = 10, subsamples: int = 4) -> SamplePoints:
+def sample_points(
+    mesh: trimesh.Trimesh, *, resolution: int = 10, subsamples: int = 4
+) -> SamplePoints:
     """Voxelise a closed mesh into sample points with the volume of their cell's inside.
 
     Parameters
@@ -87,7 +93,19 @@ def sample_points(mesh, *, resolution: int = 10, subsamples: int = 4) -> SampleP
 
 
 @numba.njit(cache=True)
-def _crossings(triangles, x0, z0, step, nx, nz, counts, hits_y, hits_w, offsets, fill):
+def _crossings(
+    triangles: np.ndarray,
+    x0: float,
+    z0: float,
+    step: float,
+    nx: int,
+    nz: int,
+    counts: np.ndarray,
+    hits_y: np.ndarray,
+    hits_w: np.ndarray,
+    offsets: np.ndarray,
+    fill: bool,
+) -> None:
     """Intersect every vertical ray (i, k) at (x0 + (i+0.5) step, z0 + (k+0.5) step) with the
     triangles. With ``fill`` False only count per ray; with True write height and winding sign
     (+1 entering the solid going up, -1 leaving) into the CSR arrays."""
@@ -123,7 +141,20 @@ def _crossings(triangles, x0, z0, step, nx, nz, counts, hits_y, hits_w, offsets,
 
 
 @numba.njit(cache=True, parallel=True)
-def _accumulate(hits_y, hits_w, offsets, x0, y0, z0, cell, shape, sub, volume, moment, area):
+def _accumulate(
+    hits_y: np.ndarray,
+    hits_w: np.ndarray,
+    offsets: np.ndarray,
+    x0: float,
+    y0: float,
+    z0: float,
+    cell: float,
+    shape: np.ndarray,
+    sub: int,
+    volume: np.ndarray,
+    moment: np.ndarray,
+    area: np.ndarray,
+) -> None:
     """Integrate the inside intervals of every ray into the cells (one thread per cell column):
     volume, first moments and the horizontal area of rays that meet solid in the cell."""
     nx, ny, nz = shape[0], shape[1], shape[2]
@@ -169,7 +200,9 @@ def _accumulate(hits_y, hits_w, offsets, x0, y0, z0, cell, shape, sub, volume, m
                         moment[cell_index, 2] += v * pz
 
 
-def _voxelise(triangles, origin, cell, shape, sub):
+def _voxelise(
+    triangles: np.ndarray, origin: np.ndarray, cell: float, shape: np.ndarray, sub: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     nx, nz = int(shape[0]) * sub, int(shape[2]) * sub
     step = cell / sub
     counts = np.zeros(nx * nz, dtype=np.int64)

@@ -8,12 +8,16 @@ rescales them (a number sets the longest side, three numbers set the bounding bo
 from __future__ import annotations
 
 import importlib.util
+import os
+from collections.abc import Callable, Sequence
 
 import numpy as np
 import trimesh
+from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError, validate_choice
+from bakeshop.io.mesh import Mesh
 from bakeshop.resources import Cost, require
 
 #: Peak bytes per triangle of closing a mesh and making its body (trimesh's processed mesh,
@@ -25,7 +29,9 @@ FACE_BYTES = 800
 SHAPES = ("box", "sphere", "capsule", "cylinder", "torus", "peep", "hull")
 
 
-def make_shape(name: str, *, size: float | tuple[float, float, float] | None = None):
+def make_shape(
+    name: str, *, size: float | tuple[float, float, float] | None = None
+) -> trimesh.Trimesh:
     """Build one of the :data:`SHAPES` as a closed mesh centred on its bounding box.
 
     Parameters
@@ -65,7 +71,9 @@ def make_shape(name: str, *, size: float | tuple[float, float, float] | None = N
     return resize(mesh, size)
 
 
-def resize(mesh, size: float | tuple[float, float, float] | None):
+def resize(
+    mesh: trimesh.Trimesh, size: float | tuple[float, float, float] | None
+) -> trimesh.Trimesh:
     """Scale ``mesh`` in place so its longest side is ``size`` (a number) or its bounding box
     has extents ``size`` (three numbers, metres); ``None`` leaves it alone. Returns ``mesh``."""
     if size is None:
@@ -81,7 +89,9 @@ def resize(mesh, size: float | tuple[float, float, float] | None):
     return mesh
 
 
-def closed_mesh(mesh, *, repair: bool = False, path=None):
+def closed_mesh(
+    mesh: Mesh | trimesh.Trimesh, *, repair: bool = False, path: str | os.PathLike | None = None
+) -> trimesh.Trimesh:
     """A mesh as a closed body for floating: welded and checked.
 
     Vertices that are duplicated only for texture or normal seams are welded, and the mesh
@@ -107,9 +117,7 @@ def closed_mesh(mesh, *, repair: bool = False, path=None):
     FormatError
         Not watertight (without a successful repair), or no volume.
     """
-    vertices = getattr(mesh, "positions", None)
-    if vertices is None:
-        vertices = mesh.vertices
+    vertices = mesh.positions if isinstance(mesh, Mesh) else mesh.vertices
     cost = require(closed_mesh_cost(len(mesh.faces)), path)
     with progress.step(f"closing the mesh ({cost.work:,} triangles)"):
         return _closed(vertices, mesh.faces, repair, path)
@@ -121,7 +129,9 @@ def closed_mesh_cost(faces: int) -> Cost:
     return Cost(FACE_BYTES * faces, faces, f"closing a mesh of {faces:,} triangles")
 
 
-def _closed(vertices, faces, repair: bool, path):
+def _closed(
+    vertices: ArrayLike, faces: ArrayLike, repair: bool, path: str | os.PathLike | None
+) -> trimesh.Trimesh:
     body = trimesh.Trimesh(np.asarray(vertices), np.asarray(faces), process=True)
     if not np.all(np.isfinite(body.vertices)):
         raise FormatError("the mesh has non-finite vertex coordinates", path)
@@ -147,17 +157,22 @@ def _closed(vertices, faces, repair: bool, path):
     return body
 
 
-def _open_edges(mesh) -> int:
+def _open_edges(mesh: trimesh.Trimesh) -> int:
     counts = np.bincount(trimesh.grouping.group_rows(mesh.edges_sorted, require_count=1))
     return int(len(counts)) if counts.size else 0
 
 
-def _rotation_to_x():
+def _rotation_to_x() -> np.ndarray:
     """Turn trimesh's Z-axis primitives to lie along X."""
     return trimesh.transformations.rotation_matrix(np.pi / 2, (0, 1, 0))
 
 
-def _star_mesh(inside, centre, radius: float, subdivisions: int = 4):
+def _star_mesh(
+    inside: Callable[[np.ndarray], np.ndarray],
+    centre: np.ndarray,
+    radius: float,
+    subdivisions: int = 4,
+) -> trimesh.Trimesh:
     """Mesh the outermost surface of the implicit solid ``inside(p) < 0`` seen from ``centre``.
 
     Each vertex of an icosphere is pushed along its ray to where the solid's boundary is last
@@ -180,20 +195,20 @@ def _star_mesh(inside, centre, radius: float, subdivisions: int = 4):
     return trimesh.Trimesh(vertices, sphere.faces, process=False)
 
 
-def _ellipsoid(p, centre, axes):
+def _ellipsoid(p: np.ndarray, centre: ArrayLike, axes: Sequence[float]) -> np.ndarray:
     q = (p - np.asarray(centre)) / np.asarray(axes)
     return (np.linalg.norm(q, axis=-1) - 1.0) * min(axes)
 
 
-def _smooth_min(a, b, k):
+def _smooth_min(a: np.ndarray, b: np.ndarray, k: float) -> np.ndarray:
     h = np.clip(0.5 + 0.5 * (b - a) / k, 0.0, 1.0)
     return b + (a - b) * h - k * h * (1.0 - h)
 
 
-def _peep():
+def _peep() -> trimesh.Trimesh:
     """A marshmallow peep: flat-bottomed body, raised head in front, a tail tuft behind."""
 
-    def inside(p):
+    def inside(p: np.ndarray) -> np.ndarray:
         body = _ellipsoid(p, (0.0, 0.22, 0.0), (0.42, 0.24, 0.2))
         head = _ellipsoid(p, (0.24, 0.48, 0.0), (0.16, 0.17, 0.15))
         tail = _ellipsoid(p, (-0.36, 0.36, 0.0), (0.12, 0.1, 0.09))
@@ -203,7 +218,7 @@ def _peep():
     return _star_mesh(inside, np.array([0.02, 0.3, 0.0]), 1.0)
 
 
-def _hull(stations: int = 64, ring: int = 48):
+def _hull(stations: int = 64, ring: int = 48) -> trimesh.Trimesh:
     """A boat hull: lofted U sections with a flat deck, fine bow (+X) and a transom stern."""
     length, beam, deck, keel = 1.0, 0.4, 0.1, 0.16
     x = np.linspace(-0.5, 0.5, stations) * length
@@ -220,7 +235,7 @@ def _hull(stations: int = 64, ring: int = 48):
     return _loft(rings)
 
 
-def _loft(rings):
+def _loft(rings: np.ndarray) -> trimesh.Trimesh:
     """Close a stack of closed polygon rings (S, R, 3) into a watertight tube with end caps."""
     n_st, n_r, _ = rings.shape
     vertices = rings.reshape(-1, 3)

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 
 @dataclass
@@ -45,7 +46,7 @@ def quaternion_to_matrix(q: np.ndarray) -> np.ndarray:
     )
 
 
-def axis_angle_quaternion(axis, degrees: float) -> np.ndarray:
+def axis_angle_quaternion(axis: ArrayLike, degrees: float) -> np.ndarray:
     """Unit quaternion (w, x, y, z) of a rotation by ``degrees`` about ``axis``."""
     axis = np.asarray(axis, dtype=np.float64)
     half = np.radians(degrees) / 2
@@ -53,7 +54,7 @@ def axis_angle_quaternion(axis, degrees: float) -> np.ndarray:
 
 
 @numba.njit(cache=True, inline="always")
-def rotation(q0, q1, q2, q3):
+def rotation(q0: float, q1: float, q2: float, q3: float) -> np.ndarray:
     """Rotation matrix of a unit quaternion (w, x, y, z), for the numba kernels."""
     r = np.empty((3, 3))
     r[0, 0] = 1 - 2 * (q2 * q2 + q3 * q3)

@@ -14,14 +14,22 @@ on the frame rate). Forces are
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.buoyancy.forces import ForceModel, evaluate
 from bakeshop.buoyancy.state import State, quaternion_to_matrix
 from bakeshop.errors import ArgumentError, BakeshopError, UnsupportedError, validate_choice
 from bakeshop.resources import Cost, require
+
+if TYPE_CHECKING:
+    from bakeshop.buoyancy.builtin import BuiltinBackend
+    from bakeshop.buoyancy.mass import Fleet
+    from bakeshop.buoyancy.mujoco_backend import MujocoBackend
+    from bakeshop.buoyancy.water import Water
 
 FORCE_MODES = ("per-substep", "per-frame")
 BACKENDS = ("builtin", "mujoco")
@@ -65,7 +73,14 @@ class Trace:
         )
 
 
-def release(fleet, water, *, height: float = 0.0, quaternions=None, spacing: float = 3.0):
+def release(
+    fleet: Fleet,
+    water: Water,
+    *,
+    height: float = 0.0,
+    quaternions: ArrayLike | None = None,
+    spacing: float = 3.0,
+) -> State:
     """Initial :class:`State`: bodies at rest in a row along X, ``spacing`` metres apart.
 
     Parameters
@@ -92,7 +107,15 @@ def release(fleet, water, *, height: float = 0.0, quaternions=None, spacing: flo
     return State(position, q, np.zeros((n, 3)), np.zeros((n, 3)))
 
 
-def make_backend(name: str, fleet, state: State, *, timestep: float, gravity: float, **options):
+def make_backend(
+    name: str,
+    fleet: Fleet,
+    state: State,
+    *,
+    timestep: float,
+    gravity: float,
+    **options: Any,
+) -> BuiltinBackend | MujocoBackend:
     """Create the rigid-body backend ``builtin`` or ``mujoco`` (options go to the latter)."""
     validate_choice(name, BACKENDS, "backend")
     if name == "builtin":
@@ -111,9 +134,9 @@ def make_backend(name: str, fleet, state: State, *, timestep: float, gravity: fl
 
 
 def simulate(
-    fleet,
+    fleet: Fleet,
     state: State,
-    water,
+    water: Water,
     model: ForceModel | None = None,
     *,
     seconds: float = 10.0,
@@ -121,7 +144,7 @@ def simulate(
     solver_hz: float = 60.0,
     forces: str = "per-substep",
     backend: str = "builtin",
-    **backend_options,
+    **backend_options: Any,
 ) -> Trace:
     """Run the fixed-timestep loop and record every solver step.
 
@@ -202,7 +225,7 @@ def simulate(
     return trace
 
 
-def simulate_cost(fleet, *, seconds: float, fps: float, solver_hz: float) -> Cost:
+def simulate_cost(fleet: Fleet, *, seconds: float, fps: float, solver_hz: float) -> Cost:
     """What :func:`simulate` holds (the trace: :data:`TRACE_BYTES` per step and body, and one
     force evaluation's work: :data:`POINT_BYTES` per sample point) and the solver steps it
     takes (``work``).
@@ -227,7 +250,7 @@ def simulate_cost(fleet, *, seconds: float, fps: float, solver_hz: float) -> Cos
     return Cost(memory, steps, what)
 
 
-def _clamp(velocity, limit):
+def _clamp(velocity: np.ndarray, limit: float) -> np.ndarray:
     speed = np.linalg.norm(velocity, axis=-1, keepdims=True)
     return velocity * np.minimum(1.0, limit / np.maximum(speed, 1e-300))
 

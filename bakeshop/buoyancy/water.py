@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.buoyancy.hydrostatics import GRAVITY
 from bakeshop.errors import ArgumentError
@@ -42,7 +43,7 @@ class Wave:
     speed: float | None = None
     phase: float = 0.0
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         values = [self.amplitude, self.wavelength, self.direction, self.phase]
         if self.speed is not None:
             values.append(self.speed)
@@ -92,7 +93,7 @@ class Water:
             rows.append((w.amplitude, k * np.cos(angle), k * np.sin(angle), k * speed, w.phase, k))
         return np.array(rows, dtype=np.float64).reshape(-1, 6)
 
-    def height(self, x, z, t: float = 0.0):
+    def height(self, x: ArrayLike, z: ArrayLike, t: ArrayLike = 0.0) -> np.ndarray:
         """Surface height (m) at horizontal positions ``x``, ``z`` (any matching shapes) and
         time ``t`` (s)."""
         x, z = np.asarray(x, dtype=np.float64), np.asarray(z, dtype=np.float64)

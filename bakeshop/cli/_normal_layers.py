@@ -3,7 +3,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 import numpy as np
@@ -11,6 +13,11 @@ import numpy as np
 from bakeshop.cli._numbers import Number, Numbers
 from bakeshop.errors import ArgumentError
 from bakeshop.normals.encoding import CONVENTIONS, read_normal_map
+
+if TYPE_CHECKING:
+    from bakeshop.normals.tiling import DetailLayer
+
+FC = TypeVar("FC", bound=Callable[..., Any])
 
 #: how a detail pattern is placed (options, and the keys of a --layer): repetitions and shift
 #: (one number for both axes, or UxV), rotation in degrees, height scale.
@@ -22,7 +29,7 @@ PLACEMENT = {
 }
 
 
-def placement_options(*, tile: str, rotate: str, strength: str):
+def placement_options(*, tile: str, rotate: str, strength: str) -> Callable[[FC], FC]:
     """The --tile, --offset, --rotate and --strength options that place a detail pattern."""
     options = [
         click.option(
@@ -59,7 +66,7 @@ def placement_options(*, tile: str, rotate: str, strength: str):
         ),
     ]
 
-    def apply(command):
+    def apply(command: FC) -> FC:
         for option in reversed(options):
             command = option(command)
         return command
@@ -67,7 +74,7 @@ def placement_options(*, tile: str, rotate: str, strength: str):
     return apply
 
 
-def _placement_value(key: str, value, path):
+def _placement_value(key: str, value: object, path: Path) -> Any:
     """A --layer's ``key=value`` as the option of that name reads it (:data:`PLACEMENT`)."""
     try:
         return PLACEMENT[key].convert(value, None, None)
@@ -75,9 +82,9 @@ def _placement_value(key: str, value, path):
         raise ArgumentError(f"invalid layer setting {key}={value}: {e.message}", path) from None
 
 
-def _ids(texts) -> list:
+def _ids(texts: Sequence[str]) -> list[int | tuple[int, ...]]:
     """'3' -> 3 (grey level); '#ff8000' or '255,128,0' -> (255, 128, 0)."""
-    ids = []
+    ids: list[int | tuple[int, ...]] = []
     for text in texts:
         t = text.strip()
         try:
@@ -102,7 +109,7 @@ _LAYER_KEYS = ("tile", "offset", "rotate", "strength", "mask", "id", "convention
 def parse_layer(spec: str) -> dict:
     """``'grit.png,tile=16,rotate=30,mask=barrel.png'`` -> the layer's settings."""
     path, *pairs = spec.split(",")
-    layer = {"path": Path(path), "ids": []}
+    layer: dict[str, Any] = {"path": Path(path), "ids": []}
     for pair in pairs:
         key, sep, value = pair.partition("=")
         key = key.strip()
@@ -120,7 +127,13 @@ def parse_layer(spec: str) -> dict:
     return layer
 
 
-def build_layers(shape, settings, method_convention, encoding, depths=None):
+def build_layers(
+    shape: tuple[int, int],
+    settings: Sequence[dict[str, Any]],
+    method_convention: str,
+    encoding: str,
+    depths: list[int | None] | None = None,
+) -> list[DetailLayer]:
     """Read each layer's detail map and mask into DetailLayer objects; each detail map's
     :func:`~bakeshop.io.stored_bits` is appended to ``depths``."""
     from bakeshop.io import read_image

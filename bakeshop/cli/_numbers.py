@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import re
+from typing import Any
 
 import click
 import numpy as np
@@ -27,7 +28,7 @@ from bakeshop.errors import ArgumentError
 IMAGE_SIDE = 1 << 16
 
 
-def _g(value) -> str:
+def _g(value: float) -> str:
     """A bound for people: ``4096``, ``0.001``, ``1e+06``."""
     return f"{value:g}" if isinstance(value, float) else str(value)
 
@@ -56,7 +57,9 @@ class Number(click.FloatRange):
         super().__init__(low, high, min_open=low_open, max_open=high_open)
         self.allow_inf = allow_inf
 
-    def convert(self, value, param, ctx):
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> float:
         try:
             number = float(value)
         except (TypeError, ValueError, OverflowError):
@@ -66,6 +69,8 @@ class Number(click.FloatRange):
         return super().convert(number, param, ctx)
 
     def _describe_range(self) -> str:
+        if self.min is None:  # refused by __init__
+            raise TypeError("a Number needs a lower bound")
         low = f"{_g(float(self.min))}{'<' if self.min_open else '<='}"
         if self.max is None:
             return f"x{'>' if self.min_open else '>='}{_g(float(self.min))}"
@@ -99,7 +104,10 @@ class Size(click.IntRange):
         super().__init__(int(low), int(high))
         self.pair = pair
 
-    def convert(self, value, param, ctx):
+    # click types an IntRange's value as int; a size may be a pair
+    def convert(  # type: ignore[override]
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> int | tuple[int, int]:
         if isinstance(value, (int, tuple)):
             return value
         parts = str(value).strip().lower().split("x")
@@ -126,14 +134,27 @@ class Numbers(Number):
 
     name = "numbers"
 
-    def __init__(self, low, high, *, count=3, sep=",", repeat=False, fractions=False, **kwargs):
+    def __init__(
+        self,
+        low: float,
+        high: float | None,
+        *,
+        count: int | tuple[int, ...] | None = 3,
+        sep: str = ",",
+        repeat: bool = False,
+        fractions: bool = False,
+        **kwargs: bool,
+    ) -> None:
         super().__init__(low, high, **kwargs)
         self.counts = None if count is None else count if isinstance(count, tuple) else (count,)
         self.sep = sep
         self.repeat = repeat
         self.fractions = fractions
 
-    def convert(self, value, param, ctx):
+    # click types a FloatRange's value as float; this type parses several
+    def convert(  # type: ignore[override]
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> tuple[float, ...]:
         if isinstance(value, tuple):
             return value
         parts = str(value).strip().lower().split(self.sep)
@@ -154,7 +175,9 @@ class Numbers(Number):
             return numbers * max(self.counts)
         return numbers
 
-    def _number(self, text: str, param, ctx):
+    def _number(
+        self, text: str, param: click.Parameter | None, ctx: click.Context | None
+    ) -> str | float:
         if not self.fractions or "/" not in text:
             return text
         top, _, bottom = text.partition("/")
@@ -171,10 +194,13 @@ class Direction(Numbers):
     name = "direction"
     _AXES = {"x": 0, "y": 1, "z": 2}
 
-    def __init__(self):
+    def __init__(self) -> None:
         super().__init__(-1e6, 1e6, count=3)
 
-    def convert(self, value, param, ctx):
+    # click types a FloatRange's value as float; this type parses several
+    def convert(  # type: ignore[override]
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> tuple[float, ...]:
         if isinstance(value, tuple):
             return value
         m = re.fullmatch(r"\s*([+-]?)([xyz])\s*", str(value).lower())
@@ -201,7 +227,10 @@ class Exposure(Number):
         super().__init__(-limit, limit)
         self.words = words
 
-    def convert(self, value, param, ctx):
+    # click types a FloatRange's value as float; an exposure may be a word (auto)
+    def convert(  # type: ignore[override]
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> float | str:
         if isinstance(value, str) and value.strip().lower() in self.words:
             return value.strip().lower()
         try:
@@ -224,7 +253,9 @@ class Fields(click.ParamType):
         self.sep = sep
         self.required = required
 
-    def convert(self, value, param, ctx):
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> tuple[float, ...]:
         if isinstance(value, tuple):
             return value
         parts = str(value).strip().split(self.sep)
@@ -256,7 +287,9 @@ class MemorySize(click.ParamType):
     #: the largest bound accepted (a petabyte).
     MAX = 10**15
 
-    def convert(self, value, param, ctx):
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> int | str:
         from bakeshop.huge.memory import parse_memory
 
         if isinstance(value, int):

@@ -14,7 +14,9 @@ import glob
 import os
 import re
 import string
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -62,9 +64,9 @@ def guard_outputs(group: click.Group) -> None:
             command.callback = _guarded(command.callback)
 
 
-def _guarded(callback):
+def _guarded(callback: Callable[..., Any]) -> Callable[..., Any]:
     @functools.wraps(callback)
-    def run(*args, **kwargs):
+    def run(*args: Any, **kwargs: Any) -> Any:
         for output in recorded("outputs"):
             refuse_overwriting_inputs(output)
         return callback(*args, **kwargs)
@@ -210,15 +212,15 @@ class OutputPath(click.Path):
         self.fields = tuple(fields)
         self.directory = directory
 
-    def convert(self, value, param, ctx):
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
         check_output_name(os.fspath(value), self.fields)
         path = super().convert(value, param, ctx)
         if not self.directory:
-            record(ctx, "outputs", os.fspath(path))
+            record(ctx, "outputs", str(path))
         return path
 
 
-def parse_size(text) -> tuple[int, int] | int:
+def parse_size(text: str | int | tuple[int, int]) -> tuple[int, int] | int:
     """Parse ``'WxH'`` into ``(width, height)`` or ``'N'`` into ``N`` (positive integers); a
     size already parsed (by :class:`Size`) is returned as it is."""
     if isinstance(text, (int, tuple)):

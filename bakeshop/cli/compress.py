@@ -7,7 +7,9 @@ Also the pieces ``bake-probe --compress`` and ``normals combine --compress`` reu
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 import numpy as np
@@ -17,13 +19,19 @@ from bakeshop.cli._numbers import Integer, Number
 from bakeshop.cli._paths import ENVIRONMENT, OUTPUT_CHAIN, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError, BakeshopError
 
+if TYPE_CHECKING:
+    from bakeshop.io.compress.texture import Overflow
+    from bakeshop.light.probe import ProbeBake
+
+F = TypeVar("F", bound=Callable[..., Any])
+
 CONTEXT = {"max_content_width": 100}
 
 
 _QUALITY_NAMES = ("ultrafast", "veryfast", "fast", "basic", "slow", "veryslow")
 
 
-def quality_options(command):
+def quality_options(command: F) -> F:
     """The encoder options shared by every command that compresses: --quality, --overflow,
     --min-psnr, --zstd."""
     options = [
@@ -66,7 +74,7 @@ def quality_options(command):
 def describe_quality(q: dict) -> str:
     """One line of a quality report: multi-exposure PSNR, log2 RMSE or angular error."""
 
-    def db(value):
+    def db(value: float) -> str:
         return "lossless" if value == float("inf") else f"{value:.2f} dB"
 
     if q["kind"] == "hdr":
@@ -89,7 +97,7 @@ def write_levels(
     *,
     cube: bool,
     quality_profile: str = "fast",
-    overflow: str = "refuse",
+    overflow: Overflow = "refuse",
     min_psnr: float | None = None,
     max_angle: float | None = None,
     zstd: bool = False,
@@ -147,7 +155,7 @@ def write_levels(
     return paths, result.report
 
 
-def _summary(paths, report, levels, cube) -> None:
+def _summary(paths: list[Path], report: dict, levels: list[np.ndarray], cube: bool) -> None:
     level0 = levels[0]
     h, w = level0.shape[-3:-1]
     shape = f"cube 6x{w}x{h}" if cube else f"{w}x{h}"
@@ -174,7 +182,9 @@ def _summary(paths, report, levels, cube) -> None:
     click.echo(f"  sidecar: {paths[-1]}")
 
 
-def _read(source: Path, src_layout, as_cube: bool, normal: bool, convention: str):
+def _read(
+    source: Path, src_layout: str | None, as_cube: bool, normal: bool, convention: str
+) -> tuple[list[np.ndarray], bool, bool, str]:
     """(level list, cube?, environment?, what) of the input."""
     from bakeshop.io import check_input, read_container, read_environment
     from bakeshop.io.containers import is_container
@@ -198,7 +208,7 @@ def _read(source: Path, src_layout, as_cube: bool, normal: bool, convention: str
     return [read_image(source)], False, False, "image"
 
 
-def _as_cube(image, layout: str, size: int | None, source):
+def _as_cube(image: np.ndarray, layout: str, size: int | None, source: Path) -> np.ndarray:
     from bakeshop import sphere
     from bakeshop.io.compress.pipeline import compress_levels_cost
     from bakeshop.resources import Cost, require
@@ -282,23 +292,23 @@ def _as_cube(image, layout: str, size: int | None, source):
 )
 @quality_options
 def compress(
-    source,
-    target,
-    fmt,
-    engine,
-    as_cube,
-    src_layout,
-    size,
-    mips,
-    normal,
-    normal_convention,
-    max_angle,
-    rgbm_range,
-    quality_profile,
-    overflow,
-    min_psnr,
-    zstd,
-):
+    source: Path,
+    target: Path,
+    fmt: str | None,
+    engine: str | None,
+    as_cube: bool,
+    src_layout: str | None,
+    size: int | None,
+    mips: int | None,
+    normal: bool,
+    normal_convention: str,
+    max_angle: float | None,
+    rgbm_range: float,
+    quality_profile: str,
+    overflow: Overflow,
+    min_psnr: float | None,
+    zstd: bool,
+) -> None:
     """Compress IN into the block format an engine samples, and measure what was lost.
 
     IN is an image (a texture, a normal map with --normal, an environment with --cube or
@@ -365,8 +375,10 @@ def compress(
             levels = [engines.cube_faces(level, preset) for level in levels]
             extra["faces"] = f"{preset.title}: lookup {preset.lookup}"
         elif environment:
-            extra["faces"] = f"{preset.title} panorama (bakeshop latlong rolled by "
-            extra["faces"] += f"{preset.panorama_shift:g} turn)"
+            extra["faces"] = (
+                f"{preset.title} panorama (bakeshop latlong rolled by "
+                f"{preset.panorama_shift:g} turn)"
+            )
         wanted = "." + preset.container
         if target.suffix.lower() not in (wanted, ".png"):
             click.echo(
@@ -396,15 +408,15 @@ def compress(
 
 
 def bake_compressed(
-    bake,
-    image,
+    bake: ProbeBake,
+    image: np.ndarray,
     layout: str,
     out_dir: Path,
     engine_name: str,
     *,
     specular_size: int,
     quality_profile: str = "fast",
-    overflow: str = "refuse",
+    overflow: Overflow = "refuse",
     min_psnr: float | None = None,
     zstd: bool = False,
 ) -> list[tuple[Path, str, dict | None]]:
@@ -419,13 +431,21 @@ def bake_compressed(
     preset = engines.engine(engine_name)
     folder = out_dir / preset.name
     folder.mkdir(parents=True, exist_ok=True)
-    common = {
-        "quality_profile": quality_profile,
-        "overflow": overflow,
-        "min_psnr": min_psnr,
-        "zstd": zstd and preset.container == "ktx2",
-    }
-    rows = []
+
+    def write(path: Path, levels: list, *, cube: bool, extra: dict) -> tuple[list[Path], dict]:
+        return write_levels(
+            path,
+            levels,
+            "bc6h",
+            cube=cube,
+            extra=extra,
+            quality_profile=quality_profile,
+            overflow=overflow,
+            min_psnr=min_psnr,
+            zstd=zstd and preset.container == "ktx2",
+        )
+
+    rows: list[tuple[Path, str, dict | None]] = []
     extra = {"engine": preset.name, "engine_checked": preset.checked}
     env_path = folder / preset.files["environment"]
     if preset.environment == "panorama":
@@ -433,16 +453,17 @@ def bake_compressed(
 
         pano = sphere.remap(bake.cube, "cube", "latlong", filter="area")
         levels = box_mips(engines.panorama(pano, preset), cube=False)
-        paths, report = write_levels(env_path, levels, "bc6h", cube=False, extra=extra, **common)
+        paths, report = write(env_path, levels, cube=False, extra=extra)
         rows.append((paths[0], f"panorama {pano.shape[1]}x{pano.shape[0]}, BC6H", report))
     else:
         levels = [engines.cube_faces(m, preset) for m in box_mips(bake.cube, cube=True)]
-        paths, report = write_levels(env_path, levels, "bc6h", cube=True, extra=extra, **common)
+        paths, report = write(env_path, levels, cube=True, extra=extra)
         rows.append((paths[0], f"environment 6x{bake.cube.shape[1]}, BC6H", report))
     if "specular" in preset.files:
         count = preset.specular_levels or len(bake.specular)
         count = min(count, specular_size.bit_length())
         rough = engines.mip_roughness(preset, count)
+        assert rough is not None, "an engine that takes a GGX chain states its LOD mapping"
         if count == len(bake.specular) and np.allclose(rough, np.linspace(0, 1, count)):
             chain = bake.specular  # bakeshop's own chain already has this roughness per level
         else:
@@ -451,9 +472,7 @@ def bake_compressed(
             )
         chain = [engines.cube_faces(level, preset) for level in chain]
         spec_extra = {**extra, "roughness_per_level": [float(r) for r in rough]}
-        paths, report = write_levels(
-            folder / preset.files["specular"], chain, "bc6h", cube=True, extra=spec_extra, **common
-        )
+        paths, report = write(folder / preset.files["specular"], chain, cube=True, extra=spec_extra)
         rows.append((paths[0], f"GGX chain, {count} levels for the engine's LOD mapping", report))
     if preset.sh is not None:
         sh_path = folder / preset.files["sh"]

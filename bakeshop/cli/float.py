@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -11,6 +12,9 @@ from bakeshop import progress
 from bakeshop.cli._numbers import Fields, Integer, Number, Numbers
 from bakeshop.cli._paths import INPUT, OUTPUT
 from bakeshop.errors import ArgumentError
+
+if TYPE_CHECKING:
+    from bakeshop.buoyancy.water import Water
 
 #: What each number of the summary means, and what its "-" (JSON null) means.
 SUMMARY = {
@@ -216,35 +220,35 @@ WAVE = Fields(
     help="With --matrix: writes OUT.md, OUT.csv and OUT.png.",
 )
 def float_command(
-    mesh,
-    shape,
-    size,
-    density,
-    resolution,
-    repair,
-    fps,
-    solver_hz,
-    forces,
-    stabilize,
-    damping,
-    linear_damping,
-    angular_damping,
-    drag_coefficient,
-    predict_c,
-    predict_m,
-    clamp_speed,
-    waves,
-    seconds,
-    release_height,
-    tilt,
-    backend,
-    floor,
-    shore,
-    plot,
-    as_json,
-    matrix,
-    out,
-):
+    mesh: Path | None,
+    shape: str | None,
+    size: tuple[float, ...] | None,
+    density: float,
+    resolution: int | None,
+    repair: bool,
+    fps: float,
+    solver_hz: float,
+    forces: str,
+    stabilize: str,
+    damping: str,
+    linear_damping: float,
+    angular_damping: float,
+    drag_coefficient: float,
+    predict_c: float,
+    predict_m: float,
+    clamp_speed: float,
+    waves: tuple[tuple[float, ...], ...],
+    seconds: float | None,
+    release_height: float | None,
+    tilt: float,
+    backend: str,
+    floor: float,
+    shore: float | None,
+    plot: Path | None,
+    as_json: bool,
+    matrix: bool,
+    out: Path,
+) -> int:
     """Float a mesh or a built-in shape in water and measure it: volume, mass, sample points,
     the exact Archimedes draft, the measured draft, how often it left the water after entering
     it, its highest jump and when it settled.
@@ -297,7 +301,7 @@ def float_command(
     result = float_body(
         body,
         shape=shape,
-        size=None if size is None else size[0] if len(size) == 1 else size,
+        size=None if size is None else size[0] if len(size) == 1 else (size[0], size[1], size[2]),
         density=density,
         resolution=10 if resolution is None else resolution,
         model=model,
@@ -315,7 +319,7 @@ def float_command(
     )
     summary = result.summary
     if plot is not None:
-        label = shape or Path(mesh).name
+        label = mesh.name if mesh is not None else str(shape)  # exactly one is given (checked)
         picture = plot_trace(
             result.trace.time,
             result.clearance[:, None],
@@ -335,7 +339,15 @@ def float_command(
     return 0
 
 
-def _matrix(out, density, seconds, resolution, solver_hz, water, release_height):
+def _matrix(
+    out: Path,
+    density: float,
+    seconds: float,
+    resolution: int,
+    solver_hz: float,
+    water: Water,
+    release_height: float,
+) -> int:
     from bakeshop.buoyancy.matrix import run_matrix, to_csv, to_markdown
     from bakeshop.buoyancy.plots import plot_grid
     from bakeshop.io import write_image, write_text

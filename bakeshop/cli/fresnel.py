@@ -158,22 +158,22 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
 )
 @srgb_decode_option
 def fresnel(
-    source,
-    target,
-    src_layout,
-    dst_layout,
-    size,
-    ior,
-    up,
-    below,
-    exposure_text,
-    ldr,
-    dither,
-    seed,
-    convention,
-    report,
-    srgb_decode,
-):
+    source: Path,
+    target: Path,
+    src_layout: str | None,
+    dst_layout: str | None,
+    size: int | tuple[int, int] | None,
+    ior: float,
+    up: tuple[float, float, float],
+    below: str,
+    exposure_text: float | str | None,
+    ldr: bool,
+    dither: bool,
+    seed: int,
+    convention: str,
+    report: bool,
+    srgb_decode: bool,
+) -> None:
     """Bake the fresnel reflectance of flat water into an environment map.
 
     For a flat reflector every direction d of a distant environment is seen under one angle

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 import numpy as np
@@ -11,8 +12,21 @@ from bakeshop.cli._numbers import Integer, Number, Numbers
 from bakeshop.cli._paths import INPUT, OUTPUT, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
 
+if TYPE_CHECKING:
+    from bakeshop.photo import CameraResponse, ExposureStack
 
-def _response(spec: str, stack, *, gamma, smoothness, samples, shifts, clip_low, clip_high):
+
+def _response(
+    spec: str,
+    stack: ExposureStack,
+    *,
+    gamma: float,
+    smoothness: float,
+    samples: int,
+    shifts: np.ndarray | None,
+    clip_low: float,
+    clip_high: float,
+) -> CameraResponse:
     from bakeshop.io import read_json
     from bakeshop.photo import known_response, recover_response
     from bakeshop.photo.response import KNOWN_CURVES, RESPONSE_METHODS, CameraResponse
@@ -32,7 +46,7 @@ def _response(spec: str, stack, *, gamma, smoothness, samples, shifts, clip_low,
     return CameraResponse.from_dict(read_json(path), path)
 
 
-def _describe_frame(stack, j: int) -> str:
+def _describe_frame(stack: ExposureStack, j: int) -> str:
     s = stack.settings[j] if stack.settings else {}
     t = s.get("exposure_time")
     parts = []
@@ -47,7 +61,7 @@ def _describe_frame(stack, j: int) -> str:
     return " ".join(parts) or f"exposure {stack.exposures[j]:.4g}"
 
 
-def _layout_for(shape, given: str | None) -> str | None:
+def _layout_for(shape: tuple[int, ...], given: str | None) -> str | None:
     if given is not None:
         return None if given == "photo" else given
     h, w = shape[:2]
@@ -173,10 +187,12 @@ def _layout_for(shape, given: str | None) -> str | None:
     help="Codes at or below this fraction are clipped.",
 )
 def merge(
-    images, output, times, f_numbers, isos, response_spec, gamma, save_response, smoothness,
-    samples, align, max_shift, ghost, sun_mode, sun_illuminance, layout, confidence, clip_high,
-    clip_low,
-):  # fmt: skip
+    images: tuple[Path, ...], output: Path, times: tuple[float, ...] | None,
+    f_numbers: tuple[float, ...] | None, isos: tuple[float, ...] | None, response_spec: str,
+    gamma: float, save_response: Path | None, smoothness: float, samples: int, align: bool,
+    max_shift: int, ghost: float | None, sun_mode: str, sun_illuminance: float | None,
+    layout: str | None, confidence: Path | None, clip_high: float, clip_low: float,
+) -> None:  # fmt: skip
     """Merge bracketed exposures IMAGES (JPEG, PNG or TIFF, 8 or 16 bits) into one HDR image.
 
     Exposures come from EXIF (time, f-number, ISO) or --times. The camera's response is

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import click
 import numpy as np
@@ -48,8 +50,8 @@ _writer = writer_option(
 
 
 def write_normal_map(
-    path, normals, *, convention: str = "gl", encoding: str = "packed", channels: str = "xyz",
-    inputs=(), **options,
+    path: Path, normals: np.ndarray, *, convention: str = "gl", encoding: str = "packed",
+    channels: str = "xyz", inputs: Sequence[int | None] = (), **options: Any,
 ) -> int | None:  # fmt: skip
     """Write unit normals (OpenGL frame) in an encoding; ``options`` go to the codec.
 
@@ -81,7 +83,7 @@ def _depth_text(bits: int | None) -> str:
 
 
 @click.group(context_settings=CONTEXT)
-def normals():
+def normals() -> None:
     """Tangent-space normal maps: combine macro and micro detail correctly, transfer a tileable
     detail into a mesh's UV layout, make normals from heights, check and convert maps.
 
@@ -143,24 +145,24 @@ def normals():
 @click.option("--engine", type=click.Choice(sorted(ENGINES)), help="Compress for this engine: "
               "its normal-map format and green convention (implies --compress).")  # fmt: skip
 def combine(
-    macro,
-    detail,
-    out,
-    method,
-    tile,
-    offset,
-    rotate,
-    strength,
-    mask,
-    mask_ids,
-    layers,
-    convention,
-    detail_convention,
-    encoding,
-    options,
-    compress,
-    engine,
-):
+    macro: Path,
+    detail: Path,
+    out: Path,
+    method: str,
+    tile: tuple[float, float],
+    offset: tuple[float, float],
+    rotate: float,
+    strength: float,
+    mask: Path | None,
+    mask_ids: tuple[str, ...],
+    layers: tuple[str, ...],
+    convention: str,
+    detail_convention: str | None,
+    encoding: str,
+    options: tuple[str, ...],
+    compress: bool,
+    engine: str | None,
+) -> None:
     """Blend tileable DETAIL normal maps onto the MACRO normal map; write OUT.
 
     The detail is tiled over the macro map's UV square (--tile, --offset, --rotate) with
@@ -293,25 +295,25 @@ def combine(
 @_encoding
 @_writer
 def transfer(
-    mesh,
-    detail,
-    out,
-    size,
-    projection,
-    axis,
-    tile,
-    offset,
-    rotate,
-    strength,
-    sharpness,
-    padding,
-    macro,
-    method,
-    convention,
-    detail_convention,
-    encoding,
-    options,
-):
+    mesh: Path,
+    detail: Path,
+    out: Path,
+    size: int | tuple[int, int] | None,
+    projection: str,
+    axis: str,
+    tile: tuple[float, float],
+    offset: tuple[float, float],
+    rotate: float,
+    strength: float,
+    sharpness: float,
+    padding: int,
+    macro: Path | None,
+    method: str,
+    convention: str,
+    detail_convention: str | None,
+    encoding: str,
+    options: tuple[str, ...],
+) -> None:
     """Bake the tileable DETAIL normal map into the UV layout of MESH (OBJ, glTF, GLB); write OUT.
 
     Every texel of the macro UV layout gets the detail as the mesh shows it through its second
@@ -410,7 +412,17 @@ def transfer(
 @_convention
 @_encoding
 @_writer
-def from_height(height, out, strength, derivative, no_wrap, channel, convention, encoding, options):
+def from_height(
+    height: Path,
+    out: Path,
+    strength: float,
+    derivative: str,
+    no_wrap: bool,
+    channel: int,
+    convention: str,
+    encoding: str,
+    options: tuple[str, ...],
+) -> None:
     """Make a normal map OUT from the height map HEIGHT.
 
     n = normalize(-S dh/dx, -S dh/dy, 1) with y up the picture; wraps around the edges unless
@@ -458,7 +470,7 @@ def from_height(height, out, strength, derivative, no_wrap, channel, convention,
     help="Allowed | |n| - 1 | of the stored vectors.",
 )
 @_encoding
-def check(maps, xy, tolerance, encoding):
+def check(maps: tuple[Path, ...], xy: bool, tolerance: float, encoding: str) -> int:
     """Report texels of normal MAPS that are far from unit length or point into the surface.
 
     Exits with status 1 when any texel is flagged (0 when all maps are clean), so it can gate
@@ -516,8 +528,15 @@ def check(maps, xy, tolerance, encoding):
 @_encoding
 @_writer
 def convert(
-    source, target, source_convention, target_convention, xy, renormalize, encoding, options
-):
+    source: Path,
+    target: Path,
+    source_convention: str,
+    target_convention: str,
+    xy: bool,
+    renormalize: bool,
+    encoding: str,
+    options: tuple[str, ...],
+) -> None:
     """Convert a normal map between the OpenGL (Y+) and DirectX (Y-) conventions.
 
     Without --xy or --renormalize only the green channel changes (G -> 1 - G, exactly: an

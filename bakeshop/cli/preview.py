@@ -105,18 +105,18 @@ CAMERA = Fields(
 )
 @click.option("--no-water", is_flag=True, help="Golf: leave the pond and the sea out.")
 def preview(
-    bake_dir,
-    target,
-    scenes,
-    size,
-    camera,
-    exposure_text,
-    operator,
-    sky_level,
-    sun_light,
-    diffuse,
-    no_water,
-):
+    bake_dir: Path,
+    target: str | None,
+    scenes: tuple[str, ...],
+    size: str | int | tuple[int, int],
+    camera: tuple[float, ...] | None,
+    exposure_text: str | float,
+    operator: str,
+    sky_level: float,
+    sun_light: bool,
+    diffuse: str,
+    no_water: bool,
+) -> None:
     """Render what `bake-probe` wrote into BAKE_DIR offscreen (OpenGL through moderngl over EGL;
     Mesa's llvmpipe without a GPU) and write PNGs.
 
@@ -167,7 +167,7 @@ def preview(
     started = time.perf_counter()
     bake = read_bake(bake_dir)
     for out in outputs.values():
-        refuse_overwriting_inputs(out, *(bake_dir / name for name in bake.files.values()))
+        refuse_overwriting_inputs(out, *(bake_dir / name for name in (bake.files or {}).values()))
     if ev == "auto":
         ev = bake_exposure(bake)
     with Renderer(bake) as renderer:

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import glob
+import os
 import re
 import string
+from collections.abc import Iterable
 from pathlib import Path
 
 import click
@@ -25,12 +27,12 @@ from bakeshop.io import check_input, stored_bits
 from bakeshop.sphere import FILE_LAYOUTS
 
 
-def _natural_key(path: str):
+def _natural_key(path: str) -> list[tuple[int, int, str]]:
     """Sort key that orders frame_2 before frame_10."""
     return [(0, int(t), "") if t.isdigit() else (1, 0, t) for t in re.split(r"(\d+)", path)]
 
 
-def expand_inputs(patterns) -> list[Path]:
+def expand_inputs(patterns: Iterable[str | os.PathLike]) -> list[Path]:
     """Input frames in order: each argument is a file or a glob pattern, whose matches are
     sorted by name with numbers in numeric order (frame_2 before frame_10)."""
     frames: list[Path] = []
@@ -140,21 +142,21 @@ def frame_paths(target: str, count: int) -> list[Path]:
 )
 @srgb_decode_option
 def tonemap(
-    inputs,
-    target,
-    operator,
-    exposure_text,
-    center_weight,
-    key,
-    white,
-    fps,
-    tau_brighter,
-    tau_darker,
-    dither,
-    layout,
-    bits,
-    srgb_decode,
-):
+    inputs: tuple[Path, ...],
+    target: Path,
+    operator: str,
+    exposure_text: float | str,
+    center_weight: float,
+    key: float,
+    white: float | None,
+    fps: float,
+    tau_brighter: float,
+    tau_darker: float,
+    dither: bool,
+    layout: str | None,
+    bits: str | None,
+    srgb_decode: bool,
+) -> None:
     """Tone-map HDR images (one or a sequence of frames) to 8-bit sRGB pictures.
 
     Each frame: exposure (a fixed EV, or auto), the tone operator, clamp to [0, 1], sRGB
@@ -191,7 +193,6 @@ def tonemap(
     ev_fixed = parse_exposure_mode(exposure_text)
     adapted = None
     evs = []
-    shown = None
     for path, out in progress.track(
         list(zip(frames, outputs, strict=True)), "tone mapping", total=len(frames)
     ):
@@ -229,13 +230,13 @@ def tonemap(
         )
         how = "" if not isinstance(ev_fixed, str) else f" ({ev_fixed}, adapted)"
         write_image(out, shown.pixels, description=shown.metadata() + how)
+        rule = shown.describe().split(", ", 1)[1]  # the rule after the exposure, as for the others
         if note:
             warn(note, out)
         evs.append(ev)
     how = ev_fixed if isinstance(ev_fixed, str) else "fixed"
     span = f"{evs[0]:+.2f} EV" if len(evs) == 1 else f"{min(evs):+.2f} to {max(evs):+.2f} EV"
     dest = outputs[0] if len(outputs) == 1 else f"{len(outputs)} frames ({target})"
-    rule = shown.describe().split(", ", 1)[1]  # the rule after the exposure, as for the others
     click.echo(f"wrote {dest}: {operator}, {how} exposure {span}; {rule}")
 
 

@@ -4,6 +4,10 @@ from __future__ import annotations
 
 from importlib.resources import files
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["default_probe", "default_probe_path"]
 
@@ -14,7 +18,7 @@ def default_probe_path() -> Path:
     return Path(str(files("bakeshop.data") / "default_probe.hdr"))
 
 
-def default_probe():
+def default_probe() -> np.ndarray:
     """The embedded default probe as a float32 ``(512, 1024, 3)`` latlong of linear radiance."""
     from bakeshop.io import read_image
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Sequence
+from typing import Any, TypeVar
 
 import numba
 import numpy as np
@@ -24,6 +25,8 @@ from bakeshop import progress
 from bakeshop.errors import ArgumentError, BakeshopError, UnsupportedError
 from bakeshop.huge.memory import resolve_memory
 from bakeshop.io.stream import ArrayReader, Reader
+
+T = TypeVar("T")
 
 #: schedulers that run in this process.
 LOCAL_SCHEDULERS = ("threads", "synchronous")
@@ -39,7 +42,7 @@ class InTask:
         self.fn = fn
         self.threads = threads
 
-    def __call__(self, *args, **kwargs):
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
         """``fn(*args, **kwargs)`` with numba limited to this worker's share of the threads and
         progress silenced."""
         before = numba.get_num_threads()
@@ -69,9 +72,10 @@ class Engine:
         None for the default (:func:`bakeshop.huge.memory.resolve_memory`).
     """
 
-    def __init__(self, scheduler=None, memory=None):
+    def __init__(self, scheduler: object = None, memory: int | str | None = None) -> None:
         self.memory = resolve_memory(memory)
-        self.client = None
+        #: the dask.distributed Client, or None on this machine's scheduler.
+        self.client: Any | None = None
         self._own_client = False
         if scheduler is None:
             scheduler = os.environ.get("BAKESHOP_SCHEDULER") or "threads"
@@ -96,10 +100,10 @@ class Engine:
             self.client.close()
         self.client = None
 
-    def __enter__(self):
+    def __enter__(self) -> Engine:
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     @property
@@ -144,7 +148,7 @@ class Engine:
         cores = numba.config.NUMBA_NUM_THREADS
         return InTask(fn, max(1, cores // self.workers) if not self.distributed else 1)
 
-    def _compute(self, graph_items, description: str):
+    def _compute(self, graph_items: Sequence[object], description: str) -> tuple[Any, ...]:
         """Compute dask collections locally with a progress task; returns their results."""
         import dask
         from dask.callbacks import Callback
@@ -152,10 +156,12 @@ class Engine:
         with progress.task(description) as t:
 
             class Hook(Callback):
-                def _start_state(self, dsk, state):
+                def _start_state(self, dsk: object, state: dict) -> None:
                     t.set_total(sum(len(state[k]) for k in ("ready", "waiting", "running")))
 
-                def _posttask(self, key, result, dsk, state, worker_id):
+                def _posttask(
+                    self, key: object, result: object, dsk: object, state: object, worker_id: object
+                ) -> None:
                     t.advance()
 
             with Hook():
@@ -171,7 +177,7 @@ class Engine:
         items = [delayed(task, pure=False)(*a) for a in args]
         if not items:
             return []
-        if self.distributed:
+        if self.client is not None:
             from distributed import as_completed
 
             futures = self.client.compute(items)
@@ -191,7 +197,7 @@ class Engine:
         out: np.ndarray,
         args: tuple,
         description: str,
-        origin=(0, 0),
+        origin: tuple[int, int] = (0, 0),
     ) -> np.ndarray:
         """Fill ``out[top:bottom, left:right]`` with ``fn(region, *args)`` for each region
         ``(top, bottom, left, right)`` (less ``origin``, where ``out`` starts); blocks are
@@ -199,7 +205,7 @@ class Engine:
         from dask import delayed
 
         task = self._task(fn)
-        if self.distributed:
+        if self.client is not None:
             from distributed import as_completed
 
             items = [delayed(task, pure=False)(r, *args) for r in regions]
@@ -218,7 +224,7 @@ class Engine:
         self._compute(items, description)
         return out
 
-    def reduce(self, fn: Callable, args: Sequence[tuple], description: str):
+    def reduce(self, fn: Callable[..., T], args: Sequence[tuple], description: str) -> T:
         """``sum(fn(*a) for a in args)``: partial results (arrays, or tuples of arrays) summed
         by dask in a tree (float64 partials stay float64)."""
         from dask import delayed
@@ -227,7 +233,7 @@ class Engine:
         items = [delayed(task, pure=False)(*a) for a in args]
         if not items:
             raise BakeshopError("nothing to reduce")
-        if self.distributed:
+        if self.client is not None:
             from distributed import as_completed
 
             futures = self.client.compute(items)
@@ -250,13 +256,18 @@ class Engine:
         return self._compute(items, description)[0]
 
 
-def _fill(out, region, block, origin=(0, 0)):
+def _fill(
+    out: np.ndarray,
+    region: tuple[int, int, int, int],
+    block: np.ndarray,
+    origin: tuple[int, int] = (0, 0),
+) -> None:
     top, bottom, left, right = region
     oy, ox = origin
     out[top - oy : bottom - oy, left - ox : right - ox] = block
 
 
-def _add(a, b):
+def _add(a: Any, b: Any) -> Any:
     if isinstance(a, tuple):
         return tuple(_add(x, y) for x, y in zip(a, b, strict=True))
     if a is None:
@@ -266,7 +277,7 @@ def _add(a, b):
     return a + b
 
 
-def _connect(address: str):
+def _connect(address: str) -> Any:
     try:
         from distributed import Client
     except ImportError:

@@ -29,19 +29,21 @@ from __future__ import annotations
 
 import itertools
 import math
-from typing import NamedTuple
+import os
+from collections.abc import Iterator
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from bakeshop.errors import UnsupportedError, validate_choice
 from bakeshop.huge.engine import Engine
 from bakeshop.huge.memory import refuse
-from bakeshop.huge.resize import as_reader
+from bakeshop.huge.resize import Source, as_reader
 from bakeshop.image import luminance
 from bakeshop.io.stream import Reader
 from bakeshop.light import sh
 from bakeshop.light.diffuse import METHODS, compress, cosine_sum, dim_normals
-from bakeshop.light.sun import Sun, TexelArrays, split_texels
+from bakeshop.light.sun import Sampler, Sun, TexelArrays, split_texels
 from bakeshop.sphere import texels_at
 from bakeshop.sphere.windows import (
     gather_taps,
@@ -125,7 +127,9 @@ class _Brightest:
         return max(self, other, key=lambda b: b.key)
 
 
-def _strip(rows, reader: Reader, order: int, method: str, normals):
+def _strip(
+    rows: tuple[int, int], reader: Reader, order: int, method: str, normals: np.ndarray
+) -> tuple[_Brightest, np.ndarray, np.ndarray | None]:
     """Pass 1 on one strip: its brightest texel (:class:`_Brightest`), SH and DIM partials (the
     irradiance at ``normals``, not over pi; None for ``sh``), summed over the strips by the
     engine as they come (a DIM partial is (M, C) float64: never one per strip at once)."""
@@ -144,7 +148,7 @@ def _strip(rows, reader: Reader, order: int, method: str, normals):
     return brightest, coeffs, None
 
 
-def _rivals(rows, reader: Reader, centre):
+def _rivals(rows: tuple[int, int], reader: Reader, centre: np.ndarray) -> list[tuple[float, int]]:
     """Pass 2 on one strip: per radius of RIVAL_RADII, the brightest texel outside that cap
     around ``centre`` (luminance, flat index; -1 when none)."""
     h, w, c = reader.shape
@@ -160,7 +164,9 @@ def _rivals(rows, reader: Reader, centre):
     return out
 
 
-def _cap_window(h: int, w: int, index: int, reach: float):
+def _cap_window(
+    h: int, w: int, index: int, reach: float
+) -> tuple[tuple[int, int], list[tuple[int, int]]]:
     """Rows and column ranges of a latlong holding every texel within ``reach`` of texel
     ``index`` (all columns when the cap holds a pole or is wide)."""
     j, i = divmod(index, w)
@@ -280,11 +286,11 @@ class _WindowTexels:
         return values, dirs, omega
 
 
-def _sampler(reader: Reader, colour: int):
+def _sampler(reader: Reader, colour: int) -> Sampler:
     """Bilinear samples of the colour channels at directions, read from their own window."""
     h, w, c = reader.shape
 
-    def sample(dirs):
+    def sample(dirs: np.ndarray) -> np.ndarray:
         d = np.asarray(dirs, dtype=np.float64)
         taps, frac = sample_taps("latlong", (h, w), d.reshape(-1, 3))
         rows, ranges = taps_window(taps, w)
@@ -296,7 +302,9 @@ def _sampler(reader: Reader, colour: int):
     return sample
 
 
-def _find_sun(reader: Reader, brightest: int, rivals: list[int], texels: int):
+def _find_sun(
+    reader: Reader, brightest: int, rivals: list[int], texels: int
+) -> tuple[Sun | None, np.ndarray, np.ndarray, tuple | None]:
     """The sun's split (:func:`bakeshop.light.sun.split_texels`) among the texels of the windows
     around the brightest texel and the rivals (read where they are looked at, ``texels`` at a
     time), with global texel indices."""
@@ -311,11 +319,11 @@ def _find_sun(reader: Reader, brightest: int, rivals: list[int], texels: int):
 
 
 def dim_pair(
-    source,
+    source: Source,
     layout: str = "latlong",
     *,
     to: str = "latlong",
-    size=(360, 180),
+    size: int | tuple[int, int] = (360, 180),
     method: str = "auto",
     order: int = 2,
     window: str = "minimal",
@@ -394,7 +402,7 @@ def dim_pair(
 
 
 def sh_coefficients(
-    source, layout: str = "latlong", *, order: int = 2, engine: Engine | None = None
+    source: Source, layout: str = "latlong", *, order: int = 2, engine: Engine | None = None
 ) -> np.ndarray:
     """SH radiance coefficients of a panorama of any size: per-strip projections summed
     (equal to :func:`bakeshop.light.sh_coefficients` to rounding); ((order+1)^2, C) float64."""
@@ -408,20 +416,27 @@ def sh_coefficients(
     )
 
 
-def _project(rows, reader: Reader, order: int):
+def _project(rows: tuple[int, int], reader: Reader, order: int) -> np.ndarray:
     h, w, c = reader.shape
     dirs, omega = latlong_window_geometry((h, w), rows)
     return sh.project(reader.read(rows).reshape(-1, c), dirs, omega, order=order)
 
 
-def find_sun(source, layout: str = "latlong", *, engine: Engine | None = None) -> Sun | None:
+def find_sun(
+    source: Source, layout: str = "latlong", *, engine: Engine | None = None
+) -> Sun | None:
     """The sun of a panorama of any size, found and measured at full resolution (as
     :func:`bakeshop.light.find_sun`)."""
     return dim_pair(source, layout, size=(4, 2), method="sh", order=0, engine=engine).sun
 
 
 def write_shadow_probe(
-    source, target, pair: HugeDimPair, *, engine: Engine | None = None, **options
+    source: Source,
+    target: str | os.PathLike,
+    pair: HugeDimPair,
+    *,
+    engine: Engine | None = None,
+    **options: Any,
 ) -> None:
     """Write the probe with its sun painted out (``pair``'s fill) to ``target`` by strips."""
     from bakeshop.io.stream import write_strips
@@ -431,7 +446,7 @@ def write_shadow_probe(
     h, w, c = reader.shape
     rows = max(1, min(h, engine.memory // 4 // (w * c * 4)))
 
-    def strips():
+    def strips() -> Iterator[np.ndarray]:
         for top in range(0, h, rows):
             bottom = min(top + rows, h)
             block = np.array(reader.read((top, bottom)))  # a copy: the fill is written in it

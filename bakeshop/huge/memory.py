@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 import os
 import re
+from collections.abc import Callable
 
 from bakeshop.errors import ArgumentError, BakeshopError
 from bakeshop.resources import available_memory, format_bytes
@@ -40,7 +41,7 @@ _MEMORY = re.compile(r"\s*([0-9]*\.?[0-9]+(?:e[+-]?[0-9]+)?)\s*([a-z]*)\s*", re.
 class MemoryBoundError(BakeshopError, ValueError):
     """A job cannot run within its memory bound; ``needed`` says how much it needs."""
 
-    def __init__(self, reason: str, needed: int, path=None):
+    def __init__(self, reason: str, needed: int, path: str | os.PathLike | None = None) -> None:
         super().__init__(reason, path)
         self.needed = needed
 
@@ -69,7 +70,7 @@ def default_memory() -> int:
     return max(MIN_MEMORY, int(DEFAULT_FRACTION * available_memory()))
 
 
-def resolve_memory(memory) -> int:
+def resolve_memory(memory: int | str | None) -> int:
     """``memory`` (None, bytes or a size string) as bytes; None gives :func:`default_memory`
     (or the BAKESHOP_MEMORY environment variable when set)."""
     if memory is None:
@@ -88,8 +89,8 @@ def refuse(what: str, needed: int, memory: int) -> MemoryBoundError:
 
 
 def plan_blocks(
-    shape,
-    block_bytes,
+    shape: tuple[int, int],
+    block_bytes: Callable[[int, int], int],
     per_task: int,
     *,
     at_least: int = 1,
@@ -97,7 +98,7 @@ def plan_blocks(
     memory: int = 0,
     fixed: int = 0,
     workers: int = 1,
-):
+) -> tuple[int, int]:
     """Choose a block of ``(rows, columns)`` of an output of ``shape`` (h, w) whose task costs
     at most ``per_task`` bytes by ``block_bytes(rows, columns)``: rows are halved first, then
     columns; then rows are cut further until there are ``at_least`` blocks (parallelism and
@@ -117,7 +118,7 @@ def plan_blocks(
     return rows, cols
 
 
-def blocks(shape, block) -> list[tuple[int, int, int, int]]:
+def blocks(shape: tuple[int, int], block: tuple[int, int]) -> list[tuple[int, int, int, int]]:
     """The ``(top, bottom, left, right)`` of each block of ``block`` (rows, columns) tiling an
     output of ``shape`` (h, w), row by row."""
     h, w = shape

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import os
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -12,7 +14,9 @@ from bakeshop.huge.memory import blocks, plan_blocks, refuse
 from bakeshop.io.stream import write_strips
 
 
-def band_rows(shape, engine: Engine, cost: Callable[[int, int], int], what: str) -> int:
+def band_rows(
+    shape: Sequence[int], engine: Engine, cost: Callable[[int, int], int], what: str
+) -> int:
     """Rows of output per band: a band (held twice: computed, and being written) takes at most
     a third of the bound, leaving the rest to the tasks filling it."""
     h, w, c = shape
@@ -25,14 +29,14 @@ def band_rows(shape, engine: Engine, cost: Callable[[int, int], int], what: str)
 
 
 def write_bands(
-    target,
-    shape,
+    target: str | os.PathLike,
+    shape: Sequence[int],
     fn: Callable,
     args: tuple,
     cost: Callable[[int, int], int],
     engine: Engine,
     what: str,
-    **options,
+    **options: Any,
 ) -> None:
     """Write ``target`` (any :func:`bakeshop.io.stream.write_strips` format) of ``shape``
     (h, w, C), each block ``(top, bottom, left, right)`` being ``fn(region, *args)``."""
@@ -41,7 +45,7 @@ def write_bands(
     per_task = max(1, (engine.memory - 2 * rows * w * c * 4) // engine.workers)
     bands = list(range(0, h, rows))
 
-    def strips():
+    def strips() -> Iterator[np.ndarray]:
         with progress.task(what, len(bands)) as t:
             for top in bands:
                 bottom = min(top + rows, h)

@@ -23,13 +23,16 @@ Sources are flat layouts (latlong, angular, mirrorball, octahedral, dual-parabol
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, UnsupportedError, validate_choice
 from bakeshop.huge.engine import Engine
 from bakeshop.huge.memory import blocks, plan_blocks, refuse
-from bakeshop.huge.resize import as_reader, resize
+from bakeshop.huge.resize import Source, as_reader, resize
 from bakeshop.io.stream import Reader
 from bakeshop.sphere import area, cube_to_view, layout, texel_strips, valid_texels
 from bakeshop.sphere.layouts import MAX_EDGE, MAX_TEXELS
@@ -49,7 +52,9 @@ TILE_BYTES = 64 << 20
 _TEXEL_BYTES = 40
 
 
-def output_shape(src: str, src_shape, dst: str, size=None) -> tuple[int, ...]:
+def output_shape(
+    src: str, src_shape: Sequence[int], dst: str, size: int | tuple[int, int] | None = None
+) -> tuple[int, ...]:
     """The spatial shape of a remap of a ``src`` image of ``src_shape`` to ``dst`` at ``size``
     (None: about as many valid texels), as :func:`bakeshop.sphere.remap_shape` gives it."""
     d = layout(dst)
@@ -58,7 +63,7 @@ def output_shape(src: str, src_shape, dst: str, size=None) -> tuple[int, ...]:
     return d.shape(size)
 
 
-def choose_filter(src: str, src_shape, dst: str, dst_shape) -> str:
+def choose_filter(src: str, src_shape: Sequence[int], dst: str, dst_shape: Sequence[int]) -> str:
     """``"area"`` when the output has at most half the source's valid texels, else
     ``"bilinear"`` (the rule of :func:`bakeshop.sphere.auto_filter`)."""
     small = 2 * valid_texels(dst, dst_shape) <= valid_texels(src, src_shape)
@@ -68,16 +73,16 @@ def choose_filter(src: str, src_shape, dst: str, dst_shape) -> str:
 def _part(
     reader: Reader,
     src: str,
-    src_shape,
+    src_shape: Sequence[int],
     dst: str,
-    dst_shape,
-    face,
-    rows,
-    cols,
-    filter,
-    rotation,
-    per_task,
-):
+    dst_shape: Sequence[int],
+    face: int,
+    rows: tuple[int, int],
+    cols: tuple[int, int],
+    filter: str,
+    rotation: ArrayLike | None,
+    per_task: int,
+) -> np.ndarray:
     """The texels ``rows x cols`` of ``face`` of the output, from their window of the source."""
     c = reader.shape[2]
     taps, frac = remap_part_taps(
@@ -123,7 +128,18 @@ def _part(
     return gather_taps(window.reshape(-1, c), local, frac).reshape(shape)
 
 
-def _block(region, reader, src, src_shape, dst, dst_shape, side, filter, rotation, per_task):
+def _block(
+    region: tuple[int, int, int, int],
+    reader: Reader,
+    src: str,
+    src_shape: Sequence[int],
+    dst: str,
+    dst_shape: Sequence[int],
+    side: int,
+    filter: str,
+    rotation: ArrayLike | None,
+    per_task: int,
+) -> np.ndarray:
     """A block of the output stacked face over face: ``region`` rows of face ``top // side``."""
     top, bottom, left, right = region
     face = top // side
@@ -149,7 +165,7 @@ class _Peaks:
     that :func:`bakeshop.sphere.area.bright_texels` reads of the whole image's, so that the
     engine reduces the strips' parts as they come (never one per strip at once)."""
 
-    def __init__(self, part):
+    def __init__(self, part: tuple[Any, ...]):
         self.part = part
 
     def __add__(self, other: _Peaks) -> _Peaks:
@@ -160,19 +176,31 @@ class _Peaks:
         return _Peaks((s1 + s2, index[top], peaks[top], np.concatenate([v1, v2])[top]))
 
 
-def _peaks(rows, reader: Reader, src: str) -> _Peaks:
+def _peaks(rows: tuple[int, int], reader: Reader, src: str) -> _Peaks:
     values, omega = _strip_texels(rows, reader, src)
     return _Peaks(area.peak_candidates(values, omega, rows[0] * reader.shape[1]))
 
 
-def _strip_texels(rows, reader: Reader, src: str):
+def _strip_texels(rows: tuple[int, int], reader: Reader, src: str) -> tuple[np.ndarray, np.ndarray]:
     h, w, c = reader.shape
     _, _, _, omega = next(texel_strips(src, (h, w), rows=rows, texels=1 << 62, directions=False))
     return reader.read(rows).reshape(-1, c), omega
 
 
-def _supersampled_part(reader: Reader, src: str, src_shape, dst: str, dst_shape, face, rows,
-                       cols, k: int, rotation, clamp: float, per_task: int):  # fmt: skip
+def _supersampled_part(
+    reader: Reader,
+    src: str,
+    src_shape: Sequence[int],
+    dst: str,
+    dst_shape: tuple[int, ...],
+    face: int,
+    rows: tuple[int, int],
+    cols: tuple[int, int],
+    k: int,
+    rotation: ArrayLike | None,
+    clamp: float,
+    per_task: int,
+) -> np.ndarray:
     """The texels ``rows x cols`` of ``face`` of the supersampled area filter
     (:func:`bakeshop.sphere.area.supersample`) from their window of the source, clamped:
     the same samples and weights as in memory, each sample's coordinates computed exactly."""
@@ -222,8 +250,19 @@ def _supersampled_part(reader: Reader, src: str, src_shape, dst: str, dst_shape,
     return out
 
 
-def _supersampled_block(region, reader, src, src_shape, dst, dst_shape, side, k, rotation, clamp,
-                        per_task):  # fmt: skip
+def _supersampled_block(
+    region: tuple[int, int, int, int],
+    reader: Reader,
+    src: str,
+    src_shape: Sequence[int],
+    dst: str,
+    dst_shape: tuple[int, ...],
+    side: int,
+    k: int,
+    rotation: ArrayLike | None,
+    clamp: float,
+    per_task: int,
+) -> np.ndarray:
     top, bottom, left, right = region
     face = top // side
     rows = (top - face * side, bottom - face * side)
@@ -235,10 +274,10 @@ def supersample_tiles(
     reader: Reader,
     src: str,
     dst: str,
-    dst_shape,
+    dst_shape: Sequence[int],
     *,
     k: int,
-    rotation,
+    rotation: ArrayLike | None,
     engine: Engine,
     what: str,
 ) -> np.ndarray:
@@ -294,10 +333,10 @@ def remap_tiles(
     reader: Reader,
     src: str,
     dst: str,
-    dst_shape,
+    dst_shape: Sequence[int],
     *,
     filter: str,
-    rotation,
+    rotation: ArrayLike | None,
     engine: Engine,
     what: str,
 ) -> np.ndarray:
@@ -348,13 +387,13 @@ def _largest_k(d, shape) -> int:
 
 
 def remap(
-    source,
+    source: Source,
     src: str,
     dst: str,
-    size=None,
+    size: int | tuple[int, int] | None = None,
     *,
     filter: str = "auto",
-    rotation=None,
+    rotation: ArrayLike | None = None,
     engine: Engine | None = None,
 ) -> np.ndarray:
     """Convert a panorama of any size between layouts within the engine's memory bound.
@@ -395,7 +434,7 @@ def remap(
     dst_shape = output_shape(s.name, src_shape, d.name, size)
     if filter == "auto":
         filter = choose_filter(s.name, src_shape, d.name, dst_shape)
-    base_shape = dst_shape if d.base is d else d.base.shape(d.face_size(dst_shape))
+    base_shape = d.base_shape(dst_shape)
     what = f"remapping {s.name} {w}x{h} to {d.name} {'x'.join(map(str, dst_shape))} ({filter})"
     if filter == "area":
         if s.name == d.name == "latlong" and rotation is None:

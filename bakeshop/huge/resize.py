@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable, Sequence
+from typing import Any, TypeAlias
 
 import numpy as np
 
@@ -28,7 +30,12 @@ from bakeshop.sphere.reductions import latlong_row_weights
 MAX_WINDOW_BYTES = 256 << 20
 
 
-def as_reader(source) -> Reader:
+#: what the chunked functions read: a :class:`~bakeshop.io.stream.Reader`, a path, or an
+#: (H, W, C) array.
+Source: TypeAlias = "Reader | str | os.PathLike | np.ndarray"
+
+
+def as_reader(source: Source) -> Reader:
     """``source`` as a :class:`~bakeshop.io.stream.Reader`: a reader as it is, a path opened
     with :func:`bakeshop.io.stream.open_image`, an array wrapped in memory."""
     if isinstance(source, Reader):
@@ -40,7 +47,9 @@ def as_reader(source) -> Reader:
     return ArrayReader(source)
 
 
-def _block(region, reader: Reader, size, weighting: str):
+def _block(
+    region: tuple[int, int, int, int], reader: Reader, size: tuple[int, int], weighting: str
+) -> np.ndarray:
     """One output block (``region`` = top, bottom, left, right) of a resize of ``reader``."""
     top, bottom, left, right = region
     h, w, _ = reader.shape
@@ -62,7 +71,7 @@ def _block(region, reader: Reader, size, weighting: str):
     )
 
 
-def _block_bytes(reader: Reader, size):
+def _block_bytes(reader: Reader, size: tuple[int, int]) -> Callable[[int, int], int]:
     """Bytes a task of (rows, columns) output texels holds: the window (read buffer and the
     array), a float64 row of scratch, and the output block."""
     h, w, c = reader.shape
@@ -76,7 +85,9 @@ def _block_bytes(reader: Reader, size):
     return cost
 
 
-def plan(reader: Reader, size, engine: Engine, *, fixed: int, what: str):
+def plan(
+    reader: Reader, size: tuple[int, int], engine: Engine, *, fixed: int, what: str
+) -> list[tuple[int, int, int, int]]:
     """The output blocks of a resize of ``reader`` to ``size`` under the engine's bound."""
     width, height = size
     per_task = min(engine.per_task(fixed), MAX_WINDOW_BYTES)
@@ -96,14 +107,20 @@ def plan(reader: Reader, size, engine: Engine, *, fixed: int, what: str):
     return blocks((height, width), block)
 
 
-def _check_size(size) -> tuple[int, int]:
+def _check_size(size: Sequence[int]) -> tuple[int, int]:
     width, height = (int(n) for n in size)
     if width < 1 or height < 1:
         raise ArgumentError(f"invalid output size {width}x{height}")
     return width, height
 
 
-def resize(source, size, *, engine: Engine | None = None, weighting: str = "planar") -> np.ndarray:
+def resize(
+    source: Source,
+    size: tuple[int, int],
+    *,
+    engine: Engine | None = None,
+    weighting: str = "planar",
+) -> np.ndarray:
     """Resize an image of any size to ``size = (width, height)``, preserving its energy, within
     the engine's memory bound.
 
@@ -143,7 +160,14 @@ def resize(source, size, *, engine: Engine | None = None, weighting: str = "plan
     return engine.assemble(_block, regions, out, (reader, (width, height), weighting), what)
 
 
-def resize_to_file(source, target, size, *, engine: Engine | None = None, **options) -> None:
+def resize_to_file(
+    source: Source,
+    target: str | os.PathLike,
+    size: tuple[int, int],
+    *,
+    engine: Engine | None = None,
+    **options: Any,
+) -> None:
     """:func:`resize` written to ``target`` by strips (for outputs larger than the bound too):
     bands of output rows are computed in parallel and written in order, atomically."""
     from bakeshop.huge.output import write_bands

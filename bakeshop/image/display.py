@@ -30,7 +30,7 @@ SRGB_GAMMA = 2.4
 SRGB_ENCODED_LIMIT = 0.04045
 
 
-def _float_array(values) -> np.ndarray:
+def _float_array(values: ArrayLike) -> np.ndarray:
     """``values`` as a float array: float32/float64 kept, everything else becomes float32."""
     a = np.asarray(values)
     if a.dtype not in (np.float32, np.float64):
@@ -143,7 +143,7 @@ def _srgb_decode1(x: float) -> float:
 
 
 @numba.njit(cache=True, parallel=True)
-def _apply_flat(which, a, out):
+def _apply_flat(which: int, a: np.ndarray, out: np.ndarray) -> None:
     for i in numba.prange(a.size):
         x = np.float64(a[i])
         out[i] = _srgb_encode1(x) if which == _ENCODE else _srgb_decode1(x)
@@ -154,7 +154,7 @@ def _apply(which: int, a: np.ndarray, out: np.ndarray) -> None:
     _apply_flat(which, np.ascontiguousarray(a).reshape(-1), out.reshape(-1))
 
 
-def _colour_channels(image) -> tuple[np.ndarray, int]:
+def _colour_channels(image: ArrayLike) -> tuple[np.ndarray, int]:
     """``image`` as a float array and the number of its leading colour channels (alpha excluded).
 
     (H, W) is one grey channel; (..., C) with C in {1, 3} is all colour; C = 4 keeps its last
@@ -367,7 +367,7 @@ def to_srgb8(linear: ArrayLike, *, dither: str = "none", seed: int = 0) -> np.nd
 
 
 @numba.njit(cache=True, inline="always")
-def _uniform(key):
+def _uniform(key: np.uint64) -> np.float64:
     """A uniform number in [0, 1) from a 64-bit key (SplitMix64's finaliser): counter-based, so
     the dither is the same whatever the number of threads."""
     z = key + np.uint64(0x9E3779B97F4A7C15)
@@ -378,7 +378,7 @@ def _uniform(key):
 
 
 @numba.njit(cache=True, parallel=True)
-def _srgb8(a, colour, dither, seed, out):
+def _srgb8(a: np.ndarray, colour: int, dither: bool, seed: np.uint64, out: np.ndarray) -> None:
     channels = a.shape[1]
     base = seed << np.uint64(34)
     for p in numba.prange(a.shape[0]):

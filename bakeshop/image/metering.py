@@ -3,6 +3,8 @@ log-average luminance, the exposure that maps it to middle grey, and adaptation 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -40,7 +42,7 @@ def metering_weights(shape: tuple[int, int], *, center_weight: float = 0.75) -> 
     return (1.0 - w_c) / (h * w) + w_c * np.outer(spot_y, spot_x)
 
 
-def _metering(shape, center_weight) -> tuple[float, np.ndarray, np.ndarray]:
+def _metering(shape: Sequence[int], center_weight: float) -> tuple[float, np.ndarray, np.ndarray]:
     """(W, g_y, g_x): the centre spot is the outer product of two normalised 1-D Gaussians."""
     w_c = float(center_weight)
     if not 0.0 <= w_c <= 1.0:
@@ -104,7 +106,8 @@ def log_average_luminance(
     w_c, spot_y, spot_x = _metering(lum.shape, center_weight)
     mask = ok.astype(np.float64)
 
-    def weighted_sum(values):  # sum of w * values without building w: the spot is separable
+    # sum of w * values without building w: the spot is separable
+    def weighted_sum(values: np.ndarray) -> float:
         return (1.0 - w_c) / values.size * values.sum() + w_c * (spot_y @ values @ spot_x)
 
     total = weighted_sum(mask)
@@ -113,7 +116,7 @@ def log_average_luminance(
     return float(np.exp(weighted_sum(logs) / total))
 
 
-def _check_weights(weights, shape) -> np.ndarray:
+def _check_weights(weights: ArrayLike, shape: Sequence[int]) -> np.ndarray:
     w = np.asarray(weights, dtype=np.float64)
     if w.shape != tuple(shape):
         raise ArgumentError(f"metering weights of shape {w.shape} for an image of {tuple(shape)}")

@@ -177,7 +177,9 @@ def _percent(fraction: float) -> str:
     return f"{100 * fraction:.1f}%"
 
 
-def _metered_weights(image, weights, center_weight) -> np.ndarray:
+def _metered_weights(
+    image: ArrayLike, weights: ArrayLike | None, center_weight: float
+) -> np.ndarray:
     """The weights auto and fit exposure meter with: ``weights`` (an environment's solid
     angles) or the centre-weighted frame weights, with texels that are exactly black in every
     colour channel left out (no data: a cross's empty cells, outside a probe's disk, a fresnel

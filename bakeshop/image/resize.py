@@ -17,10 +17,12 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
 
 import numba
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.resources import Cost, require
@@ -67,7 +69,7 @@ def area_footprint(n_in: int, n_out: int, start: int, stop: int) -> tuple[int, i
     return start * n_in // n_out, -(-stop * n_in // n_out)
 
 
-def resize_area_cost(shape, size: tuple[int, int], *, itemsize: int = 4) -> Cost:
+def resize_area_cost(shape: Sequence[int], size: tuple[int, int], *, itemsize: int = 4) -> Cost:
     """What :func:`resize_area` of an image of ``shape`` ((H, W) or (H, W, C)) to ``size``
     (width, height) holds at its peak: the output (``itemsize`` bytes per sample; float32 for
     integer images, which are converted first, a copy of the input), the sparse weights of both
@@ -84,7 +86,7 @@ def resize_area_cost(shape, size: tuple[int, int], *, itemsize: int = 4) -> Cost
     return Cost(int(memory), h * w * channels, what)
 
 
-def resize_area(image, size: tuple[int, int]) -> np.ndarray:
+def resize_area(image: ArrayLike, size: tuple[int, int]) -> np.ndarray:
     """Resize ``image`` to ``size = (width, height)`` preserving its mean (energy).
 
     Parameters
@@ -126,7 +128,13 @@ def resize_area(image, size: tuple[int, int]) -> np.ndarray:
 
 
 def resize_area_part(
-    window, full_shape, size, *, rows=None, cols=None, origin=(0, 0)
+    window: np.ndarray,
+    full_shape: tuple[int, int],
+    size: tuple[int, int],
+    *,
+    rows: tuple[int, int] | None = None,
+    cols: tuple[int, int] | None = None,
+    origin: tuple[int, int] = (0, 0),
 ) -> np.ndarray:
     """Output rows ``rows`` and columns ``cols`` of :func:`resize_area` of an image of which
     only ``window`` is given: the same values, bit for bit, as the same part of the whole.
@@ -164,7 +172,7 @@ def resize_area_part(
     out = np.empty((i1 - i0, j1 - j0, src.shape[2]), src.dtype)
     if h % height == 0 and w % width == 0:
         fy, fx = h // height, w // width
-        _box(src[ly - y0 : hy - y0, lx - x0 : hx - x0], fy, fx, out)
+        _box(_rows(src[ly - y0 : hy - y0, lx - x0 : hx - x0]), fy, fx, out)
     else:
         ay, ax = area_weights(h, height)[i0:i1], area_weights(w, width)[j0:j1]
         resample_separable(src, (ay.indptr, ay.indices - y0, ay.data),
@@ -172,7 +180,12 @@ def resize_area_part(
     return out
 
 
-def resample_separable(src, rows, cols, out) -> np.ndarray:
+def resample_separable(
+    src: np.ndarray,
+    rows: tuple[np.ndarray, np.ndarray, np.ndarray],
+    cols: tuple[np.ndarray, np.ndarray, np.ndarray],
+    out: np.ndarray,
+) -> np.ndarray:
     """``out[i, j] = sum_k sum_l Ay[i, k] Ax[j, l] src[k, l]``, accumulated in float64.
 
     ``rows = (indptr, indices, weights)`` is ``Ay`` in CSR form (``len(indptr) = out rows +
@@ -180,36 +193,99 @@ def resample_separable(src, rows, cols, out) -> np.ndarray:
     run over each CSR row in its stored order. Numba-parallel over output rows; one float64 row
     of scratch per output row. Returns ``out``.
     """
-    _separable(src, rows[0], rows[1], rows[2], cols[0], cols[1], cols[2], out)
+    _separable(_rows(src), rows[0], rows[1], rows[2], cols[0], cols[1], cols[2], out)
     return out
 
 
+def _rows(src: np.ndarray) -> np.ndarray:
+    """``src`` (h, w, C) as (h, w * C) rows, a view when each row's texels are contiguous (a
+    window cut out of a C-ordered image is), else a contiguous copy: the kernels run along
+    rows of ``w * C`` samples, which vectorises, instead of texel by texel."""
+    h, w, c = src.shape
+    if src.strides[2] != src.itemsize or src.strides[1] != c * src.itemsize:
+        src = np.ascontiguousarray(src)
+    return src.reshape(h, w * c)
+
+
+@numba.njit(inline="always")
+def _add_rows(row: np.ndarray, src: np.ndarray, y: int, k: int, n: int, first: bool) -> None:
+    """``row[:n] (+)= src[y] + ... + src[y + k - 1]`` for k in 1, 2, 4, left to right in
+    float64: the same sums, rounding for rounding, as adding the rows one at a time from zero
+    (0 + a = a exactly), with one pass over ``row`` per k rows instead of per row."""
+    if k == 4:
+        a, b, c, d = src[y], src[y + 1], src[y + 2], src[y + 3]
+        if first:
+            for t in range(n):
+                row[t] = np.float64(a[t]) + b[t] + c[t] + d[t]
+        else:
+            for t in range(n):
+                row[t] = row[t] + a[t] + b[t] + c[t] + d[t]
+    elif k == 2:
+        a, b = src[y], src[y + 1]
+        if first:
+            for t in range(n):
+                row[t] = np.float64(a[t]) + b[t]
+        else:
+            for t in range(n):
+                row[t] = row[t] + a[t] + b[t]
+    else:
+        a = src[y]
+        if first:
+            for t in range(n):
+                row[t] = a[t]
+        else:
+            for t in range(n):
+                row[t] += a[t]
+
+
 @numba.njit(parallel=True, cache=True)
-def _box(src, fy, fx, out):
+def _box(src: np.ndarray, fy: int, fx: int, out: np.ndarray) -> None:
+    """``out[i, j, c]`` = the mean of the ``fy x fx`` block of ``src`` (h, w * C rows) it
+    covers: the block's columns summed down its rows (vectorised along the row, four rows a
+    pass), then the ``fx`` column sums of each texel, in float64, rounded once."""
+    width, channels = out.shape[1], out.shape[2]
+    n = width * fx * channels
     scale = 1.0 / (fy * fx)
     for i in numba.prange(out.shape[0]):
-        for j in range(out.shape[1]):
-            for c in range(out.shape[2]):
-                acc = 0.0
-                for y in range(i * fy, (i + 1) * fy):
-                    for x in range(j * fx, (j + 1) * fx):
-                        acc += src[y, x, c]
+        row = np.empty(n)
+        y, stop = i * fy, (i + 1) * fy
+        while y < stop:
+            k = 4 if stop - y >= 4 else (2 if stop - y >= 2 else 1)
+            _add_rows(row, src, y, k, n, y == i * fy)
+            y += k
+        for j in range(width):
+            for c in range(channels):
+                base = j * fx * channels + c
+                acc = row[base]
+                for x in range(1, fx):
+                    acc += row[base + x * channels]
                 out[i, j, c] = acc * scale
 
 
 @numba.njit(parallel=True, cache=True)
-def _separable(src, ry, ky, wy, rx, kx, wx, out):  # pragma: no cover - compiled
-    width, channels = src.shape[1], src.shape[2]
+def _separable(
+    src: np.ndarray,
+    ry: np.ndarray,
+    ky: np.ndarray,
+    wy: np.ndarray,
+    rx: np.ndarray,
+    kx: np.ndarray,
+    wx: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """``out[i, j, c] = sum_t wx[t] sum_s wy[s] src[ky[s], kx[t] * C + c]`` over the CSR
+    rows ``i`` of (ry, ky, wy) and ``j`` of (rx, kx, wx): the weighted input rows summed into
+    one float64 row (vectorised along it), then each texel's column taps."""
+    n, channels = src.shape[1], out.shape[2]
     for i in numba.prange(out.shape[0]):
-        row = np.zeros((width, channels))
+        row = np.zeros(n)
         for t in range(ry[i], ry[i + 1]):
-            k, wgt = ky[t], wy[t]
-            for x in range(width):
-                for c in range(channels):
-                    row[x, c] += wgt * src[k, x, c]
+            s, wgt = src[ky[t]], wy[t]
+            for x in range(n):
+                row[x] += wgt * s[x]
         for j in range(out.shape[1]):
             for c in range(channels):
                 acc = 0.0
                 for t in range(rx[j], rx[j + 1]):
-                    acc += wx[t] * row[kx[t], c]
+                    acc += wx[t] * row[kx[t] * channels + c]
                 out[i, j, c] = acc

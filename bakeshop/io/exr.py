@@ -77,6 +77,11 @@ Box = tuple[tuple[int, int], tuple[int, int]]
 _T = TypeVar("_T")
 
 
+#: images larger than this (pixels) are converted to half by the one-pass numba kernel of
+#: :mod:`bakeshop.io._half`; smaller ones by numpy, the same bits without loading numba (about
+#: a second of start-up, more than numpy's three passes cost below a megapixel).
+_KERNEL_PIXELS = 1 << 20
+
 _STORED = {np.dtype(np.float16): "half", np.dtype(np.float32): "float", np.dtype(np.uint32): "uint"}
 _FLOAT = Imath.PixelType(Imath.PixelType.FLOAT)
 #: float32 bytes converted per block of rows when reading the first part.
@@ -373,7 +378,9 @@ def _samples(header: dict) -> int:
 def to_half(image: np.ndarray) -> np.ndarray:
     """Convert to float16, clamping finite values beyond +-65504 (NaN and +-Inf kept).
 
-    Rounding is IEEE round-to-nearest-even, as OpenEXR's own float-to-half conversion.
+    Rounding is IEEE round-to-nearest-even, as OpenEXR's own float-to-half conversion. (The
+    writer converts float32 images with the equivalent one-pass kernel of
+    :mod:`bakeshop.io._half`; tests/io/test_exr.py holds the two to the same bits.)
     """
     a = np.asarray(image)
     with np.errstate(over="ignore"):
@@ -420,14 +427,21 @@ def write(
     a = np.asarray(image)
     if a.dtype.kind not in "fiu":
         raise ArgumentError(f"cannot write {a.dtype} samples to OpenEXR")
-    a = to_half(a) if pixel_type == "half" else a.astype(np.float32, copy=False)
     names = {1: "Y", 3: "RGB", 4: "RGBA"}[a.shape[2]]
-    channels = {n: np.ascontiguousarray(a[:, :, i]) for i, n in enumerate(names)}
+    if pixel_type == "half" and a.dtype == np.float32 and a.shape[0] * a.shape[1] > _KERNEL_PIXELS:
+        from bakeshop.io._half import half_planes  # numba: large images only
+
+        planes = list(half_planes(a))  # converted and split in one pass
+    else:
+        a = to_half(a) if pixel_type == "half" else a.astype(np.float32, copy=False)
+        planes = [np.ascontiguousarray(a[:, :, i]) for i in range(a.shape[2])]
+    channels = dict(zip(names, planes, strict=True))
     header = {"compression": COMPRESSIONS[compression], "type": OpenEXR.scanlineimage}
     if envmap is not None:
         header["envmap"] = ENVMAPS[envmap]
     try:
-        OpenEXR.File(header, channels).write(os.fspath(path))
+        # chunks compressed on every core (the deflate is most of the time), as OpenImageIO does
+        OpenEXR.File(header, channels, num_threads=os.cpu_count() or 1).write(os.fspath(path))
     except MemoryError:
         raise
     except Exception as e:

@@ -29,12 +29,21 @@ import re
 from collections.abc import Sequence
 from typing import Any
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
+from bakeshop.io._rgbe_codes import (
+    _EMPTY_RUN,
+    _LENGTH,
+    _NO_PREVIOUS,
+    _OK,
+    _OVERRUN,
+    _RLE_MAX,
+    _RLE_MIN,
+    _TRUNCATED,
+)
 from bakeshop.io.budget import check_decode
 
 NAME = "Radiance HDR"
@@ -62,11 +71,6 @@ XYZ_TO_RGB = _xyz_to_rgb(RADIANCE_PRIMARIES)
 _MAX_HEADER = 1 << 20
 _RESOLUTION = re.compile(rb"\s*([-+])([XY])\s+(\d{1,12})\s+([-+])([XY])\s+(\d{1,12})\s*")
 _FORMATS = {b"32-bit_rle_rgbe": "rgbe", b"32-bit_rle_xyze": "xyze"}
-#: Scanline lengths that the new run-length form can encode (Radiance's MINELEN, MAXELEN).
-_RLE_MIN, _RLE_MAX = 8, 0x7FFF
-
-# Status codes of the numba decoder.
-_OK, _TRUNCATED, _OVERRUN, _EMPTY_RUN, _LENGTH, _NO_PREVIOUS = range(6)
 _PROBLEMS = {
     _TRUNCATED: "the file ends inside the scanline",
     _OVERRUN: "a run overruns the end of the scanline",
@@ -166,7 +170,12 @@ def _variables(lines: list[bytes]) -> dict:
     return facts
 
 
-@numba.njit(cache=True, nogil=True)
+#: images up to this many pixels whose scanlines are all new-style runs are decoded without
+#: numba (:func:`_decode_runs`): loading numba and its kernel costs about a second of start-up,
+#: more than decoding a 1024x512 probe in Python takes.
+_SMALL = 1 << 20
+
+
 def _decode(
     data: np.ndarray,
     pos: int,
@@ -176,98 +185,74 @@ def _decode(
     factors: np.ndarray,
     dry: bool,
 ) -> tuple[int, int, int]:
-    """Decode ``nscan`` scanlines of ``scanlen`` pixels from ``data[pos:]`` into ``out[scan,
-    pixel, channel]`` (float32, any strides), multiplying channel c by ``factors[c]``.
+    """Decode as the numba kernel :func:`bakeshop.io._rgbe_kernels._decode` does (same
+    arguments, same result, the same float32 bits): small run-length files in Python and
+    numpy, everything else (and any file whose scanlines are not all new-style) by the kernel."""
+    if nscan * scanlen <= _SMALL and _RLE_MIN <= scanlen <= _RLE_MAX:
+        result = _decode_runs(data, pos, nscan, scanlen, out, factors, dry)
+        if result is not None:
+            return result
+    from bakeshop.io._rgbe_kernels import _decode as kernel  # numba: large or old-style files
 
-    With ``dry`` nothing is written: the pass only checks that the data holds the whole image.
-    Returns (status, scanline, position after the last byte used).
-    """
-    n = data.size
-    line = np.zeros((scanlen, 4), np.uint8)
-    previous = np.zeros(4, np.uint8)
-    has_previous = False
-    scale = np.empty(256, np.float64)
-    for e in range(256):
-        scale[e] = math.ldexp(1.0, e - 136)
+    return kernel(data, pos, nscan, scanlen, out, factors, dry)
+
+
+def _decode_runs(
+    data: np.ndarray,
+    pos: int,
+    nscan: int,
+    scanlen: int,
+    out: np.ndarray,
+    factors: np.ndarray,
+    dry: bool,
+) -> tuple[int, int, int] | None:
+    """The new-style run-length decoder in Python, a packet at a time, and the conversion to
+    float in numpy (``(m + 0.5) * 2**(e - 136) * factor`` in float64, rounded once to float32,
+    as the kernel). Returns the kernel's (status, scanline, position), or None when a scanline
+    is not new-style (the kernel then decodes the whole file)."""
+    raw = data.tobytes()
+    n = len(raw)
+    lines = None if dry else np.empty((nscan, 4, scanlen), np.uint8)
     for s in range(nscan):
-        if (
-            _RLE_MIN <= scanlen <= _RLE_MAX
-            and pos + 4 <= n
-            and data[pos] == 2
-            and data[pos + 1] == 2
-            and data[pos + 2] < 128
-        ):
-            if (np.int64(data[pos + 2]) << 8) + data[pos + 3] != scanlen:
-                return _LENGTH, s, pos
-            pos += 4
-            for c in range(4):
-                j = 0
-                while j < scanlen:
+        if not (pos + 4 <= n and raw[pos] == 2 and raw[pos + 1] == 2 and raw[pos + 2] < 128):
+            return None
+        if (raw[pos + 2] << 8) + raw[pos + 3] != scanlen:
+            return _LENGTH, s, pos
+        pos += 4
+        for c in range(4):
+            plane = bytearray()
+            j = 0
+            while j < scanlen:
+                if pos >= n:
+                    return _TRUNCATED, s, pos
+                code = raw[pos]
+                pos += 1
+                if code > 128:
+                    count = code - 128
+                    if j + count > scanlen:
+                        return _OVERRUN, s, pos
                     if pos >= n:
                         return _TRUNCATED, s, pos
-                    code = np.int64(data[pos])
+                    plane += raw[pos : pos + 1] * count
                     pos += 1
-                    if code > 128:
-                        count = code - 128
-                        if j + count > scanlen:
-                            return _OVERRUN, s, pos
-                        if pos >= n:
-                            return _TRUNCATED, s, pos
-                        value = data[pos]
-                        pos += 1
-                        for k in range(j, j + count):
-                            line[k, c] = value
-                    else:
-                        count = code
-                        if count == 0:
-                            return _EMPTY_RUN, s, pos
-                        if j + count > scanlen:
-                            return _OVERRUN, s, pos
-                        if pos + count > n:
-                            return _TRUNCATED, s, pos
-                        for k in range(count):
-                            line[j + k, c] = data[pos + k]
-                        pos += count
-                    j += count
-        else:
-            j = 0
-            shift = 0
-            while j < scanlen:
-                if pos + 4 > n:
-                    return _TRUNCATED, s, pos
-                if data[pos] == 1 and data[pos + 1] == 1 and data[pos + 2] == 1:
-                    e = np.int64(data[pos + 3])
-                    pos += 4
-                    if e != 0:
-                        if shift > 24 or j + (e << shift) > scanlen:
-                            return _OVERRUN, s, pos
-                        if j == 0 and not has_previous:
-                            return _NO_PREVIOUS, s, pos
-                        count = e << shift
-                        for k in range(j, j + count):
-                            for c in range(4):
-                                line[k, c] = previous[c] if k == 0 else line[k - 1, c]
-                        j += count
-                    shift += 8
                 else:
-                    for c in range(4):
-                        line[j, c] = data[pos + c]
-                    pos += 4
-                    j += 1
-                    shift = 0
-        for c in range(4):
-            previous[c] = line[scanlen - 1, c]
-        has_previous = True
-        if not dry:
-            for j in range(scanlen):
-                e = line[j, 3]
-                if e == 0:
-                    for c in range(3):
-                        out[s, j, c] = 0.0
-                else:
-                    f = scale[e]
-                    for c in range(3):
-                        out[s, j, c] = (line[j, c] + 0.5) * f * factors[c]
+                    count = code
+                    if count == 0:
+                        return _EMPTY_RUN, s, pos
+                    if j + count > scanlen:
+                        return _OVERRUN, s, pos
+                    if pos + count > n:
+                        return _TRUNCATED, s, pos
+                    plane += raw[pos : pos + count]
+                    pos += count
+                j += count
+            if lines is not None:
+                lines[s, c] = np.frombuffer(plane, np.uint8)
+    if lines is not None:
+        e = lines[:, 3]
+        scale = np.where(e == 0, 0.0, np.ldexp(1.0, e.astype(np.int64) - 136))
+        for c in range(3):
+            out[:, :, c] = (lines[:, c] + 0.5) * scale * factors[c]
     return _OK, nscan, pos
 
 
@@ -368,123 +353,6 @@ def _to_rgb(image: np.ndarray, rows: int = 256) -> None:
         image[top : top + rows] = image[top : top + rows].astype(np.float64) @ XYZ_TO_RGB.T
 
 
-#: float32 bit patterns: +infinity (larger patterns are NaN) and the sign bit.
-_INF_BITS, _SIGN_BIT = 0x7F800000, 0x80000000
-_FLOAT32_MAX = float(np.finfo(np.float32).max)
-
-
-@numba.njit(cache=True, nogil=True)
-def _rgbe_row(values: np.ndarray, bits: np.ndarray, line: np.ndarray) -> None:
-    """Encode one row of linear pixels into ``line[0:4, x]`` (R, G, B mantissas and exponent).
-
-    ``values`` is a (W, C) float32 row (C = 1 grey, or 3) and ``bits`` the same memory as
-    uint32. The bytes minimise the error of the (m + 0.5) reconstruction: the largest component
-    picks the smallest exponent that holds it (its mantissa in [128, 256)) and each mantissa is
-    the floor, the interval holding the value, whose centre is the nearest reconstruction.
-    NaN and negatives become 0; values beyond RGBE's largest (about 1.7e38, infinities
-    included) saturate to it; values below 2**-128 make a black pixel. The exponent is read
-    from the largest component's bit pattern (non-negative floats order like their bits).
-    """
-    width, channels = values.shape
-    inv = np.empty(256, np.float64)
-    for e in range(256):
-        inv[e] = math.ldexp(1.0, 136 - e)
-    smallest = 1 << 21  # the bits of 2**-128 (a float32 subnormal), the least normalised RGBE
-    for x in range(width):
-        top = 0
-        largest = 0
-        for c in range(3):
-            k = c if channels == 3 else 0
-            b = bits[x, k]
-            if b < _SIGN_BIT and b <= _INF_BITS and b > top:
-                top = b
-                largest = k
-        if top < smallest:
-            for c in range(4):
-                line[c, x] = 0
-            continue
-        biased = top >> 23
-        if biased >= 2:
-            e = min(biased + 2, 255)
-        else:  # a subnormal float32 or the smallest normals: let frexp find the exponent
-            e = math.frexp(np.float64(values[x, largest]))[1] + 128
-        scale = inv[e]
-        for c in range(3):
-            k = c if channels == 3 else 0
-            b = bits[x, k]
-            if b >= _SIGN_BIT or b > _INF_BITS:
-                line[c, x] = 0
-            else:
-                v = np.float64(min(values[x, k], _FLOAT32_MAX)) * scale
-                line[c, x] = int(min(v, 255.0))
-        line[3, x] = e
-
-
-@numba.njit(cache=True, nogil=True)
-def _rle_plane(plane: np.ndarray, buf: np.ndarray, pos: int) -> int:
-    """Append one byte plane as new-style runs (>= 4 equal bytes, <= 127 per run) and literals
-    (<= 128 per packet) to ``buf`` at ``pos``; return the new position. This is the packing of
-    Radiance's fwritecolrs and of Walter's rgbe.c."""
-    n = plane.size
-    cur = 0
-    while cur < n:
-        begin = cur
-        run = 0
-        old_run = 0
-        while run < 4 and begin < n:
-            begin += run
-            old_run = run
-            run = 1
-            while begin + run < n and run < 127 and plane[begin + run] == plane[begin]:
-                run += 1
-        if 1 < old_run and old_run == begin - cur:
-            buf[pos] = 128 + old_run
-            buf[pos + 1] = plane[cur]
-            pos += 2
-            cur = begin
-        while cur < begin:
-            count = min(begin - cur, 128)
-            buf[pos] = count
-            for k in range(count):
-                buf[pos + 1 + k] = plane[cur + k]
-            pos += count + 1
-            cur += count
-        if run >= 4:
-            buf[pos] = 128 + run
-            buf[pos + 1] = plane[begin]
-            pos += 2
-            cur += run
-    return pos
-
-
-@numba.njit(cache=True, nogil=True)
-def _encode(image: np.ndarray, rle: bool) -> tuple[np.ndarray, int]:
-    """Encode a C-contiguous (H, W, C) float32 image (C = 1 grey or 3 RGB) into Radiance
-    scanlines; return the bytes (only the first ``length`` are used) and ``length``."""
-    height, width, channels = image.shape
-    per_line = 4 + 4 * (width + (width + 127) // 128) if rle else 4 * width
-    buf = np.empty(height * per_line, np.uint8)
-    line = np.empty((4, width), np.uint8)
-    bits = image.view(np.uint32)
-    pos = 0
-    for y in range(height):
-        _rgbe_row(image[y], bits[y], line)
-        if rle:
-            buf[pos] = 2
-            buf[pos + 1] = 2
-            buf[pos + 2] = width >> 8
-            buf[pos + 3] = width & 255
-            pos += 4
-            for c in range(4):
-                pos = _rle_plane(line[c], buf, pos)
-        else:
-            for x in range(width):
-                for c in range(4):
-                    buf[pos + c] = line[c, x]
-                pos += 4
-    return buf, pos
-
-
 def write(path: str | os.PathLike, image: ArrayLike, *, rle: bool = True) -> None:
     """Write a Radiance RGBE file, scanlines top to bottom (``-Y H +X W``).
 
@@ -513,9 +381,17 @@ def write(path: str | os.PathLike, image: ArrayLike, *, rle: bool = True) -> Non
             "drop the alpha channel first (image[..., :3])"
         )
     rle = bool(rle) and _RLE_MIN <= width <= _RLE_MAX
-    image = np.ascontiguousarray(image, dtype=np.float32)
-    encoded, length = _encode(image, rle)
+    chunks = _scanlines(np.ascontiguousarray(image, dtype=np.float32), rle)
     header = f"#?RADIANCE\nSOFTWARE=bakeshop\nFORMAT=32-bit_rle_rgbe\n\n-Y {height} +X {width}\n"
     with open(path, "wb") as f:
         f.write(header.encode("ascii"))
-        f.write(encoded[:length].data)
+        f.writelines(chunks)
+
+
+def _scanlines(image: np.ndarray, rle: bool) -> list[memoryview]:
+    """The encoded scanlines of a C-contiguous (H, W, C) float32 image, C in {1, 3}, as the
+    consecutive pieces of the file that the parallel encoder made (no copy)."""
+    from bakeshop.io._rgbe_kernels import _encode  # numba: loaded by writers only
+
+    encoded, starts, stops = _encode(image, rle)
+    return [encoded[a:b].data for a, b in zip(starts.tolist(), stops.tolist(), strict=True)]

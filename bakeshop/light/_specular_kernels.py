@@ -6,12 +6,21 @@ from __future__ import annotations
 import math
 
 import numba
+import numpy as np
 
 from bakeshop.sphere.kernels import cube_face
 
 
 @numba.njit(cache=True, inline="always", fastmath=True)
-def _bilinear(pyramid, offsets, sizes, level, face, sc, tc):
+def _bilinear(
+    pyramid: np.ndarray,
+    offsets: np.ndarray,
+    sizes: np.ndarray,
+    level: int,
+    face: int,
+    sc: float,
+    tc: float,
+) -> tuple[float, float, float, float]:
     """The bilinear RGBA value of pyramid ``level`` at face coordinates (sc, tc)."""
     s = sizes[level]
     p = s + 2
@@ -51,7 +60,16 @@ def _bilinear(pyramid, offsets, sizes, level, face, sc, tc):
 
 
 @numba.njit(cache=True, parallel=True, fastmath=True)
-def _filter_kernel(dirs, samples, pyramid, offsets, sizes, lod_bias, log2_fit, out):
+def _filter_kernel(
+    dirs: np.ndarray,
+    samples: np.ndarray,
+    pyramid: np.ndarray,
+    offsets: np.ndarray,
+    sizes: np.ndarray,
+    lod_bias: float,
+    log2_fit: np.ndarray,
+    out: np.ndarray,
+) -> None:
     """out[p] = sum_k w_k L(l_k(p)) / sum_k w_k, each L read at its filtered-importance level.
 
     ``log2_fit`` holds polynomial coefficients of log2(q) on [1, 3] (highest power first).
@@ -106,7 +124,17 @@ def _filter_kernel(dirs, samples, pyramid, offsets, sizes, lod_bias, log2_fit, o
 
 
 @numba.njit(cache=True, parallel=True)
-def _lobe_kernel(dirs, src_dirs, src_omega, src_values, ggx, param, cos_cut, acc, total):
+def _lobe_kernel(
+    dirs: np.ndarray,
+    src_dirs: np.ndarray,
+    src_omega: np.ndarray,
+    src_values: np.ndarray,
+    ggx: bool,
+    param: float,
+    cos_cut: float,
+    acc: np.ndarray,
+    total: np.ndarray,
+) -> None:
     """acc[p] = sum_j w(n_p . l_j) Omega_j L_j and total[p] = sum_j w(n_p . l_j) Omega_j.
 
     The lobe w is GGX's D(h) (n.l) up to the constant alpha^2 / pi (param = alpha^2), or Phong's

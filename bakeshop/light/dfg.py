@@ -42,6 +42,7 @@ import math
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
@@ -61,7 +62,7 @@ __all__ = ["VISIBILITIES", "dfg_terms", "dfg_table", "dfg_table_cost", "dfg_appr
 
 
 @numba.njit(cache=True, inline="always")
-def _visibility(n_dot_l, n_dot_v, alpha, schlick):
+def _visibility(n_dot_l: float, n_dot_v: float, alpha: float, schlick: bool) -> float:
     """Smith visibility V = G / (4 n.l n.v) for GGX."""
     if schlick:
         k = 0.5 * alpha
@@ -75,7 +76,9 @@ def _visibility(n_dot_l, n_dot_v, alpha, schlick):
 
 
 @numba.njit(cache=True, parallel=True)
-def _dfg_kernel(n_dot_v, roughness, xi, schlick, out):
+def _dfg_kernel(
+    n_dot_v: np.ndarray, roughness: np.ndarray, xi: np.ndarray, schlick: bool, out: np.ndarray
+) -> None:
     n = n_dot_v.size
     count = xi.shape[0]
     for p in numba.prange(n):
@@ -101,7 +104,9 @@ def _dfg_kernel(n_dot_v, roughness, xi, schlick, out):
 
 
 @numba.njit(cache=True, parallel=True)
-def _dfg_grid(n_dot_v, roughness, xi, schlick, out):
+def _dfg_grid(
+    n_dot_v: np.ndarray, roughness: np.ndarray, xi: np.ndarray, schlick: bool, out: np.ndarray
+) -> None:
     """:func:`_dfg_kernel` on the grid ``roughness`` (rows) x ``n_dot_v`` (columns): each row's
     half vectors are drawn once and reused along it (the same numbers, a fraction of the work)."""
     count = xi.shape[0]
@@ -131,7 +136,13 @@ def _dfg_grid(n_dot_v, roughness, xi, schlick, out):
             out[row * width + col, 1] = b / count
 
 
-def dfg_terms(n_dot_v, roughness, *, samples: int = 4096, visibility: str = "height-correlated"):
+def dfg_terms(
+    n_dot_v: ArrayLike,
+    roughness: ArrayLike,
+    *,
+    samples: int = 4096,
+    visibility: str = "height-correlated",
+) -> np.ndarray:
     """The split-sum environment BRDF terms (A, B) at given n.v and roughness.
 
     Integrated by importance sampling GGX's distribution of normals with a Hammersley point set
@@ -187,7 +198,9 @@ def dfg_table_cost(size: int = 128, *, samples: int = 4096) -> Cost:
     )
 
 
-def dfg_table(size: int = 128, *, samples: int = 4096, visibility: str = "height-correlated"):
+def dfg_table(
+    size: int = 128, *, samples: int = 4096, visibility: str = "height-correlated"
+) -> np.ndarray:
     """The DFG lookup texture: ``(size, size, 2)`` float32, columns n.v, rows roughness.
 
     Texel (i, j) holds :func:`dfg_terms` at n.v = (i + 0.5) / size and
@@ -219,7 +232,7 @@ def dfg_table(size: int = 128, *, samples: int = 4096, visibility: str = "height
     return out.reshape(size, size, 2).astype(np.float32)
 
 
-def dfg_approximation(n_dot_v, roughness):
+def dfg_approximation(n_dot_v: ArrayLike, roughness: ArrayLike) -> np.ndarray:
     """Karis' analytic fit of UE4's DFG table (after Lazarov 2013), for comparison and mobile.
 
     ``r = roughness * c0 + c1``, ``a = min(r0^2, 2^(-9.28 n.v)) r0 + r1``,

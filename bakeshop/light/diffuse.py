@@ -43,17 +43,21 @@ and real environments", SIGGRAPH 1984 course notes (the diffuse convolution).
 
 from __future__ import annotations
 
+import functools
 import math
+import operator
+from collections.abc import Iterable, Iterator, Sequence
 from typing import Any
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.light import sh
 from bakeshop.resources import Cost, require
-from bakeshop.sphere import STRIP_TEXELS, Environment, check_environment, texel_strips
+from bakeshop.sphere import STRIP_TEXELS, Environment, Layout, check_environment, texel_strips
 from bakeshop.sphere import layout as get_layout
 
 #: the irradiance methods, the default first.
@@ -91,11 +95,11 @@ SOURCE_BYTES = 1
 
 
 def irradiance_cost(
-    shape,
+    shape: Sequence[int],
     layout: str,
     *,
     to: str = "latlong",
-    size=(360, 180),
+    size: int | tuple[int, int] = (360, 180),
     method: str = "auto",
     extra: int = 0,
 ) -> Cost:
@@ -115,7 +119,14 @@ def irradiance_cost(
 
 
 @numba.njit(parallel=True, fastmath=True, cache=True)
-def _cosine_sum(normals, dirs, energy, groups, supers, out):  # pragma: no cover - compiled
+def _cosine_sum(  # pragma: no cover - compiled
+    normals: np.ndarray,
+    dirs: np.ndarray,
+    energy: np.ndarray,
+    groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    supers: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    out: np.ndarray,
+) -> None:
     # out[i, c] = sum_j energy[c, j] * max(0, normals[i] . dirs[:, j]), with the sources
     # sorted into cones (groups: members starts[g]..starts[g+1]) and the cones into larger
     # cones (supers: groups starts[s]..starts[s+1]). A cone wholly below the horizon of n adds
@@ -163,7 +174,9 @@ def _cosine_sum(normals, dirs, energy, groups, supers, out):  # pragma: no cover
         out[i, 2] = acc[2]
 
 
-def _cones(d, e, starts):
+def _cones(
+    d: np.ndarray, e: np.ndarray, starts: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Axis, sin(half-angle) and linear sum of the cones of sorted sources ``d`` split at
     ``starts`` (a half-angle of 90 degrees or more gets sin 2: never decided whole)."""
     counts = np.diff(starts)
@@ -185,7 +198,14 @@ def _cones(d, e, starts):
 _GROUP_RATIO = 8
 
 
-def _groups(dirs, energy):
+def _groups(
+    dirs: np.ndarray, energy: np.ndarray
+) -> tuple[
+    np.ndarray,
+    np.ndarray,
+    tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+]:
     """Sort sources into two levels of cone-bounded groups for :func:`_cosine_sum`.
 
     Small cones of angular size h ~ (8 pi / N)**(1/3), nested in cones 8 times larger:
@@ -216,7 +236,13 @@ def _groups(dirs, energy):
     )
 
 
-def cosine_sum(normals, directions, energy, *, description: str = "irradiance") -> np.ndarray:
+def cosine_sum(
+    normals: ArrayLike,
+    directions: ArrayLike,
+    energy: ArrayLike,
+    *,
+    description: str = "irradiance",
+) -> np.ndarray:
     """Irradiance of a set of point sources: ``E_i = sum_j e_j max(0, n_i . w_j)``.
 
     The exact kernel behind every method: a discretised environment is a set of sources, one per
@@ -261,7 +287,7 @@ def cosine_sum(normals, directions, energy, *, description: str = "irradiance") 
             grouped = _groups(w, e)
     else:
         grouped = _groups(w, e)
-    blocks = range(0, n.shape[0], _BLOCK)
+    blocks: Iterable[int] = range(0, n.shape[0], _BLOCK)
     if n.shape[0] * w.shape[0] ** (2 / 3) > 1e8:  # about a second of work or more
         blocks = progress.track(blocks, description)
     for start in blocks:
@@ -270,7 +296,7 @@ def cosine_sum(normals, directions, energy, *, description: str = "irradiance") 
 
 
 @numba.njit(cache=True)
-def _bin_of(x, y, z, size):  # pragma: no cover - compiled
+def _bin_of(x: float, y: float, z: float, size: int) -> int:  # pragma: no cover - compiled
     # A private spatial hash of directions: cube-face bins, size x size per face, that nest
     # (bin i at 2*size holds bins 2i and 2i+1). Not a panorama layout: faces are unoriented.
     ax, ay, az = abs(x), abs(y), abs(z)
@@ -288,7 +314,7 @@ def _bin_of(x, y, z, size):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _bins(dirs, subset, size):  # pragma: no cover - compiled
+def _bins(dirs: np.ndarray, subset: np.ndarray, size: int) -> np.ndarray:  # pragma: no cover
     count = subset.shape[0] if subset.shape[0] > 0 else dirs.shape[0]
     out = np.empty(count, np.int64)
     for k in numba.prange(count):
@@ -298,9 +324,17 @@ def _bins(dirs, subset, size):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _accumulate(
-    values, dirs, omega, subset, index, n_bins, chunks, size, colour
-):  # pragma: no cover
+def _accumulate(  # pragma: no cover - compiled
+    values: np.ndarray,
+    dirs: np.ndarray,
+    omega: np.ndarray,
+    subset: np.ndarray,
+    index: np.ndarray,
+    n_bins: int,
+    chunks: int,
+    size: int,
+    colour: int,
+) -> np.ndarray:
     # Row b of the result sums, over texel k (of all texels, or of those listed in subset)
     # with index[k] == b: its energy per channel, its weight (sum over the first ``colour``
     # channels of |energy|: alpha is carried, but it is no light),
@@ -333,7 +367,9 @@ def _accumulate(
 
 
 @numba.njit(cache=True)
-def _select(index, subset, rank):  # pragma: no cover - compiled
+def _select(  # pragma: no cover - compiled
+    index: np.ndarray, subset: np.ndarray, rank: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     # The texels (of all, or of subset) whose bin has a rank >= 0, and that rank.
     n = 0
     for k in range(index.shape[0]):
@@ -352,14 +388,14 @@ def _select(index, subset, rank):  # pragma: no cover - compiled
 
 
 def compress(
-    values,
-    dirs,
-    omega,
+    values: np.ndarray,
+    dirs: np.ndarray,
+    omega: np.ndarray,
     *,
     base: int = BASE_BINS,
     hot_fraction: float = HOT_FRACTION,
     total: float | None = None,
-):
+) -> tuple[np.ndarray, np.ndarray]:
     """Group an environment's texels into moment-preserving bins, finer where energy gathers.
 
     Each bin becomes one source with the bin's energy ``sum L omega`` per channel, at the
@@ -436,7 +472,7 @@ def compress(
     return np.concatenate(out_dirs), np.concatenate(out_energy)
 
 
-def dim_normals(to: str, size) -> tuple[tuple, np.ndarray, np.ndarray]:
+def dim_normals(to: str, size: int | tuple[int, int]) -> tuple[tuple, np.ndarray, np.ndarray]:
     """The output layout's ``(shape, texel normals, valid mask)`` for a DIM, checked against
     :data:`MAX_OUTPUT_TEXELS`."""
     from bakeshop.sphere import layout
@@ -452,7 +488,7 @@ def dim_normals(to: str, size) -> tuple[tuple, np.ndarray, np.ndarray]:
     return shape, dirs, valid
 
 
-def sh_coefficients(image, layout, *, order: int = 2) -> np.ndarray:
+def sh_coefficients(image: ArrayLike, layout: str | Layout, *, order: int = 2) -> np.ndarray:
     """Project an environment on real SH to ``order``, weighting texels by their solid angles.
 
     Returns
@@ -467,11 +503,11 @@ def sh_coefficients(image, layout, *, order: int = 2) -> np.ndarray:
 
 
 def irradiance(
-    image,
+    image: ArrayLike,
     layout: str,
     *,
     to: str = "latlong",
-    size=(360, 180),
+    size: int | tuple[int, int] = (360, 180),
     method: str = "auto",
     order: int = 2,
     window: str = "minimal",
@@ -556,16 +592,25 @@ def integrate(
     flat = env.image.reshape(-1, env.image.shape[-1])
     shape = env.image.shape[:-1]
 
-    def strips(directions=True):
-        for start, stop, dirs, omega in texel_strips(env.layout, shape, directions=directions):
+    def strips() -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        for start, stop, dirs, omega in texel_strips(env.layout, shape):
             yield _painted(flat, start, stop, fill), dirs, omega
 
     if method == "sh":
-        return sum(sh.project(v, d, w, order=order) for v, d, w in strips())
+        return functools.reduce(
+            operator.add, (sh.project(v, d, w, order=order) for v, d, w in strips())
+        )
+    if normals is None:
+        raise ArgumentError(f"the {method} method integrates at normals: give them")
     if method == "exact":
-        return sum(cosine_sum(normals, d, v * w[:, None]) for v, d, w in strips())
+        return functools.reduce(
+            operator.add, (cosine_sum(normals, d, v * w[:, None]) for v, d, w in strips())
+        )
     colour = min(3, flat.shape[1])
-    total = sum(_energy(v, w, colour) for v, _, w in strips(False))
+    total = sum(
+        _energy(_painted(flat, start, stop, fill), w, colour)
+        for start, stop, _, w in texel_strips(env.layout, shape, directions=False)
+    )
     with progress.step("grouping the environment's texels"):
         sources = [compress(v, d, w, total=total) for v, d, w in strips()]
     dirs = np.concatenate([d for d, _ in sources])
@@ -574,7 +619,7 @@ def integrate(
 
 
 @numba.njit(parallel=True, cache=True)
-def _energy(values, omega, colour):  # pragma: no cover - compiled
+def _energy(values: np.ndarray, omega: np.ndarray, colour: int) -> float:  # pragma: no cover
     # sum over texels and the colour channels of |L omega|: compress's measure of energy
     chunks = 16
     n = values.shape[0]
@@ -589,7 +634,7 @@ def _energy(values, omega, colour):  # pragma: no cover - compiled
     return partial.sum()
 
 
-def _painted(flat, start: int, stop: int, fill):
+def _painted(flat: np.ndarray, start: int, stop: int, fill: Any) -> np.ndarray:
     """Texels ``[start, stop)`` of the flat image, with the fill's values where it has any (a
     copy of the strip then)."""
     values = flat[start:stop]

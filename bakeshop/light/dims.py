@@ -10,9 +10,11 @@ contribution, close to ``E_sun max(0, n . s) / pi``.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.errors import validate_choice
@@ -51,11 +53,11 @@ class DimPair(NamedTuple):
 
 
 def dim_pair_cost(
-    shape,
+    shape: Sequence[int],
     layout: str,
     *,
     to: str = "latlong",
-    size=(360, 180),
+    size: int | tuple[int, int] = (360, 180),
     method: str = "auto",
     painted: bool = True,
 ) -> Cost:
@@ -72,11 +74,11 @@ def dim_pair_cost(
 
 
 def dim_pair(
-    image,
+    image: ArrayLike,
     layout: str,
     *,
     to: str = "latlong",
-    size=(360, 180),
+    size: int | tuple[int, int] = (360, 180),
     method: str = "auto",
     order: int = 2,
     window: str = "minimal",

@@ -39,7 +39,7 @@ def _check_ior(ior: float) -> float:
     return ior
 
 
-def _cosines(cos_i) -> np.ndarray:
+def _cosines(cos_i: ArrayLike) -> np.ndarray:
     a = np.asarray(cos_i)
     if a.dtype not in (np.float32, np.float64):
         a = a.astype(np.float64)
@@ -110,7 +110,7 @@ def _reflectance(c: float, n: float) -> float:
 
 
 @numba.njit(cache=True, parallel=True)
-def _reflectance_array(c, n, out):
+def _reflectance_array(c: np.ndarray, n: float, out: np.ndarray) -> None:
     for i in numba.prange(c.size):
         out[i] = _reflectance(c[i], n)
 
@@ -156,7 +156,7 @@ def schlick_error(ior: float = WATER_IOR, *, samples: int = 100001) -> dict:
     }
 
 
-def _unit_axis(up) -> np.ndarray:
+def _unit_axis(up: ArrayLike) -> np.ndarray:
     u = np.asarray(up, dtype=np.float64).reshape(-1)
     norm = np.linalg.norm(u) if u.size == 3 else 0.0
     if not (np.isfinite(norm) and norm > 0):
@@ -169,7 +169,7 @@ def bake_fresnel(
     layout: str,
     *,
     ior: float = WATER_IOR,
-    up=(0.0, 1.0, 0.0),
+    up: ArrayLike = (0.0, 1.0, 0.0),
     below: str = "zero",
 ) -> np.ndarray:
     """Multiply an environment by the reflectance of a flat dielectric plane (calm water).
@@ -229,12 +229,14 @@ def bake_fresnel(
         c = cos[lower]
         fetched = sphere.sample(a, layout, dirs - 2.0 * c[:, None] * up, filter="bilinear")
         colour = min(a.shape[-1], 3)
-        out[(*lower, slice(0, colour))] = fetched[:, :colour] * fresnel_dielectric(-c, n)[:, None]
+        out[lower + (slice(0, colour),)] = fetched[:, :colour] * fresnel_dielectric(-c, n)[:, None]
     return env.shaped(out)
 
 
 @numba.njit(cache=True, parallel=True)
-def _apply_reflectance(cos, n, image, out, colour):
+def _apply_reflectance(
+    cos: np.ndarray, n: float, image: np.ndarray, out: np.ndarray, colour: int
+) -> None:
     """Out = image * R(cos) where cos >= 0, 0 below the plane; alpha kept; NaN cos: all 0."""
     for p in numba.prange(cos.size):
         c = cos[p]
@@ -250,7 +252,11 @@ LDR_CLIP_FRACTION = CLIP_FRACTION
 
 
 def ldr_exposure(
-    baked: ArrayLike, layout: str, *, up=(0.0, 1.0, 0.0), clip_fraction: float = LDR_CLIP_FRACTION
+    baked: ArrayLike,
+    layout: str,
+    *,
+    up: ArrayLike = (0.0, 1.0, 0.0),
+    clip_fraction: float = LDR_CLIP_FRACTION,
 ) -> float:
     """Exposure (EV) for storing a fresnel bake in 8 bits: only the brightest spot clips.
 
@@ -286,7 +292,7 @@ def ldr_exposure(
         ) from None
 
 
-def hemisphere_directions(count: int, up=(0.0, 1.0, 0.0)) -> np.ndarray:
+def hemisphere_directions(count: int, up: ArrayLike = (0.0, 1.0, 0.0)) -> np.ndarray:
     """``count`` directions spread evenly (equal solid angle each) over the hemisphere ``up``.
 
     A Fibonacci spiral: cos(theta) = (k + 1/2) / count and phi = 2 pi k / golden ratio, which
@@ -317,7 +323,7 @@ def flat_water_error(
     *,
     ev: float,
     ior: float = WATER_IOR,
-    up=(0.0, 1.0, 0.0),
+    up: ArrayLike = (0.0, 1.0, 0.0),
     below: str = "zero",
     filter: str = "bilinear",
     dither: str = "none",
@@ -367,14 +373,25 @@ def flat_water_error(
         return _flat_water_error(image, layout, ev, ior, up, below, filter, dither, seed, samples)
 
 
-def _flat_water_error(image, layout, ev, ior, up, below, filter, dither, seed, samples) -> dict:
+def _flat_water_error(
+    image: ArrayLike,
+    layout: str,
+    ev: float,
+    ior: float,
+    up: ArrayLike,
+    below: str,
+    filter: str,
+    dither: str,
+    seed: int,
+    samples: int,
+) -> dict:
     a = check_environment(image, layout).image
     a = a[..., : min(a.shape[-1], 3)]
     up = _unit_axis(up)
     r = hemisphere_directions(samples, up)
     cos = r @ up
 
-    def lookup(texture):
+    def lookup(texture: np.ndarray) -> np.ndarray:
         return sphere.sample(texture, layout, r, filter=filter)
 
     exposed_bake = exposure(bake_fresnel(a, layout, ior=ior, up=up, below=below), ev)
@@ -391,7 +408,7 @@ def _flat_water_error(image, layout, ev, ior, up, below, filter, dither, seed, s
     clean = unclipped & ~footprint & ~horizon[:, None]
     worst = np.unravel_index(np.argmax(np.where(clean, err, -1)), err.shape)[0]
 
-    def stats(mask):
+    def stats(mask: np.ndarray) -> tuple[int, float]:
         e = err[mask]
         return (int(e.max()), float(e.mean())) if e.size else (0, 0.0)
 
@@ -449,8 +466,8 @@ def slope_normals(count: int, rms_slope: float, *, seed: int = 0) -> np.ndarray:
 
 
 def baked_fresnel_error(
-    eye: ArrayLike, normals: ArrayLike, *, ior: float = WATER_IOR, up=(0.0, 1.0, 0.0)
-):
+    eye: ArrayLike, normals: ArrayLike, *, ior: float = WATER_IOR, up: ArrayLike = (0.0, 1.0, 0.0)
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Reflectance error of a flat-plane fresnel bake fetched with a perturbed normal.
 
     For the direction e towards the eye and a shading normal n, the shader reflects
@@ -538,7 +555,7 @@ def normal_mapped_error(
     facing = np.einsum("ij,ij->i", e, n) > 0
     elevation = np.degrees(np.arcsin(e[usable, 1]))
 
-    def summary(mask=None):
+    def summary(mask: np.ndarray | None = None) -> dict[str, float]:
         a = np.abs(absolute if mask is None else absolute[mask])
         rel = np.abs(relative if mask is None else relative[mask])
         if a.size == 0:
@@ -550,7 +567,7 @@ def normal_mapped_error(
             "p99_rel": float(np.percentile(rel, 99)),
         }
 
-    result = {"rms_slope": float(rms_slope), **summary()}
+    result: dict[str, object] = {"rms_slope": float(rms_slope), **summary()}
     result["bias_rel"] = float(relative.mean()) if relative.size else np.nan
     result["back_facing"] = float(np.mean(~facing))
     result["below_horizon"] = float(np.mean(facing & ~usable))

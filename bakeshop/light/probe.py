@@ -17,9 +17,11 @@ from __future__ import annotations
 
 import math
 import time
-from typing import NamedTuple
+from collections.abc import Callable, Sequence
+from typing import Any, NamedTuple, TypeVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.light import diffuse, sh, specular
@@ -31,6 +33,8 @@ from bakeshop.sphere import check_environment, remap, remap_cost, valid_texels
 from bakeshop.sphere import layout as layout_of
 
 __all__ = ["ProbeBake", "bake_probe", "bake_probe_cost", "contact_sheet", "sheet_exposure"]
+
+T = TypeVar("T")
 
 
 class ProbeBake(NamedTuple):
@@ -65,7 +69,7 @@ class ProbeBake(NamedTuple):
     fill: Removal | None = None
 
 
-def default_cube_size(shape, layout: str) -> int:
+def default_cube_size(shape: Sequence[int], layout: str) -> int:
     """The environment cube's face size when none is given: the power of two nearest to as many
     texels as the probe has (a quarter of a latlong's width), at most 2048."""
     lay = layout_of(layout)
@@ -74,11 +78,11 @@ def default_cube_size(shape, layout: str) -> int:
 
 
 def bake_probe_cost(
-    shape,
+    shape: Sequence[int],
     layout: str,
     *,
     cube_size: int | None = None,
-    dim_size=(360, 180),
+    dim_size: int | tuple[int, int] = (360, 180),
     specular_size: int = 256,
     mips: int = 9,
     itemsize: int = 4,
@@ -119,11 +123,11 @@ def bake_probe_cost(
 
 
 def bake_probe(
-    image,
+    image: ArrayLike,
     layout: str,
     *,
     cube_size: int | None = None,
-    dim_size=(360, 180),
+    dim_size: int | tuple[int, int] = (360, 180),
     specular_size: int = 256,
     mips: int = 9,
     sh_order: int = 2,
@@ -168,7 +172,7 @@ def bake_probe(
     """
     timings = {}
 
-    def timed(name, fn, *args, **kwargs):
+    def timed(name: str, fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
         started = time.perf_counter()
         result = fn(*args, **kwargs)
         timings[name] = time.perf_counter() - started
@@ -222,21 +226,21 @@ def bake_probe(
     )
 
 
-def _rgb(picture) -> np.ndarray:
+def _rgb(picture: np.ndarray) -> np.ndarray:
     """A picture's colour for display: ``(H, W, 3)`` (alpha dropped, grey repeated)."""
     a = np.asarray(picture)
     a = a[..., None] if a.ndim == 2 else a
     return np.ascontiguousarray(np.repeat(a, 3, axis=-1) if a.shape[-1] == 1 else a[..., :3])
 
 
-def _to_latlong(image, layout: str, height: int) -> np.ndarray:
+def _to_latlong(image: np.ndarray, layout: str, height: int) -> np.ndarray:
     """An RGB latlong thumbnail of an environment."""
     from bakeshop.sphere import remap
 
     return _rgb(remap(image, layout, "latlong", height, filter="area"))
 
 
-def _shadow_thumbnail(thumbnail: np.ndarray, bake: ProbeBake, probe) -> np.ndarray:
+def _shadow_thumbnail(thumbnail: np.ndarray, bake: ProbeBake, probe: np.ndarray) -> np.ndarray:
     """The latlong thumbnail of the probe without its sun, from the probe's own: each texel the
     fill changed gives up its removed energy (radiance x solid angle) in the thumbnail texel
     its direction falls in (exact for a latlong reduced by an integer factor)."""
@@ -260,7 +264,7 @@ def _shadow_thumbnail(thumbnail: np.ndarray, bake: ProbeBake, probe) -> np.ndarr
     return np.maximum(out, 0).astype(np.float32)
 
 
-def sheet_exposure(probe, layout: str, *, thumb_height: int = 128) -> float:
+def sheet_exposure(probe: np.ndarray, layout: str, *, thumb_height: int = 128) -> float:
     """The exposure (EV) of :func:`contact_sheet`: the probe's log-average luminance over the
     sphere (solid-angle weighted, texels that are exactly black left out) mapped to middle
     grey, metered on the sheet's latlong thumbnail."""
@@ -276,7 +280,9 @@ def sheet_exposure(probe, layout: str, *, thumb_height: int = 128) -> float:
     return auto_exposure(env, weights=weights)
 
 
-def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128, ev=None) -> np.ndarray:
+def contact_sheet(
+    bake: ProbeBake, probe: np.ndarray, *, thumb_height: int = 128, ev: float | None = None
+) -> np.ndarray:
     """A labelled overview of a bake: ``(H, W, 3)`` uint8 sRGB (draw it, or save it as PNG).
 
     Every HDR panel is shown as a latlong, at one exposure (``ev``; default
@@ -306,7 +312,7 @@ def contact_sheet(bake: ProbeBake, probe, *, thumb_height: int = 128, ev=None) -
     cube_face = min(bake.cube.shape[1], max(1, thumb_height // 2))
     cross = remap(bake.cube, "cube", "cross-vertical", cube_face, filter="area")
 
-    def show(img):
+    def show(img: np.ndarray) -> np.ndarray:
         return to_picture(_rgb(img), ev=ev, operator="aces").pixels
 
     dirs, _ = layout("latlong").directions(layout("latlong").shape(thumb_height))

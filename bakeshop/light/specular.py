@@ -63,15 +63,17 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError
 from bakeshop.light._specular_kernels import _filter_kernel, _lobe_kernel
 from bakeshop.resources import Cost, require
-from bakeshop.sphere import check_environment, remap, remap_cost, sample, valid_texels
+from bakeshop.sphere import Layout, check_environment, remap, remap_cost, sample, valid_texels
 from bakeshop.sphere import layout as get_layout
 
 #: Largest cube face accepted (a 6x4096 RGBA float32 pyramid is already 1.6 GB).
@@ -141,7 +143,7 @@ def hammersley(count: int) -> np.ndarray:
 
 
 @numba.njit(cache=True, inline="always")
-def ggx_half_vector(u, v, alpha):
+def ggx_half_vector(u: float, v: float, alpha: float) -> tuple[float, float, float]:
     """Half vector h (tangent frame, n = +z) distributed as D(h) (n.h) for GGX's ``alpha``.
 
     cos^2(theta) = (1 - v) / (1 + (alpha^2 - 1) v), phi = 2 pi u (Walter et al. 2007).
@@ -202,7 +204,7 @@ def _border_directions(size: int) -> np.ndarray:
     return get_layout("cube").directions_at(coords, (6, size, size))
 
 
-def _pyramid(cube: np.ndarray):
+def _pyramid(cube: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Box-filtered mip pyramid of a cube map, each face padded with its neighbours' texels.
 
     Returns the levels concatenated in one flat float32 array, each level's offset into it and
@@ -210,7 +212,7 @@ def _pyramid(cube: np.ndarray):
     to four with zeros, so that the kernel reads fixed-size texels).
     """
     levels, sizes = [], []
-    level = np.zeros(cube.shape[:3] + (4,), np.float32)
+    level: np.ndarray = np.zeros(cube.shape[:3] + (4,), np.float32)
     level[..., : cube.shape[-1]] = cube
     while True:
         s = level.shape[1]
@@ -299,7 +301,9 @@ class _Source:
         if flat.size > MAX_BRIGHT:
             threshold = max(threshold, float(np.partition(flat, -MAX_BRIGHT - 1)[-MAX_BRIGHT - 1]))
         rest = np.minimum(cube, np.float32(threshold)) if threshold > 0 else cube
-        index = np.flatnonzero(flat > threshold)[:MAX_BRIGHT] if threshold > 0 else []
+        index: np.ndarray | list[int] = (
+            np.flatnonzero(flat > threshold)[:MAX_BRIGHT] if threshold > 0 else []
+        )
         dirs, _ = cube_layout.directions((6, s, s))
         self.bright_dirs = np.ascontiguousarray(dirs.reshape(-1, 3)[index])
         self.bright_omega = omega.reshape(-1)[index]
@@ -307,7 +311,7 @@ class _Source:
         self.bright_values = np.ascontiguousarray(excess, dtype=np.float64)
         self.pyramid = _pyramid(rest)
 
-    def rest_level(self, k: int):
+    def rest_level(self, k: int) -> tuple[int, np.ndarray]:
         """Pyramid level ``k`` of the rest, unpadded: (face size, (6 s^2, C) float64 values)."""
         flat, offsets, sizes = self.pyramid
         sk = int(sizes[k])
@@ -316,7 +320,9 @@ class _Source:
         return sk, np.ascontiguousarray(values, dtype=np.float64)
 
 
-def _convolve(source: _Source, size: int, lobe: _Lobe, task=None) -> np.ndarray:
+def _convolve(
+    source: _Source, size: int, lobe: _Lobe, task: progress.Task | None = None
+) -> np.ndarray:
     """One output level: the bright texels exactly, plus the rest by exact convolution where it
     is cheap and by filtered importance sampling elsewhere.
 
@@ -418,7 +424,7 @@ def _bright_part(source: _Source, dirs: np.ndarray, size: int, lobe: _Lobe) -> n
 # --- public API ----------------------------------------------------------------------------------
 
 
-def source_cube(image, layout: str, *, size: int = 256) -> np.ndarray:
+def source_cube(image: ArrayLike, layout: str, *, size: int = 256) -> np.ndarray:
     """The environment as a ``(6, size, size, C)`` float32 cube: level 0 of every chain.
 
     A cube of the requested size is returned unchanged (as float32); anything else is remapped
@@ -437,7 +443,13 @@ def source_cube(image, layout: str, *, size: int = 256) -> np.ndarray:
 
 
 def prefilter_cost(
-    shape, layout: str, *, size: int = 256, mips: int = 9, samples: int = 256, itemsize: int = 4
+    shape: Sequence[int],
+    layout: str,
+    *,
+    size: int = 256,
+    mips: int = 9,
+    samples: int = 256,
+    itemsize: int = 4,
 ) -> Cost:
     """What :func:`prefilter_ggx` or :func:`prefilter_phong` of an environment of ``shape``
     (with its channel axis) in ``layout`` holds at its peak, and the work it does.
@@ -464,7 +476,7 @@ def prefilter_cost(
     return Cost(max(chain, to_cube.memory), work, what)
 
 
-def _source(image, layout, size, samples) -> _Source:
+def _source(image: ArrayLike, layout: str, size: int, samples: int) -> _Source:
     if not 1 <= samples <= MAX_SAMPLES:
         raise ArgumentError(f"samples must be in 1..{MAX_SAMPLES}, got {samples}")
     with progress.step("preparing the source cube map"):
@@ -483,7 +495,7 @@ def mip_roughness(mips: int) -> np.ndarray:
     return np.linspace(0.0, 1.0, mips) if mips > 1 else np.zeros(1)
 
 
-def phong_exponents(mips: int, *, gloss_scale: float = 10.0, gloss_bias: float = 1.0):
+def phong_exponents(mips: int, *, gloss_scale: float = 10.0, gloss_bias: float = 1.0) -> np.ndarray:
     """Cmft's Phong exponent of each level: ``2^(gloss_scale g + gloss_bias)``,
     ``g = 1 - m / (mips - 1)`` (2048 down to 2 with the defaults)."""
     g = 1 - mip_roughness(mips)
@@ -491,12 +503,12 @@ def phong_exponents(mips: int, *, gloss_scale: float = 10.0, gloss_bias: float =
 
 
 def prefilter_ggx(
-    image,
+    image: ArrayLike,
     layout: str,
     *,
     size: int = 256,
     mips: int = 9,
-    roughness=None,
+    roughness: ArrayLike | None = None,
     samples: int = 256,
 ) -> list[np.ndarray]:
     """The GGX prefiltered cube map mip chain (split-sum approximation, n = v = r).
@@ -544,12 +556,12 @@ def prefilter_ggx(
 
 
 def prefilter_phong(
-    image,
+    image: ArrayLike,
     layout: str,
     *,
     size: int = 256,
     mips: int = 9,
-    exponents=None,
+    exponents: ArrayLike | None = None,
     samples: int = 256,
 ) -> list[np.ndarray]:
     """The Phong prefiltered cube map mip chain (HDRShop's specular convolution, cmft's filter).
@@ -580,7 +592,14 @@ def prefilter_phong(
     return _chain(image, layout, size, samples, lobes, "Phong")
 
 
-def _chain(image, layout, size: int, samples: int, lobes, name: str) -> list[np.ndarray]:
+def _chain(
+    image: ArrayLike,
+    layout: str,
+    size: int,
+    samples: int,
+    lobes: list[tuple[bool, float] | None],
+    name: str,
+) -> list[np.ndarray]:
     """The levels of a chain: ``lobes[m]`` is ``(ggx, param)`` of :class:`_Lobe`, or None
     for the source cube itself. Its memory is checked first (:func:`prefilter_cost`)."""
     env = check_environment(image, layout)
@@ -607,7 +626,7 @@ def _chain(image, layout, size: int, samples: int, lobes, name: str) -> list[np.
     return _shaped(out, image, layout)
 
 
-def _shaped(chain: list[np.ndarray], image, layout) -> list[np.ndarray]:
+def _shaped(chain: list[np.ndarray], image: ArrayLike, layout: str | Layout) -> list[np.ndarray]:
     """The chain's levels without their channel axis when the input had none."""
     if np.ndim(image) == (3 if get_layout(layout).cubic else 2):
         return [level[..., 0] for level in chain]

@@ -24,17 +24,21 @@ Measurements (all from the excess, per channel where a colour is meant):
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
+from bakeshop.errors import ArgumentError
 from bakeshop.image import LUMINANCE_WEIGHTS
 from bakeshop.resources import Cost, require
 from bakeshop.sphere import (
     STRIP_TEXELS,
     Environment,
+    Layout,
     Texels,
     check_environment,
     texel_rows,
@@ -42,6 +46,9 @@ from bakeshop.sphere import (
     texels_at,
 )
 from bakeshop.sphere import layout as get_layout
+
+#: bilinear samples of an environment's colour channels at directions: (..., 3) -> (..., colour).
+Sampler = Callable[[np.ndarray], np.ndarray]
 
 #: the sun's peak must exceed the sky around it (median of a ring) by this factor.
 CONTRAST = 20.0
@@ -158,19 +165,19 @@ class TexelArrays:
     these arrays (a :class:`TexelSource`; a chunked job's reads its texels from a file where
     they are looked at)."""
 
-    def __init__(self, values, dirs, omega):
+    def __init__(self, values: np.ndarray, dirs: np.ndarray, omega: np.ndarray) -> None:
         self.values, self.dirs, self.omega = values, dirs, omega
 
-    def brightest(self, centre, cos_limit) -> int:
+    def brightest(self, centre: np.ndarray, cos_limit: float) -> int:
         """As :meth:`TexelSource.brightest`."""
         weights = _weights(self.values)
         return _brightest(self.values, weights, self.omega, self.dirs, centre, cos_limit)
 
-    def cap(self, centre, cos_limit) -> np.ndarray:
+    def cap(self, centre: np.ndarray, cos_limit: float) -> np.ndarray:
         """As :meth:`TexelSource.cap`."""
         return _cap(self.dirs, self.omega, centre, cos_limit)
 
-    def gather(self, index):
+    def gather(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """As :meth:`TexelSource.gather`."""
         return self.values[index], self.dirs[index], self.omega[index]
 
@@ -183,7 +190,7 @@ class _Image:
         self.values = env.image.reshape(-1, env.image.shape[-1])
         self.colour, self.layout, self.shape = colour, env.layout, env.image.shape[:-1]
 
-    def brightest(self, centre, cos_limit) -> int:
+    def brightest(self, centre: np.ndarray, cos_limit: float) -> int:
         whole = cos_limit > 1.0
         best, top = -1, 0.0
         for start, stop, dirs, omega in texel_strips(self.layout, self.shape, directions=not whole):
@@ -195,7 +202,7 @@ class _Image:
                 best, top = start + k, lum
         return best
 
-    def cap(self, centre, cos_limit) -> np.ndarray:
+    def cap(self, centre: np.ndarray, cos_limit: float) -> np.ndarray:
         parts = [
             start + _cap(dirs, omega, centre, cos_limit)
             for start, _, dirs, omega in texel_strips(
@@ -204,7 +211,7 @@ class _Image:
         ]
         return np.concatenate(parts) if parts else np.empty(0, np.int64)
 
-    def _rows(self, centre, cos_limit):
+    def _rows(self, centre: np.ndarray, cos_limit: float) -> tuple[int, int]:
         """Rows that may hold texels within the cap: a latlong's band of colatitudes."""
         n_rows, _ = texel_rows(self.layout, self.shape)
         if self.layout.name != "latlong" or cos_limit <= -1.0:
@@ -217,7 +224,7 @@ class _Image:
             min(n_rows, math.ceil((theta + reach) / pitch) + 1),
         )
 
-    def gather(self, index):
+    def gather(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         dirs, omega = texels_at(self.layout, self.shape, index)
         return self.values[index, : self.colour], dirs, omega
 
@@ -226,7 +233,9 @@ _NO_DIRS = np.zeros((0, 3))
 
 
 @numba.njit(parallel=True, cache=True)
-def _cap(dirs, omega, centre, cos_limit):  # pragma: no cover - compiled
+def _cap(  # pragma: no cover - compiled
+    dirs: np.ndarray, omega: np.ndarray, centre: np.ndarray, cos_limit: float
+) -> np.ndarray:
     # Indices (ascending) of the texels with a solid angle within acos(cos_limit) of centre.
     chunks = 64
     step = (dirs.shape[0] + chunks - 1) // chunks
@@ -250,14 +259,16 @@ def _cap(dirs, omega, centre, cos_limit):  # pragma: no cover - compiled
     return out
 
 
-def _tangent_frame(a):
+def _tangent_frame(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     helper = np.array([0.0, 1.0, 0.0]) if abs(a[1]) < 0.9 else np.array([1.0, 0.0, 0.0])
     t1 = np.cross(helper, a)
     t1 /= np.linalg.norm(t1)
     return t1, np.cross(a, t1)
 
 
-def _profile(lum, ang, pitch, peak):
+def _profile(
+    lum: np.ndarray, ang: np.ndarray, pitch: float, peak: float
+) -> tuple[float, float, float, float, float]:
     """Sky level, core radius, mask radius and half-peak level of a light.
 
     ``lum`` and ``ang`` (angle from the light's centre) are the texels around it. In rings one
@@ -269,7 +280,7 @@ def _profile(lum, ang, pitch, peak):
     ring = (ang / pitch).astype(np.int64)
     counts = np.bincount(ring)
 
-    def core_radius(half):
+    def core_radius(half: float) -> float:
         bright = np.bincount(ring[lum >= half], minlength=counts.size)
         below = np.flatnonzero((bright == 0) & (counts > 0))
         return (below[0] if below.size else counts.size) * pitch
@@ -294,7 +305,7 @@ def _profile(lum, ang, pitch, peak):
     return sky, core, mask, half, 2 * inner
 
 
-def _candidate(texels, k, max_core) -> _Candidate | None:
+def _candidate(texels: TexelSource, k: int, max_core: float) -> _Candidate | None:
     """Measure the compact light whose brightest texel is ``k`` (of ``texels``, an
     :class:`TexelArrays` or :class:`_Image`); None if it is not compact: its core is wider than
     ``max_core`` (radians) or not CONTRAST times brighter than the sky around it."""
@@ -330,7 +341,7 @@ def _candidate(texels, k, max_core) -> _Candidate | None:
 
 
 @numba.njit(cache=True, inline="always")
-def _lum(values, weights, i):  # pragma: no cover - compiled
+def _lum(values: np.ndarray, weights: np.ndarray, i: int) -> float:  # pragma: no cover - compiled
     # _luminance of texel i, the same arithmetic in the values' type
     if values.shape[1] < 3:
         return values[i, 0]
@@ -338,7 +349,14 @@ def _lum(values, weights, i):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _brightest(values, weights, omega, dirs, centre, cos_limit):  # pragma: no cover - compiled
+def _brightest(  # pragma: no cover - compiled
+    values: np.ndarray,
+    weights: np.ndarray,
+    omega: np.ndarray,
+    dirs: np.ndarray,
+    centre: np.ndarray,
+    cos_limit: float,
+) -> int:
     # The texel of largest luminance among those with a solid angle and at more than
     # acos(cos_limit) from centre (cos_limit > 1: all of them, dirs unread); -1 if none is
     # positive. ``weights``: the luminance weights in the values' type.
@@ -365,7 +383,7 @@ def _brightest(values, weights, omega, dirs, centre, cos_limit):  # pragma: no c
     return k
 
 
-def _detect(texels) -> _Candidate | None:
+def _detect(texels: TexelSource) -> _Candidate | None:
     k = texels.brightest(np.zeros(3), 2.0)
     if k < 0:
         return None
@@ -384,7 +402,7 @@ def _detect(texels) -> _Candidate | None:
     return sun
 
 
-def _harmonic_fill(sampler, centre, radius, pitch):
+def _harmonic_fill(sampler: Sampler, centre: np.ndarray, radius: float, pitch: float) -> Sampler:
     """Fill the disk of angular ``radius`` around ``centre`` harmonically from its surroundings,
     sampled by ``sampler`` (directions (..., 3) -> bilinear values (..., C)).
 
@@ -432,7 +450,7 @@ def _harmonic_fill(sampler, centre, radius, pitch):
         )
         patch[unknown] = splu(a).solve(rhs)
 
-    def fill(d):
+    def fill(d: np.ndarray) -> np.ndarray:
         w = d @ np.stack([t1, t2, centre], 1)
         x = w[:, 0] / w[:, 2] / step + half
         y = w[:, 1] / w[:, 2] / step + half
@@ -461,7 +479,7 @@ class Removal:
         flat[self.index, : self.filled.shape[1]] = self.filled
 
 
-def split_texels(t: Texels | TexelSource, *, sampler=None) -> Removal | None:
+def split_texels(t: Texels | TexelSource, *, sampler: Sampler | None = None) -> Removal | None:
     """Find the sun among an environment's texels (:func:`bakeshop.sphere.texels`) and compute
     its fill: the texel-level form of :func:`remove_sun`, for callers that already hold the
     texels. Only the colour channels (the first three, or the one) are looked at and filled;
@@ -478,11 +496,13 @@ def split_texels(t: Texels | TexelSource, *, sampler=None) -> Removal | None:
         return _split(t, sampler)
     colour = min(3, t.values.shape[1])
     if sampler is None:
+        if t.environment is None:
+            raise ArgumentError("texels without their environment need a sampler")
         sampler = _image_sampler(t.environment, colour)
     return _split(TexelArrays(t.values[:, :colour], t.dirs, t.omega), sampler)
 
 
-def split_sun(image: np.ndarray, layout: str) -> Removal | None:
+def split_sun(image: ArrayLike, layout: str | Layout) -> Removal | None:
     """Find the sun of a probe and compute its fill (:func:`split_texels`) from the image
     itself: its texels' directions are computed strip by strip where they are looked at, so
     a 16k probe costs no per-texel geometry (the whole layout's would be 32 bytes a texel).
@@ -508,7 +528,7 @@ def split_environment(env: Environment) -> Removal | None:
     return _split(_Image(env, colour), _image_sampler(env, colour))
 
 
-def _image_sampler(env: Environment, colour: int):
+def _image_sampler(env: Environment, colour: int) -> Sampler:
     """Bilinear samples of an environment's colour channels at directions (its texels are
     checked already: a base layout is sampled directly)."""
     from bakeshop.sphere import sample
@@ -517,13 +537,13 @@ def _image_sampler(env: Environment, colour: int):
     lay, image = env.layout, env.image
     if lay.base is not lay:  # a cross or strip: sampled as its cube
 
-        def sampler(d):
+        def view_sampler(d: np.ndarray) -> np.ndarray:
             return sample(image[..., :colour], lay, d, filter="bilinear")
 
-        return sampler
+        return view_sampler
     flat = image.reshape(-1, image.shape[-1])
 
-    def sampler(d):
+    def sampler(d: np.ndarray) -> np.ndarray:
         d = np.asarray(d, dtype=np.float64)
         taps, frac = sample_taps(lay, image.shape[:-1], d.reshape(-1, 3))
         values = gather_taps(flat, taps, frac.astype(flat.dtype))[:, :colour]
@@ -532,7 +552,7 @@ def _image_sampler(env: Environment, colour: int):
     return sampler
 
 
-def _split(texels, sampler) -> Removal | None:
+def _split(texels: TexelSource, sampler: Sampler) -> Removal | None:
     cand = _detect(texels)
     if cand is None:
         return None
@@ -567,7 +587,7 @@ def _split(texels, sampler) -> Removal | None:
     return Removal(sun, index, filled.astype(values.dtype))
 
 
-def find_sun_cost(shape, layout: str) -> Cost:
+def find_sun_cost(shape: Sequence[int], layout: str) -> Cost:
     """What :func:`find_sun` (or :func:`remove_sun`) of a probe of ``shape`` in ``layout``
     holds at its peak: :data:`SEARCH_BYTES` per texel of the strips and caps it reads at once
     (four :data:`bakeshop.sphere.STRIP_TEXELS` at most: its texels' directions, solid angles
@@ -579,7 +599,7 @@ def find_sun_cost(shape, layout: str) -> Cost:
     return Cost(memory, n, f"the sun's search in a {lay.name} probe of {n} texels")
 
 
-def find_sun(image, layout: str) -> Sun | None:
+def find_sun(image: ArrayLike, layout: str) -> Sun | None:
     """Find and measure the sun of a light probe.
 
     Parameters
@@ -600,7 +620,7 @@ def find_sun(image, layout: str) -> Sun | None:
     return None if found is None else found.sun
 
 
-def remove_sun(image, layout: str):
+def remove_sun(image: ArrayLike, layout: str) -> tuple[np.ndarray, Sun | None]:
     """The probe with its sun painted out, and the sun.
 
     Parameters

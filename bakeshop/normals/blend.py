@@ -50,9 +50,11 @@ Techniques 9(3), 60-90, 2020, https://jcgt.org/published/0009/03/04/ (surface gr
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
 
@@ -72,7 +74,7 @@ _TINY = 1e-30
 
 
 @numba.njit(cache=True, inline="always")
-def _overlay1(a, b):
+def _overlay1(a: float, b: float) -> float:
     a = (a + 1) * 0.5
     b = (b + 1) * 0.5
     r = 2 * a * b if a < 0.5 else 1 - 2 * (1 - a) * (1 - b)
@@ -80,7 +82,9 @@ def _overlay1(a, b):
 
 
 @numba.njit(cache=True, inline="always")
-def _formula(method, x1, y1, z1, x2, y2, z2):
+def _formula(
+    method: int, x1: float, y1: float, z1: float, x2: float, y2: float, z2: float
+) -> tuple[float, float, float]:
     if method == 0:  # exact
         k = z2 - x2 * x1 - y2 * y1
         return k * x1 + x2, k * y1 + y2, k * z1
@@ -105,7 +109,9 @@ def _formula(method, x1, y1, z1, x2, y2, z2):
 
 
 @numba.njit(cache=True, parallel=True)
-def _blend(method, m, d, strength, out):
+def _blend(
+    method: int, m: np.ndarray, d: np.ndarray, strength: np.ndarray, out: np.ndarray
+) -> None:
     n = m.shape[0]
     per_texel = strength.shape[0] > 1
     for i in numba.prange(n):
@@ -132,7 +138,9 @@ def _blend(method, m, d, strength, out):
             out[i, 2] = 1.0
 
 
-def _check(macro, detail, strength):
+def _check(
+    macro: ArrayLike, detail: ArrayLike, strength: ArrayLike
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, type[np.floating]]:
     """Validated (N, 3) float views of the inputs, the strength as (1,) or (N,), the dtype."""
     m, d = np.asarray(macro), np.asarray(detail)
     if m.shape != d.shape or m.ndim < 1 or m.shape[-1] != 3:
@@ -157,7 +165,9 @@ def _check(macro, detail, strength):
     return m, d, s, dtype
 
 
-def blend(macro, detail, *, method: str = DEFAULT_METHOD, strength=1.0) -> np.ndarray:
+def blend(
+    macro: ArrayLike, detail: ArrayLike, *, method: str = DEFAULT_METHOD, strength: ArrayLike = 1.0
+) -> np.ndarray:
     """Blend detail normals onto macro normals with the named method (see the module notes).
 
     Parameters
@@ -185,8 +195,8 @@ def blend(macro, detail, *, method: str = DEFAULT_METHOD, strength=1.0) -> np.nd
     return out.reshape(shape)
 
 
-def _method_function(name: str, summary: str):
-    def f(macro, detail, *, strength=1.0):
+def _method_function(name: str, summary: str) -> Callable[..., np.ndarray]:
+    def f(macro: ArrayLike, detail: ArrayLike, *, strength: ArrayLike = 1.0) -> np.ndarray:
         return blend(macro, detail, method=name, strength=strength)
 
     f.__name__ = f.__qualname__ = f"blend_{name}"

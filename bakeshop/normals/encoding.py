@@ -27,7 +27,9 @@ z = sqrt(1 - x^2 - y^2), as a shader does.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
+from typing import Literal, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -56,12 +58,12 @@ __all__ = [
 ]
 
 
-def _float(a) -> np.ndarray:
+def _float(a: ArrayLike) -> np.ndarray:
     a = np.asarray(a)
     return a if a.dtype in (np.float32, np.float64) else a.astype(np.float32)
 
 
-def _vectors(normals, what: str = "normals") -> np.ndarray:
+def _vectors(normals: ArrayLike, what: str = "normals") -> np.ndarray:
     n = _float(normals)
     if n.ndim < 1 or n.shape[-1] != 3:
         raise ArgumentError(f"{what} must be an array of 3-vectors (..., 3); got shape {n.shape}")
@@ -159,7 +161,7 @@ def convert_normal_map(
     return values
 
 
-def _raw(image, encoding: str, channels: str) -> np.ndarray:
+def _raw(image: ArrayLike, encoding: str, channels: str) -> np.ndarray:
     """The stored components as vectors, before any renormalisation (z rebuilt for "xy")."""
     validate_choice(encoding, ENCODINGS, "normal-map encoding")
     validate_choice(channels, CHANNELS, "normal-map channels")
@@ -336,14 +338,32 @@ def check_normals(
     )
 
 
+@overload
 def read_normal_map(
-    path,
+    path: str | os.PathLike,
+    *,
+    convention: str = ...,
+    encoding: str = ...,
+    channels: str = ...,
+    with_bits: Literal[False] = ...,
+) -> np.ndarray: ...
+@overload
+def read_normal_map(
+    path: str | os.PathLike,
+    *,
+    convention: str = ...,
+    encoding: str = ...,
+    channels: str = ...,
+    with_bits: Literal[True],
+) -> tuple[np.ndarray, int | None]: ...
+def read_normal_map(
+    path: str | os.PathLike,
     *,
     convention: str = "gl",
     encoding: str = "packed",
     channels: str = "xyz",
     with_bits: bool = False,
-):
+) -> np.ndarray | tuple[np.ndarray, int | None]:
     """A normal-map file as ``(H, W, 3)`` float32 unit vectors in the OpenGL frame
     (:func:`decode_normals` of :func:`bakeshop.io.read_image`); with
     ``with_bits`` also the file's sample depth (8, 16, or None for floats)."""

@@ -14,6 +14,7 @@ Reference: I. Sobel and G. Feldman, "A 3x3 isotropic gradient operator for image
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import ndimage
 
 from bakeshop.errors import ArgumentError, validate_choice
@@ -25,7 +26,7 @@ __all__ = ["DERIVATIVES", "height_to_normal"]
 
 
 def height_to_normal(
-    height,
+    height: ArrayLike,
     *,
     strength: float = 1.0,
     derivative: str = "central",
@@ -68,7 +69,7 @@ def height_to_normal(
     central = np.array([-0.5, 0.0, 0.5], dtype)
     smooth = np.array([0.25, 0.5, 0.25], dtype)
 
-    def derivative_along(axis):
+    def derivative_along(axis: int) -> np.ndarray:
         d = ndimage.correlate1d(h, central, axis=axis, mode=mode)
         if derivative == "sobel":
             d = ndimage.correlate1d(d, smooth, axis=1 - axis, mode=mode)

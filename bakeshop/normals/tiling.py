@@ -25,6 +25,7 @@ that is itself exactly tileable.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numba
@@ -105,7 +106,17 @@ def mip_chain(image: ArrayLike) -> MipChain:
 
 
 @numba.njit(cache=True, inline="always")
-def _bilinear_add(texels, base, h, w, x, y, wrap, weight, out):
+def _bilinear_add(
+    texels: np.ndarray,
+    base: int,
+    h: int,
+    w: int,
+    x: float,
+    y: float,
+    wrap: bool,
+    weight: float,
+    out: np.ndarray,
+) -> None:
     """Out += weight * bilinear sample at texel coordinates (x, y) of the (h, w) level whose
     first texel is texels[base]."""
     x -= 0.5
@@ -136,7 +147,16 @@ def _bilinear_add(texels, base, h, w, x, y, wrap, weight, out):
 
 
 @numba.njit(cache=True, inline="always")
-def trilinear_add(texels, offsets, shapes, x, y, lod, wrap, out):
+def trilinear_add(
+    texels: np.ndarray,
+    offsets: np.ndarray,
+    shapes: np.ndarray,
+    x: float,
+    y: float,
+    lod: float,
+    wrap: bool,
+    out: np.ndarray,
+) -> None:
     """Out += trilinear sample of a packed :class:`MipChain` (numba device function).
 
     (x, y) are level-0 texel coordinates (texel (i, j)'s centre is (i + 0.5, j + 0.5)) and lod
@@ -159,7 +179,16 @@ def trilinear_add(texels, offsets, shapes, x, y, lod, wrap, out):
 
 
 @numba.njit(cache=True, parallel=True)
-def _sample_points(texels, offsets, shapes, xs, ys, lods, wrap, out):
+def _sample_points(
+    texels: np.ndarray,
+    offsets: np.ndarray,
+    shapes: np.ndarray,
+    xs: np.ndarray,
+    ys: np.ndarray,
+    lods: np.ndarray,
+    wrap: bool,
+    out: np.ndarray,
+) -> None:
     for p in numba.prange(xs.shape[0]):
         o = out[p]
         for k in range(o.shape[0]):
@@ -167,7 +196,14 @@ def _sample_points(texels, offsets, shapes, xs, ys, lods, wrap, out):
         trilinear_add(texels, offsets, shapes, xs[p], ys[p], lods[p], wrap, o)
 
 
-def sample_wrapped(chain, x, y, *, lod=0.0, wrap: bool = True) -> np.ndarray:
+def sample_wrapped(
+    chain: MipChain | ArrayLike,
+    x: ArrayLike,
+    y: ArrayLike,
+    *,
+    lod: ArrayLike = 0.0,
+    wrap: bool = True,
+) -> np.ndarray:
     """Trilinear samples of a mip chain at continuous level-0 texel coordinates.
 
     Parameters
@@ -199,7 +235,18 @@ def sample_wrapped(chain, x, y, *, lod=0.0, wrap: bool = True) -> np.ndarray:
 
 
 @numba.njit(cache=True, parallel=True)
-def _place(texels, offsets, shapes, lod, affine, cos_r, sin_r, sign_x, sign_y, out):
+def _place(
+    texels: np.ndarray,
+    offsets: np.ndarray,
+    shapes: np.ndarray,
+    lod: float,
+    affine: np.ndarray,
+    cos_r: float,
+    sin_r: float,
+    sign_x: float,
+    sign_y: float,
+    out: np.ndarray,
+) -> None:
     """Sample along an affine map of output texels to level-0 texels, rotate XY, renormalise."""
     height, width = out.shape[:2]
     acc = np.empty((height, 3))
@@ -226,7 +273,7 @@ def _place(texels, offsets, shapes, lod, affine, cos_r, sin_r, sign_x, sign_y, o
                 out[j, i, 2] = 1.0
 
 
-def as_pair(value, what: str) -> tuple[float, float]:
+def as_pair(value: ArrayLike, what: str) -> tuple[float, float]:
     """A finite number or pair as ``(a, b)``; :class:`ArgumentError` naming ``what`` otherwise."""
     v = np.asarray(value, dtype=np.float64).reshape(-1)
     if v.size == 1:
@@ -237,7 +284,13 @@ def as_pair(value, what: str) -> tuple[float, float]:
 
 
 def place_detail(
-    detail: ArrayLike, shape, *, tile=1.0, offset=(0.0, 0.0), rotation: float = 0.0, chain=None
+    detail: ArrayLike,
+    shape: tuple[int, int],
+    *,
+    tile: float | tuple[float, float] = 1.0,
+    offset: tuple[float, float] = (0.0, 0.0),
+    rotation: float = 0.0,
+    chain: MipChain | None = None,
 ) -> np.ndarray:
     """Tile a detail normal map over an output of ``shape`` (see the module notes).
 
@@ -295,7 +348,12 @@ def place_detail(
     return out
 
 
-def mask_weights(mask: ArrayLike, shape, *, ids=None) -> np.ndarray:
+def mask_weights(
+    mask: ArrayLike,
+    shape: tuple[int, int],
+    *,
+    ids: Sequence[int | tuple[int, ...]] | None = None,
+) -> np.ndarray:
     """Per-texel weights of a detail layer from a greyscale mask or a material-ID map.
 
     Parameters
@@ -373,7 +431,9 @@ class DetailLayer:
     mask: np.ndarray | None = None
 
 
-def apply_layers(macro: ArrayLike, layers, *, method: str = DEFAULT_METHOD) -> np.ndarray:
+def apply_layers(
+    macro: ArrayLike, layers: Sequence[DetailLayer], *, method: str = DEFAULT_METHOD
+) -> np.ndarray:
     """Blend detail layers onto a macro normal map, one after the other.
 
     Each layer is placed with :func:`place_detail` and blended onto the result so far with

@@ -37,6 +37,7 @@ import math
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
@@ -68,7 +69,9 @@ __all__ = [
 # --- tangents ------------------------------------------------------------------------------
 
 
-def corner_tangents(positions, normals, uv, faces) -> np.ndarray:
+def corner_tangents(
+    positions: np.ndarray, normals: np.ndarray, uv: np.ndarray, faces: np.ndarray
+) -> np.ndarray:
     """MikkTSpace tangents and bitangent signs at the corners of each triangle.
 
     Follows ``mikktspace.c`` in the common case: each triangle's tangent is the direction of
@@ -115,7 +118,9 @@ def corner_tangents(positions, normals, uv, faces) -> np.ndarray:
     acc = np.zeros((2 * (vertex.max() + 1), 3))
     n = normals[faces]
 
-    def onto_plane(v, normal):  # unit projection onto the plane of ``normal``, 0 if none
+    def onto_plane(
+        v: np.ndarray, normal: np.ndarray
+    ) -> np.ndarray:  # unit projection onto the plane of ``normal``, 0 if none
         v = v - np.einsum("ij,ij->i", v, normal)[:, None] * normal
         length = np.linalg.norm(v, axis=1, keepdims=True)
         return np.where(length > 0, v / np.where(length > 0, length, 1), 0.0)
@@ -146,7 +151,7 @@ def corner_tangents(positions, normals, uv, faces) -> np.ndarray:
 
 
 @numba.njit(cache=True)
-def _rasterize(tex, faces, face_map, bary):
+def _rasterize(tex: np.ndarray, faces: np.ndarray, face_map: np.ndarray, bary: np.ndarray) -> None:
     height, width = face_map.shape
     for f in range(faces.shape[0]):
         a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
@@ -173,7 +178,9 @@ def _rasterize(tex, faces, face_map, bary):
                     bary[j, i, 2] = w2
 
 
-def rasterize_uv(uv, faces, shape) -> tuple[np.ndarray, np.ndarray]:
+def rasterize_uv(
+    uv: np.ndarray, faces: np.ndarray, shape: tuple[int, int]
+) -> tuple[np.ndarray, np.ndarray]:
     """Which triangle covers each texel centre of a UV layout, and where.
 
     Parameters
@@ -202,7 +209,7 @@ def rasterize_uv(uv, faces, shape) -> tuple[np.ndarray, np.ndarray]:
 
 
 @numba.njit(cache=True)
-def _dilate(out, filled, rings):
+def _dilate(out: np.ndarray, filled: np.ndarray, rings: int) -> None:
     """Grow the filled region ring by ring (8-neighbours), copying values outwards."""
     height, width = filled.shape
     frontier = np.empty(height * width, np.int64)
@@ -231,7 +238,13 @@ def _dilate(out, filled, rings):
         ring += 1
 
 
-def dilate(image, covered, *, pixels: int | None = 16, background=(0.0, 0.0, 1.0)) -> np.ndarray:
+def dilate(
+    image: ArrayLike,
+    covered: ArrayLike,
+    *,
+    pixels: int | None = 16,
+    background: ArrayLike = (0.0, 0.0, 1.0),
+) -> np.ndarray:
     """Extend UV islands over the empty texels around them (edge padding).
 
     The islands grow ring by ring, ``pixels`` rings at most: each texel of a new ring copies
@@ -256,7 +269,7 @@ def dilate(image, covered, *, pixels: int | None = 16, background=(0.0, 0.0, 1.0
     return out
 
 
-def _pad(out, covered, pixels, background):
+def _pad(out: np.ndarray, covered: ArrayLike, pixels: int | None, background: ArrayLike) -> None:
     """:func:`dilate` in place."""
     if pixels is not None and pixels < 0:
         raise ArgumentError(f"padding must be >= 0 texels; got {pixels}")
@@ -271,7 +284,18 @@ def _pad(out, covered, pixels, background):
 
 
 @numba.njit(cache=True, inline="always")
-def _to_tangent(wx, wy, wz, tx, ty, tz, sign, nx, ny, nz):
+def _to_tangent(
+    wx: float,
+    wy: float,
+    wz: float,
+    tx: float,
+    ty: float,
+    tz: float,
+    sign: float,
+    nx: float,
+    ny: float,
+    nz: float,
+) -> tuple[float, float, float]:
     """[T B N]^-1 w normalised, B = sign * cross(N, T); (0, 0, 1) for a degenerate frame."""
     bx = sign * (ny * tz - nz * ty)
     by = sign * (nz * tx - nx * tz)
@@ -291,7 +315,9 @@ def _to_tangent(wx, wy, wz, tx, ty, tz, sign, nx, ny, nz):
 
 
 @numba.njit(cache=True, parallel=True)
-def _world_to_tangent(world, tangent, sign, normal, out):
+def _world_to_tangent(
+    world: np.ndarray, tangent: np.ndarray, sign: np.ndarray, normal: np.ndarray, out: np.ndarray
+) -> None:
     for i in numba.prange(world.shape[0]):
         w, t, n = world[i], tangent[i], normal[i]
         out[i, 0], out[i, 1], out[i, 2] = _to_tangent(
@@ -299,7 +325,9 @@ def _world_to_tangent(world, tangent, sign, normal, out):
         )
 
 
-def world_to_tangent(world, tangent, sign, normal) -> np.ndarray:
+def world_to_tangent(
+    world: ArrayLike, tangent: ArrayLike, sign: ArrayLike, normal: ArrayLike
+) -> np.ndarray:
     """Tangent-space normal m that an engine turns back into the world normal ``world``.
 
     MikkTSpace's pixel shader reconstructs normalize(m_x T + m_y B + m_z N) with the
@@ -322,7 +350,16 @@ def world_to_tangent(world, tangent, sign, normal) -> np.ndarray:
 
 
 @numba.njit(cache=True, inline="always")
-def _detail(texels, offsets, shapes, s, t, lod, place, acc):
+def _detail(
+    texels: np.ndarray,
+    offsets: np.ndarray,
+    shapes: np.ndarray,
+    s: float,
+    t: float,
+    lod: float,
+    place: np.ndarray,
+    acc: np.ndarray,
+) -> tuple[float, float, float]:
     """The detail normal at pattern coordinates (s, t): placed (tile, rotation, offset),
     sampled trilinearly with wrap, renormalised, its XY turned with the pattern."""
     a = s * place[0]
@@ -350,27 +387,27 @@ _TASK = 4096
 
 @numba.njit(cache=True, parallel=True)
 def _shade(
-    texels_idx,
-    face_of,
-    bary,
-    faces,
-    normals,
-    positions,
-    uv2,
-    frame,
-    frame2,
-    texels,
-    offsets,
-    shapes,
-    lod,
-    box_axis,
-    mode,
-    axis,
-    sharpness,
-    place,
-    axes,
-    out,
-):
+    texels_idx: np.ndarray,
+    face_of: np.ndarray,
+    bary: np.ndarray,
+    faces: np.ndarray,
+    normals: np.ndarray,
+    positions: np.ndarray,
+    uv2: np.ndarray,
+    frame: np.ndarray,
+    frame2: np.ndarray,
+    texels: np.ndarray,
+    offsets: np.ndarray,
+    shapes: np.ndarray,
+    lod: np.ndarray,
+    box_axis: np.ndarray,
+    mode: int,
+    axis: int,
+    sharpness: float,
+    place: np.ndarray,
+    axes: np.ndarray,
+    out: np.ndarray,
+) -> None:
     n = texels_idx.shape[0]
     for task in numba.prange((n + _TASK - 1) // _TASK):
         acc = np.empty(3)
@@ -441,7 +478,7 @@ def _shade(
             out[q, 0], out[q, 1], out[q, 2] = m
 
 
-def _face_lod(detail_texels, macro_texels, faces):
+def _face_lod(detail_texels: np.ndarray, macro_texels: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """log2 of each face's footprint: detail texels per macro texel (GPU-style max axis).
 
     ``detail_texels`` (F, 3, 2) are the detail texel coordinates at the face's corners.
@@ -467,12 +504,12 @@ def _face_lod(detail_texels, macro_texels, faces):
 
 def transfer_detail(
     mesh: Mesh,
-    detail,
-    shape,
+    detail: ArrayLike,
+    shape: tuple[int, int],
     *,
     projection: str = "uv2",
-    tile=1.0,
-    offset=(0.0, 0.0),
+    tile: float | tuple[float, float] = 1.0,
+    offset: tuple[float, float] = (0.0, 0.0),
     rotation: float = 0.0,
     axis: str = "z",
     sharpness: float = 4.0,
@@ -556,10 +593,12 @@ def transfer_detail(
         [tu, tv, ou, ov, math.cos(th), math.sin(th), math.copysign(1, tu), math.copysign(1, tv)]
     )
     faces = mesh.faces
+    assert mesh.normals is not None  # Mesh computes the normals a file lacks
     with progress.step("tangents"):
         frame = corner_tangents(mesh.positions, mesh.normals, mesh.uv, faces)
         frame2 = frame
         if projection == "uv2":
+            assert mesh.uv2 is not None  # checked on entry
             frame2 = corner_tangents(mesh.positions, mesh.normals, mesh.uv2, faces)
     with progress.step("rasterising"):
         face_map, bary = rasterize_uv(mesh.uv, faces, (height, width))
@@ -570,7 +609,7 @@ def transfer_detail(
     macro_texels = np.stack([mesh.uv[:, 0] * width, (1 - mesh.uv[:, 1]) * height], axis=1)
     h0, w0 = (int(v) for v in chain.shapes[0])
 
-    def face_lods(st):  # (F, 3, 2) pattern coordinates at the corners
+    def face_lods(st: np.ndarray) -> np.ndarray:  # (F, 3, 2) pattern coordinates at the corners
         a, b = st[..., 0] * tu, st[..., 1] * tv
         qu = place[4] * a + place[5] * b
         qv = -place[5] * a + place[4] * b

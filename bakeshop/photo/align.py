@@ -70,11 +70,13 @@ def _shifted(bits: np.ndarray, dy: int, dx: int) -> np.ndarray:
     return out
 
 
-def _bitmaps(grey, level_value, band):
+def _bitmaps(grey: np.ndarray, level_value: float, band: float) -> tuple[np.ndarray, np.ndarray]:
     return grey > level_value, np.abs(grey - level_value) > band
 
 
-def _mtb_shift(ref_grey, grey, top, levels, ref_q, q) -> tuple[int, int]:
+def _mtb_shift(
+    ref_grey: np.ndarray, grey: np.ndarray, top: int, levels: int, ref_q: float, q: float
+) -> tuple[int, int]:
     """Whole-pixel shift of ``grey`` onto ``ref_grey`` by the median-threshold pyramid."""
     pyr_ref, pyr = [ref_grey], [grey]
     for _ in range(levels):
@@ -103,7 +105,9 @@ def _mtb_shift(ref_grey, grey, top, levels, ref_q, q) -> tuple[int, int]:
     return dy, dx
 
 
-def _thresholds(ref_grey, grey, top, low, high) -> tuple[float, float]:
+def _thresholds(
+    ref_grey: np.ndarray, grey: np.ndarray, top: int, low: int, high: int
+) -> tuple[float, float]:
     """A common percentile both frames see unclipped: the median when it lies well inside the
     range both see (a quarter of it from either end), else the middle of that range."""
     n = ref_grey.size
@@ -123,7 +127,7 @@ def _ranks(grey: np.ndarray, top: int) -> np.ndarray:
     return cdf[codes].astype(np.float64)
 
 
-def _tiles(ref_rank, usable, dy, dx):
+def _tiles(ref_rank: np.ndarray, usable: np.ndarray, dy: float, dx: float) -> list[tuple[int, int]]:
     """Corners of the most textured tiles that both frames see (never near the border)."""
     h, w = ref_rank.shape
     margin = int(max(abs(dy), abs(dx))) + 8
@@ -139,7 +143,9 @@ def _tiles(ref_rank, usable, dy, dx):
     return [(y, x) for _, y, x in corners[:TILES]]
 
 
-def _refine(ref_rank, rank, usable, dy, dx) -> tuple[float, float]:
+def _refine(
+    ref_rank: np.ndarray, rank: np.ndarray, usable: np.ndarray, dy: float, dx: float
+) -> tuple[float, float]:
     """Lucas-Kanade translation from the whole-pixel start (dy, dx)."""
     from scipy.ndimage import map_coordinates, spline_filter
 
@@ -181,7 +187,7 @@ def _refine(ref_rank, rank, usable, dy, dx) -> tuple[float, float]:
 
 
 def align_stack(
-    codes,
+    codes: np.ndarray,
     *,
     reference: int | None = None,
     max_shift: int = 64,
@@ -232,13 +238,16 @@ def align_stack(
     min_side = min(codes.shape[1:3])
     levels = max(0, min(math.ceil(math.log2(max_shift)), int(math.log2(max(min_side, 2))) - 4))
 
-    def frame(j):
+    def frame(j: int) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
         grey = _grey(codes[j])
         ok = (codes[j] > low).all(axis=-1) & (codes[j] < high).all(axis=-1)
         rank = gaussian_filter(_ranks(grey, top), BLUR) if subpixel else None
         return grey, ok, rank
 
-    def step(near, far):
+    def step(
+        near: tuple[np.ndarray, np.ndarray, np.ndarray | None],
+        far: tuple[np.ndarray, np.ndarray, np.ndarray | None],
+    ) -> tuple[float, float] | None:
         """Shift of frame ``far`` onto its neighbour ``near`` (None: too little overlap)."""
         ref_grey, ref_ok, ref_rank = near
         grey, ok, rank = far
@@ -246,7 +255,7 @@ def align_stack(
         if math.isnan(q):
             return None
         dy, dx = _mtb_shift(ref_grey, grey, top, levels, ref_q, q)
-        if not subpixel:
+        if ref_rank is None or rank is None:  # ranks are made only for subpixel
             return float(dy), float(dx)
         return _refine(ref_rank, rank, ref_ok & _shifted(ok, dy, dx), dy, dx)
 

@@ -41,6 +41,7 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.photo.response import KNOWN_CURVES, CameraResponse
@@ -75,7 +76,9 @@ MEASURED, CLIPPED, DARK, MODELLED = 0, 1, 2, 3
 STATUS_NAMES = {MEASURED: "measured", CLIPPED: "clipped", DARK: "dark", MODELLED: "modelled"}
 
 
-def _tables(response: CameraResponse, bits: int, channels: int, low: int, high: int):
+def _tables(
+    response: CameraResponse, bits: int, channels: int, low: int, high: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per-code linear value, merge weight and log slope (per full scale): (2**bits, C) each."""
     table = response.table(bits, channels)
     top = (1 << bits) - 1
@@ -98,9 +101,11 @@ def _tables(response: CameraResponse, bits: int, channels: int, low: int, high: 
 
 @numba.njit(parallel=True, cache=True)
 def _merge_rows(
-    codes, table, weight, slope, low, high, inv_exposure, shifts, ghost, noise,
-    row0, row1, out, votes, wsum, status, counts,
-):  # fmt: skip  # pragma: no cover - compiled
+    codes: np.ndarray, table: np.ndarray, weight: np.ndarray, slope: np.ndarray,
+    low: int, high: int, inv_exposure: np.ndarray, shifts: np.ndarray, ghost: float,
+    noise: float, row0: int, row1: int, out: np.ndarray, votes: np.ndarray, wsum: np.ndarray,
+    status: np.ndarray, counts: np.ndarray,
+) -> None:  # fmt: skip  # pragma: no cover - compiled
     p, h, w, nc = codes.shape
     shift_y = np.floor(shifts[:, 0])
     shift_x = np.floor(shifts[:, 1])
@@ -393,7 +398,7 @@ def merge_stack(
     stack: ExposureStack,
     response: CameraResponse,
     *,
-    shifts=None,
+    shifts: ArrayLike | None = None,
     ghost: float | None = None,
     clip_low: float | None = None,
     clip_high: float | None = None,

@@ -174,8 +174,8 @@ def _yaw(degrees: float) -> np.ndarray:
 
 
 def view_weight(
-    dirs: ArrayLike, convention: BallConvention = "hdrshop", *, exclude_deg=EXCLUDE_DEG
-):
+    dirs: ArrayLike, convention: BallConvention = "hdrshop", *, exclude_deg: float = EXCLUDE_DEG
+) -> np.ndarray:
     """How well a ball view sees each direction (in the view's own frame): ``(1 + cos theta)/2``
     with ``theta`` the angle from the view's centre direction (1 there, 0 at the rim), times a
     smooth ramp from 0 within ``exclude_deg`` of the centre direction (the photographer) to 1
@@ -193,7 +193,7 @@ def view_weight(
 # --- unwrapping -------------------------------------------------------------------------------
 
 
-def _check_photo(photo) -> np.ndarray:
+def _check_photo(photo: ArrayLike) -> np.ndarray:
     a = np.asarray(photo)
     if a.ndim == 2:
         a = a[:, :, None]
@@ -202,7 +202,7 @@ def _check_photo(photo) -> np.ndarray:
     return a.astype(np.float32, copy=False)
 
 
-def _sample(photo, xs, ys) -> np.ndarray:
+def _sample(photo: np.ndarray, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
     """Bilinear samples at continuous pixel coordinates (pixel centres at i + 0.5)."""
     from scipy.ndimage import map_coordinates
 
@@ -216,7 +216,7 @@ def _sample(photo, xs, ys) -> np.ndarray:
     ).astype(np.float32)
 
 
-def _check_circle(circle: Circle, photo) -> None:
+def _check_circle(circle: Circle, photo: np.ndarray) -> None:
     h, w = photo.shape[:2]
     ok = all(math.isfinite(v) for v in (circle.x, circle.y, circle.radius))
     if not ok or circle.radius < 4 or circle.radius > 2 * max(h, w):
@@ -291,10 +291,10 @@ def unwrap(
 
 
 def merge_views(
-    photos,
-    circles,
+    photos: Sequence[ArrayLike],
+    circles: Sequence[Circle],
     *,
-    yaws_deg,
+    yaws_deg: Sequence[float],
     to: UnwrapLayout = "latlong",
     size: int | None = None,
     convention: BallConvention = "hdrshop",
@@ -344,7 +344,14 @@ def merge_views(
     return out.astype(np.float32), weights.astype(np.float32)
 
 
-def best_yaw(photos, circles, *, angle_deg: float = 90.0, convention="hdrshop", size=256):
+def best_yaw(
+    photos: Sequence[ArrayLike],
+    circles: Sequence[Circle],
+    *,
+    angle_deg: float = 90.0,
+    convention: BallConvention = "hdrshop",
+    size: int = 256,
+) -> tuple[float, float, float]:
     """Which way the second view turned: ``+angle_deg`` or ``-angle_deg``, whichever makes the
     two unwrapped views agree better where both see well (weighted RMS of the log ratio).
 
@@ -399,14 +406,14 @@ def card_reflectance(
 # --- finding the ball -------------------------------------------------------------------------
 
 
-def _grey_log(photo) -> np.ndarray:
+def _grey_log(photo: np.ndarray) -> np.ndarray:
     lum = photo[..., :3].mean(-1) if photo.shape[2] >= 3 else photo[..., 0]
     positive = lum[lum > 0]
     floor = float(np.quantile(positive, 0.01)) if positive.size else 1.0
     return np.log(np.maximum(lum, floor * 0.5) + floor).astype(np.float32)
 
 
-def _coarse(grey, min_radius, max_radius):
+def _coarse(grey: np.ndarray, min_radius: float, max_radius: float) -> tuple[float, float, float]:
     """Gradient Hough: every strong edge votes along its gradient line for centres; the radius
     is the peak of the distance histogram of edges pointing at the centre."""
     from scipy import ndimage
@@ -443,7 +450,7 @@ def _coarse(grey, min_radius, max_radius):
     return float(cx) + 0.5, float(cy) + 0.5, float(np.argmax(hist))
 
 
-def _fit_circle(px, py):
+def _fit_circle(px: np.ndarray, py: np.ndarray) -> tuple[float, float, float, np.ndarray]:
     """Least-squares circle: algebraic (Kasa) start, then Gauss-Newton on the distances."""
     a = np.stack([px, py, np.ones_like(px)], axis=1)
     sol, *_ = np.linalg.lstsq(a, px * px + py * py, rcond=None)
@@ -462,7 +469,7 @@ def _fit_circle(px, py):
     return cx, cy, r, res
 
 
-def _refine(grey, cx, cy, r, reach):
+def _refine(grey: np.ndarray, cx: float, cy: float, r: float, reach: float) -> Circle:
     """Sub-pixel rim points along RIM_RAYS rays, then a robust circle fit."""
     from scipy.ndimage import gaussian_filter, map_coordinates
 

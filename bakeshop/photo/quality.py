@@ -13,13 +13,16 @@
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 
 __all__ = ["log2_rmse", "multi_exposure_psnr", "relative_scale"]
 
 
-def _pair(result, reference, mask):
+def _pair(
+    result: ArrayLike, reference: ArrayLike, mask: ArrayLike | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     a = np.asarray(result, dtype=np.float64)
     b = np.asarray(reference, dtype=np.float64)
     if a.shape != b.shape or a.ndim != 3:
@@ -30,7 +33,7 @@ def _pair(result, reference, mask):
     return a, b, m
 
 
-def relative_scale(result, reference, mask=None) -> float:
+def relative_scale(result: ArrayLike, reference: ArrayLike, mask: ArrayLike | None = None) -> float:
     """The factor ``k`` such that ``result / k`` best matches ``reference``: the median of the
     ratio of their channel means over positive pixels in ``mask``."""
     a, b, m = _pair(result, reference, mask)
@@ -41,7 +44,7 @@ def relative_scale(result, reference, mask=None) -> float:
     return float(np.median(ya[ok] / yb[ok]))
 
 
-def log2_rmse(result, reference, mask=None) -> float:
+def log2_rmse(result: ArrayLike, reference: ArrayLike, mask: ArrayLike | None = None) -> float:
     """RMS of ``log2(result / reference)`` over all channels of the pixels in ``mask`` where
     both are positive (stops)."""
     a, b, m = _pair(result, reference, mask)
@@ -52,7 +55,13 @@ def log2_rmse(result, reference, mask=None) -> float:
     return float(np.sqrt(np.mean(d * d)))
 
 
-def multi_exposure_psnr(result, reference, *, stops=None, mask=None) -> float:
+def multi_exposure_psnr(
+    result: ArrayLike,
+    reference: ArrayLike,
+    *,
+    stops: tuple[int, int] | None = None,
+    mask: ArrayLike | None = None,
+) -> float:
     """Multi-exposure PSNR in dB.
 
     Parameters

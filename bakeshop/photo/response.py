@@ -29,10 +29,12 @@ neutral grey, and a recovered curve has the scale of the sRGB one (code 118 of 2
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, FormatError, validate_choice
 
@@ -47,8 +49,8 @@ __all__ = [
 
 KnownCurve = Literal["srgb", "gamma", "linear"]
 ResponseMethod = Literal["debevec", "robertson"]
-KNOWN_CURVES = ("srgb", "gamma", "linear")
-RESPONSE_METHODS = ("debevec", "robertson")
+KNOWN_CURVES: tuple[KnownCurve, ...] = ("srgb", "gamma", "linear")
+RESPONSE_METHODS: tuple[ResponseMethod, ...] = ("debevec", "robertson")
 
 #: knots of a recovered curve for 16-bit input (8-bit input uses its 256 codes); a 16-bit
 #: sample reads the curve between knots by linear interpolation.
@@ -90,7 +92,7 @@ class CameraResponse:
     samples: int = 0
     gamma: float | None = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         lin = np.asarray(self.linear, dtype=np.float64)
         if lin.ndim == 1:
             lin = lin[:, None]
@@ -131,7 +133,10 @@ class CameraResponse:
         """The saved document (``bakeshop merge --save-response``): plain lists and numbers;
         a known curve is saved by name."""
         if self.method in KNOWN_CURVES:
-            doc = {"bakeshop_camera_response": FORMAT_VERSION, "method": self.method}
+            doc: dict[str, object] = {
+                "bakeshop_camera_response": FORMAT_VERSION,
+                "method": self.method,
+            }
             if self.gamma is not None:
                 doc["gamma"] = float(self.gamma)
             doc["channels"] = int(self.channels)
@@ -147,7 +152,7 @@ class CameraResponse:
         }
 
     @classmethod
-    def from_dict(cls, doc: dict, path=None) -> CameraResponse:
+    def from_dict(cls, doc: dict, path: str | os.PathLike | None = None) -> CameraResponse:
         """Read what :meth:`to_dict` wrote; :class:`FormatError` naming what is wrong."""
         if doc.get("bakeshop_camera_response") != FORMAT_VERSION:
             raise FormatError("not a bakeshop camera response (version 1)", path)
@@ -211,10 +216,10 @@ def _clipped_any(values: np.ndarray, low: int, high: int) -> np.ndarray | np.boo
 
 
 def select_samples(
-    codes,
+    codes: np.ndarray,
     *,
     count: int = SAMPLES,
-    shifts=None,
+    shifts: ArrayLike | None = None,
     seed: int = 0,
 ) -> np.ndarray:
     """Pixel positions for response recovery, stable across image sizes.
@@ -291,7 +296,7 @@ def select_samples(
     return np.stack([ys[index], xs[index]], axis=1)
 
 
-def _integer_shifts(shifts, p: int) -> np.ndarray:
+def _integer_shifts(shifts: ArrayLike | None, p: int) -> np.ndarray:
     if shifts is None:
         return np.zeros((p, 2), np.int64)
     s = np.asarray(shifts, dtype=np.float64)
@@ -300,7 +305,7 @@ def _integer_shifts(shifts, p: int) -> np.ndarray:
     return np.rint(s).astype(np.int64)
 
 
-def _gather(codes, positions, shifts) -> np.ndarray:
+def _gather(codes: np.ndarray, positions: np.ndarray, shifts: ArrayLike | None) -> np.ndarray:
     """Codes of the sample positions in each frame: (N, P, C)."""
     p = codes.shape[0]
     offsets = _integer_shifts(shifts, p)
@@ -348,7 +353,9 @@ def _strictly_increasing(g: np.ndarray) -> np.ndarray:
     return np.maximum.accumulate(g - ramp) + ramp
 
 
-def _debevec_channel(zf, lnt, valid, knots, smoothness):
+def _debevec_channel(
+    zf: np.ndarray, lnt: np.ndarray, valid: np.ndarray, knots: int, smoothness: float
+) -> tuple[np.ndarray, float]:
     """Solve Debevec-Malik for one channel; returns (g (knots,), fit RMS in ln units).
 
     ``zf`` (N, P) are the samples' positions in knot units: a sample between two knots reads
@@ -440,7 +447,7 @@ def _penalty(smoothness: float, total: float, knots: int) -> float:
     return smoothness * total / knots / top**2 * (127.5 / top) ** 2 * ((knots - 1) / 255) ** 4
 
 
-def _smooth(g, counts, smoothness):
+def _smooth(g: np.ndarray, counts: np.ndarray, smoothness: float) -> np.ndarray:
     """Penalised fit: minimise ``sum n_z (h_z - g_z)^2 + lam^2 sum (hat(z) h''_z)^2`` with the
     same scale-free ``lam`` as Debevec's (``n_z``: observations of code ``z``); the normal
     equations are pentadiagonal, solved banded."""
@@ -460,7 +467,15 @@ def _smooth(g, counts, smoothness):
     return solveh_banded(bands, (counts + 1e-9) * g)
 
 
-def _robertson_channel(z, exposure, valid, knots, smoothness, iterations=60, tol=1e-5):
+def _robertson_channel(
+    z: np.ndarray,
+    exposure: np.ndarray,
+    valid: np.ndarray,
+    knots: int,
+    smoothness: float,
+    iterations: int = 60,
+    tol: float = 1e-5,
+) -> tuple[np.ndarray, float]:
     """Robertson's alternating estimate for one channel; returns (g, fit RMS in ln units)."""
     n, p = z.shape
     hat = _hat(knots)
@@ -499,13 +514,13 @@ def _robertson_channel(z, exposure, valid, knots, smoothness, iterations=60, tol
 
 
 def recover_response(
-    codes,
-    exposures,
+    codes: np.ndarray,
+    exposures: ArrayLike,
     *,
     method: ResponseMethod = "debevec",
     smoothness: float = SMOOTHNESS,
     samples: int = SAMPLES,
-    shifts=None,
+    shifts: ArrayLike | None = None,
     clip_low: float | None = None,
     clip_high: float | None = None,
     seed: int = 0,
@@ -564,7 +579,7 @@ def recover_response(
     low, high = clip_codes(bits, clip_low, clip_high)
     positions = select_samples(codes, count=samples, shifts=shifts, seed=seed)
     values = _gather(codes, positions, shifts)  # (N, P, C)
-    valid = ~_clipped_any(values, low, high)  # (N, P)
+    valid = np.logical_not(_clipped_any(values, low, high))  # (N, P)
     zf = values.astype(np.float64) * ((knots - 1) / ((1 << bits) - 1))  # in knot units
     z = np.rint(zf).astype(np.int64)  # Robertson averages per knot
     gs, fits = [], []

@@ -11,9 +11,11 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike, DTypeLike
 
 from bakeshop.errors import ArgumentError, BakeshopError, UnsupportedError
 from bakeshop.resources import Cost, require
@@ -102,7 +104,13 @@ def _exposure(settings: dict) -> tuple[float | None, bool]:
     return t, False
 
 
-def make_stack(codes, exposures, *, names=None, absolute: bool = False) -> ExposureStack:
+def make_stack(
+    codes: Sequence[np.ndarray] | np.ndarray,
+    exposures: ArrayLike,
+    *,
+    names: Sequence[str] | None = None,
+    absolute: bool = False,
+) -> ExposureStack:
     """An :class:`ExposureStack` from arrays, checked and sorted by exposure.
 
     Parameters
@@ -158,7 +166,7 @@ def make_stack(codes, exposures, *, names=None, absolute: bool = False) -> Expos
     )
 
 
-def _allocate(shape, dtype) -> np.ndarray:
+def _allocate(shape: tuple[int, ...], dtype: DTypeLike) -> np.ndarray:
     """An array for a whole stack, refused with the number when it cannot fit in memory."""
     needed = int(np.prod(shape)) * np.dtype(dtype).itemsize
     require(Cost(needed, int(np.prod(shape[:-1])), f"the stack's codes ({shape[0]} frames)"))
@@ -169,7 +177,7 @@ def _hwc(f: np.ndarray) -> tuple[int, int, int]:
     return (f.shape[0], f.shape[1], 1 if f.ndim == 2 else f.shape[2])
 
 
-def _codes(image: np.ndarray, meta: dict, path) -> np.ndarray:
+def _codes(image: np.ndarray, meta: dict, path: str | os.PathLike) -> np.ndarray:
     """A reader's float32 [0, 1] image -> its stored integer codes (exact)."""
     stored = meta.get("stored", "")
     if stored == "uint8" or stored in ("uint1", "uint2", "uint4"):
@@ -190,11 +198,11 @@ def _codes(image: np.ndarray, meta: dict, path) -> np.ndarray:
 
 
 def read_stack(
-    paths,
+    paths: Sequence[str | os.PathLike],
     *,
-    exposure_times=None,
-    f_numbers=None,
-    isos=None,
+    exposure_times: Sequence[float] | None = None,
+    f_numbers: Sequence[float] | None = None,
+    isos: Sequence[float] | None = None,
 ) -> ExposureStack:
     """Read bracketed frames and their exposures.
 
@@ -262,6 +270,7 @@ def read_stack(
                 paths[i],
             )
         stacked[k] = codes
+    assert stacked is not None  # a stack has two frames or more
     stack = make_stack(
         stacked, [exposures[i] for i in order], names=[paths[i] for i in order],
         absolute=all(absolute),

@@ -38,10 +38,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
+
+if TYPE_CHECKING:
+    from bakeshop.sphere.layouts import Layout
 
 __all__ = ["SUN_DISK_MRAD", "SunRecovery", "buie_sunshape", "recover_sun"]
 
@@ -61,15 +66,15 @@ MIN_RING = 12
 SUBSAMPLES = 8
 
 
-def _gamma(chi):
+def _gamma(chi: np.ndarray | float) -> np.ndarray | float:
     return 2.2 * np.log(0.52 * chi) * chi**0.43 - 0.1
 
 
-def _kappa(chi):
+def _kappa(chi: np.ndarray | float) -> np.ndarray | float:
     return 0.9 * np.log(13.5 * chi) * chi ** (-0.3)
 
 
-def buie_sunshape(theta_mrad, chi: float) -> np.ndarray:
+def buie_sunshape(theta_mrad: ArrayLike, chi: float) -> np.ndarray:
     """Buie's sunshape: radiance relative to the disk's centre at ``theta_mrad`` from the sun.
 
     Parameters
@@ -142,13 +147,13 @@ class SunRecovery:
     measured: object = None
 
 
-def _luminance(values):
+def _luminance(values: np.ndarray) -> np.ndarray:
     from bakeshop.image import luminance
 
     return luminance(values)
 
 
-def _subsample_directions(lay, shape, index):
+def _subsample_directions(lay: Layout, shape: tuple[int, ...], index: np.ndarray) -> np.ndarray:
     """Directions of SUBSAMPLES^2 points in each texel of ``index``: (n, S*S, 3)."""
     h, w = shape[-2:]
     rows, cols = np.divmod(index, w)
@@ -160,7 +165,9 @@ def _subsample_directions(lay, shape, index):
     return lay.directions_at(coords, shape)
 
 
-def _fit_aureole(theta, values, omega):
+def _fit_aureole(
+    theta: np.ndarray, values: np.ndarray, omega: np.ndarray
+) -> tuple[float, np.ndarray, np.ndarray] | None:
     """Fit ``L = sky + A theta^gamma`` to ring texels: gamma on luminance by variable
     projection (for each gamma on a grid, sky and A are linear least squares with relative
     weights), then sky and A per channel. None when no decaying aureole fits."""
@@ -183,20 +190,26 @@ def _fit_aureole(theta, values, omega):
         return None
     gamma = best[1]
     basis = np.stack([np.ones_like(theta), theta**gamma], axis=1)
-    coef = np.stack([_weighted_lstsq(basis, values[:, c], w) for c in range(values.shape[1])])
+    columns = []
+    for c in range(values.shape[1]):
+        column = _weighted_lstsq(basis, values[:, c], w)
+        if column is None:
+            return None
+        columns.append(column)
+    coef = np.stack(columns)
     if not np.isfinite(coef).all():
         return None
     return gamma, coef[:, 0], np.maximum(coef[:, 1], 0)
 
 
-def _weighted_lstsq(basis, y, w):
+def _weighted_lstsq(basis: np.ndarray, y: np.ndarray, w: np.ndarray) -> np.ndarray | None:
     a = basis.T @ (w[:, None] * basis)
     if np.linalg.cond(a) > 1e12:
         return None
     return np.linalg.solve(a, basis.T @ (w * y))
 
 
-def _brightest_clipped(clipped, values, omega) -> int:
+def _brightest_clipped(clipped: np.ndarray, values: np.ndarray, omega: np.ndarray) -> int:
     """Flat index of the centre texel of the clipped region holding the most light (the sum of
     its lower bounds times solid angle): the sun, rather than a glint."""
     from scipy import ndimage
@@ -210,13 +223,13 @@ def _brightest_clipped(clipped, values, omega) -> int:
 
 
 def recover_sun(
-    radiance,
-    status,
+    radiance: np.ndarray,
+    status: np.ndarray,
     layout: str,
     *,
     irradiance: float | None = None,
     search_deg: float = SEARCH_DEG,
-):
+) -> tuple[np.ndarray, np.ndarray, SunRecovery | None]:
     """Replace a clipped sun by Buie's sunshape fitted to its aureole (or scaled to a reading).
 
     Parameters
@@ -262,8 +275,8 @@ def recover_sun(
     clipped_all = status.reshape(-1) == CLIPPED
     if not clipped_all.any():
         return radiance, status, None
-    values, dirs, omega, env = texels(radiance, layout)
-    shape = env.image.shape[:-1]
+    values, dirs, omega, _ = texels(radiance, layout)
+    shape = radiance.shape[:-1]  # (H, W), checked above
     seed = _brightest_clipped(status == CLIPPED, values, omega)
     near = clipped_all & (dirs @ dirs[seed] > math.cos(math.radians(search_deg)))
     centre = (omega[near, None] * dirs[near]).sum(0)
@@ -309,7 +322,7 @@ def recover_sun(
         colour = colour / colour_lum if colour_lum > 0 else np.ones_like(colour)
         disk_irr = np.maximum(irradiance * colour - aureole_irr, 0)
         source = "given"
-    elif amplitude is not None:
+    elif amplitude is not None and chi is not None:  # fitted together
         l0 = amplitude / math.exp(float(_kappa(chi)))
         disk_irr = l0 * _disk_integral()
         source = "aureole"

@@ -13,12 +13,17 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Sequence
 from pathlib import Path
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, FormatError
+
+if TYPE_CHECKING:
+    from bakeshop.light import ProbeBake
 
 __all__ = ["Bake", "Sun", "bake_exposure", "bake_from_arrays", "find_bake_files", "read_bake"]
 
@@ -60,14 +65,14 @@ class Bake(NamedTuple):
     files: dict | None = None
 
 
-def _rgb(a) -> np.ndarray:
+def _rgb(a: ArrayLike) -> np.ndarray:
     a = np.asarray(a, dtype=np.float32)
     if a.shape[-1] == 1:
         a = np.repeat(a, 3, axis=-1)
     return np.ascontiguousarray(a[..., :3])
 
 
-def _one(folder: Path, stem: str, extensions) -> Path:
+def _one(folder: Path, stem: str, extensions: Sequence[str]) -> Path:
     for ext in extensions:
         path = folder / f"{stem}.{ext}"
         if path.is_file():
@@ -98,7 +103,7 @@ def find_bake_files(folder: str | os.PathLike) -> dict[str, Path]:
     return files
 
 
-def _sun_from_document(doc: dict, path) -> Sun | None:
+def _sun_from_document(doc: dict, path: Path | None) -> Sun | None:
     if doc.get("sun", 0) is None:
         return None
     try:
@@ -118,7 +123,7 @@ def _sun_from_document(doc: dict, path) -> Sun | None:
     return Sun(direction / norm, irradiance, radius)
 
 
-def _sh_from_document(doc: dict, path) -> np.ndarray:
+def _sh_from_document(doc: dict, path: Path | None) -> np.ndarray:
     from bakeshop.light import sh
 
     if "irradiance" in doc:
@@ -133,7 +138,7 @@ def _sh_from_document(doc: dict, path) -> np.ndarray:
     return np.repeat(c, 3, axis=1) if c.shape[1] == 1 else c[:, :3]
 
 
-def _cube_levels(mips, path) -> list[np.ndarray]:
+def _cube_levels(mips: Sequence[np.ndarray], path: Path) -> list[np.ndarray]:
     from bakeshop.sphere import faces_to_cube
 
     levels = [_rgb(faces_to_cube(level, convention="opengl")) for level in mips]
@@ -176,7 +181,7 @@ def read_bake(folder: str | os.PathLike) -> Bake:
     )
 
 
-def bake_from_arrays(baked) -> Bake:
+def bake_from_arrays(baked: ProbeBake) -> Bake:
     """A :class:`Bake` of a :class:`bakeshop.light.ProbeBake` computed in memory (no files)."""
     from bakeshop.light import sun_document
 

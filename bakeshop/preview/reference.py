@@ -16,9 +16,16 @@ again from their equations, in float64.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.preview.scene import BALL_KINDS, balls
+
+if TYPE_CHECKING:
+    from bakeshop.preview.bake import Bake, Sun
+    from bakeshop.preview.render import View
 
 __all__ = [
     "camera_rays",
@@ -36,7 +43,7 @@ __all__ = [
 DIELECTRIC_F0 = 0.04
 
 
-def camera_rays(view, rows, cols) -> tuple[np.ndarray, np.ndarray]:
+def camera_rays(view: View, rows: ArrayLike, cols: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Origins and unit directions of the camera rays through pixel centres.
 
     Parameters
@@ -63,7 +70,9 @@ def camera_rays(view, rows, cols) -> tuple[np.ndarray, np.ndarray]:
     return ends[0], d / np.linalg.norm(d, axis=1, keepdims=True)
 
 
-def hit_balls(items: list[dict], origin, direction) -> tuple[np.ndarray, np.ndarray]:
+def hit_balls(
+    items: list[dict], origin: np.ndarray, direction: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """The nearest ball each ray meets in front of its origin.
 
     Returns
@@ -95,7 +104,7 @@ def hit_balls(items: list[dict], origin, direction) -> tuple[np.ndarray, np.ndar
     return index, normal
 
 
-def _bilinear(image, u, v, *, repeat_u: bool) -> np.ndarray:
+def _bilinear(image: np.ndarray, u: ArrayLike, v: ArrayLike, *, repeat_u: bool) -> np.ndarray:
     """OpenGL's LINEAR filter of a 2-D texture at (u, v) in [0, 1] (v = 0 is row 0): texel
     centres at (i + 1/2) / N; u wraps or clamps to the edge, v clamps to the edge."""
     h, w = image.shape[:2]
@@ -105,10 +114,10 @@ def _bilinear(image, u, v, *, repeat_u: bool) -> np.ndarray:
     fx, fy = (x - x0)[:, None], (y - y0)[:, None]
     x0, y0 = x0.astype(int), y0.astype(int)
 
-    def col(i):
+    def col(i: np.ndarray) -> np.ndarray:
         return np.mod(i, w) if repeat_u else np.clip(i, 0, w - 1)
 
-    def row(j):
+    def row(j: np.ndarray) -> np.ndarray:
         return np.clip(j, 0, h - 1)
 
     a = np.asarray(image, np.float64)
@@ -117,7 +126,7 @@ def _bilinear(image, u, v, *, repeat_u: bool) -> np.ndarray:
     return top * (1 - fy) + bottom * fy
 
 
-def latlong_bilinear(image, directions) -> np.ndarray:
+def latlong_bilinear(image: np.ndarray, directions: ArrayLike) -> np.ndarray:
     """A latlong texture (a DIM) looked up as the shaders do: u = atan2(x, -z) / 2 pi + 1/2
     (1/2 straight up or down, where atan2 is undefined), v = acos(y) / pi, bilinear with u
     repeating.
@@ -138,7 +147,7 @@ def latlong_bilinear(image, directions) -> np.ndarray:
     return _bilinear(image, u, v, repeat_u=True)
 
 
-def dfg_lookup(table, n_dot_v, roughness) -> np.ndarray:
+def dfg_lookup(table: np.ndarray, n_dot_v: ArrayLike, roughness: ArrayLike) -> np.ndarray:
     """The split-sum table's (scale, bias) at (n.v, roughness): bilinear, clamped at the edges
     (columns n.v, rows roughness, texel centres at (i + 1/2) / N).
 
@@ -149,7 +158,7 @@ def dfg_lookup(table, n_dot_v, roughness) -> np.ndarray:
     return _bilinear(table, n_dot_v, roughness, repeat_u=False)
 
 
-def cube_lod(levels: list, directions, lod) -> np.ndarray:
+def cube_lod(levels: list, directions: ArrayLike, lod: ArrayLike) -> np.ndarray:
     """A mip-mapped cube looked up at a level of detail (``textureLod`` with
     LINEAR_MIPMAP_LINEAR): the seamless bilinear lookups of levels floor(lod) and the next,
     blended by the fraction.
@@ -182,7 +191,7 @@ def cube_lod(levels: list, directions, lod) -> np.ndarray:
     return out
 
 
-def sky(bake, directions, level: float = -1.0) -> np.ndarray:
+def sky(bake: Bake, directions: ArrayLike, level: float = -1.0) -> np.ndarray:
     """The background along ``directions``: the environment cube (``level < 0``) or that level
     of detail of the specular chain. (N, 3) float64."""
     if level < 0:
@@ -190,7 +199,7 @@ def sky(bake, directions, level: float = -1.0) -> np.ndarray:
     return cube_lod(bake.specular, directions, level)
 
 
-def sh_irradiance(coefficients, normals) -> np.ndarray:
+def sh_irradiance(coefficients: ArrayLike, normals: ArrayLike) -> np.ndarray:
     """E/pi from 9 real orthonormal SH coefficients (index l(l+1)+m; Y(1,-1) ~ y, Y(1,0) ~ z,
     Y(1,1) ~ x): the basis written out with its constants sqrt(1/4pi), sqrt(3/4pi),
     sqrt(15/4pi), sqrt(5/16pi), sqrt(15/16pi). (N, 3) float64."""
@@ -214,7 +223,13 @@ def sh_irradiance(coefficients, normals) -> np.ndarray:
     return basis @ np.asarray(coefficients, np.float64)[:9]
 
 
-def sun_specular(sun, normals, views, roughness, f0) -> np.ndarray:
+def sun_specular(
+    sun: Sun | None,
+    normals: ArrayLike,
+    views: ArrayLike,
+    roughness: ArrayLike,
+    f0: float | np.ndarray,
+) -> np.ndarray:
     """The sun as a light on a GGX surface: D(h) V(l, v) F(v.h) (n.l) E_sun, with GGX's
     D = a^2 / (pi ((n.h)^2 (a^2 - 1) + 1)^2), the height-correlated Smith visibility
     V = 1/2 / (n.l sqrt((n.v)^2 (1 - a^2) + a^2) + n.v sqrt((n.l)^2 (1 - a^2) + a^2)),
@@ -238,7 +253,9 @@ def sun_specular(sun, normals, views, roughness, f0) -> np.ndarray:
     return np.where((nl > 0)[:, None], out, 0.0)
 
 
-def shade_balls(bake, view, rows, cols) -> tuple[np.ndarray, np.ndarray]:
+def shade_balls(
+    bake: Bake, view: View, rows: ArrayLike, cols: ArrayLike
+) -> tuple[np.ndarray, np.ndarray]:
     """The linear radiance the balls (or sky) view shows at chosen pixels.
 
     Per ball kind: Lambertian albedo * sun DIM(n), * shadow DIM(n) or * SH(n); GGX

@@ -14,9 +14,13 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+from types import ModuleType
+from typing import TYPE_CHECKING, Protocol, TypeVar, Union, cast
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, UnsupportedError, validate_choice
 from bakeshop.preview.glsl import program_sources
@@ -31,7 +35,24 @@ from bakeshop.preview.scene import (
     shadow_view_projection,
 )
 
+if TYPE_CHECKING:
+    import moderngl as mgl
+
+    from bakeshop.preview.bake import Bake
+    from bakeshop.water.shader import WaterScene
+
 __all__ = ["DIFFUSE", "OPERATORS", "SCENES", "Renderer", "View"]
+
+
+class _GLObject(Protocol):
+    def release(self) -> None: ...
+
+
+_O = TypeVar("_O", bound=_GLObject)
+#: the textures a program samples.
+_Texture = Union["mgl.Texture", "mgl.TextureCube", "mgl.TextureArray"]
+#: the shader's display transform: (exposure EV, tone-map operator).
+Display = tuple[float, str]
 
 #: What a view shows.
 SCENES = ("sky", "balls", "golf", "water")
@@ -73,7 +94,7 @@ class View:
     #: seconds (the water's animation).
     time: float = 0.0
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         validate_choice(self.scene, SCENES, "preview scene")
         validate_choice(self.diffuse, tuple(DIFFUSE), "diffuse lighting")
         validate_choice(self.reflection, tuple(REFLECTIONS), "water reflection")
@@ -104,7 +125,7 @@ class View:
         }
 
 
-def _moderngl():
+def _moderngl() -> ModuleType:
     try:
         import moderngl
     except ImportError:  # pragma: no cover - depends on the install
@@ -114,7 +135,7 @@ def _moderngl():
     return moderngl
 
 
-def _context(moderngl):
+def _context(moderngl: ModuleType) -> mgl.Context:
     """A standalone OpenGL 3.3 context: EGL (headless; Mesa's llvmpipe without a GPU), else the
     platform's default; an :class:`UnsupportedError` naming what to install when neither
     works."""
@@ -130,7 +151,7 @@ def _context(moderngl):
             ) from None
 
 
-def _gl_function(name: str, restype, *argtypes):
+def _gl_function(name: str, restype: type | None, *argtypes: type) -> Callable[..., object]:
     """A GL entry point of the current context (moderngl has no call for a cube's mip level)."""
     prototype = ctypes.CFUNCTYPE(restype, *argtypes)
     for library, loader in (("EGL", "eglGetProcAddress"), ("GL", "glXGetProcAddress")):
@@ -149,7 +170,7 @@ def _gl_function(name: str, restype, *argtypes):
     raise UnsupportedError(f"this OpenGL has no {name}")
 
 
-def _rgba(a) -> np.ndarray:
+def _rgba(a: ArrayLike) -> np.ndarray:
     a = np.asarray(a, np.float32)
     out = np.ones(a.shape[:-1] + (4,), np.float32)
     out[..., : min(a.shape[-1], 4)] = a[..., :4]
@@ -169,15 +190,17 @@ class Renderer:
         Jerlov IB water whose fresnel-baked reflection is made from the bake's cube.
     """
 
-    def __init__(self, bake, *, golf: Golf | None = None, water=None):
+    def __init__(
+        self, bake: Bake, *, golf: Golf | None = None, water: WaterScene | None = None
+    ) -> None:
         moderngl = _moderngl()
         self.moderngl = moderngl
         self.bake = bake
         self.golf = golf if golf is not None else golf_course()
         self.ctx = _context(moderngl)
         self.ctx.enable_direct(_SEAMLESS)
-        self._programs = {}
-        self._objects = []
+        self._programs: dict[str, mgl.Program] = {}
+        self._objects: list[_GLObject] = []
         self._upload(water)
 
     # -- setup ------------------------------------------------------------------------------
@@ -189,24 +212,26 @@ class Renderer:
         self._objects, self._programs = [], {}
         self.ctx.release()
 
-    def __enter__(self):
+    def __enter__(self) -> Renderer:
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def _keep(self, obj):
+    def _keep(self, obj: _O) -> _O:
         self._objects.append(obj)
         return obj
 
-    def program(self, name: str):
+    def program(self, name: str) -> mgl.Program:
         """The compiled program ``name`` (:data:`bakeshop.preview.glsl.PROGRAMS`)."""
         if name not in self._programs:
             vertex, fragment = program_sources(name, "gl")
             self._programs[name] = self.ctx.program(vertex_shader=vertex, fragment_shader=fragment)
         return self._programs[name]
 
-    def _texture2d(self, a, *, repeat_x=False, linear=True):
+    def _texture2d(
+        self, a: ArrayLike, *, repeat_x: bool = False, linear: bool = True
+    ) -> mgl.Texture:
         mgl = self.moderngl
         a = _rgba(a)
         tex = self._keep(self.ctx.texture((a.shape[1], a.shape[0]), 4, a.tobytes(), dtype="f4"))
@@ -215,7 +240,7 @@ class Renderer:
         tex.repeat_x, tex.repeat_y = repeat_x, False
         return tex
 
-    def _cube(self, levels):
+    def _cube(self, levels: Sequence[np.ndarray]) -> mgl.TextureCube:
         """One cube texture holding ``levels`` as its mips, faces uploaded rows in order."""
         mgl = self.moderngl
         first = _rgba(levels[0])
@@ -258,9 +283,9 @@ class Renderer:
             tex.filter = (mgl.LINEAR, mgl.LINEAR)
         return tex
 
-    def _upload(self, water) -> None:
+    def _upload(self, water: WaterScene | None) -> None:
         b = self.bake
-        self.textures = {
+        self.textures: dict[str, _Texture] = {
             "uEnvCube": self._cube([b.cube]),
             "uSpecular": self._cube(b.specular),
             "uSunDim": self._texture2d(b.sun_dim, repeat_x=True),
@@ -268,9 +293,9 @@ class Renderer:
             "uDfg": self._texture2d(b.dfg),
         }
         self._water_given = water
-        self.water = None
-        self._mesh = None
-        self._shadow = None
+        self.water: WaterScene | None = None
+        self._mesh: mgl.Buffer | None = None
+        self._shadow: mgl.Texture | None = None
 
     def _upload_golf(self) -> None:
         """The golf course's mesh and the water's textures, on the first golf view (the sky
@@ -298,14 +323,14 @@ class Renderer:
 
     # -- uniforms ---------------------------------------------------------------------------
 
-    def _bind(self, prog, extra=None):
+    def _bind(self, prog: mgl.Program, extra: dict[str, _Texture] | None = None) -> None:
         units = dict(self.textures, **(extra or {}))
         for unit, (name, tex) in enumerate(units.items()):
             if name in prog:
                 tex.use(unit)
-                prog[name].value = unit
+                cast("mgl.Uniform", prog[name]).value = unit
 
-    def uniforms(self, view: View, *, display=None) -> dict:
+    def uniforms(self, view: View, *, display: Display | None = None) -> dict:
         """The uniforms every program shares, by name (the browser sets the same)."""
         b = self.bake
         sun = b.sun
@@ -323,20 +348,23 @@ class Renderer:
         return values
 
     @staticmethod
-    def _set(prog, values: dict) -> None:
+    def _set(prog: mgl.Program, values: dict) -> None:
         for name, value in values.items():
             if name not in prog:
                 continue
+            uniform = cast("mgl.Uniform", prog[name])
             if isinstance(value, np.ndarray):
-                prog[name].write(np.ascontiguousarray(value, np.float32).tobytes())
+                uniform.write(np.ascontiguousarray(value, np.float32).tobytes())
             elif isinstance(value, (tuple, list)):
-                prog[name].value = tuple(float(v) for v in value)
+                uniform.value = tuple(float(v) for v in value)
             else:
-                prog[name].value = value
+                uniform.value = value
 
     # -- drawing ----------------------------------------------------------------------------
 
-    def _target(self, width, height, attachments=1, depth=False):
+    def _target(
+        self, width: int, height: int, attachments: int = 1, depth: bool = False
+    ) -> tuple[mgl.Framebuffer, list[mgl.Texture], mgl.Renderbuffer | None]:
         ctx = self.ctx
         colours = [ctx.texture((width, height), 4, dtype="f4") for _ in range(attachments)]
         for c in colours:
@@ -345,11 +373,11 @@ class Renderer:
         return ctx.framebuffer(color_attachments=colours, depth_attachment=rb), colours, rb
 
     @staticmethod
-    def _read(fbo, width, height, attachment=0) -> np.ndarray:
+    def _read(fbo: mgl.Framebuffer, width: int, height: int, attachment: int = 0) -> np.ndarray:
         data = fbo.read(components=4, dtype="f4", attachment=attachment)
         return np.frombuffer(data, np.float32).reshape(height, width, 4)[::-1].copy()
 
-    def render(self, view: View, *, mode: int = 0, display=None) -> np.ndarray:
+    def render(self, view: View, *, mode: int = 0, display: Display | None = None) -> np.ndarray:
         """Draw ``view``; returns ``(height, width, 4)`` float32, row 0 at the top.
 
         Parameters
@@ -372,7 +400,7 @@ class Renderer:
         """The balls ``view`` shows (:func:`bakeshop.preview.scene.balls`; none on the sky)."""
         return balls(len(self.bake.specular)) if view.scene == "balls" else []
 
-    def _balls(self, view, mode, display):
+    def _balls(self, view: View, mode: int, display: Display | None) -> np.ndarray:
         w, h = view.width, view.height
         prog = self.program("balls")
         self._bind(prog)
@@ -416,7 +444,7 @@ class Renderer:
             return None
         return shadow_view_projection(self.bake.sun.direction, self.golf.bounds)
 
-    def _shadow_map(self):
+    def _shadow_map(self) -> mgl.Texture | None:
         self._upload_golf()
         if self._shadow is None and self.bake.sun is not None:
             ctx, mgl = self.ctx, self.moderngl
@@ -425,7 +453,8 @@ class Renderer:
             depth.filter = (mgl.NEAREST, mgl.NEAREST)
             fbo = ctx.framebuffer(depth_attachment=depth)
             prog = self.program("shadow")
-            self._set(prog, {"uViewProj": _matrix(self.shadow_matrix())})
+            sun_view = shadow_view_projection(self.bake.sun.direction, self.golf.bounds)
+            self._set(prog, {"uViewProj": _matrix(sun_view)})
             vao = self._mesh_vao(prog)
             fbo.use()
             ctx.viewport = (0, 0, SHADOW_SIZE, SHADOW_SIZE)
@@ -438,7 +467,7 @@ class Renderer:
             self._shadow = depth
         return self._shadow
 
-    def _mesh_vao(self, prog):
+    def _mesh_vao(self, prog: mgl.Program) -> mgl.VertexArray:
         """The golf meshes bound to ``prog``'s attributes (those it does not read skipped)."""
         parts, names = [], []
         for size, name in zip(_SIZES, _ATTRIBUTES, strict=True):
@@ -449,15 +478,16 @@ class Renderer:
                 parts.append(f"{4 * size}x")
         return self.ctx.vertex_array(prog, [(self._mesh, " ".join(parts), *names)])
 
-    def _golf(self, view, mode, display):
+    def _golf(self, view: View, mode: int, display: Display | None) -> np.ndarray:
         self._upload_golf()
+        assert self.water is not None  # resolved by _upload_golf
         ctx, mgl = self.ctx, self.moderngl
         w, h = view.width, view.height
         shadow = self._shadow_map()
         vp = view.eye.view_projection(w / h)
         common = self.uniforms(view, display=display)
         scene = self.program("scene")
-        extra = {"uShadowMap": shadow} if shadow is not None else {}
+        extra: dict[str, _Texture] = {"uShadowMap": shadow} if shadow is not None else {}
         self._bind(scene, extra)
         values = dict(
             common,
@@ -499,7 +529,8 @@ class Renderer:
             return self._read(out, w, h)
         finally:
             for obj in (fbo, colour, position, rb, out, final):
-                obj.release()
+                if obj is not None:  # rb is, when the target has no depth
+                    obj.release()
 
 
 #: the vertex attributes of the golf meshes and their floats (scene.VERTEX_FLOATS in all).
@@ -507,12 +538,12 @@ _ATTRIBUTES = ("aPosition", "aNormal", "aAlbedo", "aUv", "aCentre", "aKind")
 _SIZES = (3, 3, 3, 2, 3, 1)
 
 
-def _matrix(m) -> tuple:
+def _matrix(m: ArrayLike) -> tuple[float, ...]:
     """A (4, 4) matrix as GLSL's column-major tuple."""
     return tuple(float(v) for v in np.asarray(m, np.float64).T.ravel())
 
 
-def resolve_water(bake, water=None):
+def resolve_water(bake: Bake, water: WaterScene | None = None) -> WaterScene:
     """The water the golf course shows: ``water`` (a :class:`bakeshop.water.shader.WaterScene`)
     or the default calm Jerlov IB water, with the bake's fresnel-baked reflection
     (:func:`fresnel_environment`) where it has none."""
@@ -524,10 +555,12 @@ def resolve_water(bake, water=None):
     return water
 
 
-def water_arrays(water) -> dict[str, np.ndarray]:
+def water_arrays(water: WaterScene) -> dict[str, np.ndarray]:
     """The water's textures as both hosts upload them (float32): ``normals`` (F, N, N, C) (a
     flat 2 x 2 frame when there is none), ``env`` (H, 2H, 4), ``rain`` (N, N, 4) and ``ring``
     (T, R, 4) (zeros when there are no ripples)."""
+    if water.environment is None:
+        raise ArgumentError("the water has no reflection environment: see resolve_water")
     normals = water.normals
     if normals is None:
         normals = np.zeros((1, 2, 2, 3), np.float32) + (0.5, 0.5, 1.0)
@@ -541,7 +574,7 @@ def water_arrays(water) -> dict[str, np.ndarray]:
     }
 
 
-def water_uniforms(water) -> dict:
+def water_uniforms(water: WaterScene) -> dict:
     """The water pass's view-independent uniforms (water.frag's), by name."""
     normals = water_arrays(water)["normals"]
     return {
@@ -563,7 +596,7 @@ def water_uniforms(water) -> dict:
     }
 
 
-def shadow_uniforms(bake, golf) -> dict:
+def shadow_uniforms(bake: Bake, golf: Golf) -> dict:
     """The scene pass's shadow uniforms: ``uHasShadows``, ``uShadowOffset`` (metres: 1.5 texels
     of the :data:`SHADOW_SIZE` map over the scene's bounding sphere) and ``uShadowViewProj``
     (column-major, when the bake has a sun)."""
@@ -576,7 +609,7 @@ def shadow_uniforms(bake, golf) -> dict:
     return values
 
 
-def fresnel_environment(bake, *, height: int = 256) -> np.ndarray:
+def fresnel_environment(bake: Bake, *, height: int = 256) -> np.ndarray:
     """The water's fresnel-baked reflection (what ``bakeshop fresnel`` makes and an engine
     ships): the bake's cube as a latlong, times the exact reflectance of calm water
     (:func:`bakeshop.light.bake_fresnel`, mirrored below the horizon so filtering is seamless)."""

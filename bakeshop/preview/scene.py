@@ -19,6 +19,7 @@ import math
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 
@@ -59,7 +60,7 @@ class Camera:
     near: float = 0.1
     far: float = 1000.0
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         values = [*self.target, self.yaw, self.pitch, self.distance, self.fov, self.near, self.far]
         if len(self.target) != 3 or not all(math.isfinite(float(v)) for v in values):
             raise ArgumentError("a camera needs a 3-component target and finite numbers")
@@ -204,7 +205,7 @@ def balls(
 # -- the golf course ------------------------------------------------------------------------------
 
 
-def height_field(x, z) -> np.ndarray:
+def height_field(x: ArrayLike, z: ArrayLike) -> np.ndarray:
     """The built-in course's height (m) at world (x, z): rolling ground about 2 m above the
     water, a pond sinking to 4 m below it north-east of the centre, and a raised green."""
     x = np.asarray(x, np.float64)
@@ -231,7 +232,14 @@ class Golf:
     bounds: tuple = ((0.0, 0.0, 0.0), 1.0)
 
 
-def _vertex(pos, normal, albedo, uv, centre, kind) -> np.ndarray:
+def _vertex(
+    pos: np.ndarray,
+    normal: ArrayLike,
+    albedo: ArrayLike,
+    uv: ArrayLike,
+    centre: ArrayLike,
+    kind: float,
+) -> np.ndarray:
     n = len(pos)
     out = np.empty((n, VERTEX_FLOATS), np.float32)
     out[:, 0:3] = pos
@@ -243,7 +251,7 @@ def _vertex(pos, normal, albedo, uv, centre, kind) -> np.ndarray:
     return out
 
 
-def _terrain(heights: np.ndarray, half: float, albedo) -> np.ndarray:
+def _terrain(heights: np.ndarray, half: float, albedo: ArrayLike) -> np.ndarray:
     """Triangles of a height grid spanning [-half, half]^2 (row 0 at z = -half), with normals
     from central differences of the heights."""
     n = heights.shape[0]
@@ -264,7 +272,7 @@ def _terrain(heights: np.ndarray, half: float, albedo) -> np.ndarray:
     return _vertex(pos, normal, colour, np.zeros((len(tris), 2)), np.zeros((len(tris), 3)), 0)
 
 
-def box_triangles(lo, hi, albedo) -> np.ndarray:
+def box_triangles(lo: ArrayLike, hi: ArrayLike, albedo: ArrayLike) -> np.ndarray:
     """The 12 outward-facing triangles of an axis-aligned box, as vertex rows."""
     lo, hi = np.asarray(lo, np.float64), np.asarray(hi, np.float64)
     rows = []
@@ -295,19 +303,19 @@ def box_triangles(lo, hi, albedo) -> np.ndarray:
     return np.concatenate(rows)
 
 
-def _tree(base, height: float, width: float) -> np.ndarray:
+def _tree(base: ArrayLike, height: float, width: float) -> np.ndarray:
     """Two crossed vertical quads (in the x and z planes) with the tree's uv: alpha-tested by
     the shader's silhouette; normals point out of each quad, the crown centre rides along."""
     base = np.asarray(base, np.float64)
     centre = base + [0.0, 0.64 * height, 0.0]
     rows = []
     for along, normal in (((1.0, 0.0, 0.0), (0.0, 0.0, 1.0)), ((0.0, 0.0, 1.0), (1.0, 0.0, 0.0))):
-        along = np.asarray(along)
+        side = np.asarray(along) * width / 2
         corners = [
-            base - along * width / 2,
-            base + along * width / 2,
-            base + along * width / 2 + [0, height, 0],
-            base - along * width / 2 + [0, height, 0],
+            base - side,
+            base + side,
+            base + side + [0, height, 0],
+            base - side + [0, height, 0],
         ]
         uvs = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
         order = (0, 1, 2, 0, 2, 3)
@@ -366,8 +374,8 @@ def golf_course(
     half = size / 2
     if heights is None:
         c = np.linspace(-half, half, resolution)
-        x, z = np.meshgrid(c, c)
-        heights = height_field(x, z)
+        grid_x, grid_z = np.meshgrid(c, c)
+        heights = height_field(grid_x, grid_z)
     heights = np.asarray(heights, np.float64)
     if heights.ndim != 2 or heights.shape[0] != heights.shape[1] or heights.shape[0] < 2:
         raise ArgumentError(f"a height map must be square (N, N), N >= 2; got {heights.shape}")
@@ -377,7 +385,7 @@ def golf_course(
     boxes, trees = [], []
     n = heights.shape[0]
 
-    def ground(x, z):
+    def ground(x: float, z: float) -> float:
         i = int(round((x + half) / size * (n - 1)))
         j = int(round((z + half) / size * (n - 1)))
         return float(heights[min(max(j, 0), n - 1), min(max(i, 0), n - 1)])
@@ -405,7 +413,7 @@ def golf_course(
     )
 
 
-def shadow_view_projection(sun_direction, bounds) -> np.ndarray:
+def shadow_view_projection(sun_direction: ArrayLike, bounds: tuple[ArrayLike, float]) -> np.ndarray:
     """(4, 4) world -> the sun's clip space: orthographic, looking along ``-sun_direction``,
     covering the sphere ``bounds = (centre, radius)``; depth 0 nearest the sun."""
     s = np.asarray(sun_direction, np.float64)

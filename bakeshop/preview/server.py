@@ -32,14 +32,20 @@ import threading
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import resources
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 from urllib.parse import urlsplit
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.preview.glsl import program_sources
 from bakeshop.preview.scene import balls, default_camera
+
+if TYPE_CHECKING:
+    from bakeshop.preview.bake import Bake
+    from bakeshop.preview.scene import Golf
+    from bakeshop.water.shader import WaterScene
 
 __all__ = ["LOCALHOST", "Viewer", "serve", "viewer_payload"]
 
@@ -51,7 +57,7 @@ WEB_PROGRAMS = ("balls", "scene", "shadow", "compose")
 WEB_SCENES = ("sky", "balls", "golf", "water")
 
 
-def _rgba_bytes(a) -> bytes:
+def _rgba_bytes(a: ArrayLike) -> bytes:
     a = np.asarray(a, np.float32)
     out = np.ones(a.shape[:-1] + (4,), "<f4")
     out[..., : min(a.shape[-1], 4)] = a[..., :4]
@@ -59,7 +65,7 @@ def _rgba_bytes(a) -> bytes:
 
 
 def _uniform_json(values: dict) -> dict:
-    out = {}
+    out: dict[str, list[float] | bool | float] = {}
     for name, value in values.items():
         if isinstance(value, (tuple, list, np.ndarray)):
             out[name] = [float(v) for v in np.asarray(value, np.float64).ravel()]
@@ -68,7 +74,9 @@ def _uniform_json(values: dict) -> dict:
     return out
 
 
-def viewer_payload(bake, *, golf=None, water=None) -> tuple[dict, dict[str, bytes]]:
+def viewer_payload(
+    bake: Bake, *, golf: Golf | None = None, water: WaterScene | None = None
+) -> tuple[dict, dict[str, bytes]]:
     """What the page receives: the JSON document and the texel blobs by name.
 
     Returns
@@ -147,7 +155,7 @@ def viewer_payload(bake, *, golf=None, water=None) -> tuple[dict, dict[str, byte
 
 
 def _web_file(name: str) -> bytes:
-    return resources.files("bakeshop.preview").joinpath("web", name).read_bytes()
+    return resources.files("bakeshop.preview").joinpath("web").joinpath(name).read_bytes()
 
 
 class Viewer(NamedTuple):
@@ -164,11 +172,11 @@ class Viewer(NamedTuple):
         self.thread.join()
 
 
-def _handler(routes: dict[str, tuple[str, bytes]]):
+def _handler(routes: dict[str, tuple[str, bytes]]) -> type[BaseHTTPRequestHandler]:
     class Handler(BaseHTTPRequestHandler):
         server_version = "bakeshop-view"
 
-        def do_GET(self):  # noqa: N802 - the standard library's name
+        def do_GET(self) -> None:  # noqa: N802 - the standard library's name
             path = urlsplit(self.path).path
             found = routes.get(path)
             if found is None:
@@ -182,13 +190,13 @@ def _handler(routes: dict[str, tuple[str, bytes]]):
             self.end_headers()
             self.wfile.write(body)
 
-        def log_message(self, format, *args):  # noqa: A002 - the standard library's name
+        def log_message(self, format: str, *args: object) -> None:  # noqa: A002 - the standard library's name
             pass
 
     return Handler
 
 
-def serve(bake, *, port: int = 0) -> Viewer:
+def serve(bake: Bake, *, port: int = 0) -> Viewer:
     """Serve the viewer of ``bake`` on 127.0.0.1 in a background thread.
 
     Parameters

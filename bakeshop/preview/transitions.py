@@ -17,11 +17,16 @@ edge, and a priority: higher-priority probes take their share first, lower ones 
 
 from __future__ import annotations
 
-from typing import Literal, NamedTuple
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
+
+if TYPE_CHECKING:
+    from bakeshop.preview.bake import Bake
 
 __all__ = ["WEIGHT_METHODS", "Walk", "blend_bakes", "influence_weights", "path_weights", "walk"]
 
@@ -30,7 +35,14 @@ WeightMethod = Literal["inverse-distance", "volumes"]
 WEIGHT_METHODS = ("inverse-distance", "volumes")
 
 
-def influence_weights(points, centres, radii, *, blend_distance, priority=None) -> np.ndarray:
+def influence_weights(
+    points: ArrayLike,
+    centres: ArrayLike,
+    radii: ArrayLike,
+    *,
+    blend_distance: ArrayLike,
+    priority: ArrayLike | None = None,
+) -> np.ndarray:
     """Probe weights from influence volumes, summing to 1 at every point.
 
     A probe's raw weight at x is ``clamp((R - |x - c|) / b, 0, 1)``: 1 deeper than the blend
@@ -88,14 +100,14 @@ def influence_weights(points, centres, radii, *, blend_distance, priority=None) 
 
 
 def path_weights(
-    points,
-    positions,
+    points: ArrayLike,
+    positions: ArrayLike,
     *,
     method: WeightMethod = "inverse-distance",
     power: float = 2.0,
-    radii=None,
-    blend_distance=None,
-    priority=None,
+    radii: ArrayLike | None = None,
+    blend_distance: ArrayLike | None = None,
+    priority: ArrayLike | None = None,
 ) -> np.ndarray:
     """(Q, P) probe weights at ``points`` by ``method`` (:data:`WEIGHT_METHODS`): inverse
     distance to the ``power``, or :func:`influence_weights` with ``radii``, ``blend_distance``
@@ -111,7 +123,7 @@ def path_weights(
                              priority=priority)  # fmt: skip
 
 
-def blend_bakes(bakes, weights):
+def blend_bakes(bakes: Sequence[Bake], weights: ArrayLike) -> Bake:
     """The weighted sum of bakes of one shape: every radiance array (the cube, each level of the
     chain, the sun and shadow DIMs) and the SH; the DFG table (the same for every bake) and the
     sun of the most heavily weighted bake are kept.
@@ -137,7 +149,7 @@ def blend_bakes(bakes, weights):
                                         *first.specular)]:  # fmt: skip
             raise ArgumentError("bakes to blend must have the same sizes and levels")
 
-    def mix(get):
+    def mix(get: Callable[..., np.ndarray]) -> np.ndarray:
         total = sum(wi * np.asarray(get(b), np.float64) for wi, b in zip(w, bakes, strict=True))
         return np.asarray(total, np.float32)
 
@@ -167,7 +179,14 @@ class Walk(NamedTuple):
     worst_snap_step: float
 
 
-def walk(bakes, positions, path, *, normal=(0.0, 1.0, 0.0), **weighting) -> Walk:
+def walk(
+    bakes: Sequence[Bake],
+    positions: ArrayLike,
+    path: ArrayLike,
+    *,
+    normal: ArrayLike = (0.0, 1.0, 0.0),
+    **weighting: Any,
+) -> Walk:
     """Blend bakes along a camera path and measure the transition at a reference normal.
 
     Parameters
@@ -205,7 +224,7 @@ def walk(bakes, positions, path, *, normal=(0.0, 1.0, 0.0), **weighting) -> Walk
     blended, snapped = weights @ e, e[nearest]
     lum = np.array([0.2126, 0.7152, 0.0722])
 
-    def worst(values):
+    def worst(values: np.ndarray) -> float:
         return float(np.abs(np.diff(values @ lum)).max()) if len(values) > 1 else 0.0
 
     return Walk(weights, blended, snapped, worst(blended), worst(snapped))

@@ -8,6 +8,7 @@ import math
 
 import numba
 import numpy as np
+from numpy import ndarray
 
 from bakeshop.sphere._gather import EXCEPTION, block
 from bakeshop.sphere._maps import (
@@ -42,7 +43,7 @@ _jit = numba.njit(cache=True, error_model="numpy")
 
 
 @_jit
-def _box_weights(c, half, lo, out):
+def _box_weights(c: float, half: float, lo: int, out: ndarray) -> None:
     """Overlaps of [c - half, c + half] with texels lo..lo+2 (texel q spans [q, q + 1]) as
     fractions of its length; for a point (half ~ 0), 1 for the texel containing it."""
     for k in range(3):
@@ -54,7 +55,8 @@ def _box_weights(c, half, lo, out):
 
 
 @_jit
-def _local(kind, h, w, x, y, z, cf, cx, cy):
+def _local(kind: int, h: int, w: int, x: float, y: float, z: float, cf: float, cx: float,
+           cy: float) -> tuple[float, float]:  # fmt: skip
     """Coordinates of (x, y, z) continued across the seams around the centre (cf, cx, cy), for
     differences: a cube's face plane extended, a latlong's longitude unwrapped, an octahedral
     map unfolded over its edges, a paraboloid continued into the other hemisphere and an
@@ -112,7 +114,7 @@ def _local(kind, h, w, x, y, z, cf, cx, cy):
 
 
 @_jit
-def _half_texel_trig(h, w):
+def _half_texel_trig(h: int, w: int) -> ndarray:
     """Sin and cos of a latlong's longitude at every half texel (row 0, 1) and of its
     colatitude (rows 2, 3): ``direction`` at (k/2, l/2) without trigonometry."""
     trig = np.empty((4, 2 * max(h, w) + 1))
@@ -126,7 +128,8 @@ def _half_texel_trig(h, w):
 
 
 @_jit
-def _source_direction(kind, h, w, f, u2, v2, trig):
+def _source_direction(kind: int, h: int, w: int, f: float, u2: int, v2: int,
+                      trig: ndarray) -> tuple[float, float, float]:  # fmt: skip
     """``direction`` at the half-texel position (u2 / 2, v2 / 2)."""
     if kind == LATLONG:
         return trig[2, v2] * trig[0, u2], trig[3, v2], -trig[2, v2] * trig[1, u2]
@@ -134,14 +137,16 @@ def _source_direction(kind, h, w, f, u2, v2, trig):
 
 
 @_jit
-def _image(skind, sh, sw, f, u2, v2, trig, rot, dkind, dh, dw, cf, cx, cy):
+def _image(skind: int, sh: int, sw: int, f: float, u2: int, v2: int, trig: ndarray, rot: ndarray,
+           dkind: int, dh: int, dw: int, cf: float, cx: float,
+           cy: float) -> tuple[float, float]:  # fmt: skip
     x, y, z = _source_direction(skind, sh, sw, f, u2, v2, trig)
     x, y, z = rotate(rot.T, x, y, z)
     return _local(dkind, dh, dw, x, y, z, cf, cx, cy)
 
 
 @_jit
-def _band_centroid(t0, t1):
+def _band_centroid(t0: float, t1: float) -> tuple[float, float]:
     """The colatitude of the centroid of the band t0 <= theta <= t1 (weighted by sin theta:
     [sin t - t cos t] / [-cos t] over the band) and the band's cos t0 - cos t1; a texel at a
     pole holds its energy 2/3 of the way out, not halfway."""
@@ -153,7 +158,9 @@ def _band_centroid(t0, t1):
 
 
 @_jit
-def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
+def _footprint(skind: int, sh: int, sw: int, f: float, i: int, j: int, trig: ndarray, rot: ndarray,
+               dkind: int, dh: int,
+               dw: int) -> tuple[float, float, float, float, float, float, int, int]:  # fmt: skip
     """Source texel (f, i, j) in destination coordinates: (face, centre x, centre y, half
     widths of the box bounding its locally affine image (at most 1/2), its narrower width)."""
     x, y, z = _source_direction(skind, sh, sw, f, 2 * i + 1, 2 * j + 1, trig)
@@ -184,7 +191,7 @@ def _footprint(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw):
 
 
 @_jit
-def _parts(extent):
+def _parts(extent: float) -> int:
     """Into how many parts a source texel ``extent`` destination texels long is cut so that
     each is at most 1 / AREA_SPLAT_RATIO long (1 for NaN; at most AREA_MAX_PARTS)."""
     if not extent * AREA_SPLAT_RATIO > 1:
@@ -193,7 +200,9 @@ def _parts(extent):
 
 
 @_jit
-def _part_footprint(skind, sh, sw, f, u, v, du, dv, rot, dkind, dh, dw):
+def _part_footprint(skind: int, sh: int, sw: int, f: float, u: float, v: float, du: float,
+                    dv: float, rot: ndarray, dkind: int, dh: int,
+                    dw: int) -> tuple[float, float, float, float, float, float]:  # fmt: skip
     """The part of a source texel centred at (f, u, v), du x dv source texels large, in
     destination coordinates: (face, centre x, centre y, half widths of its bounding box (at
     most 1/2), its solid angle (the tangent parallelogram's area))."""
@@ -204,7 +213,8 @@ def _part_footprint(skind, sh, sw, f, u, v, du, dv, rot, dkind, dh, dw):
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
-def _latlong_unit(sp, cp, st, ct):
+def _latlong_unit(sp: float, cp: float, st: float,
+                  ct: float) -> tuple[float, float, float]:  # fmt: skip
     """``direction`` of a latlong from the sines and cosines of longitude and colatitude."""
     x, y, z = st * sp, ct, -st * cp
     norm = math.sqrt(x * x + y * y + z * z)
@@ -212,7 +222,9 @@ def _latlong_unit(sp, cp, st, ct):
 
 
 @_jit
-def _part_of(x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw):
+def _part_of(x: float, y: float, z: float, ax: float, ay: float, az: float, bx: float, by: float,
+             bz: float, rot: ndarray, dkind: int, dh: int,
+             dw: int) -> tuple[float, float, float, float, float, float]:  # fmt: skip
     """:func:`_part_footprint` from the source directions at the part's centre (x, y, z) and
     at the midpoints of its right (a) and lower (b) edges."""
     x, y, z = rotate(rot.T, x, y, z)
@@ -234,7 +246,8 @@ def _part_of(x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw):
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
-def _deposit(acc, t, b, row, wq, p, om, values):
+def _deposit(acc: ndarray, t: int, b: int, row: int, wq: ndarray, p: int, om: float,
+             values: ndarray) -> None:  # fmt: skip
     """acc[t, q] += w values for the 3 x 3 destination texels from flat index b (rows ``row``
     apart), weights w = om x (x weight) x (y weight) from the splat plan's ``wq[p]``."""
     wx0, wx1, wy0, wy1 = float(wq[p, 0]), float(wq[p, 1]), float(wq[p, 2]), float(wq[p, 3])
@@ -253,8 +266,9 @@ def _deposit(acc, t, b, row, wq, p, om, values):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, scale, width, parts,
-               acc):  # fmt: skip
+def splat_plan(skind: int, sh: int, sw: int, sfaces: int, omega: ndarray, dkind: int, dh: int,
+               dw: int, rot: ndarray, anchor: ndarray, wq: ndarray, scale: ndarray, width: ndarray,
+               parts: ndarray, acc: ndarray) -> None:  # fmt: skip
     """The area filter's geometry, per source texel ``p`` (transposed by :func:`splat_rows`).
 
     A source texel's footprint in destination coordinates is the box bounding its (locally
@@ -312,8 +326,9 @@ def splat_plan(skind, sh, sw, sfaces, omega, dkind, dh, dw, rot, anchor, wq, sca
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, offsets, taps,
-                     weights, counts):  # fmt: skip
+def splat_exceptions(skind: int, sh: int, sw: int, omega: ndarray, dkind: int, dh: int, dw: int,
+                     rot: ndarray, where: ndarray, parts: ndarray, offsets: ndarray, taps: ndarray,
+                     weights: ndarray, counts: ndarray) -> None:  # fmt: skip
     """The explicit taps and weights (summing to omega) of the splat plan's EXCEPTION texels
     ``where``: texel k's entries are ``offsets[k]:offsets[k] + counts[k]`` (room for 4 per
     part). A texel whose 3 x 3 destination texels cross a seam deposits into them (-1: a cube
@@ -382,7 +397,7 @@ def splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, off
 
 
 @_jit
-def _merge_taps(taps, weights, o, e, om):
+def _merge_taps(taps: ndarray, weights: ndarray, o: int, e: int, om: float) -> int:
     """Merge the repeated taps of entries o..e-1 (in increasing tap order) and scale their
     weights to sum ``om``; returns how many remain (at o onwards). In place by insertion sort
     for the few taps of most texels (no allocation); through a dense scratch array over the
@@ -432,7 +447,8 @@ def _merge_taps(taps, weights, o, e, om):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def compact_exceptions(at, counts, taps, weights, ends, out_taps, out_weights):
+def compact_exceptions(at: ndarray, counts: ndarray, taps: ndarray, weights: ndarray, ends: ndarray,
+                       out_taps: ndarray, out_weights: ndarray) -> None:  # fmt: skip
     """Copy texel k's ``counts[k]`` merged entries from ``at[k]`` in ``taps``/``weights`` (the
     buffers :func:`splat_exceptions` filled) to ``ends[k] - counts[k]`` in the outputs."""
     for k in numba.prange(counts.shape[0]):
@@ -444,7 +460,8 @@ def compact_exceptions(at, counts, taps, weights, ends, out_taps, out_weights):
 
 
 @_jit
-def _deposit_exception(acc, t, offsets, taps, weights, k, values):
+def _deposit_exception(acc: ndarray, t: int, offsets: ndarray, taps: ndarray, weights: ndarray,
+                       k: int, values: ndarray) -> None:  # fmt: skip
     for m in range(offsets[k], offsets[k + 1]):
         q = taps[m]
         w = weights[m]
@@ -453,7 +470,8 @@ def _deposit_exception(acc, t, offsets, taps, weights, k, values):
 
 
 @_jit
-def deposit_exceptions(where, offsets, taps, weights, width, acc):
+def deposit_exceptions(where: ndarray, offsets: ndarray, taps: ndarray, weights: ndarray,
+                       width: ndarray, acc: ndarray) -> None:  # fmt: skip
     """Add the EXCEPTION texels' weights and weighted widths to ``acc[0, q, :2]``."""
     values = np.ones(2)
     for k in range(where.shape[0]):
@@ -462,8 +480,9 @@ def deposit_exceptions(where, offsets, taps, weights, width, acc):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_rows(anchor, wq, scale, row, offsets, taps, weights, alpha, inverse, cursor, fill,
-               indices, values):  # fmt: skip
+def splat_rows(anchor: ndarray, wq: ndarray, scale: ndarray, row: int, offsets: ndarray,
+               taps: ndarray, weights: ndarray, alpha: ndarray, inverse: ndarray, cursor: ndarray,
+               fill: bool, indices: ndarray, values: ndarray) -> None:  # fmt: skip
     """The splat plan (:func:`splat_plan`, :func:`splat_exceptions`) transposed into rows, one
     per destination texel q with alpha > 0: source texel p's weight w into q becomes the entry
     (p, w alpha[q] inverse[q]) of row q. Chunk t of the source texels counts its entries per
@@ -502,7 +521,7 @@ def splat_rows(anchor, wq, scale, row, offsets, taps, weights, alpha, inverse, c
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def area_alpha(acc, omega, alpha, inverse):
+def area_alpha(acc: ndarray, omega: ndarray, alpha: ndarray, inverse: ndarray) -> None:
     """The area filter's blend per destination texel from the splat of ones and of the
     source footprints' widths (``acc[t, q] = (sum w, sum w width)``): alpha = 1 (the splat's
     mean) where the source texels (or their parts) landing there are at most
@@ -527,7 +546,7 @@ def area_alpha(acc, omega, alpha, inverse):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def row_starts(cursor, extra, indptr):
+def row_starts(cursor: ndarray, extra: ndarray, indptr: ndarray) -> None:
     """Row q holds sum_t cursor[t, q] + extra[q] entries: ``indptr`` their running sum, and
     ``cursor[t, q]`` becomes where chunk t's entries of row q start (after the earlier
     chunks')."""
@@ -543,7 +562,9 @@ def row_starts(cursor, extra, indptr):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def bilinear_rows(alpha, row, base, frac, taps, indptr, counts, fill, indices, values):
+def bilinear_rows(alpha: ndarray, row: int, base: ndarray, frac: ndarray, taps: ndarray,
+                  indptr: ndarray, counts: ndarray, fill: bool, indices: ndarray,
+                  values: ndarray) -> None:  # fmt: skip
     """Append to row q (at ``indptr[q + 1] - counts[q]``) the bilinear taps of the plan
     (:func:`plan`) weighted by 1 - alpha[q], where alpha[q] < 1 (``fill``); else count them
     into ``counts[q]``. A cube corner's missing tap (the mean of the other three) gives a third
@@ -576,7 +597,8 @@ def bilinear_rows(alpha, row, base, frac, taps, indptr, counts, fill, indices, v
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def scale_rows(indptr, indices, values, factor):
+def scale_rows(indptr: ndarray, indices: ndarray, values: ndarray,
+               factor: ndarray) -> None:  # fmt: skip
     """Multiply each entry by ``factor`` of its column (none: all 1), then scale each nonempty
     row to sum 1."""
     scaled = factor.shape[0] > 0
@@ -592,7 +614,8 @@ def scale_rows(indptr, indices, values, factor):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def balance_rows(indptr, indices, values, omega_out, col, sums):
+def balance_rows(indptr: ndarray, indices: ndarray, values: ndarray, omega_out: ndarray,
+                 col: ndarray, sums: ndarray) -> None:  # fmt: skip
     """One pass of the area filter's balancing of M = diag(r) K diag(col) (K: ``values``):
     the row scales r making every nonempty row sum 1, and the energy each column then sends,
     sum_q omega_out[q] r[q] K[q, p] (x col[p] to come), as partial sums per chunk of rows in
@@ -611,7 +634,8 @@ def balance_rows(indptr, indices, values, omega_out, col, sums):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def balance_columns(sums, omega_in, col, step):
+def balance_columns(sums: ndarray, omega_in: ndarray, col: ndarray,
+                    step: ndarray) -> float:  # fmt: skip
     """The column step, over-relaxed with momentum: where source texel p sends ``sent`` =
     col[p] x (sum of its partial sums) > 0, log col[p] moves by ``step[p]`` = 1.5 log(omega_in
     / sent) + 0.5 x its previous step (kept as the factor exp(step), so no logarithms).
@@ -632,7 +656,9 @@ def balance_columns(sums, omega_in, col, step):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def reorder_rows(indptr, indices, values, order, out_indptr, out_indices, out_values):
+def reorder_rows(indptr: ndarray, indices: ndarray, values: ndarray, order: ndarray,
+                 out_indptr: ndarray, out_indices: ndarray,
+                 out_values: ndarray) -> None:  # fmt: skip
     """Row p of the output matrix = row order[p] of the input (empty where -1)."""
     for p in numba.prange(order.shape[0]):
         q = order[p]
@@ -645,7 +671,8 @@ def reorder_rows(indptr, indices, values, order, out_indptr, out_indices, out_va
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def area_gather(src, indptr, indices, values, out):
+def area_gather(src: ndarray, indptr: ndarray, indices: ndarray, values: ndarray,
+                out: ndarray) -> None:  # fmt: skip
     """The area filter applied: out[q] = sum over row q of weight x src[p], in float64, four
     channels at a time in registers."""
     nc = out.shape[1]

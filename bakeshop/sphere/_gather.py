@@ -27,7 +27,18 @@ _jit = numba.njit(cache=True, error_model="numpy")
 
 
 @_jit
-def _taps(kind, h, w, f, x, y, nearest, index, frac, p):
+def _taps(
+    kind: int,
+    h: int,
+    w: int,
+    f: float,
+    x: float,
+    y: float,
+    nearest: bool,
+    index: np.ndarray,
+    frac: np.ndarray,
+    p: int,
+) -> None:
     if not (abs(x) < 1e18 and abs(y) < 1e18):
         # a NaN or infinite direction: no texel
         for k in range(index.shape[1]):
@@ -47,7 +58,9 @@ def _taps(kind, h, w, f, x, y, nearest, index, frac, p):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def taps_of(kind, h, w, dirs, nearest, index, frac):
+def taps_of(
+    kind: int, h: int, w: int, dirs: np.ndarray, nearest: bool, index: np.ndarray, frac: np.ndarray
+) -> None:
     """Source taps for sampling layout (kind, h, w) at directions ``dirs`` (m, 3)."""
     for p in numba.prange(dirs.shape[0]):
         f, x, y = coordinates(kind, h, w, dirs[p, 0], dirs[p, 1], dirs[p, 2])
@@ -60,7 +73,7 @@ EXCEPTION = -2
 
 
 @_jit
-def block(kind, h, w, f, i0, j0, size):
+def block(kind: int, h: int, w: int, f: float, i0: int, j0: int, size: int) -> int:
     """Flat index of texel (f, i0, j0) when the size x size block from it holds ordinary
     texels of one image (one face, one disk, all valid), else -1: then ``resolve`` of block
     texel (a, b) is simply that index + b w + a."""
@@ -81,7 +94,9 @@ def block(kind, h, w, f, i0, j0, size):
 
 
 @_jit
-def _plan_direction(dkind, dh, dw, f, i, j, rot, trig):
+def _plan_direction(
+    dkind: int, dh: int, dw: int, f: int, i: int, j: int, rot: np.ndarray, trig: np.ndarray
+) -> tuple[float, float, float]:
     """Direction of destination texel (f, i, j)'s centre, rotated into the source's frame."""
     if dkind == LATLONG:
         x, y, z = trig[2, j] * trig[0, i], trig[3, j], -trig[2, j] * trig[1, i]
@@ -91,14 +106,31 @@ def _plan_direction(dkind, dh, dw, f, i, j, rot, trig):
 
 
 @_jit
-def _latlong_row(h, w, xs, ys, zs, us, vs):
+def _latlong_row(
+    h: int, w: int, xs: np.ndarray, ys: np.ndarray, zs: np.ndarray, us: np.ndarray, vs: np.ndarray
+) -> None:
     # a loop of selects and arithmetic only: it vectorises
     for i in range(xs.shape[0]):
         us[i], vs[i] = latlong_xy(h, w, xs[i], ys[i], zs[i])
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, base, frac, src, out, first_row):
+def plan(
+    skind: int,
+    sh: int,
+    sw: int,
+    dkind: int,
+    dh: int,
+    dw: int,
+    faces: int,
+    rot: np.ndarray,
+    nearest: bool,
+    base: np.ndarray,
+    frac: np.ndarray,
+    src: np.ndarray,
+    out: np.ndarray,
+    first_row: int,
+) -> None:
     """The remap plan of destination texel centres, one destination row at a time: the rows
     ``first_row`` onwards (of the faces stacked, ``faces * dh`` rows in all), as many as
     ``base`` holds (``p`` below counts from the first of them).
@@ -150,7 +182,17 @@ def plan(skind, sh, sw, dkind, dh, dw, faces, rot, nearest, base, frac, src, out
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def plan_exceptions(skind, sh, sw, dkind, dh, dw, rot, where, taps):
+def plan_exceptions(
+    skind: int,
+    sh: int,
+    sw: int,
+    dkind: int,
+    dh: int,
+    dw: int,
+    rot: np.ndarray,
+    where: np.ndarray,
+    taps: np.ndarray,
+) -> None:
     """The four seam-aware taps of the plan's EXCEPTION texels ``where`` (-1: a cube corner)."""
     per = dh * dw
     trig = latlong_trig(dh, dw)
@@ -167,7 +209,13 @@ def plan_exceptions(skind, sh, sw, dkind, dh, dw, rot, where, taps):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def reorder_plan(base, frac, order, out_base, out_frac):
+def reorder_plan(
+    base: np.ndarray,
+    frac: np.ndarray,
+    order: np.ndarray,
+    out_base: np.ndarray,
+    out_frac: np.ndarray,
+) -> None:
     """The plan (:func:`plan`) of texels ``order`` (-1: none, an invalid texel)."""
     for p in numba.prange(order.shape[0]):
         k = order[p]
@@ -178,14 +226,24 @@ def reorder_plan(base, frac, order, out_base, out_frac):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def gather_at(src, row, base, frac, taps, where, out):
+def gather_at(
+    src: np.ndarray,
+    row: int,
+    base: np.ndarray,
+    frac: np.ndarray,
+    taps: np.ndarray,
+    where: np.ndarray,
+    out: np.ndarray,
+) -> None:
     """:func:`gather_plan` for the output texels ``where`` only."""
     for k in numba.prange(where.shape[0]):
         _gather_texel(src, row, base, frac, taps, where[k], out)
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def gather_plan(src, row, base, frac, taps, out):
+def gather_plan(
+    src: np.ndarray, row: int, base: np.ndarray, frac: np.ndarray, taps: np.ndarray, out: np.ndarray
+) -> None:
     """Apply a bilinear remap plan (see :func:`plan`): ``row`` is the source's row stride
     (its width). Weights are computed in the image's type (float32 stays float32)."""
     for p in numba.prange(base.shape[0]):
@@ -193,7 +251,15 @@ def gather_plan(src, row, base, frac, taps, out):
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
-def _gather_texel(src, row, base, frac, taps, p, out):
+def _gather_texel(
+    src: np.ndarray,
+    row: int,
+    base: np.ndarray,
+    frac: np.ndarray,
+    taps: np.ndarray,
+    p: int,
+    out: np.ndarray,
+) -> None:
     """out[p] from the bilinear plan (see :func:`plan`); inlined: a call costs 2x here."""
     nc = src.shape[1]
     one = src.dtype.type(1)
@@ -219,7 +285,9 @@ def _gather_texel(src, row, base, frac, taps, p, out):
 
 
 @_jit
-def _bilinear(src, i0, i1, i2, i3, fx, fy, c):
+def _bilinear(
+    src: np.ndarray, i0: int, i1: int, i2: int, i3: int, fx: float, fy: float, c: int
+) -> float:
     w0, w1 = (1 - fx) * (1 - fy), fx * (1 - fy)
     w2, w3 = (1 - fx) * fy, fx * fy
     if i0 >= 0 and i1 >= 0 and i2 >= 0 and i3 >= 0:
@@ -238,7 +306,7 @@ def _bilinear(src, i0, i1, i2, i3, fx, fy, c):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def gather_nearest(src, index, out):
+def gather_nearest(src: np.ndarray, index: np.ndarray, out: np.ndarray) -> None:
     for p in numba.prange(index.shape[0]):
         i = index[p, 0]
         for c in range(src.shape[1]):
@@ -246,7 +314,7 @@ def gather_nearest(src, index, out):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def gather_bilinear(src, index, frac, out):
+def gather_bilinear(src: np.ndarray, index: np.ndarray, frac: np.ndarray, out: np.ndarray) -> None:
     """out[p] = bilinear blend of the four taps of ``index[p]`` with fractions ``frac[p]``;
     all taps -1: 0 (an invalid texel); one tap -1: a cube corner (the mean of the other three).
     Weights are computed in the image's type (float32 stays float32)."""
@@ -269,7 +337,15 @@ def gather_bilinear(src, index, frac, out):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def gather_plan_clamped(src, row, base, frac, taps, clamp, out):
+def gather_plan_clamped(
+    src: np.ndarray,
+    row: int,
+    base: np.ndarray,
+    frac: np.ndarray,
+    taps: np.ndarray,
+    clamp: float,
+    out: np.ndarray,
+) -> None:
     """:func:`gather_plan` of the source with every value clamped to at most ``clamp`` (the
     supersampled area filter samples the part of an image below its bright texels)."""
     nc = src.shape[1]

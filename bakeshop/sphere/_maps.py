@@ -40,7 +40,7 @@ _jit = numba.njit(cache=True, error_model="numpy")
 
 
 @numba.njit(cache=True, inline="always")
-def is_disk(kind):
+def is_disk(kind: int) -> bool:
     """Whether layout ``kind`` is made of disks (angular, mirror ball, dual paraboloid)."""
     return (
         kind == ANGULAR
@@ -52,14 +52,14 @@ def is_disk(kind):
 
 
 @numba.njit(cache=True, inline="always")
-def is_cubic(kind):
+def is_cubic(kind: int) -> bool:
     """Whether layout ``kind`` is six square faces (``h = w = S``, face axis ``f``): the
     OpenGL cube and OpenEXR's cube environment."""
     return kind == CUBE or kind == OPENEXR_CUBE
 
 
 @numba.njit(cache=True, inline="always")
-def _cube_scale(kind, n):
+def _cube_scale(kind: int, n: int) -> int:
     """Texel centres per face edge minus what the face coordinate's [-1, 1] spans in texels:
     OpenGL's faces span their S texels' outer edges, OpenEXR's their first and last texel
     centres (ImfEnvmap: position ``p`` of ``S`` is ``2 p / (S - 1) - 1``)."""
@@ -67,7 +67,7 @@ def _cube_scale(kind, n):
 
 
 @numba.njit(cache=True, inline="always")
-def _cube_offset(kind):
+def _cube_offset(kind: int) -> float:
     return 0.0 if kind == CUBE else 0.5
 
 
@@ -89,7 +89,7 @@ _SQRT3 = math.sqrt(3.0)
 
 
 @_jit
-def atan2(y, x):
+def atan2(y: float, x: float) -> float:
     """``math.atan2(y, x)`` within 2e-14 rad (signed zeros as libm; NaN or infinite input: NaN).
 
     Branch-free (selects only), so that loops over it vectorise (its speed against libm's is in
@@ -112,7 +112,7 @@ def atan2(y, x):
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
-def latlong_xy(h, w, x, y, z):
+def latlong_xy(h: int, w: int, x: float, y: float, z: float) -> tuple[float, float]:
     """A latlong's continuous coordinates (x, y) of direction (x, y, z): longitude
     ``phi = atan2(x, -z)``, colatitude ``theta = atan2(hypot(x, z), y)``."""
     phi = atan2(x, -z)
@@ -124,7 +124,7 @@ def latlong_xy(h, w, x, y, z):
 
 
 @_jit
-def _disk_direction(kind, a, b, disk):
+def _disk_direction(kind: int, a: float, b: float, disk: int) -> tuple[float, float, float]:
     """Direction of disk point (a, b) (b up); valid beyond the rim for angular (theta > pi) and
     dual-paraboloid (the other hemisphere); the mirror ball is clamped to its rim.
 
@@ -149,7 +149,7 @@ def _disk_direction(kind, a, b, disk):
 
 
 @_jit
-def _octahedron_point(a, c):
+def _octahedron_point(a: float, c: float) -> tuple[float, float, float]:
     aa, ac = abs(a), abs(c)
     y = 1.0 - aa - ac
     if y >= 0:
@@ -160,7 +160,9 @@ def _octahedron_point(a, c):
 
 
 @_jit
-def direction(kind, h, w, f, x, y):
+def direction(
+    kind: int, h: int, w: int, f: float, x: float, y: float
+) -> tuple[float, float, float]:
     """Unit direction at coordinates (f, x, y). Outside a disk: the disk's nearest point."""
     if kind == LATLONG:
         phi = 2 * math.pi * (x / w - 0.5)
@@ -205,13 +207,13 @@ def direction(kind, h, w, f, x, y):
 
 
 @_jit
-def cube_face(x, y, z):
+def cube_face(x: float, y: float, z: float) -> tuple[int, float, float]:
     """OpenGL's major-axis rule: (face, sc, tc), sc and tc in [-1, 1] (ties: x, then y)."""
     return _major_face(_BASES, x, y, z)
 
 
 @_jit
-def _major_face(bases, x, y, z):
+def _major_face(bases: np.ndarray, x: float, y: float, z: float) -> tuple[int, float, float]:
     """(face, sc, tc) of the face table ``bases`` (``N + sc U + tc V``) by the major axis; the
     face order and tie rule are OpenGL's and ImfEnvmap's alike (ties: x, then y)."""
     ax, ay, az = abs(x), abs(y), abs(z)
@@ -229,7 +231,9 @@ def _major_face(bases, x, y, z):
 
 
 @_jit
-def coordinates(kind, h, w, x, y, z):
+def coordinates(
+    kind: int, h: int, w: int, x: float, y: float, z: float
+) -> tuple[float, float, float]:
     """Continuous coordinates (f, x, y) of direction (x, y, z) (need not be unit)."""
     if kind == LATLONG:
         u, v = latlong_xy(h, w, x, y, z)
@@ -284,7 +288,7 @@ def coordinates(kind, h, w, x, y, z):
 
 
 @_jit
-def valid(kind, h, w, f, i, j):
+def valid(kind: int, h: int, w: int, f: float, i: int, j: int) -> bool:
     """Whether texel (f, i, j) holds data: disk texels must overlap the open disk."""
     if is_disk(kind):
         n = h
@@ -296,7 +300,7 @@ def valid(kind, h, w, f, i, j):
 
 
 @_jit
-def resolve(kind, h, w, f, i, j, x):
+def resolve(kind: int, h: int, w: int, f: float, i: int, j: int, x: float) -> int:
     """Flat index of integer texel (f, i, j), which may lie one texel outside the image (or the
     disk), as the neighbour of a sample at column coordinate ``x``; -1 for a cube corner."""
     if kind == LATLONG:
@@ -383,7 +387,7 @@ def resolve(kind, h, w, f, i, j, x):
 
 
 @_jit
-def nearest_texel(kind, h, w, f, x, y):
+def nearest_texel(kind: int, h: int, w: int, f: float, x: float, y: float) -> int:
     """Flat index of the texel containing the point at coordinates (f, x, y) (``resolve`` of
     its integer texel); a cube face owns its far edges, so that a direction on a cube edge or
     corner (where OpenEXR's cube puts texel centres) finds its face's texel."""
@@ -397,7 +401,7 @@ def nearest_texel(kind, h, w, f, x, y):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def directions_at(kind, h, w, coords, out):
+def directions_at(kind: int, h: int, w: int, coords: np.ndarray, out: np.ndarray) -> None:
     for p in numba.prange(coords.shape[0]):
         out[p, 0], out[p, 1], out[p, 2] = direction(
             kind, h, w, coords[p, 0], coords[p, 1], coords[p, 2]
@@ -405,14 +409,14 @@ def directions_at(kind, h, w, coords, out):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def coordinates_of(kind, h, w, dirs, out):
+def coordinates_of(kind: int, h: int, w: int, dirs: np.ndarray, out: np.ndarray) -> None:
     for p in numba.prange(dirs.shape[0]):
         f, x, y = coordinates(kind, h, w, dirs[p, 0], dirs[p, 1], dirs[p, 2])
         out[p, 0], out[p, 1], out[p, 2] = f, x, y
 
 
 @_jit
-def rotate(rot, x, y, z):
+def rotate(rot: np.ndarray, x: float, y: float, z: float) -> tuple[float, float, float]:
     # R^T d: what the output shows at d is what the input showed at R^T d
     return (
         rot[0, 0] * x + rot[1, 0] * y + rot[2, 0] * z,
@@ -422,7 +426,7 @@ def rotate(rot, x, y, z):
 
 
 @_jit
-def latlong_trig(h, w):
+def latlong_trig(h: int, w: int) -> np.ndarray:
     """Sin and cos of a latlong's longitude at every column centre (rows 0, 1) and of its
     colatitude at every row centre (rows 2, 3): its directions are their products."""
     trig = np.empty((4, max(h, w)))

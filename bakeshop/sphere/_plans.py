@@ -23,12 +23,24 @@ PART_BYTES = 1 << 24
 
 _NO_IMAGE = np.empty((0, 1), np.float32)
 
+#: a remap plan: ``(base, frac, taps)`` (see :func:`build`).
+Plan = tuple[np.ndarray, np.ndarray, np.ndarray]
+
 #: cached plans, by (source, source shape, destination, shape, filter, rotation key).
 plans = ByteBoundedCache("remap plans", PLAN_BYTES)
 
 
-def build(src: str, src_shape, dst: str, dst_shape, filter: str, rotation: bytes | None,
-          image=None, out=None, rows=None):  # fmt: skip
+def build(
+    src: str,
+    src_shape: tuple[int, ...],
+    dst: str,
+    dst_shape: tuple[int, ...],
+    filter: str,
+    rotation: bytes | None,
+    image: np.ndarray | None = None,
+    out: np.ndarray | None = None,
+    rows: tuple[int, int] | None = None,
+) -> Plan:
     """The remap plan of every output texel (read-only arrays), see ``_gather.plan``:
     ``(base, frac, taps)``. Nearest: int32 (m,) source texels, no fractions or taps. Bilinear:
     int32 (m,) base indices of 2x2 blocks, float32 (m, 2) fractions and int32 (k, 4) explicit
@@ -60,15 +72,23 @@ def build(src: str, src_shape, dst: str, dst_shape, filter: str, rotation: bytes
     return base, frac, taps
 
 
-def plan_bytes(dst: str, dst_shape, filter: str) -> int:
+def plan_bytes(dst: str, dst_shape: tuple[int, ...], filter: str) -> int:
     """Bytes of a remap plan into ``dst`` (seam texels aside): 12 per output texel for
     bilinear, 4 for nearest."""
     dh, dw, faces = layout(dst).grid(dst_shape)
     return faces * dh * dw * (4 if filter == "nearest" else 12)
 
 
-def apply_in_parts(src: str, src_shape, dst: str, dst_shape, filter: str,
-                   rotation: bytes | None, image, out) -> None:  # fmt: skip
+def apply_in_parts(
+    src: str,
+    src_shape: tuple[int, ...],
+    dst: str,
+    dst_shape: tuple[int, ...],
+    filter: str,
+    rotation: bytes | None,
+    image: np.ndarray,
+    out: np.ndarray,
+) -> None:
     """Remap the flat ``image`` into ``out`` (m, C) by building the plan a part of
     :data:`PART_BYTES` at a time and applying it on the way, keeping none of it."""
     dh, dw, faces = layout(dst).grid(dst_shape)
@@ -79,13 +99,20 @@ def apply_in_parts(src: str, src_shape, dst: str, dst_shape, filter: str,
               (first, stop))  # fmt: skip
 
 
-def cached(src: str, src_shape, dst: str, dst_shape, filter: str, rotation: bytes | None):
+def cached(
+    src: str,
+    src_shape: tuple[int, ...],
+    dst: str,
+    dst_shape: tuple[int, ...],
+    filter: str,
+    rotation: bytes | None,
+) -> Plan:
     """The cached plan of a conversion (built when missing)."""
     key = (src, src_shape, dst, dst_shape, filter, rotation)
     return plans.cached(key, lambda: build(*key))
 
 
-def apply(flat_src, plan, row: int) -> np.ndarray:
+def apply(flat_src: np.ndarray, plan: Plan, row: int) -> np.ndarray:
     """A plan applied to a flat (n, C) source whose rows are ``row`` texels long: (m, C)."""
     base, frac, taps = plan
     out = np.empty((base.shape[0], flat_src.shape[1]), flat_src.dtype)
@@ -97,16 +124,16 @@ def apply(flat_src, plan, row: int) -> np.ndarray:
 
 
 @functools.lru_cache(maxsize=4)
-def view_order(view: str, cube_shape) -> np.ndarray:
+def view_order(view: str, cube_shape: tuple[int, ...]) -> np.ndarray:
     """Per texel of the picture ``view`` of a cube of ``cube_shape``: the flat index of the
     cube texel it shows, -1 in the unused squares (int32, read-only)."""
-    order = np.arange(int(np.prod(cube_shape)), dtype=np.int32).reshape(cube_shape)
+    order: np.ndarray = np.arange(int(np.prod(cube_shape)), dtype=np.int32).reshape(cube_shape)
     order = cube_to_view(order, view, fill=-1).reshape(-1)
     order.setflags(write=False)
     return order
 
 
-def view_plan(plan, view: str, cube_shape):
+def view_plan(plan: Plan, view: str, cube_shape: tuple[int, ...]) -> Plan:
     """A cube's plan rearranged for its picture ``view``: the unused squares get -1 (zero)."""
     base, frac, taps = plan
     order = view_order(view, cube_shape)

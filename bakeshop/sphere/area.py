@@ -64,7 +64,14 @@ class _Splat(NamedTuple):
     acc: np.ndarray  # float64 (chunks, m, 2): sums of weights and weighted widths
 
 
-def _splat(s: Layout, src_shape, d: Layout, dst_shape, rot, omega) -> _Splat:
+def _splat(
+    s: Layout,
+    src_shape: tuple[int, ...],
+    d: Layout,
+    dst_shape: tuple[int, ...],
+    rot: np.ndarray,
+    omega: np.ndarray,
+) -> _Splat:
     """Stage 1: the deposits of the source texels that land on a 3x3 block of one image."""
     sh, sw, sfaces = s.grid(src_shape)
     dh, dw, faces = d.grid(dst_shape)
@@ -82,7 +89,9 @@ def _splat(s: Layout, src_shape, d: Layout, dst_shape, rot, omega) -> _Splat:
     return splat
 
 
-def _merge(s: Layout, src_shape, d: Layout, dst_shape, rot, omega, where, parts):
+def _merge(s: Layout, src_shape: tuple[int, ...], d: Layout, dst_shape: tuple[int, ...],
+           rot: np.ndarray, omega: np.ndarray, where: np.ndarray,
+           parts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
     """Stage 2: the merged deposits of the source texels ``where`` (cut into parts, or
     crossing a seam): ``(offsets, taps, weights)``, texel k's entries at offsets[k] onwards.
 
@@ -122,14 +131,15 @@ def _merge(s: Layout, src_shape, d: Layout, dst_shape, rot, omega, where, parts)
         kept.size = int(kept_ends[-1])
         start = stop
     np.cumsum(offsets, out=offsets)
-    return offsets, *kept.filled()
+    taps, weights = kept.filled()
+    return offsets, taps, weights
 
 
 class _Growing:
     """A pair of arrays (int32 taps, float32 weights) filled from the start, grown on demand."""
 
-    def __init__(self):
-        self.arrays = (np.empty(0, np.int32), np.empty(0, np.float32))
+    def __init__(self) -> None:
+        self.arrays: tuple[np.ndarray, ...] = (np.empty(0, np.int32), np.empty(0, np.float32))
         self.size = 0
 
     def reserve(self, needed: int, expected: int) -> None:
@@ -145,7 +155,9 @@ class _Growing:
         return self.arrays[0][: self.size], self.arrays[1][: self.size]
 
 
-def _rows(splat: _Splat, merged, alpha, inverse, bilinear, src_width: int, dst_width: int):
+def _rows(splat: _Splat, merged: tuple[np.ndarray, np.ndarray, np.ndarray], alpha: np.ndarray,
+          inverse: np.ndarray, bilinear: tuple[np.ndarray, np.ndarray, np.ndarray], src_width: int,
+          dst_width: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
     """Stage 3: the deposits transposed into CSR rows, one per output texel, with the bilinear
     taps (weighted 1 - alpha) where the deposits cover too little:
     ``(indptr int64, indices int32, values float32)``."""
@@ -163,10 +175,11 @@ def _rows(splat: _Splat, merged, alpha, inverse, bilinear, src_width: int, dst_w
     rows = (np.empty(indptr[-1], np.int32), np.empty(indptr[-1], np.float32))
     kernels.splat_rows(*deposits, True, *rows)
     kernels.bilinear_rows(alpha, src_width, *bilinear, indptr, counts, True, *rows)
-    return indptr, *rows
+    return indptr, rows[0], rows[1]
 
 
-def _balance(indptr, indices, values, omega_out, omega_in, sums) -> float:
+def _balance(indptr: np.ndarray, indices: np.ndarray, values: np.ndarray, omega_out: np.ndarray,
+             omega_in: np.ndarray, sums: np.ndarray) -> float:  # fmt: skip
     """Stage 4: scale the rows and columns of the sparse matrix M (CSR, nonnegative float32
     ``values``, in place) towards every nonempty row summing to 1 (a constant stays constant)
     and every column p carrying its source texel's solid angle,
@@ -190,7 +203,13 @@ def _balance(indptr, indices, values, omega_out, omega_in, sums) -> float:
     return err
 
 
-def _build(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
+def _build(
+    src: str,
+    src_shape: tuple[int, ...],
+    dst: str,
+    dst_shape: tuple[int, ...],
+    rotation: bytes | None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The area filter's matrix from layout ``src`` to ``dst`` (not a cube picture): read-only
     CSR arrays (int64 row starts, int32 source texels, float32 weights; about 5 entries per
     output texel where the output is as fine as the source, ~48 bytes). Empty arrays when the
@@ -215,7 +234,7 @@ def _build(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
     src_width, dst_width = s.grid(src_shape)[1], d.grid(dst_shape)[1]
     # the bilinear plan's taps fill in where the deposits cover too little
     bilinear = _plans.cached(src, src_shape, dst, dst_shape, "bilinear", rotation)
-    plan = _rows(splat._replace(acc=None), merged, alpha, inverse, bilinear, src_width, dst_width)
+    plan = _rows(splat, merged, alpha, inverse, bilinear, src_width, dst_width)
     del splat, merged
     _balance(*plan, omega_out, omega, np.zeros((numba.get_num_threads(), len(omega))))
     for a in plan:
@@ -223,13 +242,19 @@ def _build(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
     return plan
 
 
-def _build_for(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None):
+def _build_for(
+    src: str,
+    src_shape: tuple[int, ...],
+    dst: str,
+    dst_shape: tuple[int, ...],
+    rotation: bytes | None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`_build` into layout ``dst``; for a cube picture, the cube's matrix with its rows
     reordered into the picture's (the unused squares' rows are empty)."""
     d = layout(dst)
     if d.base is d:
         return _build(src, src_shape, dst, dst_shape, rotation)
-    cube_shape = d.base.shape(d.face_size(dst_shape))
+    cube_shape = d.base_shape(dst_shape)
     indptr, indices, values = _build(src, src_shape, d.base.name, cube_shape, rotation)
     if len(indptr) == 0:
         return indptr, indices, values
@@ -250,7 +275,14 @@ def _build_for(src: str, src_shape, dst: str, dst_shape, rotation: bytes | None)
 _matrices = ByteBoundedCache("area filter matrices", AREA_PLAN_BYTES)
 
 
-def area_remap(flat, s: Layout, src_shape, d: Layout, dst_shape, rotation: bytes | None):
+def area_remap(
+    flat: np.ndarray,
+    s: Layout,
+    src_shape: tuple[int, ...],
+    d: Layout,
+    dst_shape: tuple[int, ...],
+    rotation: bytes | None,
+) -> np.ndarray | None:
     """The area filter of the flat source ``flat`` (n, C) into ``d`` (a cube picture: gathered
     straight into it): ``dst_shape + (C,)``, or None where the filter is bilinear (magnifying
     everywhere)."""
@@ -349,7 +381,9 @@ def supersample(
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _source_xy(skind, sh, sw, rot, f, sc, tc):  # pragma: no cover - compiled
+def _source_xy(  # pragma: no cover - compiled
+    skind: int, sh: int, sw: int, rot: np.ndarray, f: int, sc: float, tc: float
+) -> tuple[float, float, float]:
     # source coordinates (face, x, y) of cube face f's point (sc, tc)
     x = _BASES[f, 0, 0] + sc * _BASES[f, 1, 0] + tc * _BASES[f, 2, 0]
     y = _BASES[f, 0, 1] + sc * _BASES[f, 1, 1] + tc * _BASES[f, 2, 1]
@@ -368,7 +402,9 @@ _LINEAR_TOLERANCE = 0.05
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def _supersample_cube(skind, sh, sw, src, clamp, size, k, rot, out):  # pragma: no cover
+def _supersample_cube(skind: int, sh: int, sw: int, src: np.ndarray, clamp: float, size: int,
+                      k: int, rot: np.ndarray,
+                      out: np.ndarray) -> None:  # pragma: no cover - compiled  # fmt: skip
     # out[f, j, i] = sum_s w_s R(p_s) / sum_s w_s over the k x k sample points of cube texel
     # (f, i, j) (the centres of its finer grid's texels), w_s = (1 + sc^2 + tc^2)^-1.5 (the
     # face's solid angle density there), R the bilinear lookup of the source clamped at clamp.
@@ -418,7 +454,9 @@ def _supersample_cube(skind, sh, sw, src, clamp, size, k, rot, out):  # pragma: 
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _add_bilinear(kind, h, w, src, clamp, f, x, y, weight, acc):  # pragma: no cover
+def _add_bilinear(kind: int, h: int, w: int, src: np.ndarray, clamp: float, f: float, x: float,
+                  y: float, weight: float,
+                  acc: np.ndarray) -> None:  # pragma: no cover - compiled  # fmt: skip
     # acc += weight * the seam-aware bilinear value at coordinates (f, x, y), every texel
     # clamped at clamp (a cube corner's missing texel is the mean of the other three)
     xs, ys = x - 0.5, y - 0.5
@@ -520,7 +558,7 @@ def bright_deposits(
     return q, values
 
 
-def _texel_of(d: Layout, shape, dirs) -> np.ndarray:
+def _texel_of(d: Layout, shape: tuple[int, ...], dirs: np.ndarray) -> np.ndarray:
     """Flat index of the texel of base layout ``d`` holding each direction."""
     dh, dw, _ = d.grid(shape)
     coords = d.coordinates(dirs, shape)
@@ -541,7 +579,9 @@ def sample_taps_of(
     return taps, frac
 
 
-def _bright_texels(flat, s: Layout, src_shape) -> tuple[float, np.ndarray]:
+def _bright_texels(
+    flat: np.ndarray, s: Layout, src_shape: tuple[int, ...]
+) -> tuple[float, np.ndarray]:
     """The clamp of :func:`supersample` and the flat indices of the texels whose brightest
     channel exceeds it (ascending; at most :data:`MAX_BRIGHT`): one pass over strips."""
     parts = [
@@ -592,7 +632,9 @@ def bright_texels(parts: list) -> tuple[float, np.ndarray, np.ndarray]:
 
 
 @numba.njit(cache=True)
-def _peak_stats(values, omega, stats):  # pragma: no cover - compiled
+def _peak_stats(  # pragma: no cover - compiled
+    values: np.ndarray, omega: np.ndarray, stats: np.ndarray
+) -> None:
     for t in range(values.shape[0]):
         if omega[t] > 0:
             peak = values[t, 0]

@@ -79,7 +79,7 @@ DIRECTX_FACES = (
 CONVENTIONS = ("opengl", "vulkan", "directx")
 
 
-def _transform(face, flip_x: bool, flip_y: bool, rot180: bool = False):
+def _transform(face: np.ndarray, flip_x: bool, flip_y: bool, rot180: bool = False) -> np.ndarray:
     fx, fy = flip_x ^ rot180, flip_y ^ rot180
     if fx:
         face = face[:, ::-1]
@@ -145,14 +145,14 @@ VIEWS = {
 }  # fmt: skip
 
 
-def view_slots(view: str):
+def view_slots(view: str) -> list[tuple[int, int, bool, bool]]:
     """Per internal face g: (column, row, flip_x, flip_y) of where and how ``view`` shows it."""
     _, _, slots = VIEWS[view]
-    out: list[tuple[int, int, bool, bool] | None] = [None] * 6
+    out: dict[int, tuple[int, int, bool, bool]] = {}
     for label, (col, row, rot) in slots.items():
         g, fx, fy = DIRECTX_FACES[label]
         out[g] = (col, row, fx ^ rot, fy ^ rot)
-    return out
+    return [out[g] for g in range(6)]
 
 
 def cube_to_view(cube: ArrayLike, view: str, *, fill: float = 0.0) -> np.ndarray:

@@ -8,8 +8,6 @@ angles). :func:`bakeshop.sphere.remap`'s area filter takes them when they apply
 
 from __future__ import annotations
 
-from typing import Any, cast
-
 import numba
 import numpy as np
 import scipy.sparse as sp
@@ -69,7 +67,9 @@ def reduce_cube(image: np.ndarray, size: int) -> np.ndarray:
 
 
 @numba.njit(parallel=True, cache=True)
-def _box_reduce(fine, omega, k, out):  # pragma: no cover - compiled
+def _box_reduce(  # pragma: no cover - compiled
+    fine: np.ndarray, omega: np.ndarray, k: int, out: np.ndarray
+) -> None:
     # out[J, I] = sum(omega L) / sum(omega) over the k x k fine texels of (J, I); 0 where the
     # block has no solid angle (outside a disk). omega's rows repeat (a cube face's table serves
     # its six faces).
@@ -111,8 +111,7 @@ def area_exact(
         if dh <= h and dw <= w:
             return reduce_latlong(image, (dh, dw))
     if s.name == "cube" and d.base.name == "cube":
-        picture = cast(Any, d)  # a cube picture (cross, strip) has a face size
-        n, size = image.shape[1], picture.face_size(dst_shape) if d.base is not d else dst_shape[1]
+        n, size = image.shape[1], d.base_shape(dst_shape)[1]
         if size <= n and n % size == 0:
             cube = reduce_cube(image, size)
             return cube if d.base is d else cube_to_view(cube, d.name)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 
@@ -24,7 +25,7 @@ def rotation_matrix(yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0) -> 
     return ry @ rx @ rz
 
 
-def as_rotation(rotation) -> np.ndarray | None:
+def as_rotation(rotation: ArrayLike | None) -> np.ndarray | None:
     """``rotation`` as an orthogonal 3x3 float64 matrix, or None for no rotation.
 
     Accepts None, a ``(yaw, pitch, roll)`` triple in degrees (see :func:`rotation_matrix`) or a
@@ -46,7 +47,7 @@ def as_rotation(rotation) -> np.ndarray | None:
     return m
 
 
-def rotation_key(rotation) -> bytes | None:
+def rotation_key(rotation: ArrayLike | None) -> bytes | None:
     """A hashable key of ``rotation`` (see :func:`as_rotation`) for the geometry caches."""
     m = as_rotation(rotation)
     return None if m is None else m.tobytes()

@@ -23,8 +23,10 @@ applying a cached plan is one numba-parallel gather over the output.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop._typing import Filter
 from bakeshop.errors import ArgumentError, validate_choice
@@ -58,7 +60,9 @@ SUPERSAMPLE_BYTES = 96 * SUPERSAMPLE_PART + 32 * STRIP_TEXELS
 _NO_FRAC = np.empty((0, 2), np.float32)
 
 
-def sample(image, layout_name: str | Layout, dirs, *, filter: str = "bilinear") -> np.ndarray:
+def sample(
+    image: ArrayLike, layout_name: str | Layout, dirs: ArrayLike, *, filter: str = "bilinear"
+) -> np.ndarray:
     """Values of an environment at directions.
 
     Parameters
@@ -101,7 +105,9 @@ def sample(image, layout_name: str | Layout, dirs, *, filter: str = "bilinear") 
     return env.shaped(out.reshape(d.shape[:-1] + (img.shape[-1],)))
 
 
-def auto_filter(src: str | Layout, src_shape, dst: str | Layout, dst_shape) -> Filter:
+def auto_filter(
+    src: str | Layout, src_shape: Sequence[int], dst: str | Layout, dst_shape: Sequence[int]
+) -> Filter:
     """The filter ``"auto"`` means for a conversion: ``"area"`` (the energy-preserving
     average) when the output holds at most half as many valid texels as the input (a real
     downsampling, where a point filter aliases), else ``"bilinear"``.
@@ -116,7 +122,12 @@ def auto_filter(src: str | Layout, src_shape, dst: str | Layout, dst_shape) -> F
     return "area" if 2 * out_texels <= in_texels else "bilinear"
 
 
-def remap_shape(src: str | Layout, src_shape, dst: str | Layout, size=None) -> tuple[int, ...]:
+def remap_shape(
+    src: str | Layout,
+    src_shape: Sequence[int],
+    dst: str | Layout,
+    size: int | tuple[int, int] | None = None,
+) -> tuple[int, ...]:
     """The spatial shape :func:`remap` gives an image of spatial ``src_shape`` in layout
     ``src`` converted to ``dst`` at ``size`` (None: about as many valid texels as the
     source has; a power-of-two face edge for cubes, crosses and strips)."""
@@ -126,16 +137,16 @@ def remap_shape(src: str | Layout, src_shape, dst: str | Layout, size=None) -> t
     return d.shape(size)
 
 
-def shape_text(shape) -> str:
+def shape_text(shape: Sequence[int]) -> str:
     """``'1024x512'`` for an (H, W) layout, ``'6x256x256'`` for a cube."""
     return "x".join(map(str, shape)) if len(shape) == 3 else f"{shape[1]}x{shape[0]}"
 
 
 def remap_cost(
     src: str | Layout,
-    src_shape,
+    src_shape: Sequence[int],
     dst: str | Layout,
-    size=None,
+    size: int | tuple[int, int] | None = None,
     *,
     filter: str = "bilinear",
     channels: int = 3,
@@ -154,28 +165,30 @@ def remap_cost(
     validate_choice(filter, FILTERS, "filter")
     s, d = layout(src), layout(dst)
     src_shape = tuple(int(n) for n in src_shape)
-    base_src = src_shape if s.base is s else s.base.shape(s.face_size(src_shape))
+    base_src = s.base_shape(src_shape)
     dst_shape = remap_shape(s.base, base_src, d, size)
     if filter == "auto":
         filter = auto_filter(s.base, base_src, d, dst_shape)
     return _remap_cost(s, src_shape, d, dst_shape, filter, channels * itemsize)
 
 
-def _base_shape(d: Layout, shape):
-    """The shape of ``d``'s base layout (a cube picture's cube) for ``d``'s ``shape``."""
-    return shape if d.base is d else d.base.shape(d.face_size(shape))
-
-
-def _remap_cost(s: Layout, src_shape, d: Layout, dst_shape, filter: str, texel: int) -> Cost:
+def _remap_cost(
+    s: Layout,
+    src_shape: Sequence[int],
+    d: Layout,
+    dst_shape: Sequence[int],
+    filter: str,
+    texel: int,
+) -> Cost:
     """:func:`remap_cost` of resolved shapes and filter (``texel``: bytes per texel)."""
-    base_src = src_shape if s.base is s else s.base.shape(s.face_size(src_shape))
+    base_src = s.base_shape(src_shape)
     n_src, n_out = math.prod(base_src), math.prod(dst_shape)
     memory = n_out * texel + REMAP_OVERHEAD
     if d.base is not d:  # gathered as a cube, then laid out as the picture
-        memory += math.prod(d.base.shape(d.face_size(dst_shape))) * texel
+        memory += math.prod(d.base_shape(dst_shape)) * texel
     if s.base is not s:  # the cube of the source picture
         memory += n_src * texel
-    if filter == "area" and supersampling(s.base, base_src, d.base, _base_shape(d, dst_shape)):
+    if filter == "area" and supersampling(s.base, base_src, d.base, d.base_shape(dst_shape)):
         memory += SUPERSAMPLE_BYTES  # parts of bounded size, the bright texels' strips
         work = n_src + n_out
     elif filter == "area":
@@ -191,13 +204,13 @@ def _remap_cost(s: Layout, src_shape, d: Layout, dst_shape, filter: str, texel: 
 
 
 def remap(
-    image,
+    image: ArrayLike,
     src: str | Layout,
     dst: str | Layout,
-    size=None,
+    size: int | tuple[int, int] | None = None,
     *,
     filter: str = "bilinear",
-    rotation=None,
+    rotation: ArrayLike | None = None,
 ) -> np.ndarray:
     """Convert an environment from layout ``src`` to layout ``dst``.
 
@@ -255,14 +268,14 @@ def remap(
     env = check_environment(image, src)
     s, d = env.layout, layout(dst)
     given = env.image.shape[:-1]
-    src_shape = given if s.base is s else s.base.shape(s.face_size(given))
+    src_shape = s.base_shape(given)
     dst_shape = remap_shape(s.base, src_shape, d, size)
     if filter == "auto":
         filter = auto_filter(s.base, src_shape, d, dst_shape)
     texel = env.image.itemsize * env.image.shape[-1]
     require(_remap_cost(s, given, d, dst_shape, filter, texel))
     img = s.prepare(env.image)
-    base_shape = dst_shape if d.base is d else d.base.shape(d.face_size(dst_shape))
+    base_shape = d.base_shape(dst_shape)
     key = rotation_key(rotation)
     channels = img.shape[-1]
     flat = np.ascontiguousarray(img.reshape(-1, channels))
@@ -284,7 +297,9 @@ def remap(
     plans = _plans.plans
     plan = plans.get(view_key)
     if plan is None and d.base is not d and key_of in plans.entries:
-        plan = plans.put(view_key, _plans.view_plan(plans.get(key_of), d.name, base_shape))
+        cube_plan = plans.get(key_of)
+        if cube_plan is not None:
+            plan = plans.put(view_key, _plans.view_plan(cube_plan, d.name, base_shape))
     if plan is not None:
         out = _plans.apply(flat, plan, s.base.grid(src_shape)[1])
         return env.shaped(out.reshape(dst_shape + (channels,)))

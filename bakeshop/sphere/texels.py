@@ -25,11 +25,12 @@ shape and are cached (:func:`bakeshop.sphere.clear_caches` frees them).
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
-from typing import NamedTuple
+from collections.abc import Iterator, Sequence
+from typing import Literal, NamedTuple, overload
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.sphere import _maps
@@ -57,7 +58,7 @@ class Environment(NamedTuple):
         return result[..., 0] if self.squeezed else result
 
 
-def check_environment(image, layout_name: str | Layout) -> Environment:
+def check_environment(image: ArrayLike, layout_name: str | Layout) -> Environment:
     """Check ``(image, layout)`` against the environment contract (see the module docstring).
 
     Parameters
@@ -117,7 +118,7 @@ _AXES = ("face", "row", "column")
 
 
 @numba.njit(parallel=True, cache=True)
-def _count_nonfinite(flat):  # pragma: no cover - compiled
+def _count_nonfinite(flat: np.ndarray) -> tuple[int, int, int]:  # pragma: no cover - compiled
     """(NaNs, infinities, flat index of the first non-finite value or -1)."""
     chunks = 64
     n = flat.shape[0]
@@ -151,11 +152,12 @@ class Texels(NamedTuple):
     dirs: np.ndarray
     #: (N,) float64, read-only: solid angle of each texel, 0 where the layout has none.
     omega: np.ndarray
-    #: the checked environment (its image, layout and whether it was 2-D).
-    environment: Environment
+    #: the checked environment (its image, layout and whether it was 2-D); None for texels
+    #: gathered from windows of a file (:mod:`bakeshop.huge`).
+    environment: Environment | None
 
 
-def texels(image, layout_name: str | Layout) -> Texels:
+def texels(image: ArrayLike, layout_name: str | Layout) -> Texels:
     """An environment's texels as flat arrays, for everything that integrates over it.
 
     ``sum(values * omega[:, None])`` is the integral of radiance over the sphere (W m^-2 for
@@ -183,13 +185,15 @@ def texels(image, layout_name: str | Layout) -> Texels:
 _geometry = ByteBoundedCache("texel directions and solid angles", 0)
 
 
-def texel_geometry(layout_name: str | Layout, shape) -> tuple[np.ndarray, np.ndarray]:
+def texel_geometry(
+    layout_name: str | Layout, shape: Sequence[int]
+) -> tuple[np.ndarray, np.ndarray]:
     """Flat texel directions ``(N, 3)`` and solid angles ``(N,)`` (0 where invalid) of a
     layout's image of spatial ``shape``; float64, read-only, cached (the last one)."""
     lay = layout(layout_name)
     shape = lay.check_shape(shape)
 
-    def build():
+    def build() -> tuple[np.ndarray, np.ndarray]:
         dirs, valid = lay.directions(shape)
         omega = np.where(valid, lay.solid_angles(shape), 0.0).reshape(-1)
         dirs = dirs.reshape(-1, 3)
@@ -213,6 +217,24 @@ def texel_rows(layout_name: str | Layout, shape: tuple[int, ...]) -> tuple[int, 
     return faces * h, w
 
 
+@overload
+def texel_strips(
+    layout_name: str | Layout,
+    shape: tuple[int, ...],
+    *,
+    rows: tuple[int, int] | None = None,
+    texels: int = STRIP_TEXELS,
+    directions: Literal[True] = True,
+) -> Iterator[tuple[int, int, np.ndarray, np.ndarray]]: ...
+@overload
+def texel_strips(
+    layout_name: str | Layout,
+    shape: tuple[int, ...],
+    *,
+    rows: tuple[int, int] | None = None,
+    texels: int = STRIP_TEXELS,
+    directions: bool,
+) -> Iterator[tuple[int, int, np.ndarray | None, np.ndarray]]: ...
 def texel_strips(
     layout_name: str | Layout,
     shape: tuple[int, ...],
@@ -279,7 +301,7 @@ class _RowGeometry:
         self.h, self.w, self.faces = lay.grid(shape)
         self.kind = lay.kind
         self.trig = _maps.latlong_trig(self.h, self.w) if self.kind == _maps.LATLONG else _NO_TRIG
-        self._full = None
+        self._full: np.ndarray | None = None
         if self.kind == _maps.LATLONG:
             # the bands of LatLong.solid_angles, computed whole so that they are the same numbers
             c = np.cos(np.pi * np.arange(self.h + 1) / self.h)
@@ -359,13 +381,13 @@ def cube_face_solid_angles(s: int) -> np.ndarray:
     return _cube_face_solid_angles(s) if s <= 1024 else _cube_rows_solid_angles(s, 0, s)
 
 
-def _cube_texel_solid_angles(s: int, j, i) -> np.ndarray:
+def _cube_texel_solid_angles(s: int, j: np.ndarray, i: np.ndarray) -> np.ndarray:
     """Solid angles of texels (row j, column i) of a cube face of s texels, broadcast: the
     corner differences of ``layouts.cubemap._cube_face_solid_angles`` (the same numbers), per
     texel."""
     e = 2 * np.arange(s + 1) / s - 1
 
-    def corner(y, x):
+    def corner(y: np.ndarray, x: np.ndarray) -> np.ndarray:
         return np.arctan2(x * y, np.sqrt(x * x + y * y + 1))
 
     j, i = np.asarray(j), np.asarray(i)
@@ -374,7 +396,9 @@ def _cube_texel_solid_angles(s: int, j, i) -> np.ndarray:
 
 
 @numba.njit(cache=True, inline="always")
-def _texel_direction(kind, h, w, row, i, trig):  # pragma: no cover - compiled
+def _texel_direction(  # pragma: no cover - compiled
+    kind: int, h: int, w: int, row: int, i: int, trig: np.ndarray
+) -> tuple[float, float, float]:
     # texel i of flat row ``row`` (face row // h): latlong as the separable products of
     # LatLong.directions, the others as Layout.directions_at computes them
     if kind == _maps.LATLONG:
@@ -385,7 +409,9 @@ def _texel_direction(kind, h, w, row, i, trig):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _row_directions(kind, h, w, r0, r1, trig, out):  # pragma: no cover - compiled
+def _row_directions(  # pragma: no cover - compiled
+    kind: int, h: int, w: int, r0: int, r1: int, trig: np.ndarray, out: np.ndarray
+) -> None:
     for r in numba.prange(r1 - r0):
         for i in range(w):
             p = r * w + i
@@ -393,7 +419,9 @@ def _row_directions(kind, h, w, r0, r1, trig, out):  # pragma: no cover - compil
 
 
 @numba.njit(parallel=True, cache=True)
-def _index_directions(kind, h, w, index, trig, out):  # pragma: no cover - compiled
+def _index_directions(  # pragma: no cover - compiled
+    kind: int, h: int, w: int, index: np.ndarray, trig: np.ndarray, out: np.ndarray
+) -> None:
     for p in numba.prange(index.shape[0]):
         row = index[p] // w
         i = index[p] - row * w
@@ -404,7 +432,9 @@ def _index_directions(kind, h, w, index, trig, out):  # pragma: no cover - compi
 _cosines = ByteBoundedCache("texel cosines", 1 << 28)
 
 
-def texel_cosines(layout_name: str | Layout, shape, axis=(0.0, 1.0, 0.0)) -> np.ndarray:
+def texel_cosines(
+    layout_name: str | Layout, shape: Sequence[int], axis: ArrayLike = (0.0, 1.0, 0.0)
+) -> np.ndarray:
     """Cosine between each texel centre's direction and ``axis`` (normalised here).
 
     Computed from the layout's own scalar maps in one kernel, without building a direction
@@ -436,8 +466,7 @@ def texel_cosines(layout_name: str | Layout, shape, axis=(0.0, 1.0, 0.0)) -> np.
 
 def _texel_cosines(lay: Layout, shape: tuple, up: tuple) -> np.ndarray:
     if lay.base is not lay:
-        s = lay.face_size(shape)
-        cube = _texel_cosines(lay.base, (6, s, s), up)
+        cube = _texel_cosines(lay.base, lay.base_shape(shape), up)
         out = cube_to_view(cube, lay.name, fill=np.nan)
     else:
         h, w, faces = lay.grid(shape)
@@ -448,7 +477,9 @@ def _texel_cosines(lay: Layout, shape: tuple, up: tuple) -> np.ndarray:
 
 
 @numba.njit(cache=True, parallel=True)
-def _cosine_kernel(kind, faces, h, w, up, out):  # pragma: no cover - compiled
+def _cosine_kernel(  # pragma: no cover - compiled
+    kind: int, faces: int, h: int, w: int, up: np.ndarray, out: np.ndarray
+) -> None:
     for row in numba.prange(faces * h):
         f, j = divmod(row, h)
         for i in range(w):
@@ -463,7 +494,7 @@ def _cosine_kernel(kind, faces, h, w, up, out):  # pragma: no cover - compiled
 COUNTED_TEXELS = 1 << 22
 
 
-def valid_texels(lay: str | Layout, shape: tuple[int, ...]) -> int:
+def valid_texels(lay: str | Layout, shape: Sequence[int]) -> int:
     """How many texels of a ``shape`` image in layout ``lay`` hold a direction (a disk's
     inside, a cross's six cells). Counted exactly up to :data:`COUNTED_TEXELS` texels; past
     that, the layout's valid fraction measured on a small image of it, so that a size is

@@ -14,9 +14,11 @@ from windows (:mod:`bakeshop.huge`) is therefore bit-identical to the in-memory 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.sphere import _gather
@@ -36,7 +38,23 @@ __all__ = [
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def _part_taps(skind, sh, sw, dkind, dh, dw, rot, f, j0, j1, i0, i1, nearest, taps, frac):
+def _part_taps(
+    skind: int,
+    sh: int,
+    sw: int,
+    dkind: int,
+    dh: int,
+    dw: int,
+    rot: np.ndarray,
+    f: int,
+    j0: int,
+    j1: int,
+    i0: int,
+    i1: int,
+    nearest: bool,
+    taps: np.ndarray,
+    frac: np.ndarray,
+) -> None:
     # pragma: no cover - compiled; the arithmetic of _gather.plan and plan_exceptions, per texel
     trig = latlong_trig(dh, dw)
     nw = i1 - i0
@@ -70,16 +88,16 @@ def _part_taps(skind, sh, sw, dkind, dh, dw, rot, f, j0, j1, i0, i1, nearest, ta
 
 def remap_part_taps(
     src: str | Layout,
-    src_shape,
+    src_shape: Sequence[int],
     dst: str | Layout,
-    dst_shape,
+    dst_shape: Sequence[int],
     *,
     face: int = 0,
-    rows,
-    cols,
+    rows: tuple[int, int],
+    cols: tuple[int, int],
     filter: str = "bilinear",
-    rotation=None,
-):
+    rotation: ArrayLike | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
     """Source taps of destination texels ``rows x cols`` of ``face`` (0 for flat layouts).
 
     Parameters
@@ -146,7 +164,9 @@ def taps_window(taps: np.ndarray, width: int) -> tuple[tuple[int, int], list[tup
     return (int(r.min()), int(r.max()) + 1), ranges
 
 
-def localise_taps(taps: np.ndarray, width: int, rows, ranges) -> np.ndarray:
+def localise_taps(
+    taps: np.ndarray, width: int, rows: tuple[int, int], ranges: Sequence[tuple[int, int]]
+) -> np.ndarray:
     """``taps`` renumbered into the window ``rows`` x ``ranges`` (the column ranges placed side
     by side, as :func:`taps_window` gives them); -1 stays -1."""
     lookup = np.full(width, -1, np.int64)
@@ -174,7 +194,9 @@ def gather_taps(window_flat: np.ndarray, taps: np.ndarray, frac: np.ndarray) -> 
 
 
 @numba.njit(parallel=True, cache=True)
-def _latlong_window(h, w, top, bottom, left, right, dirs):  # pragma: no cover - compiled
+def _latlong_window(  # pragma: no cover - compiled
+    h: int, w: int, top: int, bottom: int, left: int, right: int, dirs: np.ndarray
+) -> None:
     trig = latlong_trig(h, w)
     nw = right - left
     for r in numba.prange(bottom - top):
@@ -186,7 +208,9 @@ def _latlong_window(h, w, top, bottom, left, right, dirs):  # pragma: no cover -
             dirs[p, 2] = -st * trig[1, left + c]
 
 
-def latlong_window_geometry(shape, rows, cols=None) -> tuple[np.ndarray, np.ndarray]:
+def latlong_window_geometry(
+    shape: Sequence[int], rows: tuple[int, int], cols: tuple[int, int] | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Flat directions ``(n, 3)`` and solid angles ``(n,)`` (float64) of the texels
     ``rows x cols`` of a latlong of ``shape`` (H, W), row-major: the same numbers as the same
     texels of :func:`bakeshop.sphere.texel_geometry`, without building the whole layout's."""
@@ -203,7 +227,9 @@ def latlong_window_geometry(shape, rows, cols=None) -> tuple[np.ndarray, np.ndar
     return dirs, np.repeat(band, right - left)
 
 
-def sample_taps(layout_name: str | Layout, shape, dirs, *, filter: str = "bilinear"):
+def sample_taps(
+    layout_name: str | Layout, shape: Sequence[int], dirs: ArrayLike, *, filter: str = "bilinear"
+) -> tuple[np.ndarray, np.ndarray]:
     """Taps and fractions of :func:`bakeshop.sphere.sample` at directions ``dirs`` (n, 3) in a
     base layout of spatial ``shape`` (flat indices into the whole image; see
     :func:`remap_part_taps`), to be read from a window with :func:`taps_window`,

@@ -15,7 +15,15 @@ FOLD_FLOOR = 1e-3
 
 
 @numba.njit(parallel=True, cache=True)
-def _loop_spectra(a, b, cycles, frames, table, mult, out):  # pragma: no cover - compiled
+def _loop_spectra(
+    a: np.ndarray,
+    b: np.ndarray,
+    cycles: np.ndarray,
+    frames: np.ndarray,
+    table: np.ndarray,
+    mult: np.ndarray,
+    out: np.ndarray,
+) -> None:  # pragma: no cover - compiled
     """out[f, p] = (a P + b conj(P)) mult[p] with P = table[(n f) mod F], table[i] =
     exp(-2 pi i i / F): integer turns, so frame F is frame 0 exactly, and no trigonometry."""
     n_rows, n_cols = a.shape
@@ -39,7 +47,14 @@ def _loop_spectra(a, b, cycles, frames, table, mult, out):  # pragma: no cover -
 
 
 @numba.njit(parallel=True, cache=True)
-def _free_spectra(a, b, omega, times, mult, out):  # pragma: no cover - compiled
+def _free_spectra(
+    a: np.ndarray,
+    b: np.ndarray,
+    omega: np.ndarray,
+    times: np.ndarray,
+    mult: np.ndarray,
+    out: np.ndarray,
+) -> None:  # pragma: no cover - compiled
     """out[f, p] = (a e^{-i w t_f} + b e^{i w t_f}) mult[p] for arbitrary times."""
     n_rows, n_cols = a.shape
     npairs = mult.shape[0]
@@ -56,7 +71,9 @@ def _free_spectra(a, b, omega, times, mult, out):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _normals(slope, stretch, height, lam, out):  # pragma: no cover - compiled
+def _normals(
+    slope: np.ndarray, stretch: np.ndarray, height: np.ndarray, lam: float, out: np.ndarray
+) -> None:  # pragma: no cover - compiled
     """Unit normals of the displaced surface from the packed FFT outputs (see module doc)."""
     frames, rows, cols = slope.shape
     for fr in numba.prange(frames * rows):
@@ -80,7 +97,7 @@ def _normals(slope, stretch, height, lam, out):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _flat_normals(slope, out):  # pragma: no cover - compiled
+def _flat_normals(slope: np.ndarray, out: np.ndarray) -> None:  # pragma: no cover - compiled
     """Unit normals (-hx, -hy, 1) / |.| of the undisplaced surface."""
     frames, rows, cols = slope.shape
     for fr in numba.prange(frames * rows):

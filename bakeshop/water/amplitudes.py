@@ -14,7 +14,7 @@ from bakeshop.errors import ArgumentError
 
 
 @numba.njit(cache=True)
-def _splitmix64(z):  # pragma: no cover - compiled
+def _splitmix64(z: np.uint64) -> np.uint64:  # pragma: no cover - compiled
     z = z + np.uint64(0x9E3779B97F4A7C15)
     z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
     z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
@@ -22,7 +22,9 @@ def _splitmix64(z):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
-def _mode_normals(seed, mx, my, out):  # pragma: no cover - compiled
+def _mode_normals(
+    seed: int, mx: np.ndarray, my: np.ndarray, out: np.ndarray
+) -> None:  # pragma: no cover - compiled
     """Two independent standard normals per lattice mode (mx[i], my[i]), from a hash of the
     seed and the mode's integer indices (Box-Muller on two 53-bit uniforms)."""
     base = _splitmix64(np.uint64(seed))
@@ -56,7 +58,7 @@ def mode_normals(seed: int, mx: ArrayLike, my: ArrayLike) -> np.ndarray:
     return out.reshape(mx.shape + (2,))
 
 
-def _check_seed(seed) -> int:
+def _check_seed(seed: object) -> int:
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not (0 <= seed < 2**63):
         raise ArgumentError(f"seed must be an integer in [0, 2^63), got {seed!r}")
     return int(seed)

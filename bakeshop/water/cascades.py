@@ -22,6 +22,7 @@ from collections.abc import Sequence
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.water.amplitudes import _splitmix64
@@ -125,7 +126,9 @@ def cascades(
 
 
 @numba.njit(parallel=True, cache=True)
-def _sample_add(field, size, x, y, weight, out):  # pragma: no cover - compiled
+def _sample_add(
+    field: np.ndarray, size: float, x: np.ndarray, y: np.ndarray, weight: float, out: np.ndarray
+) -> None:  # pragma: no cover - compiled
     """out[i] += weight * bilinear sample of periodic ``field`` (N, N, C) at world (x, y)."""
     n = field.shape[0]
     texel = size / n
@@ -147,7 +150,7 @@ def _sample_add(field, size, x, y, weight, out):  # pragma: no cover - compiled
             )
 
 
-def sample_periodic(field, size: float, x, y) -> np.ndarray:
+def sample_periodic(field: ArrayLike, size: float, x: ArrayLike, y: ArrayLike) -> np.ndarray:
     """Bilinear, wrapping lookup of a patch field at world points, as a GPU's REPEAT sampler
     does. ``field`` (N, N) or (N, N, C); x, y in metres (y up the picture). Returns (..., C) or
     (...) float64."""
@@ -158,7 +161,7 @@ def sample_periodic(field, size: float, x, y) -> np.ndarray:
     x = np.asarray(x, dtype=np.float64)
     y = np.asarray(y, dtype=np.float64)
     shape = np.broadcast(x, y).shape
-    out = np.zeros((int(np.prod(shape)), f.shape[2]))
+    out: np.ndarray = np.zeros((int(np.prod(shape)), f.shape[2]))
     _sample_add(
         np.ascontiguousarray(f),
         float(size),
@@ -171,13 +174,16 @@ def sample_periodic(field, size: float, x, y) -> np.ndarray:
     return out[..., 0] if scalar else out
 
 
-def sum_cascades(fields: Sequence[np.ndarray], sizes: Sequence[float], x, y) -> np.ndarray:
+def sum_cascades(
+    fields: Sequence[np.ndarray], sizes: Sequence[float], x: ArrayLike, y: ArrayLike
+) -> np.ndarray:
     """The sum of each cascade's field (heights or slopes, ``(N, N[, C])``) sampled at world
     points with :func:`sample_periodic`: what a shader that layers the cascades computes."""
     if len(fields) != len(sizes):
         raise ArgumentError("one field per cascade size")
-    total = None
-    for f, s in zip(fields, sizes, strict=True):
-        v = sample_periodic(f, s, x, y)
-        total = v if total is None else total + v
+    if not fields:
+        raise ArgumentError("sum_cascades needs at least one cascade")
+    total = sample_periodic(fields[0], sizes[0], x, y)
+    for f, s in zip(fields[1:], sizes[1:], strict=True):
+        total = total + sample_periodic(f, s, x, y)
     return total

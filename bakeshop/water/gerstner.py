@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.water._kernels import FOLD_FLOOR
@@ -91,7 +92,15 @@ def gerstner_waves(o: Ocean, count: int | None = None) -> GerstnerWaves:
 
 
 @numba.njit(parallel=True, cache=True)
-def _sums(amp, kx, ky, phase, x, y, out):  # pragma: no cover - compiled
+def _sums(
+    amp: np.ndarray,
+    kx: np.ndarray,
+    ky: np.ndarray,
+    phase: np.ndarray,
+    x: np.ndarray,
+    y: np.ndarray,
+    out: np.ndarray,
+) -> None:  # pragma: no cover - compiled
     """out[i] = the eight sums (h, hx, hy, dx, dy, dxx, dyy, dxy) at point i; phase (M,) is
     -w t + phi for the time being evaluated."""
     for i in numba.prange(x.size):
@@ -129,7 +138,14 @@ def _phases(w: GerstnerWaves, t: float, frame: int | None, frames: int | None) -
 
 
 def gerstner(
-    w: GerstnerWaves, x, y, t: float = 0.0, *, choppiness: float = 0.0, frame=None, frames=None
+    w: GerstnerWaves,
+    x: ArrayLike,
+    y: ArrayLike,
+    t: float = 0.0,
+    *,
+    choppiness: float = 0.0,
+    frame: int | None = None,
+    frames: int | None = None,
 ) -> dict[str, np.ndarray]:
     """Evaluate the waves at points (x, y), m, at time ``t`` (s), float64.
 
@@ -157,7 +173,9 @@ def gerstner(
     return _assemble(sums, xs, ys, lam, shape)
 
 
-def _assemble(sums, xs, ys, lam, shape) -> dict[str, np.ndarray]:
+def _assemble(
+    sums: np.ndarray, xs: np.ndarray, ys: np.ndarray, lam: float, shape: tuple[int, ...]
+) -> dict[str, np.ndarray]:
     h, hx, hy, dx, dy, dxx, dyy, dxy = sums.T
     tx = np.stack([1 + lam * dxx, lam * dxy, hx], -1)
     ty = np.stack([lam * dxy, 1 + lam * dyy, hy], -1)
@@ -179,7 +197,7 @@ def gerstner_frames(
     *,
     resolution: int,
     frames: int | None = None,
-    times=None,
+    times: ArrayLike | None = None,
     fields: Sequence[str] = ("normal",),
     choppiness: float = 0.0,
 ) -> Iterator[tuple[np.ndarray, dict[str, np.ndarray]]]:
@@ -203,10 +221,11 @@ def gerstner_frames(
     texel = w.size / n
     c = (np.arange(n) + 0.5) * texel
     x, y = np.meshgrid(c, w.size - c)
-    count = frames if frames is not None else len(np.ravel(times))
+    stamps = np.ravel(times if times is not None else ())
+    count = frames if frames is not None else len(stamps)
     for f in range(count):
         if frames is not None:
             r = gerstner(w, x, y, choppiness=choppiness, frame=f, frames=frames)
         else:
-            r = gerstner(w, x, y, float(np.ravel(times)[f]), choppiness=choppiness)
+            r = gerstner(w, x, y, float(stamps[f]), choppiness=choppiness)
         yield np.array([f]), {name: r[name][None].astype(np.float32) for name in fields}

@@ -77,6 +77,7 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from importlib import resources
 
@@ -141,7 +142,7 @@ def colour_matching() -> np.ndarray:
     by Wyman, Sloan and Shirley's (2013) multi-lobe Gaussian fit."""
     lam = wavelengths()
 
-    def g(mu, s1, s2):
+    def g(mu: float, s1: float, s2: float) -> np.ndarray:
         s = np.where(lam < mu, s1, s2)
         return np.exp(-0.5 * ((lam - mu) / s) ** 2)
 
@@ -247,7 +248,7 @@ def _refracted_cosine(sun_zenith: float) -> float:
     return math.sqrt(1 - s * s)
 
 
-def _kd_of(a, bb, sun_zenith: float = 30.0):
+def _kd_of(a: np.ndarray, bb: np.ndarray, sun_zenith: float = 30.0) -> np.ndarray:
     return 1.0395 * (a + bb) / _refracted_cosine(sun_zenith)
 
 
@@ -302,7 +303,7 @@ def depth_transmittance(w: Water, depths: ArrayLike) -> np.ndarray:
     return np.maximum(band(np.exp(-z[..., None] * w.kd)), 0.0)
 
 
-def inscatter(w: Water, distances: ArrayLike, depth=0.0) -> np.ndarray:
+def inscatter(w: Water, distances: ArrayLike, depth: ArrayLike = 0.0) -> np.ndarray:
     """In-scattered radiance along a horizontal view of ``distances`` (m) at ``depth`` (m),
     per E(0) / pi, band-integrated (..., 4) (see the module notes)."""
     d = np.asarray(distances, dtype=np.float64)[..., None]
@@ -357,7 +358,7 @@ def from_visibility(visibility: float, kind: str = "IB") -> Water:
     base = water(kind)
     y = channel_weights()[:, 3]
 
-    def c_y(f):
+    def c_y(f: float) -> float:
         return float((base.scaled(f).attenuation * y).sum())
 
     clearest = SIGHTING / c_y(0.0)
@@ -402,7 +403,7 @@ def underwater_path(eye_height: float, target_depth: float, horizontal: float, *
     if not refraction:
         return math.hypot(x, e + p) * p / (e + p)
 
-    def slope(s):  # d/ds of the optical path, zero at Snell's law
+    def slope(s: float) -> float:  # d/ds of the optical path, zero at Snell's law
         return s / math.hypot(s, e) - ior * (x - s) / math.hypot(x - s, p)
 
     if x == 0:
@@ -438,7 +439,7 @@ def source_fog(w: Water) -> dict:
     d = np.linspace(0, far, 600)
     fog = 1 - transmittance(w, d)[:, 3]
 
-    def error(p):
+    def error(p: Sequence[float] | np.ndarray) -> float:
         start, end = p[0], max(p[1], p[0] + 1e-6)
         return np.abs(np.clip((d - start) / (end - start), 0, 1) - fog).max()
 
@@ -490,7 +491,7 @@ def glsl_function(w: Water, *, name: str = "waterTransmittance") -> str:
     far = inscatter(w, 1e6, 0.0)[:3]
     kd = channel_coefficients(w, which="diffuse")["rgb"]
 
-    def v(x):
+    def v(x: np.ndarray) -> str:
         return "vec3(" + ", ".join(f"{float(t):.6g}" for t in x) + ")"
 
     return (

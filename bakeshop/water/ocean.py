@@ -54,10 +54,11 @@ import math
 import os
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 import scipy.fft
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.resources import Cost, require
@@ -173,7 +174,7 @@ class Ocean:
 
     def frame_times(self, frames: int) -> np.ndarray:
         """t_f = f T / F for f = 0..F-1, s (looping oceans)."""
-        if self.cycles is None:
+        if self.cycles is None or self.loop_period is None:
             raise ArgumentError("frame times need a loop period; pass times for a free ocean")
         return np.arange(frames) * (self.loop_period / frames)
 
@@ -328,7 +329,7 @@ def ocean(
     return o
 
 
-def _positive(value, what: str) -> float:
+def _positive(value: float, what: str) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -389,7 +390,7 @@ def ocean_frames(
     o: Ocean,
     *,
     frames: int | None = None,
-    times=None,
+    times: ArrayLike | None = None,
     fields: Sequence[FieldName] = ("normal",),
     choppiness: float = 0.0,
     dtype: str = "float32",
@@ -491,6 +492,7 @@ def fit_to_frames(o: Ocean, frames: int, *, alias: str = "refuse") -> Ocean:
     ``aliased_modes`` and ``aliased_variance`` (m^2)."""
     validate_choice(alias, ALIAS_MODES, "aliasing policy")
     needed = o.minimum_frames()
+    assert o.cycles is not None  # minimum_frames refuses an ocean that does not loop
     if frames >= needed:
         return o
     if alias == "refuse":
@@ -510,7 +512,13 @@ def fit_to_frames(o: Ocean, frames: int, *, alias: str = "refuse") -> Ocean:
     return reduced
 
 
-def _unpack(spectra, pairs, fields, choppiness, real_type) -> dict[str, np.ndarray]:
+def _unpack(
+    spectra: np.ndarray,
+    pairs: Sequence[str],
+    fields: Sequence[str],
+    choppiness: float,
+    real_type: type[np.floating],
+) -> dict[str, np.ndarray]:
     got = {p: spectra[:, i] for i, p in enumerate(pairs)}
     out: dict[str, np.ndarray] = {}
     lam = choppiness
@@ -546,7 +554,7 @@ def _fastest_wavelength(o: Ocean) -> float:
     return 2 * math.pi / float(k.flat[i])
 
 
-def ocean_fields(o: Ocean, **options) -> dict[str, np.ndarray]:
+def ocean_fields(o: Ocean, **options: Any) -> dict[str, np.ndarray]:
     """All frames of :func:`ocean_frames` at once: each field ``(F, N, N[, C])``.
 
     Takes the same keyword options; mind the memory (F frames of every field).
@@ -558,7 +566,9 @@ def ocean_fields(o: Ocean, **options) -> dict[str, np.ndarray]:
     return {name: np.concatenate(values) for name, values in parts.items()}
 
 
-def evaluate(o: Ocean, x, y, t: float, *, choppiness: float = 0.0) -> dict[str, np.ndarray]:
+def evaluate(
+    o: Ocean, x: ArrayLike, y: ArrayLike, t: float, *, choppiness: float = 0.0
+) -> dict[str, np.ndarray]:
     """Brute-force sums at arbitrary points: height, slope, displacement and normal at (x, y)
     (m) and time ``t`` (s), float64, straight from the modes (no FFT).
 

@@ -73,7 +73,7 @@ EDGES = ("periodic", "reflect", "absorb")
 CFL_LIMIT = math.sqrt(3) / 2
 
 
-def _positive(value, what: str, *, zero: bool = False) -> float:
+def _positive(value: float, what: str, *, zero: bool = False) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -98,7 +98,7 @@ class Crater:
     density: float = WATER_DENSITY  # kg/m^3
     viscosity: float = KINEMATIC_VISCOSITY  # m^2/s (0: no damping)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         _positive(self.amplitude, "crater amplitude (m)", zero=True)
         _positive(self.width, "crater width (m)")
         if not (self.depth > 0):
@@ -159,7 +159,7 @@ def drop_crater(
     energy_fraction: float = 0.05,
     width_factor: float = 2.0,
     energy: float | None = None,
-    **water,
+    **water: float,
 ) -> Crater:
     """The crater of a drop of ``drop_diameter`` (m) hitting at ``drop_speed`` (m/s).
 
@@ -182,7 +182,9 @@ def drop_crater(
     return Crater(math.sqrt(energy / unit), width, **water)
 
 
-def _k_nodes(crater: Crater, r_max: float, t_max: float, nodes: int | None):
+def _k_nodes(
+    crater: Crater, r_max: float, t_max: float, nodes: int | None
+) -> tuple[np.ndarray, np.ndarray]:
     k_max = 8.0 / crater.width
     if nodes is None:
         reach = r_max + float(crater.group_velocity(k_max)) * t_max + crater.width
@@ -200,7 +202,7 @@ def ring(
     *,
     damping: bool = True,
     nodes: int | None = None,
-):
+) -> tuple[np.ndarray, np.ndarray]:
     """Height and radial slope of the analytic ring at radii ``r`` (m) and ``times`` (s).
 
     Returns
@@ -229,7 +231,9 @@ def ring(
     return eta, slope
 
 
-def _radial_to_grid(values, r_nodes, x, y, cx, cy) -> np.ndarray:
+def _radial_to_grid(
+    values: np.ndarray, r_nodes: np.ndarray, x: np.ndarray, y: np.ndarray, cx: float, cy: float
+) -> np.ndarray:
     rr = np.hypot(x - cx, y - cy)
     return np.interp(rr, r_nodes, values, right=0.0)
 
@@ -409,7 +413,20 @@ def _neighbours(n: int, periodic: bool, reflect: bool) -> tuple[np.ndarray, np.n
 
 
 @numba.njit(parallel=True, cache=True)
-def _laplacian_step(h, v, c2, damp_a, damp_b, dt, dx2, force, rm, rp, cm, cp):
+def _laplacian_step(
+    h: np.ndarray,
+    v: np.ndarray,
+    c2: float,
+    damp_a: float,
+    damp_b: float,
+    dt: float,
+    dx2: float,
+    force: np.ndarray,
+    rm: np.ndarray,
+    rp: np.ndarray,
+    cm: np.ndarray,
+    cp: np.ndarray,
+) -> None:
     """One leapfrog step of the damped wave equation with the 9-point isotropic Laplacian;
     rm/rp and cm/cp give each row's and column's neighbours (the edge condition)."""
     rows, cols = h.shape
@@ -459,7 +476,7 @@ class WaveEquation:
     velocity: np.ndarray = field(init=False, repr=False)
     time: float = field(init=False, default=0.0)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         validate_choice(self.edges, EDGES, "edge condition")
         n = int(self.resolution)
         if not 8 <= n <= 8192:

@@ -17,10 +17,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from importlib import resources
+from types import ModuleType
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, UnsupportedError
+
+if TYPE_CHECKING:
+    import moderngl as mgl
+
+    from bakeshop.water import murk
 
 #: Uniforms of Jerlov type IB water (bakeshop.water.murk), for scenes that do not set their own.
 DEFAULT_WATER = {"c": (0.392, 0.154, 0.144), "kd": (0.346, 0.067, 0.035),
@@ -36,7 +44,9 @@ def shader_sources() -> tuple[str, str]:
     return root.joinpath("water.vert").read_text(), root.joinpath("water.frag").read_text()
 
 
-def look_at(camera, target, *, fov: float = 60.0, aspect: float = 1.0) -> np.ndarray:
+def look_at(
+    camera: ArrayLike, target: ArrayLike, *, fov: float = 60.0, aspect: float = 1.0
+) -> np.ndarray:
     """Inverse view-projection matrix (4, 4) of a perspective camera at ``camera`` looking at
     ``target`` (world, +Y up), vertical field of view ``fov`` degrees."""
     eye = np.asarray(camera, dtype=np.float64)
@@ -59,7 +69,9 @@ def look_at(camera, target, *, fov: float = 60.0, aspect: float = 1.0) -> np.nda
     return np.linalg.inv(proj @ view)
 
 
-def orthographic_down(x0: float, z0: float, width: float, depth: float, height: float = 10.0):
+def orthographic_down(
+    x0: float, z0: float, width: float, depth: float, height: float = 10.0
+) -> np.ndarray:
     """Inverse view-projection (4, 4) of a view straight down onto the rectangle
     [x0, x0 + width] x [z0, z0 + depth] of the water plane (pixel row 0 at z0, the top of the
     image: -Z is up the picture, as in the textures)."""
@@ -102,7 +114,7 @@ class WaterScene:
     ripple_strength: float = 1.0
 
 
-def _context():
+def _context() -> tuple[ModuleType, mgl.Context]:
     try:
         import moderngl
     except ImportError:  # pragma: no cover - depends on the install
@@ -110,7 +122,8 @@ def _context():
             "rendering the water shader needs moderngl: pip install 'bakeshop[preview]'"
         ) from None
     try:
-        return moderngl, moderngl.create_context(standalone=True, backend="egl")
+        # moderngl's stub types every **settings value as a dict; backend is a string
+        return moderngl, moderngl.create_context(standalone=True, backend="egl")  # type: ignore[arg-type]
     except Exception:  # noqa: BLE001 - fall back to the platform's default backend
         return moderngl, moderngl.create_context(standalone=True)
 
@@ -135,12 +148,12 @@ def render_water(
         prog = ctx.program(vertex_shader=vertex, fragment_shader=fragment)
         fbo = ctx.framebuffer(color_attachments=[ctx.texture((width, height), 4, dtype="f4")])
         fbo.use()
-        textures = []
+        textures: list[mgl.Texture | mgl.TextureArray] = []
 
-        def bind(name, unit, tex):
+        def bind(name: str, unit: int, tex: mgl.Texture | mgl.TextureArray) -> None:
             tex.use(unit)
             if name in prog:
-                prog[name].value = unit
+                cast("mgl.Uniform", prog[name]).value = unit
             textures.append(tex)
 
         normals = scene.normals
@@ -194,20 +207,23 @@ def render_water(
         }
         for name, value in values.items():
             if name in prog:
-                prog[name].value = value
+                cast("mgl.Uniform", prog[name]).value = value
         vao = ctx.vertex_array(prog, [])
         ctx.viewport = (0, 0, width, height)
         vao.render(moderngl.TRIANGLES, vertices=3)
         image = np.frombuffer(fbo.read(components=4, dtype="f4"), np.float32)
         image = image.reshape(height, width, 4)[::-1].copy()  # GL's first row is the bottom
-        for obj in (*textures, vao, fbo, prog):
-            obj.release()
+        for tex in textures:
+            tex.release()
+        vao.release()
+        fbo.release()
+        prog.release()
         return image
     finally:
         ctx.release()
 
 
-def scene_water(w) -> dict:
+def scene_water(w: murk.Water) -> dict:
     """The shader's water uniforms from a :class:`bakeshop.water.murk.Water`."""
     from bakeshop.water import murk
 

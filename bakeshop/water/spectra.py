@@ -50,6 +50,7 @@ from dataclasses import asdict, dataclass
 from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import integrate, special
 
 from bakeshop.errors import ArgumentError, validate_choice
@@ -86,7 +87,7 @@ MIN_WIND_SPEED = 0.1
 
 
 def dispersion(
-    k,
+    k: ArrayLike,
     *,
     depth: float = math.inf,
     gravity: float = GRAVITY,
@@ -120,7 +121,7 @@ def dispersion(
 
 
 def group_velocity(
-    k,
+    k: ArrayLike,
     *,
     depth: float = math.inf,
     gravity: float = GRAVITY,
@@ -151,7 +152,7 @@ def group_velocity(
     return cg
 
 
-def tma_depth_factor(k, depth: float) -> np.ndarray:
+def tma_depth_factor(k: ArrayLike, depth: float) -> np.ndarray:
     """Kitaigorodskii's depth factor phi of the TMA spectrum, exact (Bouws et al. 1985).
 
     phi = (k^-3 dk/domega) at depth d over the same in deep water, at the same omega, for gravity
@@ -169,7 +170,7 @@ def tma_depth_factor(k, depth: float) -> np.ndarray:
     return np.where(kd > 0, t * t / (1 + g), 0.0)
 
 
-def cos2s_normalisation(s) -> np.ndarray:
+def cos2s_normalisation(s: ArrayLike) -> np.ndarray:
     """N(s) such that N(s) cos^(2s)(theta / 2) integrates to 1 over (-pi, pi]:
     N = Gamma(s + 1) / (2 sqrt(pi) Gamma(s + 1/2)) (Longuet-Higgins et al. 1963)."""
     s = np.asarray(s, dtype=np.float64)
@@ -235,7 +236,7 @@ class Spectrum:
     surface_tension: float = SURFACE_TENSION
     water_density: float = WATER_DENSITY
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         validate_choice(self.kind, SPECTRA, "spectrum")
         validate_choice(self.spreading, SPREADINGS, "directional spreading")
         checks = {
@@ -278,11 +279,11 @@ class Spectrum:
             density=self.water_density,
         )
 
-    def omega(self, k) -> np.ndarray:
+    def omega(self, k: ArrayLike) -> np.ndarray:
         """Angular frequency (rad/s) of wave number ``k`` (rad/m): :func:`dispersion`."""
         return dispersion(k, **self._dispersion_options())
 
-    def group_velocity(self, k) -> np.ndarray:
+    def group_velocity(self, k: ArrayLike) -> np.ndarray:
         """D omega / dk (m/s) of wave number ``k`` (rad/m): :func:`group_velocity`."""
         return group_velocity(k, **self._dispersion_options())
 
@@ -309,7 +310,7 @@ class Spectrum:
         """JONSWAP's Phillips constant alpha = 0.076 (g F / U10^2)^-0.22 (Hasselmann 1973)."""
         return 0.076 * self.dimensionless_fetch ** (-0.22)
 
-    def frequency_density(self, omega) -> np.ndarray:
+    def frequency_density(self, omega: ArrayLike) -> np.ndarray:
         """S(omega), m^2 s/rad, of the deep-water frequency spectrum (without the TMA factor).
 
         Pierson-Moskowitz: alpha g^2 / w^5 exp(-beta (g / (U19.5 w))^4), alpha = 8.1e-3,
@@ -336,7 +337,7 @@ class Spectrum:
         )
         return out
 
-    def spreading_exponent(self, omega) -> np.ndarray:
+    def spreading_exponent(self, omega: ArrayLike) -> np.ndarray:
         """S of cos^(2s)(theta / 2) at ``omega``: Mitsuyasu's s(omega) or the fixed spread.
 
         Mitsuyasu et al. 1975: s_p = 11.5 (w_p U10 / g)^-2.5; s = s_p (w / w_p)^5 below the
@@ -350,7 +351,7 @@ class Spectrum:
         ratio = w / peak
         return np.where(ratio <= 1, sp * ratio**5, sp * ratio**-2.5)
 
-    def directional_spreading(self, theta, omega) -> np.ndarray:
+    def directional_spreading(self, theta: ArrayLike, omega: ArrayLike) -> np.ndarray:
         """D(theta; omega), 1/rad, normalised to 1 over a full turn; theta in radians from the
         wind direction."""
         theta = np.asarray(theta, dtype=np.float64)
@@ -364,14 +365,14 @@ class Spectrum:
 
     # --- the wave-vector density -------------------------------------------------------------
 
-    def density_polar(self, k, theta) -> np.ndarray:
+    def density_polar(self, k: ArrayLike, theta: ArrayLike) -> np.ndarray:
         """F(k, theta) k, m^2 / (rad/m) / rad: the variance per dk dtheta at wave number ``k``
         (rad/m) and direction ``theta`` (radians from +u). Integrates to m0 over k and theta."""
         k = np.asarray(k, dtype=np.float64)
         theta = np.asarray(theta, dtype=np.float64)
         return self._density(k, theta) * k
 
-    def density(self, kx, ky) -> np.ndarray:
+    def density(self, kx: ArrayLike, ky: ArrayLike) -> np.ndarray:
         """F(kx, ky), m^4: variance per unit area of wave-vector space of waves travelling
         towards (kx, ky) (rad/m, kx along +u, ky along +v). F(0) = 0.
 
@@ -414,13 +415,13 @@ class Spectrum:
         """
         if self.kind == "phillips":
 
-            def radial(k):
+            def radial(k: float) -> float:
                 return integrate.quad(
                     lambda t: float(self.density_polar(k, t)), -math.pi, math.pi, limit=200
                 )[0]
         else:
 
-            def radial(k):
+            def radial(k: float) -> float:
                 w = self.omega(k)
                 f = float(self.frequency_density(w) * self.group_velocity(k))
                 if self.kind == "tma":
@@ -447,7 +448,7 @@ class Spectrum:
         k = w * w / self.gravity
         for _ in range(50):
             f = self.omega(k) - w
-            k = max(k - float(f / max(self.group_velocity(k), 1e-12)), 1e-9)
+            k = max(k - float(f / max(float(self.group_velocity(k)), 1e-12)), 1e-9)
         return k
 
     def to_dict(self) -> dict:

@@ -226,7 +226,9 @@ def box_mips(values: ArrayLike) -> list[np.ndarray]:
 
 
 @numba.njit(parallel=True, cache=True)
-def _shade(normals, view, sun, out):  # pragma: no cover - compiled
+def _shade(
+    normals: np.ndarray, view: np.ndarray, sun: np.ndarray, out: np.ndarray
+) -> None:  # pragma: no cover - compiled
     h, w = normals.shape[:2]
     for r in numba.prange(h):
         for c in range(w):
@@ -270,7 +272,9 @@ def tile(image: ArrayLike, times: int = 2) -> np.ndarray:
     return np.tile(a, (times, times) + (1,) * (a.ndim - 2))
 
 
-def grid(frames: ArrayLike, *, columns: int | None = None, border: int = 2, fill=1.0) -> np.ndarray:
+def grid(
+    frames: ArrayLike, *, columns: int | None = None, border: int = 2, fill: ArrayLike = 1.0
+) -> np.ndarray:
     """Frames side by side in rows with a ``border`` of ``fill`` between them (previews)."""
     a = np.asarray(frames)
     count, h, w = a.shape[:3]

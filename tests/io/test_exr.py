@@ -163,6 +163,31 @@ def test_half_overflow_clamps_finite_values_and_keeps_nan_and_inf(tmp_path):
     assert same_bits(read_image(tmp_path / "f.exr"), image)
 
 
+@pytest.mark.parametrize("kernel", [True, False])
+def test_half_rounding_of_every_kind_of_float32_is_numpys(tmp_path, monkeypatch, kernel):
+    """The writer's float32 -> half conversions (the one-pass numba kernel of large images, and
+    numpy's for small ones) against numpy's IEEE conversion (round to nearest even) plus the
+    clamp rule: random bit patterns of every exponent, and every pattern around the subnormal,
+    normal and overflow boundaries of half, both signs."""
+    monkeypatch.setattr(exr, "_KERNEL_PIXELS", 0 if kernel else 1 << 40)
+    rng = np.random.default_rng(7)
+    edges = [0x33000000, 0x33800000, 0x38000000, 0x38800000, 0x477FE000, 0x47800000]
+    near = np.concatenate([np.arange(e - 0x2000, e + 0x2000, dtype=np.uint32) for e in edges])
+    bits = np.concatenate(
+        [rng.integers(0, 2**32, 300_000, dtype=np.uint64).astype(np.uint32), near, near | 1 << 31]
+    )
+    image = bits[: bits.size // 900 * 900].view(np.float32).reshape(-1, 300, 3)
+    write_image(tmp_path / "h.exr", image)
+    with np.errstate(over="ignore", invalid="ignore"):
+        expected = image.astype(np.float16).astype(np.float32)
+        clamp = np.isinf(expected) & np.isfinite(image)
+    expected[clamp] = np.copysign(65504.0, image[clamp])
+    back = read_image(tmp_path / "h.exr")
+    nan = np.isnan(expected)
+    assert np.array_equal(np.isnan(back), nan)
+    assert same_bits(back[~nan], expected[~nan])
+
+
 def test_integer_and_float64_input_are_written_by_value(tmp_path):
     write_image(tmp_path / "i.exr", np.arange(12, dtype=np.uint16).reshape(2, 2, 3) * 1000)
     np.testing.assert_array_equal(read_image(tmp_path / "i.exr").ravel(), np.arange(12) * 1000)

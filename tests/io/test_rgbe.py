@@ -242,6 +242,55 @@ def test_header_variants_of_real_writers(tmp_path, header):
     np.testing.assert_array_equal(read_image(path), reference_decode(picture))
 
 
+# --- the two decoders: numpy for small files, numba for the rest ---------------------------------
+
+
+def both_decoders(data, nscan, scanlen, dry=False):
+    """(status, scanline, position) and the pixels of the Python/numpy decoder and of the numba
+    kernel on the same bytes."""
+    from bakeshop.io._rgbe_kernels import _decode as kernel
+
+    _, offset = rgbe._header(data)
+    factors = np.array([1.0, 0.5, 3.0])
+    results = []
+    for decode in (rgbe._decode_runs, kernel):
+        out = np.zeros((nscan, scanlen, 3), np.float32)
+        result = decode(data, offset, nscan, scanlen, out, factors, dry)
+        results.append((None if result is None else tuple(result), out))
+    return results
+
+
+@pytest.mark.parametrize("name", PROBES)
+def test_small_file_decoder_gives_the_kernels_bits_on_real_probes(name):
+    data = np.fromfile(probe_path(name), np.uint8)
+    facts, _ = rgbe._header(data)
+    (status, out), (kernel_status, kernel_out) = both_decoders(
+        data, facts["height"], facts["width"]
+    )
+    assert status == kernel_status and status[0] == 0
+    assert np.array_equal(out.view(np.uint32), kernel_out.view(np.uint32))
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_small_file_decoder_finds_the_kernels_problems(tmp_path, seed):
+    rng = np.random.default_rng(seed)
+    image = np.exp(rng.normal(0, 3, (9, 40, 3))).astype(np.float32)
+    image[:, :20] = image[:, :1]  # runs
+    write_image(tmp_path / "c.hdr", image)
+    data = np.fromfile(tmp_path / "c.hdr", np.uint8)
+    _, offset = rgbe._header(data)
+    for k in rng.integers(offset, data.size, 40):
+        mutated = data.copy()
+        mutated[k] = rng.integers(0, 256)
+        for candidate in (mutated, data[:k]):
+            for dry in (True, False):
+                (status, out), (kernel_status, kernel_out) = both_decoders(candidate, 9, 40, dry)
+                # None: a scanline not in the new form, which the kernel decodes instead
+                assert status is None or status == kernel_status
+                if status is not None and status[0] == 0 and not dry:
+                    assert np.array_equal(out.view(np.uint32), kernel_out.view(np.uint32))
+
+
 # --- the encoder ----------------------------------------------------------------------------------
 
 
@@ -253,6 +302,80 @@ def test_encode_error_is_within_half_a_step():
     top = image.astype(np.float64).max(axis=-1, keepdims=True)
     half_step = np.exp2(np.frexp(top)[1] - 9.0)  # 0.5 * 2**(e - 136), e = frexp exponent + 128
     assert np.all(np.abs(back - image.astype(np.float64)) <= half_step)
+
+
+def reference_encode(image):
+    """RGBE bytes (H, W, 4) written out from the definition in float64: the largest component's
+    frexp exponent (capped at 255), each mantissa the floor of value * 2**(136 - e) capped at 255;
+    NaN and negatives 0, infinities float32's largest, a pixel below 2**-128 black."""
+    biggest = float(np.finfo(np.float32).max)
+    a = np.clip(np.nan_to_num(image.astype(np.float64), nan=0.0, posinf=biggest), 0, biggest)
+    top = a.max(axis=-1)
+    e = np.minimum(np.frexp(top)[1] + 128, 255)
+    m = np.minimum(np.floor(a * np.exp2(136.0 - e)[..., None]), 255)
+    pixels = np.concatenate([m, e[..., None]], axis=-1).astype(np.uint8)
+    pixels[top < 2.0**-128] = 0
+    return pixels
+
+
+def walter_rle(plane) -> bytes:
+    """RLE_WriteBytes of Walter's rgbe.c (the packing Radiance's fwritecolrs also makes), written
+    out in Python: runs of at least 4 equal bytes (at most 127), literals of at most 128, a
+    2- or 3-byte run just before a long one written as a run."""
+    plane, out, cur, n = bytes(plane), bytearray(), 0, len(plane)
+    while cur < n:
+        beg, run, old = cur, 0, 0
+        while run < 4 and beg < n:
+            beg, old, run = beg + run, run, 1
+            while beg + run < n and run < 127 and plane[beg] == plane[beg + run]:
+                run += 1
+        if old > 1 and old == beg - cur:
+            out += bytes([128 + old, plane[cur]])
+            cur = beg
+        while cur < beg:
+            count = min(128, beg - cur)
+            out += bytes([count]) + plane[cur : cur + count]
+            cur += count
+        if run >= 4:
+            out += bytes([128 + run, plane[beg]])
+            cur += run
+    return bytes(out)
+
+
+def encoder_input(seed):
+    """Pixels of every kind: noise over 60 octaves, special values, and rows of runs of every
+    length (1 to 300 equal pixels) that exercise the packing's cases."""
+    rng = np.random.default_rng(seed)
+    noise = np.exp(rng.uniform(-85, 85, (6, 300, 3))).astype(np.float32)
+    special = [np.nan, np.inf, -np.inf, -1.0, 3.4e38, 1e-39, 1.2e-38, 3e-39, 0.0, 1.0]
+    noise[0, :40] = rng.permutation(np.tile(special, 12)).reshape(40, 3)
+    lengths = rng.integers(1, 9, 400)
+    lengths[::37] = rng.integers(100, 300, len(lengths[::37]))
+    runs = np.repeat(rng.integers(0, 3, len(lengths)), lengths)[:1800].reshape(6, 300)
+    levels = np.float32([0.25, 0.5, 3.0])[runs][..., None] * np.float32([1.0, 0.75, 0.1])
+    return np.concatenate([noise, levels.astype(np.float32)])
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_flat_pixels_are_the_definition(tmp_path, seed):
+    image = encoder_input(seed)
+    write_image(tmp_path / "f.hdr", image, rle=False)
+    data = (tmp_path / "f.hdr").read_bytes()
+    assert data.endswith(reference_encode(image).tobytes())
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_run_length_scanlines_are_walters_packing(tmp_path, seed):
+    image = encoder_input(seed)
+    height, width = image.shape[:2]
+    pixels = reference_encode(image)
+    expected = b"".join(
+        bytes([2, 2, width >> 8, width & 255])
+        + b"".join(walter_rle(pixels[y, :, c]) for c in range(4))
+        for y in range(height)
+    )
+    write_image(tmp_path / "r.hdr", image)
+    assert (tmp_path / "r.hdr").read_bytes().endswith(expected)
 
 
 def roundtrip(image, **options):

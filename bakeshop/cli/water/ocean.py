@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 import numpy as np
@@ -20,6 +22,10 @@ from bakeshop.cli.water._sets import (
 )
 from bakeshop.errors import ArgumentError
 from bakeshop.resources import Cost, require
+
+if TYPE_CHECKING:
+    from bakeshop.water.ocean import FieldName, Ocean
+    from bakeshop.water.spectra import Spectrum
 
 _OCEAN_OUTPUTS = ("normal", "height", "derivatives", "displacement", "foam")
 
@@ -183,7 +189,7 @@ _OCEAN_OUTPUTS = ("normal", "height", "derivatives", "displacement", "foam")
 )
 @click.option("--name", default="ocean", show_default=True, help="Prefix of the file names.")
 @click.option("--no-preview", is_flag=True, help="Skip the preview PNGs.")
-def ocean(out_dir: Path, **o):
+def ocean(out_dir: Path, **o: Any) -> None:
     """Tileable, time-looping ocean textures from a wind-wave spectrum (FFT synthesis,
     Tessendorf 2001): normal-map sequences, heights, slopes, displacement and foam, as numbered
     frames, a flipbook atlas or a texture array, with a JSON sidecar (tile size in metres, loop
@@ -250,7 +256,15 @@ def ocean(out_dir: Path, **o):
         click.echo(_ocean_summary(doc, name))
 
 
-def _ocean_set(oc, name, out_dir, outputs, frames, spectrum, o) -> dict:
+def _ocean_set(
+    oc: Ocean,
+    name: str,
+    out_dir: Path,
+    outputs: Sequence[str],
+    frames: int,
+    spectrum: Spectrum,
+    o: dict[str, Any],
+) -> dict:
     from bakeshop.water.gerstner import gerstner_frames, gerstner_waves
     from bakeshop.water.ocean import fit_to_frames, ocean_frames
     from bakeshop.water.textures import (
@@ -263,7 +277,7 @@ def _ocean_set(oc, name, out_dir, outputs, frames, spectrum, o) -> dict:
 
     n = oc.resolution
     lam = o["choppiness"]
-    fields = []
+    fields: list[FieldName] = []
     if "normal" in outputs or not o["no_preview"]:
         fields.append("normal")
     if "height" in outputs or "displacement" in outputs:
@@ -369,7 +383,7 @@ def _ocean_set(oc, name, out_dir, outputs, frames, spectrum, o) -> dict:
                    frames=frames, files=files, parameters=parameters, report=report)  # fmt: skip
 
 
-def _batch_guess(n, fields, lam) -> int:
+def _batch_guess(n: int, fields: Sequence[str], lam: float) -> int:
     from bakeshop.water.ocean import BATCH_BYTES, frame_bytes
 
     return max(1, BATCH_BYTES // frame_bytes(n, fields, lam, "float32"))

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import click
 import numpy as np
@@ -24,11 +26,13 @@ from bakeshop.resources import Cost, require
 _RIPPLE_OUTPUTS = ("flipbook", "ring", "ring-texture", "rain")
 
 
-def _parse_impacts(impacts) -> list[tuple[float, float, float]]:
+def _parse_impacts(
+    impacts: Sequence[tuple[float, float, float]],
+) -> list[tuple[float, float, float]]:
     for x, y, t in impacts:
         if t < 0:
             raise ArgumentError(f"invalid impact {x:g},{y:g},{t:g}: its time T must be >= 0")
-    return [tuple(impact) for impact in impacts]
+    return [(x, y, t) for x, y, t in impacts]
 
 
 @water.command(context_settings=CONTEXT)
@@ -195,7 +199,7 @@ def _parse_impacts(impacts) -> list[tuple[float, float, float]]:
               "impacts; the same seed gives the same drops.")  # fmt: skip
 @click.option("--name", default="ripples", show_default=True, help="Prefix of the file names.")
 @click.option("--no-preview", is_flag=True, help="Skip the preview PNGs.")
-def ripples(out_dir: Path, **o):
+def ripples(out_dir: Path, **o: Any) -> None:
     """Impact ripples: the exact ring of a drop (front at the group velocity, energy spread over
     the circle, viscous decay) as a normal-map flipbook, a (time, radius) lookup table that a
     shader animates any number of drops with, and a tileable rain atlas of drops with random
@@ -227,7 +231,7 @@ def ripples(out_dir: Path, **o):
     frames = o["frames"]
     times = np.linspace(0, o["duration"], frames, endpoint=frames == 1)
     files: list = []
-    previews = []
+    previews: list[np.ndarray] | np.ndarray = []
     fmt = o["normal_format"]
     params: dict = {"model": o["model"], "crater": crater.to_dict()}
     if o["model"] == "wave" and set(outputs) - {"flipbook"}:

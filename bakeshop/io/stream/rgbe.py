@@ -24,6 +24,7 @@ import numpy as np
 from bakeshop.errors import FormatError, UnsupportedError
 from bakeshop.io import rgbe
 from bakeshop.io._files import atomic_path, check_dimensions, check_payload
+from bakeshop.io._rgbe_kernels import _decode
 from bakeshop.io.stream._base import Reader
 
 #: bytes read per step while indexing the scanlines.
@@ -177,7 +178,8 @@ class RgbeReader(Reader):
         if len(data) != end - begin:
             raise FormatError("the file was truncated while it was being read")
         lines = np.empty((last - first + lead, width, 3), np.float32)
-        status = rgbe._decode(data, 0, last - first + lead, width, lines, self.factors, False)
+        # the numba kernel: strips of a large file, where Python's small-file decoder is slow
+        status = _decode(data, 0, last - first + lead, width, lines, self.factors, False)
         rgbe._check(status, last - first + lead)
         lines = lines[lead:]
         if self.flip_rows:
@@ -211,5 +213,5 @@ def write_strips(
     with atomic_path(path) as tmp, builtins.open(tmp, "wb") as f:
         f.write(header.encode("ascii"))
         for strip in strips:
-            encoded, length = rgbe._encode(np.ascontiguousarray(strip, dtype=np.float32), rle)
-            f.write(encoded[:length].data)
+            for chunk in rgbe._scanlines(np.ascontiguousarray(strip, dtype=np.float32), rle):
+                f.write(chunk)

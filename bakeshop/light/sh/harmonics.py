@@ -44,7 +44,7 @@ def index(l: int, m: int) -> int:
     return l * (l + 1) + m
 
 
-def _check_order(order) -> int:
+def _check_order(order: float) -> int:
     if isinstance(order, bool) or not float(order).is_integer():
         raise ArgumentError(f"SH order must be an integer, got {order!r}")
     order = int(order)
@@ -86,7 +86,9 @@ def basis(directions: ArrayLike, order: int) -> np.ndarray:
 
 
 @numba.njit(cache=True)
-def _basis_into(x, y, z, order, out):  # pragma: no cover - compiled
+def _basis_into(  # pragma: no cover - compiled
+    x: float, y: float, z: float, order: int, out: np.ndarray
+) -> None:
     # Y(l, m) at one direction into out[l * (l + 1) + m]: the fully normalised associated
     # Legendre recurrence in z, and (cm, sm) = Re, Im of (x + iy)^m = sin^m (cos m phi, sin m phi).
     cm, sm = 1.0, 0.0
@@ -112,13 +114,15 @@ def _basis_into(x, y, z, order, out):  # pragma: no cover - compiled
 
 
 @numba.njit(parallel=True, cache=True)
-def _basis_rows(dirs, order, out):  # pragma: no cover - compiled
+def _basis_rows(dirs: np.ndarray, order: int, out: np.ndarray) -> None:  # pragma: no cover
     for i in numba.prange(dirs.shape[0]):
         _basis_into(dirs[i, 0], dirs[i, 1], dirs[i, 2], order, out[i])
 
 
 @numba.njit(parallel=True, cache=True)
-def _project(values, dirs, weights, order, chunks):  # pragma: no cover - compiled
+def _project(  # pragma: no cover - compiled
+    values: np.ndarray, dirs: np.ndarray, weights: np.ndarray, order: int, chunks: int
+) -> np.ndarray:
     # sum_i values[i] * weights[i] * Y(d_i), in parallel chunks, without a basis array.
     n = (order + 1) ** 2
     channels = values.shape[1]
@@ -148,7 +152,9 @@ _C22 = math.sqrt(15 / (16 * math.pi))
 
 
 @numba.njit(parallel=True, cache=True, fastmath=True)
-def _project_order2(values, dirs, weights, chunks):  # pragma: no cover - compiled
+def _project_order2(  # pragma: no cover - compiled
+    values: np.ndarray, dirs: np.ndarray, weights: np.ndarray, chunks: int
+) -> np.ndarray:
     # _project for order 2 with the nine polynomials written out: ~3x fewer operations than
     # the recurrence, the same sums to rounding (fastmath lets the sums vectorise).
     channels = values.shape[1]

@@ -141,7 +141,7 @@ def _degree_parts(coeffs: np.ndarray, dirs: np.ndarray) -> np.ndarray:
     return parts
 
 
-def _refine_minimum(coeffs: np.ndarray, start: np.ndarray, step: float):
+def _refine_minimum(coeffs: np.ndarray, start: np.ndarray, step: float) -> tuple[float, np.ndarray]:
     """Local minimum of the scalar expansion ``coeffs`` (N,) near the unit direction ``start``:
     Nelder-Mead over the tangent plane at ``start`` (d = normalise(start + u e1 + v e2)), which
     has no coordinate singularity near the start; ``step`` is the initial simplex's size."""
@@ -152,11 +152,11 @@ def _refine_minimum(coeffs: np.ndarray, start: np.ndarray, step: float):
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(start, e1)
 
-    def direction(uv):
+    def direction(uv: np.ndarray) -> np.ndarray:
         d = start + uv[0] * e1 + uv[1] * e2
         return d / np.linalg.norm(d)
 
-    def value(uv):
+    def value(uv: np.ndarray) -> float:
         return float(basis(direction(uv), order) @ coeffs)
 
     simplex = np.array([[0.0, 0.0], [step, 0.0], [0.0, step]])
@@ -190,7 +190,7 @@ def minimum(coeffs: ArrayLike) -> tuple[float | np.ndarray, np.ndarray]:
     f = evaluate(c, dirs)
     values, where = np.empty(c.shape[1]), np.empty((c.shape[1], 3))
     for ch in range(c.shape[1]):
-        best = (math.inf, None)
+        best: tuple[float, np.ndarray | None] = (math.inf, None)
         for i in np.argsort(f[:, ch])[:4]:
             found = _refine_minimum(c[:, ch], dirs[i], step)
             best = min(best, found, key=lambda r: r[0])
@@ -262,7 +262,7 @@ def minimal_window(coeffs: ArrayLike, *, kernel: ArrayLike | None = None) -> Win
     dirs = _fibonacci_sphere(_MIN_SEARCH_POINTS * (order + 1) ** 2)
     parts = _degree_parts(f, dirs)
 
-    def sampled_min(lam):
+    def sampled_min(lam: float) -> float:
         return float(np.einsum("nlc,l->nc", parts, _laplacian_factors(order, lam)).min())
 
     lam = 0.0

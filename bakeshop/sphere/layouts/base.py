@@ -18,7 +18,7 @@ MAX_TEXELS = 1 << 29
 _GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(24)
 
 
-def _dirs_array(dirs) -> np.ndarray:
+def _dirs_array(dirs: ArrayLike) -> np.ndarray:
     d = np.asarray(dirs, dtype=np.float64)
     if d.ndim < 1 or d.shape[-1] != 3:
         raise ArgumentError(f"directions must be an array of shape (..., 3); got {d.shape}")
@@ -62,7 +62,7 @@ class Layout:
             )
         return shape
 
-    def _check(self, shape) -> None:
+    def _check(self, shape: tuple[int, ...]) -> None:
         raise NotImplementedError
 
     def default_size(self, texels: int) -> int:
@@ -100,7 +100,7 @@ class Layout:
         shape = self.check_shape(shape)
         return self.directions_at(self._centres(shape), shape), self._valid(shape)
 
-    def _valid(self, shape) -> np.ndarray:
+    def _valid(self, shape: tuple[int, ...]) -> np.ndarray:
         return np.ones(shape, bool)
 
     def directions_at(self, coords: ArrayLike, shape: Sequence[int]) -> np.ndarray:
@@ -121,7 +121,7 @@ class Layout:
         _maps.directions_at(self.kind, h, w, np.ascontiguousarray(flat), out)
         return out.reshape(c.shape[:-1] + (3,))
 
-    def _centres(self, shape):
+    def _centres(self, shape: tuple[int, ...]) -> np.ndarray:
         h, w = shape[-2:]
         x, y = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
         c = np.stack([x, y], axis=-1)
@@ -170,3 +170,8 @@ class Layout:
     def prepare(self, image: np.ndarray) -> np.ndarray:
         """``image`` in :attr:`base` form: the image itself, or the cube of a cross or strip."""
         return image
+
+    def base_shape(self, shape: Sequence[int]) -> tuple[int, ...]:
+        """The spatial shape of :attr:`base` for this layout's ``shape``: the shape itself, or
+        the ``(6, S, S)`` of a cross's or strip's cube."""
+        return tuple(shape)

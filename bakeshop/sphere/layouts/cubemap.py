@@ -17,7 +17,7 @@ from bakeshop.sphere.layouts.base import (
 )
 
 
-def _cube_corner(x, y):
+def _cube_corner(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.arctan2(x * y, np.sqrt(x * x + y * y + 1))
 
 
@@ -50,7 +50,7 @@ class Cube(Layout):
         n = int(size)
         return self.check_shape((6, n, n))
 
-    def _check(self, shape):
+    def _check(self, shape: tuple[int, ...]) -> None:
         if len(shape) != 3 or shape[0] != 6 or shape[1] != shape[2]:
             raise ArgumentError(f"a cube map is (6, S, S); got spatial shape {shape}")
 
@@ -91,7 +91,7 @@ class CubeView(Layout):
         n = int(size)
         return self.check_shape((self.rows * n, self.cols * n))
 
-    def _check(self, shape):
+    def _check(self, shape: tuple[int, ...]) -> None:
         if (
             len(shape) != 2
             or shape[0] % self.rows
@@ -152,6 +152,9 @@ class CubeView(Layout):
 
     def prepare(self, image: np.ndarray) -> np.ndarray:
         return _cube.view_to_cube(image, self.name)
+
+    def base_shape(self, shape: Sequence[int]) -> tuple[int, ...]:
+        return CUBE.shape(self.face_size(shape))
 
 
 CUBE = Cube()

@@ -41,7 +41,7 @@ class _Disk(Layout):
         n = int(size)
         return self.check_shape((n, self.disks * n))
 
-    def _check(self, shape):
+    def _check(self, shape: tuple[int, ...]) -> None:
         if len(shape) != 2 or shape[1] != self.disks * shape[0]:
             want = "square" if self.disks == 1 else f"{self.disks}:1 (width:height)"
             raise ArgumentError(f"a {self.name} image must be {want}; got (H, W) = {shape}")
@@ -49,16 +49,16 @@ class _Disk(Layout):
     def default_size(self, texels: int) -> int:
         return max(1, round(np.sqrt(texels / (self.disks * np.pi / 4))))
 
-    def _H(self, q):
+    def _H(self, q: np.ndarray) -> np.ndarray:
         """G(rho) / rho^2 as a function of q = rho^2."""
         raise NotImplementedError
 
-    def _overlap(self, n):
+    def _overlap(self, n: int) -> np.ndarray:
         """Texels of one disk's square that overlap the open unit disk (the valid ones)."""
         t = np.maximum(np.abs(2 * (np.arange(n) + 0.5) / n - 1) - 1 / n, 0)
         return t[None, :] ** 2 + t[:, None] ** 2 < 1 - _maps.DISK_OVERLAP_EPS
 
-    def _valid(self, shape):
+    def _valid(self, shape: tuple[int, ...]) -> np.ndarray:
         return np.concatenate([self._overlap(shape[0])] * self.disks, axis=1)
 
     def solid_angles(self, shape: Sequence[int]) -> np.ndarray:
@@ -110,7 +110,7 @@ class Angular(_Disk):
     name = "angular"
     kind = _maps.ANGULAR
 
-    def _H(self, q):
+    def _H(self, q: np.ndarray) -> np.ndarray:
         # G(rho) = 1 - cos(pi rho) = (pi^2 / 2) rho^2 sinc(rho / 2)^2
         return (np.pi**2 / 2) * np.sinc(np.sqrt(q) / 2) ** 2
 
@@ -133,7 +133,7 @@ class MirrorBall(_Disk):
     name = "mirrorball"
     kind = _maps.MIRRORBALL
 
-    def _H(self, q):
+    def _H(self, q: np.ndarray) -> np.ndarray:
         return np.full_like(q, 2.0)
 
 
@@ -160,5 +160,5 @@ class DualParaboloid(_Disk):
     disks = 2
     g_max = 1.0
 
-    def _H(self, q):
+    def _H(self, q: np.ndarray) -> np.ndarray:
         return 2 / (1 + q)

@@ -32,7 +32,7 @@ class LatLong(Layout):
         n = int(size)
         return self.check_shape((n, 2 * n))
 
-    def _check(self, shape):
+    def _check(self, shape: tuple[int, ...]) -> None:
         if len(shape) != 2:
             raise ArgumentError(f"a latlong image is (H, W); got spatial shape {shape}")
 
@@ -56,7 +56,7 @@ class LatLong(Layout):
 
 
 @numba.njit(parallel=True, cache=True)
-def _latlong_directions(out):
+def _latlong_directions(out: np.ndarray) -> None:
     """Fill ``out`` (H, W, 3) with the latlong texel-centre directions
     ``(sin theta_j sin phi_i, cos theta_j, -sin theta_j cos phi_i)``."""
     h, w = out.shape[0], out.shape[1]

@@ -36,7 +36,7 @@ class Octahedral(Layout):
         n = int(size)
         return self.check_shape((n, n))
 
-    def _check(self, shape):
+    def _check(self, shape: tuple[int, ...]) -> None:
         if len(shape) != 2 or shape[0] != shape[1] or shape[0] % 2:
             raise ArgumentError(
                 f"an octahedral image must be square with an even edge; got (H, W) = {shape}"
@@ -50,7 +50,7 @@ class Octahedral(Layout):
         return _octahedral_solid_angles(n)
 
 
-def _triangle_solid_angle(p, q, r):
+def _triangle_solid_angle(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
     """Solid angle of the planar triangle pqr seen from the origin (Van Oosterom and Strackee,
     IEEE Trans. Biomed. Eng. 30 (1983) 125, doi:10.1109/TBME.1983.325207)."""
     lp, lq, lr = (np.linalg.norm(v, axis=-1) for v in (p, q, r))

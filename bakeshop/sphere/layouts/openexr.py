@@ -50,7 +50,7 @@ class OpenEXRLatLong(Layout):
         n = int(size)
         return self.check_shape((n, 2 * n))
 
-    def _check(self, shape):
+    def _check(self, shape: tuple[int, ...]) -> None:
         if len(shape) != 2 or min(shape) < 2:
             raise ArgumentError(
                 "an openexr-latlong image is (H, W) with H, W >= 2 (its first and last rows "
@@ -98,7 +98,7 @@ class OpenEXRCube(Layout):
         n = int(size)
         return self.check_shape((6 * n, n))
 
-    def _check(self, shape):
+    def _check(self, shape: tuple[int, ...]) -> None:
         if len(shape) != 2 or shape[0] != 6 * shape[1] or shape[1] < 2:
             raise ArgumentError(
                 "an openexr-cube image is six square faces stacked top to bottom, (H, W) = "
