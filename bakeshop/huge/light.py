@@ -191,7 +191,9 @@ def _cap_window(
     return (top, bottom), [(a, b)]
 
 
-def _pieces(windows, w: int, texels: int) -> list[tuple[tuple[int, int], tuple[int, int]]]:
+def _pieces(
+    windows: list[tuple[tuple[int, int], list[tuple[int, int]]]], w: int, texels: int
+) -> list[tuple[tuple[int, int], tuple[int, int]]]:
     """Disjoint rectangles ``(rows, (left, right))`` covering the union of ``windows`` (each
     ``(rows, column ranges)``), of at most ``texels`` texels (or one row) each."""
     cuts = sorted({r for rows, _ in windows for r in rows})
@@ -212,34 +214,45 @@ def _pieces(windows, w: int, texels: int) -> list[tuple[tuple[int, int], tuple[i
     return out
 
 
+#: the values a cap search does not read.
+_NO_VALUES = np.empty((0, 1), np.float32)
+
+
 class _WindowTexels:
     """The texels of the union of some windows of a latlong file, as the sun's search asks for
     them (:class:`bakeshop.light.sun.TexelSource`, flat indices of the whole image): read and
     given their geometry piece by piece where they are looked at, so that only the texels of
     one cap (the sun's measurement, 8 degrees or so) are ever held, never the windows whole."""
 
-    def __init__(self, reader: Reader, windows, texels: int):
+    def __init__(
+        self,
+        reader: Reader,
+        windows: list[tuple[tuple[int, int], list[tuple[int, int]]]],
+        texels: int,
+    ) -> None:
         self.reader = reader
         self.h, self.w, _ = reader.shape
         self.colour = min(3, reader.shape[2])
         self.pieces = _pieces(windows, self.w, texels)
         self.texels = texels
 
-    def _piece(self, rows, cols, values=True):
-        v = None
-        if values:
-            v = self.reader.read(rows, cols).reshape(-1, self.reader.shape[2])[:, : self.colour]
-        dirs, omega = latlong_window_geometry((self.h, self.w), rows, cols)
-        return v, dirs, omega
+    def _values(self, rows: tuple[int, int], cols: tuple[int, int]) -> np.ndarray:
+        return self.reader.read(rows, cols).reshape(-1, self.reader.shape[2])[:, : self.colour]
 
-    def _index(self, rows, cols, local):
+    def _geometry(
+        self, rows: tuple[int, int], cols: tuple[int, int]
+    ) -> tuple[np.ndarray, np.ndarray]:
+        return latlong_window_geometry((self.h, self.w), rows, cols)
+
+    def _index(self, rows: tuple[int, int], cols: tuple[int, int], local: Any) -> Any:
         j, i = np.divmod(local, cols[1] - cols[0])
         return (j + rows[0]) * self.w + i + cols[0]
 
-    def brightest(self, centre, cos_limit) -> int:
+    def brightest(self, centre: np.ndarray, cos_limit: float) -> int:
         best = []  # each piece's brightest: the pieces' order is not the texels'
         for rows, cols in self.pieces:
-            values, dirs, omega = self._piece(rows, cols)
+            values = self._values(rows, cols)
+            dirs, omega = self._geometry(rows, cols)
             k = TexelArrays(values, dirs, omega).brightest(centre, cos_limit)
             if k >= 0:
                 best.append((int(self._index(rows, cols, k)), values[k], dirs[k], omega[k]))
@@ -249,7 +262,7 @@ class _WindowTexels:
         values, dirs, omega = (np.stack([b[n] for b in best]) for n in (1, 2, 3))
         return best[TexelArrays(values, dirs, omega).brightest(centre, cos_limit)][0]
 
-    def cap(self, centre, cos_limit) -> np.ndarray:
+    def cap(self, centre: np.ndarray, cos_limit: float) -> np.ndarray:
         theta = math.acos(min(1.0, max(-1.0, float(centre[1]))))
         reach = math.acos(min(1.0, max(-1.0, cos_limit)))
         pitch = math.pi / self.h
@@ -258,12 +271,12 @@ class _WindowTexels:
         for rows, cols in self.pieces:
             if rows[1] < low or rows[0] > high:
                 continue
-            _, dirs, omega = self._piece(rows, cols, values=False)
-            local = TexelArrays(None, dirs, omega).cap(centre, cos_limit)
+            dirs, omega = self._geometry(rows, cols)
+            local = TexelArrays(_NO_VALUES, dirs, omega).cap(centre, cos_limit)
             parts.append(self._index(rows, cols, local))
         return np.sort(np.concatenate(parts))
 
-    def gather(self, index):
+    def gather(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         index = np.asarray(index, np.int64)
         c = self.reader.shape[2]
         order = np.argsort(index, kind="stable")
@@ -377,6 +390,7 @@ def dim_pair(
     if method == "sh":
         lit = sh.evaluate(sh.windowed_irradiance(coeffs, window=window).coefficients, normals)
     else:
+        assert e is not None  # the exact and auto strips sum their DIMs
         lit = e.reshape(normals.shape[:-1] + (-1,)) / math.pi
     shadow = lit.copy()
     if found is not None:

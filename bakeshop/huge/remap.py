@@ -35,7 +35,7 @@ from bakeshop.huge.memory import blocks, plan_blocks, refuse
 from bakeshop.huge.resize import Source, as_reader, resize
 from bakeshop.io.stream import Reader
 from bakeshop.sphere import area, cube_to_view, layout, texel_strips, valid_texels
-from bakeshop.sphere.layouts import MAX_EDGE, MAX_TEXELS
+from bakeshop.sphere.layouts import MAX_EDGE, MAX_TEXELS, Layout
 from bakeshop.sphere.reductions import box_reduce
 from bakeshop.sphere.windows import gather_taps, localise_taps, remap_part_taps, taps_window
 
@@ -376,7 +376,7 @@ def remap_tiles(
     return out.reshape(tuple(dst_shape) + (c,))
 
 
-def _largest_k(d, shape) -> int:
+def _largest_k(d: Layout, shape: tuple[int, ...]) -> int:
     """The largest supersampling of an output of base layout ``d`` and ``shape`` whose grid of
     samples is a layout's shape (:data:`bakeshop.sphere.layouts.MAX_TEXELS`, ``MAX_EDGE``): the
     grid is never allocated, but its texels are addressed as a layout's. A 32768 x 16384 source

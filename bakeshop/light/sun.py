@@ -493,6 +493,8 @@ def split_texels(t: Texels | TexelSource, *, sampler: Sampler | None = None) -> 
     also be a :class:`TexelSource` (colour channels only): the removal's ``index`` is then in
     its indices."""
     if not isinstance(t, Texels):  # texels read where they are looked at (see TexelArrays)
+        if sampler is None:
+            raise TypeError("split_texels of a TexelSource needs its sampler")
         return _split(t, sampler)
     colour = min(3, t.values.shape[1])
     if sampler is None:
