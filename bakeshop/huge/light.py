@@ -14,16 +14,20 @@ Two passes over the file:
 2. per strip: the brightest texel outside caps of :data:`RIVAL_RADII` around the brightest one
    (the sun's possible rivals).
 
-The sun is then found and measured at full resolution by :func:`bakeshop.light.sun.split_texels`
-on the windows of texels within :data:`SUN_REACH` of the brightest texel and within
-:data:`RIVAL_REACH` of each rival (what its measurements read), and its fill, a few thousand
-texels at most, is subtracted exactly: the shadow DIM is the DIM of the probe less the DIM of
-what the fill removes (linear, so exactly the DIM of the painted probe for ``exact`` and
-``sh``), the sun DIM adds it back, as :func:`bakeshop.light.dim_pair` does.
+The strips' partial results are added by the engine as they come (a DIM partial is as large
+as the output: one per strip at once would grow with the image). The sun is then found and
+measured at full resolution by :func:`bakeshop.light.sun.split_texels` among the texels within
+:data:`SUN_REACH` of the brightest texel and within :data:`RIVAL_REACH` of each rival (what its
+measurements read), read piece by piece where the search looks (the texels of one cap are held
+at a time, ~8 degrees: 0.5 % of the image, 4.4 % at a pole, never the windows whole), and its
+fill, a few thousand texels at most, is subtracted exactly: the shadow DIM is the DIM of the
+probe less the DIM of what the fill removes (linear, so exactly the DIM of the painted probe
+for ``exact`` and ``sh``), the sun DIM adds it back, as :func:`bakeshop.light.dim_pair` does.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 from collections.abc import Iterator
@@ -39,8 +43,8 @@ from bakeshop.image import luminance
 from bakeshop.io.stream import Reader
 from bakeshop.light import sh
 from bakeshop.light.diffuse import METHODS, compress, cosine_sum, dim_normals
-from bakeshop.light.sun import Sampler, Sun, split_texels
-from bakeshop.sphere import Texels
+from bakeshop.light.sun import Sampler, Sun, TexelArrays, split_texels
+from bakeshop.sphere import texels_at
 from bakeshop.sphere.windows import (
     gather_taps,
     latlong_window_geometry,
@@ -57,9 +61,13 @@ RIVAL_REACH = math.radians(10.0)
 #: radii of the caps around the brightest texel outside which the brightest texel is a rival
 #: (the sun's exclusion radius is max(3 mask radii, 4 degrees)).
 RIVAL_RADII = tuple(math.radians(r) for r in (4, 6, 8, 12, 16, 24, 32, 48))
-#: bytes per texel of a strip's task: its values (read, copied), directions, solid angles,
-#: luminance, energies and the SH basis of a block.
-_TEXEL_BYTES = 120
+#: bytes per texel of a strip's task besides 8 per channel: its values (read, copied),
+#: directions, solid angles, luminance, the bins' indices (measured with tracemalloc on a
+#: 3-channel strip: 148 in all).
+_TEXEL_BYTES = 130
+#: bytes per texel of a piece of the sun's windows while it is looked at (values read and
+#: sliced, directions, solid angles, indices).
+_PIECE_BYTES = 80
 #: the largest strip task: larger ones save nothing (the work is per texel) and would add
 #: their size, times the tasks running at once, to the process's peak.
 STRIP_BYTES = 64 << 20
@@ -108,18 +116,30 @@ def _strips(reader: Reader, engine: Engine, fixed: int, what: str) -> list[tuple
     return [(top, min(top + rows, h)) for top in range(0, h, rows)]
 
 
+class _Brightest:
+    """A strip's brightest texel (luminance, flat index); the sum of two is the brighter (the
+    later on a tie), so that :meth:`Engine.reduce` adds the strips' partial results."""
+
+    def __init__(self, luminance: float, index: int):
+        self.key = (luminance, index)
+
+    def __add__(self, other: _Brightest) -> _Brightest:
+        return max(self, other, key=lambda b: b.key)
+
+
 def _strip(
     rows: tuple[int, int], reader: Reader, order: int, method: str, normals: np.ndarray
-) -> tuple[tuple[float, int], np.ndarray, np.ndarray | None]:
-    """Pass 1 on one strip: (brightest luminance, its flat index), SH and DIM partials (the
-    irradiance at ``normals``, not over pi; None for ``sh``)."""
+) -> tuple[_Brightest, np.ndarray, np.ndarray | None]:
+    """Pass 1 on one strip: its brightest texel (:class:`_Brightest`), SH and DIM partials (the
+    irradiance at ``normals``, not over pi; None for ``sh``), summed over the strips by the
+    engine as they come (a DIM partial is (M, C) float64: never one per strip at once)."""
     h, w, c = reader.shape
     values = reader.read(rows).reshape(-1, c)
     dirs, omega = latlong_window_geometry((h, w), rows)
     colour = min(3, c)
     lum = luminance(values[:, :colour])
     k = int(np.argmax(lum))
-    brightest = (float(lum[k]), rows[0] * w + k)
+    brightest = _Brightest(float(lum[k]), rows[0] * w + k)
     coeffs = sh.project(values, dirs, omega, order=order)
     if method == "exact":
         return brightest, coeffs, cosine_sum(normals, dirs, values * omega[:, None])
@@ -171,18 +191,112 @@ def _cap_window(
     return (top, bottom), [(a, b)]
 
 
-def _window_texels(
-    reader: Reader, rows: tuple[int, int], ranges: list[tuple[int, int]]
-) -> tuple[np.ndarray, ...]:
-    """Flat values, directions, solid angles and global indices of a window."""
-    h, w, c = reader.shape
-    parts = []
-    for a, b in ranges:
-        values = reader.read(rows, (a, b)).reshape(-1, c)
-        dirs, omega = latlong_window_geometry((h, w), rows, (a, b))
-        jj, ii = np.divmod(np.arange(len(omega)), b - a)
-        parts.append((values, dirs, omega, (jj + rows[0]) * w + ii + a))
-    return tuple(np.concatenate([p[k] for p in parts]) for k in range(4))
+def _pieces(
+    windows: list[tuple[tuple[int, int], list[tuple[int, int]]]], w: int, texels: int
+) -> list[tuple[tuple[int, int], tuple[int, int]]]:
+    """Disjoint rectangles ``(rows, (left, right))`` covering the union of ``windows`` (each
+    ``(rows, column ranges)``), of at most ``texels`` texels (or one row) each."""
+    cuts = sorted({r for rows, _ in windows for r in rows})
+    out = []
+    for top, bottom in itertools.pairwise(cuts):
+        ranges = sorted(
+            r for rows, rs in windows if rows[0] <= top and bottom <= rows[1] for r in rs
+        )
+        merged: list[list[int]] = []
+        for a, b in ranges:
+            if merged and a <= merged[-1][1]:
+                merged[-1][1] = max(merged[-1][1], b)
+            else:
+                merged.append([a, b])
+        for a, b in merged:
+            step = max(1, texels // (b - a))
+            out += [((y, min(y + step, bottom)), (a, b)) for y in range(top, bottom, step)]
+    return out
+
+
+#: the values a cap search does not read.
+_NO_VALUES = np.empty((0, 1), np.float32)
+
+
+class _WindowTexels:
+    """The texels of the union of some windows of a latlong file, as the sun's search asks for
+    them (:class:`bakeshop.light.sun.TexelSource`, flat indices of the whole image): read and
+    given their geometry piece by piece where they are looked at, so that only the texels of
+    one cap (the sun's measurement, 8 degrees or so) are ever held, never the windows whole."""
+
+    def __init__(
+        self,
+        reader: Reader,
+        windows: list[tuple[tuple[int, int], list[tuple[int, int]]]],
+        texels: int,
+    ) -> None:
+        self.reader = reader
+        self.h, self.w, _ = reader.shape
+        self.colour = min(3, reader.shape[2])
+        self.pieces = _pieces(windows, self.w, texels)
+        self.texels = texels
+
+    def _values(self, rows: tuple[int, int], cols: tuple[int, int]) -> np.ndarray:
+        return self.reader.read(rows, cols).reshape(-1, self.reader.shape[2])[:, : self.colour]
+
+    def _geometry(
+        self, rows: tuple[int, int], cols: tuple[int, int]
+    ) -> tuple[np.ndarray, np.ndarray]:
+        return latlong_window_geometry((self.h, self.w), rows, cols)
+
+    def _index(self, rows: tuple[int, int], cols: tuple[int, int], local: Any) -> Any:
+        j, i = np.divmod(local, cols[1] - cols[0])
+        return (j + rows[0]) * self.w + i + cols[0]
+
+    def brightest(self, centre: np.ndarray, cos_limit: float) -> int:
+        best = []  # each piece's brightest: the pieces' order is not the texels'
+        for rows, cols in self.pieces:
+            values = self._values(rows, cols)
+            dirs, omega = self._geometry(rows, cols)
+            k = TexelArrays(values, dirs, omega).brightest(centre, cos_limit)
+            if k >= 0:
+                best.append((int(self._index(rows, cols, k)), values[k], dirs[k], omega[k]))
+        if not best:
+            return -1
+        best.sort(key=lambda b: b[0])  # ties go to the first texel, as over all of them
+        values, dirs, omega = (np.stack([b[n] for b in best]) for n in (1, 2, 3))
+        return best[TexelArrays(values, dirs, omega).brightest(centre, cos_limit)][0]
+
+    def cap(self, centre: np.ndarray, cos_limit: float) -> np.ndarray:
+        theta = math.acos(min(1.0, max(-1.0, float(centre[1]))))
+        reach = math.acos(min(1.0, max(-1.0, cos_limit)))
+        pitch = math.pi / self.h
+        low, high = (theta - reach) / pitch - 1, (theta + reach) / pitch + 1
+        parts = [np.empty(0, np.int64)]
+        for rows, cols in self.pieces:
+            if rows[1] < low or rows[0] > high:
+                continue
+            dirs, omega = self._geometry(rows, cols)
+            local = TexelArrays(_NO_VALUES, dirs, omega).cap(centre, cos_limit)
+            parts.append(self._index(rows, cols, local))
+        return np.sort(np.concatenate(parts))
+
+    def gather(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        index = np.asarray(index, np.int64)
+        c = self.reader.shape[2]
+        order = np.argsort(index, kind="stable")
+        rows = index[order] // self.w
+        per_read = max(1, self.texels // self.w)
+        parts = []
+        start = 0
+        while start < len(order):  # bands of rows, each read once (its columns' span)
+            stop = int(np.searchsorted(rows, rows[start] + per_read))
+            take = order[start:stop]
+            j, i = np.divmod(index[take], self.w)
+            top, left = int(j[0]), int(i.min())
+            window = self.reader.read((top, int(j[-1]) + 1), (left, int(i.max()) + 1))
+            parts.append(window.reshape(-1, c)[(j - top) * (window.shape[1]) + i - left])
+            start = stop
+        values = np.empty((len(index), self.colour), parts[0].dtype if parts else np.float32)
+        if parts:
+            values[order] = np.concatenate(parts)[:, : self.colour]
+        dirs, omega = texels_at("latlong", (self.h, self.w), index)
+        return values, dirs, omega
 
 
 def _sampler(reader: Reader, colour: int) -> Sampler:
@@ -202,22 +316,19 @@ def _sampler(reader: Reader, colour: int) -> Sampler:
 
 
 def _find_sun(
-    reader: Reader, brightest: int, rivals: list[int]
+    reader: Reader, brightest: int, rivals: list[int], texels: int
 ) -> tuple[Sun | None, np.ndarray, np.ndarray, tuple | None]:
-    """The sun's split (:func:`bakeshop.light.sun.split_texels`) from the windows around the
-    brightest texel and the rivals, with global texel indices."""
+    """The sun's split (:func:`bakeshop.light.sun.split_texels`) among the texels of the windows
+    around the brightest texel and the rivals (read where they are looked at, ``texels`` at a
+    time), with global texel indices."""
     h, w, c = reader.shape
     windows = [_cap_window(h, w, brightest, SUN_REACH)]
     windows += [_cap_window(h, w, k, RIVAL_REACH) for k in rivals]
-    gathered = [_window_texels(reader, rows, ranges) for rows, ranges in windows]
-    values, dirs, omega, index = (np.concatenate([g[k] for g in gathered]) for k in range(4))
-    index, first = np.unique(index, return_index=True)  # windows may overlap; keep file order
-    values, dirs, omega = values[first], dirs[first], omega[first]
-    t = Texels(values, dirs, omega, None)
-    removal = split_texels(t, sampler=_sampler(reader, min(3, c)))
+    source = _WindowTexels(reader, windows, texels)
+    removal = split_texels(source, sampler=_sampler(reader, min(3, c)))
     if removal is None:
         return None, np.empty(0, np.int64), np.empty((0, min(3, c)), np.float32), None
-    return removal.sun, index[removal.index], removal.filled, (values, dirs, omega, removal.index)
+    return removal.sun, removal.index, removal.filled, source.gather(removal.index)
 
 
 def dim_pair(
@@ -261,11 +372,10 @@ def dim_pair(
     out_bytes = 4 * flat_normals.shape[0] * c * 8
     what = f"DIM pair of latlong {w}x{h}"
     strips = _strips(reader, engine, out_bytes, what)
-    parts = engine.gather(
+    top, coeffs, e = engine.reduce(
         _strip, [(r, reader, order, method, flat_normals) for r in strips], f"{what}: pass 1 of 2"
     )
-    lum, brightest = max(p[0] for p in parts)
-    coeffs = sum(p[1] for p in parts)
+    lum, brightest = top.key
     j, i = divmod(brightest, w)
     centre = latlong_window_geometry((h, w), (j, j + 1), (i, i + 1))[0][0]
     rival_parts = engine.gather(
@@ -275,23 +385,23 @@ def dim_pair(
     sun, fill_index, found = None, np.empty(0, np.int64), None
     fill_values = np.empty((0, min(3, c)), np.float32)
     if lum > 0:
-        sun, fill_index, fill_values, found = _find_sun(reader, brightest, rivals)
-    if method != "sh":
-        e = sum(p[2] for p in parts)
+        texels = max(w, min(engine.per_task(out_bytes), STRIP_BYTES) // _PIECE_BYTES)
+        sun, fill_index, fill_values, found = _find_sun(reader, brightest, rivals, texels)
     if method == "sh":
         lit = sh.evaluate(sh.windowed_irradiance(coeffs, window=window).coefficients, normals)
     else:
+        assert e is not None  # the exact and auto strips sum their DIMs
         lit = e.reshape(normals.shape[:-1] + (-1,)) / math.pi
     shadow = lit.copy()
     if found is not None:
-        values, dirs, omega, k = found
+        values, dirs, omega = found  # the fill's texels
         colour = fill_values.shape[1]
-        excess = np.zeros((len(k), c))
-        excess[:, :colour] = values[k, :colour].astype(np.float64) - fill_values
-        removed = cosine_sum(flat_normals, dirs[k], excess * omega[k, None])
+        excess = np.zeros((len(values), c))
+        excess[:, :colour] = values[:, :colour].astype(np.float64) - fill_values
+        removed = cosine_sum(flat_normals, dirs, excess * omega[:, None])
         removed = removed.reshape(lit.shape) / math.pi
         if method == "sh":  # as bakeshop.light.dim_pair: SH of the painted probe + the exact sun
-            painted = coeffs - sh.project(excess, dirs[k], omega[k], order=order)
+            painted = coeffs - sh.project(excess, dirs, omega, order=order)
             shadow = sh.evaluate(
                 sh.windowed_irradiance(painted, window=window).coefficients, normals
             )

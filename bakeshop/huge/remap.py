@@ -35,12 +35,18 @@ from bakeshop.huge.memory import blocks, plan_blocks, refuse
 from bakeshop.huge.resize import Source, as_reader, resize
 from bakeshop.io.stream import Reader
 from bakeshop.sphere import area, cube_to_view, layout, texel_strips, valid_texels
+from bakeshop.sphere.layouts import MAX_EDGE, MAX_TEXELS, Layout
 from bakeshop.sphere.reductions import box_reduce
 from bakeshop.sphere.windows import gather_taps, localise_taps, remap_part_taps, taps_window
 
 #: layouts a chunked remap reads (one image file each, addressed by rows and columns).
 FLAT_SOURCES = ("latlong", "angular", "mirrorball", "octahedral", "dual-paraboloid")
 FILTERS = ("auto", "nearest", "bilinear", "area")
+#: the largest tile task's samples, and its window: larger ones save nothing (the work is per
+#: texel) and, times the tasks running at once, would go past the bound (a polar tile's window
+#: spans every column: a 16k source's cube remap peaked at 1280 MB under 1 GB with windows up
+#: to a task's whole share).
+TILE_BYTES = 64 << 20
 #: bytes per output texel of a tile's task besides its window: taps (16), fractions (8),
 #: local taps (16), the blended texel (4 per channel) and the block (4 per channel).
 _TEXEL_BYTES = 40
@@ -153,10 +159,26 @@ def _block(
     )
 
 
-def _peaks(rows: tuple[int, int], reader: Reader, src: str) -> tuple[Any, ...]:
-    """A strip's part of the bright texels' pass (:func:`bakeshop.sphere.area.peak_candidates`)."""
+class _Peaks:
+    """A strip's part of the bright texels' pass (:func:`bakeshop.sphere.area.peak_candidates`);
+    the sum of two keeps the sums of both and their MAX_BRIGHT + 1 texels of largest peak, all
+    that :func:`bakeshop.sphere.area.bright_texels` reads of the whole image's, so that the
+    engine reduces the strips' parts as they come (never one per strip at once)."""
+
+    def __init__(self, part: tuple[Any, ...]):
+        self.part = part
+
+    def __add__(self, other: _Peaks) -> _Peaks:
+        (s1, i1, p1, v1), (s2, i2, p2, v2) = self.part, other.part
+        index, peaks = np.concatenate([i1, i2]), np.concatenate([p1, p2])
+        keep = min(len(peaks), area.MAX_BRIGHT + 1)
+        top = np.argpartition(peaks, len(peaks) - keep)[len(peaks) - keep :]
+        return _Peaks((s1 + s2, index[top], peaks[top], np.concatenate([v1, v2])[top]))
+
+
+def _peaks(rows: tuple[int, int], reader: Reader, src: str) -> _Peaks:
     values, omega = _strip_texels(rows, reader, src)
-    return area.peak_candidates(values, omega, rows[0] * reader.shape[1])
+    return _Peaks(area.peak_candidates(values, omega, rows[0] * reader.shape[1]))
 
 
 def _strip_texels(rows: tuple[int, int], reader: Reader, src: str) -> tuple[np.ndarray, np.ndarray]:
@@ -272,8 +294,8 @@ def supersample_tiles(
     dh, dw, faces = d.grid(dst_shape)
     out_bytes = faces * dh * dw * c * 4
     strips = _strips(reader, engine, out_bytes, what)
-    parts = engine.gather(_peaks, [(r, reader, src) for r in strips], f"{what}: bright texels")
-    clamp, bright, values = area.bright_texels(parts)
+    peaks = engine.reduce(_peaks, [(r, reader, src) for r in strips], f"{what}: bright texels")
+    clamp, bright, values = area.bright_texels([peaks.part])
     per_task = engine.per_task(out_bytes)
     sample_bytes = 64 + 24 * c  # taps, fractions, local taps, weights, the clamped window
 
@@ -283,7 +305,7 @@ def supersample_tiles(
     block = plan_blocks(
         (dh, dw),
         cost,
-        min(per_task, 64 << 20),
+        min(per_task, TILE_BYTES),
         at_least=max(1, 4 * engine.total_workers // faces),
         what=what,
         memory=engine.memory,
@@ -296,7 +318,8 @@ def supersample_tiles(
         for top, bottom, left, right in blocks((dh, dw), block)
     ]
     out = np.empty((faces * dh, dw, c), np.float32)
-    args = (reader, src, (h, w), dst, tuple(dst_shape), dh, k, rotation, clamp, per_task)
+    share = min(per_task, TILE_BYTES)  # a tile's window, as its samples: at most TILE_BYTES
+    args = (reader, src, (h, w), dst, tuple(dst_shape), dh, k, rotation, clamp, share)
     engine.assemble(_supersampled_block, regions, out, args, what)
     if len(bright):
         key = rotation_key(rotation)
@@ -334,7 +357,7 @@ def remap_tiles(
     block = plan_blocks(
         (dh, dw),
         cost,
-        min(per_task, 64 << 20),
+        min(per_task, TILE_BYTES),
         at_least=max(1, 4 * engine.total_workers // faces),
         what=what,
         memory=engine.memory,
@@ -347,9 +370,20 @@ def remap_tiles(
         for top, bottom, left, right in blocks((dh, dw), block)
     ]
     out = np.empty((faces * dh, dw, c), np.float32)
-    args = (reader, src, (h, w), dst, tuple(dst_shape), dh, filter, rotation, per_task)
+    share = min(per_task, TILE_BYTES)  # a tile's window, as its taps: at most TILE_BYTES
+    args = (reader, src, (h, w), dst, tuple(dst_shape), dh, filter, rotation, share)
     engine.assemble(_block, regions, out, args, what)
     return out.reshape(tuple(dst_shape) + (c,))
+
+
+def _largest_k(d: Layout, shape: tuple[int, ...]) -> int:
+    """The largest supersampling of an output of base layout ``d`` and ``shape`` whose grid of
+    samples is a layout's shape (:data:`bakeshop.sphere.layouts.MAX_TEXELS`, ``MAX_EDGE``): the
+    grid is never allocated, but its texels are addressed as a layout's. A 32768 x 16384 source
+    to 6 x 2048^2 faces takes 4 samples a side where the texel ratio asks 5 (16 samples a
+    texel for 21 source texels; the bright texels are still deposited exactly)."""
+    dh, dw, faces = d.grid(shape)
+    return max(1, min(math.isqrt(MAX_TEXELS // (faces * dh * dw)), MAX_EDGE // max(dh, dw)))
 
 
 def remap(
@@ -410,7 +444,7 @@ def remap(
             return resize(reader, (dw, dh), engine=engine, weighting="latlong")
         ratio = valid_texels(s.name, src_shape) / valid_texels(d.name, dst_shape)
         if ratio >= 1:  # k as the in-memory filter takes it (bakeshop.sphere.area.supersampling)
-            k = max(1, round(math.sqrt(ratio)))
+            k = min(max(1, round(math.sqrt(ratio))), _largest_k(d.base, base_shape))
             out = supersample_tiles(reader, s.name, d.base.name, base_shape, k=k, rotation=rotation,
                                     engine=engine, what=what)  # fmt: skip
             return out if d.base is d else cube_to_view(out, d.name)

@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numba
 import numpy as np
@@ -140,20 +141,44 @@ def _luminance(values: np.ndarray) -> np.ndarray:
     return values[:, 0] * r + values[:, 1] * g + values[:, 2] * b
 
 
-class _Arrays:
-    """Texels held as arrays (an environment's, or the windows of a chunked job's)."""
+class TexelSource(Protocol):
+    """What the sun's search asks of texels (:class:`TexelArrays` over arrays), with flat
+    indices of the source's own: ``cap`` returns them in ascending order."""
+
+    def brightest(self, centre: np.ndarray, cos_limit: float) -> int:
+        """The texel of largest luminance farther than ``acos(cos_limit)`` from ``centre``
+        (``cos_limit`` > 1: of all), the first on a tie; -1 when none is positive."""
+        ...
+
+    def cap(self, centre: np.ndarray, cos_limit: float) -> np.ndarray:
+        """The texels within ``acos(cos_limit)`` of ``centre``, ascending."""
+        ...
+
+    def gather(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Colour values (n, colour), directions (n, 3) and solid angles (n,) of texels."""
+        ...
+
+
+class TexelArrays:
+    """Texels held as arrays (an environment's, or a piece of a chunked job's windows): what
+    the sun's search asks of texels, ``brightest``, ``cap`` and ``gather``, with indices into
+    these arrays (a :class:`TexelSource`; a chunked job's reads its texels from a file where
+    they are looked at)."""
 
     def __init__(self, values: np.ndarray, dirs: np.ndarray, omega: np.ndarray) -> None:
         self.values, self.dirs, self.omega = values, dirs, omega
 
     def brightest(self, centre: np.ndarray, cos_limit: float) -> int:
+        """As :meth:`TexelSource.brightest`."""
         weights = _weights(self.values)
         return _brightest(self.values, weights, self.omega, self.dirs, centre, cos_limit)
 
     def cap(self, centre: np.ndarray, cos_limit: float) -> np.ndarray:
+        """As :meth:`TexelSource.cap`."""
         return _cap(self.dirs, self.omega, centre, cos_limit)
 
     def gather(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """As :meth:`TexelSource.gather`."""
         return self.values[index], self.dirs[index], self.omega[index]
 
 
@@ -280,9 +305,9 @@ def _profile(
     return sky, core, mask, half, 2 * inner
 
 
-def _candidate(texels: _Arrays | _Image, k: int, max_core: float) -> _Candidate | None:
+def _candidate(texels: TexelSource, k: int, max_core: float) -> _Candidate | None:
     """Measure the compact light whose brightest texel is ``k`` (of ``texels``, an
-    :class:`_Arrays` or :class:`_Image`); None if it is not compact: its core is wider than
+    :class:`TexelArrays` or :class:`_Image`); None if it is not compact: its core is wider than
     ``max_core`` (radians) or not CONTRAST times brighter than the sky around it."""
     values_k, dirs_k, omega_k = texels.gather(np.array([k]))
     pitch = max(math.sqrt(omega_k[0]), 1e-6)
@@ -358,7 +383,7 @@ def _brightest(  # pragma: no cover - compiled
     return k
 
 
-def _detect(texels: _Arrays | _Image) -> _Candidate | None:
+def _detect(texels: TexelSource) -> _Candidate | None:
     k = texels.brightest(np.zeros(3), 2.0)
     if k < 0:
         return None
@@ -454,7 +479,7 @@ class Removal:
         flat[self.index, : self.filled.shape[1]] = self.filled
 
 
-def split_texels(t: Texels, *, sampler: Sampler | None = None) -> Removal | None:
+def split_texels(t: Texels | TexelSource, *, sampler: Sampler | None = None) -> Removal | None:
     """Find the sun among an environment's texels (:func:`bakeshop.sphere.texels`) and compute
     its fill: the texel-level form of :func:`remove_sun`, for callers that already hold the
     texels. Only the colour channels (the first three, or the one) are looked at and filled;
@@ -464,13 +489,19 @@ def split_texels(t: Texels, *, sampler: Sampler | None = None) -> Removal | None
     the brightest texel, and around its rival): the result is the same as from all of them
     when they include every texel within the sun's measurement reach. Then ``sampler`` (a
     function of directions (..., 3) giving the environment's bilinear samples of its colour
-    channels, (..., colour)) stands in for ``t.environment``, which may be None."""
+    channels, (..., colour)) stands in for ``t.environment``, which may be None. ``t`` may
+    also be a :class:`TexelSource` (colour channels only): the removal's ``index`` is then in
+    its indices."""
+    if not isinstance(t, Texels):  # texels read where they are looked at (see TexelArrays)
+        if sampler is None:
+            raise TypeError("split_texels of a TexelSource needs its sampler")
+        return _split(t, sampler)
     colour = min(3, t.values.shape[1])
     if sampler is None:
         if t.environment is None:
             raise ArgumentError("texels without their environment need a sampler")
         sampler = _image_sampler(t.environment, colour)
-    return _split(_Arrays(t.values[:, :colour], t.dirs, t.omega), sampler)
+    return _split(TexelArrays(t.values[:, :colour], t.dirs, t.omega), sampler)
 
 
 def split_sun(image: ArrayLike, layout: str | Layout) -> Removal | None:
@@ -523,7 +554,7 @@ def _image_sampler(env: Environment, colour: int) -> Sampler:
     return sampler
 
 
-def _split(texels: _Arrays | _Image, sampler: Sampler) -> Removal | None:
+def _split(texels: TexelSource, sampler: Sampler) -> Removal | None:
     cand = _detect(texels)
     if cand is None:
         return None

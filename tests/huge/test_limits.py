@@ -1,5 +1,6 @@
-"""Chunked jobs under an address-space limit far below the image, and on a two-worker
-dask.distributed cluster (a worker killed mid-job)."""
+"""Chunked jobs under an address-space limit far below the image (resize; remap to a latlong and
+to cube faces; the DIM pair with its sun), and on a two-worker dask.distributed cluster (a worker
+killed mid-job)."""
 
 import subprocess
 import sys
@@ -11,6 +12,12 @@ import pytest
 from bakeshop.huge import Engine, resize, resize_to_file
 from bakeshop.image import resize_area
 from bakeshop.io.stream import open_image, write_strips
+from tests.huge.tolerances import (
+    AUTO_VS_EXACT,
+    PARTIAL_SUMS,
+    SUPERSAMPLE_ENERGY,
+    SUPERSAMPLE_TILES_RMS,
+)
 
 #: the image of the address-space test: 8192 x 8192 grey float32, 256 MB on disk.
 SIDE = 8192
@@ -60,6 +67,133 @@ def test_resize_under_an_address_space_limit_a_quarter_of_the_image(tmp_path):
     # each output row averages 64 input rows y .. y + 63: their mean, y + 31.5
     expected = (np.arange(SIDE // 64) * 64 + 31.5).astype(np.float32)[:, None, None]
     assert np.array_equal(out, np.broadcast_to(expected, out.shape))
+
+
+#: the panorama of the remap and DIM-pair test: 4096 x 2048 float RGB, 100 MB on disk, under
+#: an address space of 24 MB beyond the warmed-up interpreter and an engine bound of 16 MB: the
+#: benchmark's 6.4 GB under 1 GB, scaled down.
+PANORAMA = (2048, 4096, 3)
+PANORAMA_HEADROOM = 24 << 20
+PANORAMA_MEMORY = "16MB"
+#: the DIMs' size: small, so that the in-memory exact reference takes seconds.
+DIM_SIZE = (16, 8)
+
+_PANORAMA_CHILD = textwrap.dedent(
+    """
+    import resource, sys
+    import numpy as np
+    from bakeshop.huge import Engine, dim_pair, remap
+    path, headroom, memory, target = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
+    size, elements = (16, 8), 2048 * 4096 * 3
+    engine = Engine("threads", memory=memory)
+    small = np.ones((128, 256, 3), np.float32)
+    small[40:42, 100:103] = 5000.0
+    for _ in range(2):  # compile, start the threads, let their memory arenas settle
+        remap(small, "latlong", "latlong", (64, 32), filter="area", engine=engine)
+        remap(small, "latlong", "cube", 16, filter="area", engine=engine)
+        for method in ("exact", "auto"):
+            dim_pair(small, "latlong", method=method, size=size, engine=engine)
+    with open("/proc/self/status") as f:
+        vm = next(int(line.split()[1]) * 1024 for line in f if line.startswith("VmSize:"))
+    resource.setrlimit(resource.RLIMIT_AS, (vm + headroom, vm + headroom))
+    try:
+        np.empty(elements, np.float32)
+    except MemoryError:
+        print("the whole image cannot be allocated", flush=True)
+    out = {
+        "latlong": remap(path, "latlong", "latlong", (512, 256), filter="area", engine=engine),
+        "cube": remap(path, "latlong", "cube", 256, filter="area", engine=engine),
+    }
+    for method in ("exact", "auto"):
+        pair = dim_pair(path, "latlong", method=method, size=size, engine=engine)
+        out[method + "_sun_dim"], out[method + "_shadow_dim"] = pair.sun_dim, pair.shadow_dim
+        out[method + "_sun"] = pair.sun.direction
+    np.savez(target, **out)
+    """
+)
+
+
+def _panorama():
+    """A sky of soft bands with a sun of 2 x 3 texels (50 000 times the sky)."""
+    h, w, _ = PANORAMA
+    y, x = np.ogrid[0:h, 0:w]
+    sky = 1 + 0.5 * np.sin(x / 97.0) * np.cos(y / 53.0) + 0.25 * np.cos(x * 2 * np.pi / w)
+    a = np.stack([sky, 0.9 * sky, 0.7 * sky], -1).astype(np.float32)
+    a[h // 5 : h // 5 + 2, w // 3 : w // 3 + 3] = 50000.0
+    return a
+
+
+def _solid_angle_means(a, factor):
+    """The exact solid-angle-weighted means of ``factor`` x ``factor`` blocks of a latlong, in
+    float64: each row's solid angle is proportional to cos(theta_top) - cos(theta_bottom)."""
+    h, w, c = a.shape
+    edges = np.cos(np.pi * np.arange(h + 1) / h)
+    omega = edges[:-1] - edges[1:]
+    sums = (a * omega[:, None, None]).reshape(h // factor, factor, w // factor, factor, c)
+    return sums.sum((1, 3)) / (factor * omega.reshape(-1, factor).sum(1))[:, None, None]
+
+
+@pytest.fixture(scope="module")
+def panorama_under_a_limit(tmp_path_factory):
+    """The panorama, and what the chunked remaps and DIM pairs made of it in a process whose
+    address space is a quarter of it (see _PANORAMA_CHILD)."""
+    folder = tmp_path_factory.mktemp("panorama")
+    a = _panorama()
+    path, target = folder / "pano.pfm", folder / "out.npz"
+    write_strips(path, a.shape, (a[y : y + 256] for y in range(0, a.shape[0], 256)))
+    child = [sys.executable, "-c", _PANORAMA_CHILD, str(path), str(PANORAMA_HEADROOM),
+             PANORAMA_MEMORY, str(target)]  # fmt: skip
+    run = subprocess.run(child, capture_output=True, timeout=900)
+    assert run.returncode == 0, run.stderr.decode()[-2000:]
+    assert run.stdout.decode().startswith("the whole image cannot be allocated")
+    with np.load(target) as out:
+        return a, dict(out)
+
+
+@pytest.mark.slow
+def test_remap_to_latlong_under_an_address_space_limit_is_the_exact_reduction(
+    panorama_under_a_limit,
+):
+    a, out = panorama_under_a_limit
+    ref = _solid_angle_means(a.astype(np.float64), 8)
+    assert out["latlong"].shape == ref.shape
+    assert np.abs(out["latlong"] - ref).max() <= PARTIAL_SUMS * np.abs(ref).max()
+    assert np.allclose(out["latlong"], ref, rtol=PARTIAL_SUMS, atol=0)
+
+
+@pytest.mark.slow
+def test_remap_to_cube_faces_under_an_address_space_limit_is_the_in_memory_filter(
+    panorama_under_a_limit,
+):
+    from bakeshop import sphere
+
+    a, out = panorama_under_a_limit
+    ref = sphere.remap(a, "latlong", "cube", 256, filter="area")  # supersampled in memory too
+    got = out["cube"]
+    assert got.shape == ref.shape
+    assert np.sqrt(np.mean((got - ref) ** 2) / np.mean(ref**2)) < SUPERSAMPLE_TILES_RMS
+    energy = [
+        (image.astype(np.float64) * sphere.layout(name).solid_angles(image.shape[:-1])[..., None])
+        .reshape(-1, 3)
+        .sum(0)
+        for image, name in ((got, "cube"), (a, "latlong"))
+    ]
+    assert np.allclose(energy[0], energy[1], rtol=SUPERSAMPLE_ENERGY, atol=0)
+
+
+@pytest.mark.slow
+def test_the_dim_pair_under_an_address_space_limit_is_the_in_memory_one(panorama_under_a_limit):
+    from bakeshop import light
+
+    a, out = panorama_under_a_limit
+    ref = light.dim_pair(a, "latlong", method="exact", size=DIM_SIZE)
+    assert ref.sun is not None
+    assert np.array_equal(out["exact_sun"], ref.sun.direction)
+    assert np.array_equal(out["auto_sun"], ref.sun.direction)
+    for method, tolerance in (("exact", PARTIAL_SUMS), ("auto", AUTO_VS_EXACT)):
+        for got, want in ((out[method + "_sun_dim"], ref.sun_dim),
+                          (out[method + "_shadow_dim"], ref.shadow_dim)):  # fmt: skip
+            assert np.abs(got - want).max() <= tolerance * np.abs(want).max()
 
 
 @pytest.fixture(scope="module")
