@@ -157,10 +157,27 @@ def test_a_bake_killed_at_any_moment_resumes_to_the_same_result(tmp_path):
     (killed / "r.toml").write_text(WATER_LEVEL)
     rng = random.Random(18)
     command = [sys.executable, "-m", "bakeshop.cli.main", "-q", "bake", str(killed / "r.toml")]
+
+    def written_since(started: float) -> int:
+        """Files (temporaries included) written under ``killed`` since ``started``."""
+        count = 0
+        for p in killed.rglob("*"):
+            try:
+                count += p.is_file() and p.stat().st_mtime >= started
+            except FileNotFoundError:  # a temporary renamed under us
+                pass
+        return count
+
     interrupted = 0
-    for _ in range(4):
+    for writes in (rng.randint(1, len(expected) // 2), *rng.sample(range(1, len(expected)), 3)):
+        # killed at a random point of its own progress (once it has written that many files),
+        # not of the clock: a fast machine finished the whole bake before a timed kill
+        started = time.time()
         process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        time.sleep(rng.uniform(1.0, 8.0))
+        deadline = time.monotonic() + 600
+        while process.poll() is None and written_since(started) < writes:
+            assert time.monotonic() < deadline, "the bake never wrote its files"
+            time.sleep(0.001)
         process.send_signal(signal.SIGKILL)
         process.wait()
         left = [d for d in plan(load_recipe(killed / "r.toml")) if d.action != "skip"]
