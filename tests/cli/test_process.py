@@ -21,7 +21,7 @@ import pytest
 
 from bakeshop.cli._process import InputPath
 from bakeshop.cli.main import cli, main
-from bakeshop.io import write_image
+from bakeshop.io import read_image, write_image
 from tests.io import bombs
 from tests.io.test_files import no_hang, special_files, tmpfs  # noqa: F401 - a fixture
 
@@ -162,19 +162,31 @@ def test_a_signal_during_a_write_removes_the_temporary(tmp_path, large_source, e
     target = tmp_path / f"out.{ext}"
     status, err, started = run_and_signal(large_source, target, signum)
     assert started
+    assert_interrupted(status, err, target, signum)
+
+
+def assert_interrupted(status: int, err: str, target: Path, signum: int) -> None:
+    """The command stopped with 128 + signum and one line, leaving no temporary: no target, or
+    the whole target when the signal was handled after the write was done."""
     assert status == 128 + signum, err
-    assert err == f"bakeshop: interrupted by {signal.Signals(signum).name}\n"
-    assert sorted(p.name for p in tmp_path.iterdir()) == []  # no temporary, no target
+    interrupted = f"bakeshop: interrupted by {signal.Signals(signum).name}"
+    left = sorted(p.name for p in target.parent.iterdir())
+    if err == f"{interrupted}; written before it: {target}\n":
+        # Python runs the handler between bytecodes: a signal that arrives during one long
+        # C call (zlib over the whole picture) is handled after it, when the file is complete
+        assert left == [target.name]
+        assert read_image(target).shape[:2] == (2048, 4096)
+    else:
+        assert err == f"{interrupted}\n"
+        assert left == []  # no temporary, no target
 
 
 @pytest.mark.slow
 def test_sigint_counts_even_when_the_parent_ignored_it(tmp_path, large_source):
     # a shell script's background job starts with SIGINT ignored: `kill -INT` must still stop it
-    status, err, _ = run_and_signal(
-        large_source, tmp_path / "out.hdr", signal.SIGINT, ignore=(signal.SIGINT,)
-    )
-    assert status == 130 and err == "bakeshop: interrupted by SIGINT\n"
-    assert list(tmp_path.iterdir()) == []
+    target = tmp_path / "out.hdr"
+    status, err, _ = run_and_signal(large_source, target, signal.SIGINT, ignore=(signal.SIGINT,))
+    assert_interrupted(status, err, target, signal.SIGINT)
 
 
 @pytest.mark.slow
