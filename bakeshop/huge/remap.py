@@ -23,7 +23,7 @@ Sources are flat layouts (latlong, angular, mirrorball, octahedral, dual-parabol
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -270,6 +270,37 @@ def _supersampled_block(
                               k, rotation, clamp, per_task)  # fmt: skip
 
 
+def _tiles(
+    grid: tuple[int, int, int],
+    cost: Callable[[int, int], int],
+    per_task: int,
+    out_bytes: int,
+    engine: Engine,
+    what: str,
+) -> tuple[list[tuple[int, int, int, int]], int]:
+    """The output tiles of a ``(rows, cols, faces)`` grid (rows of the faces stacked), each within
+    a task's share of memory by ``cost(rows, cols)``, and that share: the most a tile's source
+    window may take (at most :data:`TILE_BYTES`)."""
+    dh, dw, faces = grid
+    share = min(per_task, TILE_BYTES)
+    block = plan_blocks(
+        (dh, dw),
+        cost,
+        share,
+        at_least=max(1, 4 * engine.total_workers // faces),
+        what=what,
+        memory=engine.memory,
+        fixed=out_bytes,
+        workers=engine.workers,
+    )
+    regions = [
+        (top + f * dh, bottom + f * dh, left, right)
+        for f in range(faces)
+        for top, bottom, left, right in blocks((dh, dw), block)
+    ]
+    return regions, share
+
+
 def supersample_tiles(
     reader: Reader,
     src: str,
@@ -302,23 +333,8 @@ def supersample_tiles(
     def cost(rows: int, cols: int) -> int:
         return rows * cols * k * k * sample_bytes
 
-    block = plan_blocks(
-        (dh, dw),
-        cost,
-        min(per_task, TILE_BYTES),
-        at_least=max(1, 4 * engine.total_workers // faces),
-        what=what,
-        memory=engine.memory,
-        fixed=out_bytes,
-        workers=engine.workers,
-    )
-    regions = [
-        (top + f * dh, bottom + f * dh, left, right)
-        for f in range(faces)
-        for top, bottom, left, right in blocks((dh, dw), block)
-    ]
+    regions, share = _tiles((dh, dw, faces), cost, per_task, out_bytes, engine, what)
     out = np.empty((faces * dh, dw, c), np.float32)
-    share = min(per_task, TILE_BYTES)  # a tile's window, as its samples: at most TILE_BYTES
     args = (reader, src, (h, w), dst, tuple(dst_shape), dh, k, rotation, clamp, share)
     engine.assemble(_supersampled_block, regions, out, args, what)
     if len(bright):
@@ -354,23 +370,8 @@ def remap_tiles(
     def cost(rows: int, cols: int) -> int:
         return rows * cols * (_TEXEL_BYTES + 8 * c + int(2 * texels_per * c * 4))
 
-    block = plan_blocks(
-        (dh, dw),
-        cost,
-        min(per_task, TILE_BYTES),
-        at_least=max(1, 4 * engine.total_workers // faces),
-        what=what,
-        memory=engine.memory,
-        fixed=out_bytes,
-        workers=engine.workers,
-    )
-    regions = [
-        (top + f * dh, bottom + f * dh, left, right)
-        for f in range(faces)
-        for top, bottom, left, right in blocks((dh, dw), block)
-    ]
+    regions, share = _tiles((dh, dw, faces), cost, per_task, out_bytes, engine, what)
     out = np.empty((faces * dh, dw, c), np.float32)
-    share = min(per_task, TILE_BYTES)  # a tile's window, as its taps: at most TILE_BYTES
     args = (reader, src, (h, w), dst, tuple(dst_shape), dh, filter, rotation, share)
     engine.assemble(_block, regions, out, args, what)
     return out.reshape(tuple(dst_shape) + (c,))
