@@ -18,9 +18,12 @@ The strips' partial results are added by the engine as they come (a DIM partial 
 as the output: one per strip at once would grow with the image). The sun is then found and
 measured at full resolution by :func:`bakeshop.light.sun.split_texels` among the texels within
 :data:`SUN_REACH` of the brightest texel and within :data:`RIVAL_REACH` of each rival (what its
-measurements read), read piece by piece where the search looks (the texels of one cap are held
-at a time, ~8 degrees: 0.5 % of the image, 4.4 % at a pole, never the windows whole), and its
-fill, a few thousand texels at most, is subtracted exactly: the shadow DIM is the DIM of the
+measurements read), read piece by piece where the search looks: a light's measurement holds
+the luminance and angle of the texels it examines (~8 degrees around it: 0.5 % of the image,
+4.4 % at a pole, where its cap spans every column;
+:data:`bakeshop.light.sun.EXAMINED_BYTES` each), never their directions nor the windows
+whole, and the job says before pass 1 if that cannot fit its bound. The fill, a few thousand
+texels at most, is subtracted exactly: the shadow DIM is the DIM of the
 probe less the DIM of what the fill removes (linear, so exactly the DIM of the painted probe
 for ``exact`` and ``sh``), the sun DIM adds it back, as :func:`bakeshop.light.dim_pair` does.
 """
@@ -43,7 +46,15 @@ from bakeshop.image import luminance
 from bakeshop.io.stream import Reader
 from bakeshop.light import sh
 from bakeshop.light.diffuse import METHODS, compress, cosine_sum, dim_normals
-from bakeshop.light.sun import Sampler, Sun, TexelArrays, split_texels
+from bakeshop.light.sun import (
+    EXAMINED_BYTES,
+    REACH_DEG,
+    Piece,
+    Sampler,
+    Sun,
+    TexelArrays,
+    split_texels,
+)
 from bakeshop.sphere import texels_at
 from bakeshop.sphere.windows import (
     gather_taps,
@@ -195,7 +206,9 @@ def _pieces(
     windows: list[tuple[tuple[int, int], list[tuple[int, int]]]], w: int, texels: int
 ) -> list[tuple[tuple[int, int], tuple[int, int]]]:
     """Disjoint rectangles ``(rows, (left, right))`` covering the union of ``windows`` (each
-    ``(rows, column ranges)``), of at most ``texels`` texels (or one row) each."""
+    ``(rows, column ranges)``), of at most ``texels`` texels (or one row) each, in ascending
+    order of their texels' flat indices (a band of rows with two column ranges, a window
+    across the seam, is cut row by row)."""
     cuts = sorted({r for rows, _ in windows for r in rows})
     out = []
     for top, bottom in itertools.pairwise(cuts):
@@ -208,9 +221,9 @@ def _pieces(
                 merged[-1][1] = max(merged[-1][1], b)
             else:
                 merged.append([a, b])
-        for a, b in merged:
-            step = max(1, texels // (b - a))
-            out += [((y, min(y + step, bottom)), (a, b)) for y in range(top, bottom, step)]
+        step = max(1, texels // sum(b - a for a, b in merged)) if len(merged) == 1 else 1
+        for y in range(top, bottom, step):
+            out += [((y, min(y + step, bottom)), (a, b)) for a, b in merged]
     return out
 
 
@@ -255,26 +268,30 @@ class _WindowTexels:
             dirs, omega = self._geometry(rows, cols)
             k = TexelArrays(values, dirs, omega).brightest(centre, cos_limit)
             if k >= 0:
-                best.append((int(self._index(rows, cols, k)), values[k], dirs[k], omega[k]))
+                # copies: a row of the piece's arrays would keep them whole, every piece's
+                best.append(
+                    (int(self._index(rows, cols, k)), *(a[k].copy() for a in (values, dirs, omega)))
+                )
         if not best:
             return -1
         best.sort(key=lambda b: b[0])  # ties go to the first texel, as over all of them
         values, dirs, omega = (np.stack([b[n] for b in best]) for n in (1, 2, 3))
         return best[TexelArrays(values, dirs, omega).brightest(centre, cos_limit)][0]
 
-    def cap(self, centre: np.ndarray, cos_limit: float) -> np.ndarray:
+    def caps(self, centre: np.ndarray, cos_limit: float) -> Iterator[Piece]:
         theta = math.acos(min(1.0, max(-1.0, float(centre[1]))))
         reach = math.acos(min(1.0, max(-1.0, cos_limit)))
         pitch = math.pi / self.h
         low, high = (theta - reach) / pitch - 1, (theta + reach) / pitch + 1
-        parts = [np.empty(0, np.int64)]
         for rows, cols in self.pieces:
             if rows[1] < low or rows[0] > high:
                 continue
             dirs, omega = self._geometry(rows, cols)
             local = TexelArrays(_NO_VALUES, dirs, omega).cap(centre, cos_limit)
-            parts.append(self._index(rows, cols, local))
-        return np.sort(np.concatenate(parts))
+            if not local.size:
+                continue
+            values = self._values(rows, cols)[local]
+            yield self._index(rows, cols, local), values, dirs[local], omega[local]
 
     def gather(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         index = np.asarray(index, np.int64)
@@ -372,6 +389,14 @@ def dim_pair(
     out_bytes = 4 * flat_normals.shape[0] * c * 8
     what = f"DIM pair of latlong {w}x{h}"
     strips = _strips(reader, engine, out_bytes, what)
+    # the sun's search, after the passes, holds a light's examined cap (at a pole it spans
+    # every column; a light whose core needs a wider reach, up to SUN_REACH, needs up to 1.5
+    # times this) beside the output, and reads pieces of at least a row into what is left
+    cap_rows = min(h, math.ceil(REACH_DEG / 180 * h) + 2)
+    search = out_bytes + EXAMINED_BYTES * w * cap_rows
+    if search + _PIECE_BYTES * w > engine.memory:
+        raise refuse(f"{what}: the sun's search", search + _PIECE_BYTES * w, engine.memory)
+    texels = max(w, min(engine.per_task(search), STRIP_BYTES) // _PIECE_BYTES)
     top, coeffs, e = engine.reduce(
         _strip, [(r, reader, order, method, flat_normals) for r in strips], f"{what}: pass 1 of 2"
     )
@@ -385,7 +410,6 @@ def dim_pair(
     sun, fill_index, found = None, np.empty(0, np.int64), None
     fill_values = np.empty((0, min(3, c)), np.float32)
     if lum > 0:
-        texels = max(w, min(engine.per_task(out_bytes), STRIP_BYTES) // _PIECE_BYTES)
         sun, fill_index, fill_values, found = _find_sun(reader, brightest, rivals, texels)
     if method == "sh":
         lit = sh.evaluate(sh.windowed_irradiance(coeffs, window=window).coefficients, normals)

@@ -24,7 +24,7 @@ Measurements (all from the excess, per channel where a colour is meant):
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -49,6 +49,8 @@ from bakeshop.sphere import layout as get_layout
 
 #: bilinear samples of an environment's colour channels at directions: (..., 3) -> (..., colour).
 Sampler = Callable[[np.ndarray], np.ndarray]
+#: some texels: flat indices (n,), colour values (n, colour), directions (n, 3), solid angles (n,).
+Piece = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
 #: the sun's peak must exceed the sky around it (median of a ring) by this factor.
 CONTRAST = 20.0
@@ -68,6 +70,13 @@ PATCH_MAX = 256
 #: tests/test_resources.py), and of the painted copy (float32, up to 4 channels).
 SEARCH_BYTES = 64
 COPY_BYTES = 16
+#: a light's measurement examines the texels within this angle of its brightest texel
+#: (degrees; enough for any sun up to 1.3 degrees in radius), further if its core needs it.
+REACH_DEG = 8.0
+#: Peak bytes per texel a light's measurement examines (luminance and float32 angle, joined
+#: from their pieces and binned into rings: 4 + 4, twice while joined, then 4 + 8 for the
+#: rings), whatever the layout.
+EXAMINED_BYTES = 20
 
 
 @dataclass(frozen=True)
@@ -121,10 +130,8 @@ class _Candidate:
     mask_radius: float  # radians
     excess: float  # sum of (luminance - sky)+ * omega within the mask
     pitch: float  # angular size of the brightest texel (radians)
-    near: np.ndarray  # the texels examined around it (a cap well beyond the mask)
-    values: np.ndarray  # their colour values, directions and solid angles
-    dirs: np.ndarray
-    omega: np.ndarray
+    around: np.ndarray  # the texels examined lie within ``reach`` of this direction (the
+    reach: float  # brightest texel's): a cap well beyond the mask
 
 
 def _weights(values: np.ndarray) -> np.ndarray:
@@ -143,15 +150,16 @@ def _luminance(values: np.ndarray) -> np.ndarray:
 
 class TexelSource(Protocol):
     """What the sun's search asks of texels (:class:`TexelArrays` over arrays), with flat
-    indices of the source's own: ``cap`` returns them in ascending order."""
+    indices of the source's own."""
 
     def brightest(self, centre: np.ndarray, cos_limit: float) -> int:
         """The texel of largest luminance farther than ``acos(cos_limit)`` from ``centre``
         (``cos_limit`` > 1: of all), the first on a tie; -1 when none is positive."""
         ...
 
-    def cap(self, centre: np.ndarray, cos_limit: float) -> np.ndarray:
-        """The texels within ``acos(cos_limit)`` of ``centre``, ascending."""
+    def caps(self, centre: np.ndarray, cos_limit: float) -> Iterator[Piece]:
+        """The texels within ``acos(cos_limit)`` of ``centre`` (and perhaps a few more), piece
+        by piece in ascending order of index: a source never holds a whole cap."""
         ...
 
     def gather(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -161,7 +169,7 @@ class TexelSource(Protocol):
 
 class TexelArrays:
     """Texels held as arrays (an environment's, or a piece of a chunked job's windows): what
-    the sun's search asks of texels, ``brightest``, ``cap`` and ``gather``, with indices into
+    the sun's search asks of texels, ``brightest``, ``caps`` and ``gather``, with indices into
     these arrays (a :class:`TexelSource`; a chunked job's reads its texels from a file where
     they are looked at)."""
 
@@ -174,8 +182,13 @@ class TexelArrays:
         return _brightest(self.values, weights, self.omega, self.dirs, centre, cos_limit)
 
     def cap(self, centre: np.ndarray, cos_limit: float) -> np.ndarray:
-        """As :meth:`TexelSource.cap`."""
+        """The indices of the texels within ``acos(cos_limit)`` of ``centre``, ascending."""
         return _cap(self.dirs, self.omega, centre, cos_limit)
+
+    def caps(self, centre: np.ndarray, cos_limit: float) -> Iterator[Piece]:
+        """As :meth:`TexelSource.caps`: one piece."""
+        index = self.cap(centre, cos_limit)
+        yield index, self.values[index], self.dirs[index], self.omega[index]
 
     def gather(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """As :meth:`TexelSource.gather`."""
@@ -202,14 +215,16 @@ class _Image:
                 best, top = start + k, lum
         return best
 
-    def cap(self, centre: np.ndarray, cos_limit: float) -> np.ndarray:
-        parts = [
-            start + _cap(dirs, omega, centre, cos_limit)
-            for start, _, dirs, omega in texel_strips(
-                self.layout, self.shape, rows=self._rows(centre, cos_limit)
+    def caps(self, centre: np.ndarray, cos_limit: float) -> Iterator[Piece]:
+        rows = self._rows(centre, cos_limit)
+        for start, _, dirs, omega in texel_strips(self.layout, self.shape, rows=rows):
+            local = _cap(dirs, omega, centre, cos_limit)
+            yield (
+                start + local,
+                self.values[start + local, : self.colour],
+                dirs[local],
+                omega[local],
             )
-        ]
-        return np.concatenate(parts) if parts else np.empty(0, np.int64)
 
     def _rows(self, centre: np.ndarray, cos_limit: float) -> tuple[int, int]:
         """Rows that may hold texels within the cap: a latlong's band of colatitudes."""
@@ -305,27 +320,77 @@ def _profile(
     return sky, core, mask, half, 2 * inner
 
 
+def _cos(dirs: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """Cosines of the angles between directions (n, 3) and ``centre``, texel by texel: the same
+    number whichever texels are looked at together."""
+    return dirs[:, 0] * centre[0] + dirs[:, 1] * centre[1] + dirs[:, 2] * centre[2]
+
+
+def _angle(dirs: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    return np.arccos(np.clip(_cos(dirs, centre), -1, 1))
+
+
+def _examined(texels: TexelSource, around: np.ndarray, reach: float) -> Iterator[Piece]:
+    """The texels a light's measurement examines, those with a solid angle within ``reach`` of
+    ``around`` (its brightest texel), piece by piece in index order."""
+    limit = math.cos(reach)
+    for index, values, dirs, omega in texels.caps(around, math.cos(min(reach + 1e-6, math.pi))):
+        keep = (_cos(dirs, around) > limit) & (omega > 0)
+        yield index[keep], values[keep], dirs[keep], omega[keep]
+
+
+def _within(
+    texels: TexelSource, around: np.ndarray, reach: float, centre: np.ndarray, radius: float
+) -> Iterator[Piece]:
+    """The examined texels (:func:`_examined`) closer than ``radius`` to ``centre``, piece by
+    piece in index order."""
+    limit = math.cos(reach)
+    for index, values, dirs, omega in texels.caps(centre, math.cos(min(radius + 1e-6, math.pi))):
+        keep = (_cos(dirs, around) > limit) & (omega > 0) & (_angle(dirs, centre) < radius)
+        yield index[keep], values[keep], dirs[keep], omega[keep]
+
+
+def _sum_in_order(total: np.ndarray, terms: np.ndarray) -> np.ndarray:
+    """``total`` plus ``terms`` (n, ...) added one after the other (``np.cumsum`` adds in order,
+    ``np.sum`` pairwise): the same number however the terms come in pieces."""
+    return np.cumsum(np.concatenate([total[None], terms]), axis=0)[-1]
+
+
 def _candidate(texels: TexelSource, k: int, max_core: float) -> _Candidate | None:
     """Measure the compact light whose brightest texel is ``k`` (of ``texels``, an
     :class:`TexelArrays` or :class:`_Image`); None if it is not compact: its core is wider than
-    ``max_core`` (radians) or not CONTRAST times brighter than the sky around it."""
+    ``max_core`` (radians) or not CONTRAST times brighter than the sky around it.
+
+    The texels within reach of the peak (8 degrees, further if the light needs it) are passed
+    over piece by piece: only their luminances and angles are held together
+    (:data:`EXAMINED_BYTES` a texel at most: a cap at a pole of a 32k latlong spans every
+    column, 24 M texels), and the core's and the mask's few texels are read again where they
+    are summed in order as they come."""
     values_k, dirs_k, omega_k = texels.gather(np.array([k]))
     pitch = max(math.sqrt(omega_k[0]), 1e-6)
     peak = float(_luminance(values_k)[0])
-    reach = math.radians(8.0)
-    while True:  # examine the texels within reach of the peak, further if the light needs it
-        near = texels.cap(dirs_k[0], math.cos(reach))
-        values_n, dirs_n, omega_n = texels.gather(near)
-        lum_n = _luminance(values_n)
-        centre = dirs_k[0]
+    around, reach = dirs_k[0], math.radians(REACH_DEG)
+    while True:
+        centre = around
         # the brightest texel may lie anywhere in a uniform disk: measure again around the
         # luminance-weighted centroid of the core found around it
         for _ in range(2):
-            ang = np.arccos(np.clip(dirs_n @ centre, -1, 1))
-            sky, core, mask, half, needed = _profile(lum_n, ang, pitch, peak)
-            in_core = (ang < core) & (lum_n >= half)
-            c = (((lum_n - sky) * omega_n * in_core)[:, None] * dirs_n).sum(0)
-            if not in_core.any() or not np.linalg.norm(c) > 0:
+            measured_at = centre
+            pieces = [  # angles in float32: rings are a texel wide, far above its rounding
+                (_luminance(v), _angle(d, centre).astype(np.float32))
+                for _, v, d, _ in _examined(texels, around, reach)
+            ]
+            lum, ang = (np.concatenate(a) for a in zip(*pieces, strict=True))
+            del pieces
+            sky, core, mask, half, needed = _profile(lum, ang, pitch, peak)
+            del lum, ang
+            c, bright = np.zeros(3), False
+            for _, values, dirs, omega in _within(texels, around, reach, centre, core):
+                lum = _luminance(values)
+                b = lum >= half
+                c = _sum_in_order(c, ((lum[b] - sky) * omega[b])[:, None] * dirs[b])
+                bright |= bool(b.any())
+            if not bright or not np.linalg.norm(c) > 0:
                 break
             centre = c / np.linalg.norm(c)
         if core > max_core:
@@ -335,9 +400,10 @@ def _candidate(texels: TexelSource, k: int, max_core: float) -> _Candidate | Non
         reach = min(1.2 * needed + 2 * pitch, math.pi)
     if peak < CONTRAST * sky:
         return None
-    inside = ang < mask
-    excess = float((np.clip(lum_n[inside] - sky, 0, None) * omega_n[inside]).sum())
-    return _Candidate(centre, peak, sky, core, mask, excess, pitch, near, values_n, dirs_n, omega_n)
+    excess = np.zeros(())
+    for _, values, _, omega in _within(texels, around, reach, measured_at, mask):
+        excess = _sum_in_order(excess, np.clip(_luminance(values) - sky, 0, None) * omega)
+    return _Candidate(centre, peak, sky, core, mask, float(excess), pitch, around, reach)
 
 
 @numba.njit(cache=True, inline="always")
@@ -559,9 +625,8 @@ def _split(texels: TexelSource, sampler: Sampler) -> Removal | None:
     if cand is None:
         return None
     centre = cand.centre
-    inside = cand.dirs @ centre > math.cos(cand.mask_radius)
-    index = cand.near[inside]
-    dirs, values, omega = cand.dirs[inside], cand.values[inside], cand.omega[inside]
+    pieces = list(_within(texels, cand.around, cand.reach, centre, cand.mask_radius))
+    index, values, dirs, omega = (np.concatenate(a) for a in zip(*pieces, strict=True))
     fill = _harmonic_fill(sampler, centre, cand.mask_radius, cand.pitch)
     filled = np.minimum(fill(dirs), values)  # removing light never adds any
     excess = values.astype(np.float64) - filled

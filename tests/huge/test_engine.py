@@ -115,6 +115,52 @@ def test_a_job_that_cannot_fit_is_refused_before_it_starts_with_the_number():
     assert e.value.needed > 5e6
 
 
+def test_the_suns_search_is_refused_before_the_passes_when_its_cap_cannot_fit():
+    # 4096 wide: the strips fit 5 MB, a light's 8-degree cap at a pole (94 rows) does not
+    a = np.zeros((2048, 4096, 3), np.float32)
+    with pytest.raises(MemoryBoundError, match="the sun's search needs at least") as e:
+        dim_pair(a, "latlong", size=(64, 32), engine=Engine(memory="5MB"))
+    assert e.value.needed > 5e6
+
+
+def test_the_suns_search_holds_one_piece_and_one_cap_within_the_bound():
+    """The brightest texels besides the sun lie on row 0 (a rival whose cap spans every column,
+    as in the 32k benchmark's sky); the search reads its windows in pieces of rows. Its
+    peak, measured by tracemalloc from the passes' end, stays within the bound. Before, a
+    piece's brightest texel kept as a view held every piece's arrays, and a cap's texels were
+    held at ~100 bytes each with their directions: 12 and 38 MB here, 1.2 GB at 16k and 4 GB
+    at 32k in all."""
+    import tracemalloc
+
+    import bakeshop.huge.light as huge_light
+
+    h, w = 2048, 4096
+    y, x = np.mgrid[0:h, 0:w]
+    sky = (1 + 0.5 * np.sin(x / 97.0) * np.cos(y / 53.0)).astype(np.float32)
+    a = np.repeat(sky[:, :, None], 3, axis=2)
+    a[h // 5, w // 3 : w // 3 + 2] = 50000.0
+    peaks = []
+    find_sun = huge_light._find_sun
+
+    def measured(*args):
+        tracemalloc.start()
+        try:
+            return find_sun(*args)
+        finally:
+            peaks.append(tracemalloc.get_traced_memory()[1])
+            tracemalloc.stop()
+
+    bound = 9_000_000
+    engine = Engine(memory=bound)
+    try:
+        huge_light._find_sun = measured
+        out = dim_pair(a, "latlong", size=(64, 32), engine=engine)
+    finally:
+        huge_light._find_sun = find_sun
+    assert out.sun is not None
+    assert peaks[0] <= bound
+
+
 def test_energy_of_a_one_texel_sun_through_a_20k_wide_resize(tmp_path):
     # 20000 x 2000, one channel, on disk (160 MB), never whole in memory: to 1000 x 100 (an
     # exact box) and 1024 x 100 (area weights)
