@@ -46,15 +46,8 @@ from bakeshop.image import luminance
 from bakeshop.io.stream import Reader
 from bakeshop.light import sh
 from bakeshop.light.diffuse import METHODS, compress, cosine_sum, dim_normals
-from bakeshop.light.sun import (
-    EXAMINED_BYTES,
-    REACH_DEG,
-    Piece,
-    Sampler,
-    Sun,
-    TexelArrays,
-    split_texels,
-)
+from bakeshop.light.sun import EXAMINED_BYTES, REACH_DEG, Sampler, Sun, split_texels
+from bakeshop.light.sun_texels import Piece, TexelArrays
 from bakeshop.sphere import texels_at
 from bakeshop.sphere.windows import (
     gather_taps,
@@ -233,7 +226,7 @@ _NO_VALUES = np.empty((0, 1), np.float32)
 
 class _WindowTexels:
     """The texels of the union of some windows of a latlong file, as the sun's search asks for
-    them (:class:`bakeshop.light.sun.TexelSource`, flat indices of the whole image): read and
+    them (:class:`bakeshop.light.sun_texels.TexelSource`, flat indices of the whole image): read and
     given their geometry piece by piece where they are looked at, so that only the texels of
     one cap (the sun's measurement, 8 degrees or so) are ever held, never the windows whole."""
 
