@@ -21,6 +21,7 @@ from bakeshop.sphere import FILE_LAYOUTS
 if TYPE_CHECKING:
     import numpy as np
 
+    from bakeshop.io.stream import Reader
     from bakeshop.light import Sun
 
 #: output texels of a DIM when no --size is given (360x180, the pipeline's latlong).
@@ -77,7 +78,7 @@ order_option = click.option(
 
 def timed(
     compute: Callable[..., Any],
-    image: np.ndarray,
+    image: np.ndarray | Reader,
     layout: str,
     dst_layout: str,
     size: int | tuple[int, int] | None,
@@ -85,7 +86,8 @@ def timed(
     order: int,
     window: str = "minimal",
 ) -> tuple[Any, float]:
-    """``(compute(image, layout, to=..., ...), seconds)``: the DIM or the DIM pair, timed."""
+    """``(compute(image, layout, to=..., ...), seconds)``: the DIM or the DIM pair, timed (of an
+    image in memory, or of a chunked reader)."""
     started = time.perf_counter()
     result = compute(
         image,

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 import numpy as np
 
 from bakeshop.cli._common import float_format_option, linearise, out_dir_option, srgb_decode_option
+from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 from bakeshop.cli._paths import ENVIRONMENT, refuse_overwriting_inputs
 from bakeshop.cli._probe import (
     check_picture_format,
@@ -22,7 +24,12 @@ from bakeshop.cli._probe import (
     to_option,
     window_option,
 )
+from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import as_picture, check_openexr_target, describe
+
+if TYPE_CHECKING:
+    from bakeshop.huge import HugeDimPair
+    from bakeshop.light import DimPair
 
 
 @click.command(context_settings={"max_content_width": 100})
@@ -36,6 +43,8 @@ from bakeshop.io.environment import as_picture, check_openexr_target, describe
 @size_option
 @window_option
 @srgb_decode_option
+@memory_option
+@scheduler_option
 def dims(
     source: Path,
     out_dir: Path,
@@ -47,6 +56,8 @@ def dims(
     size: int | tuple[int, int] | None,
     window: str,
     srgb_decode: bool,
+    memory: int | str | None,
+    scheduler: str | None,
 ) -> None:
     """Make the DIM pair of the probe IN: sun_dim, shadow_dim, shadow_probe and sun.json.
 
@@ -57,10 +68,15 @@ def dims(
     direction for the shadow pass. A probe without a sun gives two equal DIMs and
     {"sun": null}.
 
+    A latlong panorama larger than memory (.pfm, .hdr, .exr, .tif, .zarr; or with --memory or
+    --scheduler) is read in two passes of strips within --memory, the sun found and measured at
+    full resolution, and the shadow probe written by strips (docs/huge-images.md).
+
     \b
     Example:
       bakeshop dims probe.hdr --out-dir dims/
       bakeshop dims probe.exr -o dims/ --format exr --size 512x256
+      bakeshop dims pano_32k.pfm -o dims/ --format exr --memory 1GB
     """
     from bakeshop import progress
     from bakeshop.io import write_environment, write_json
@@ -70,6 +86,13 @@ def dims(
     for path in (*names.values(), out_dir / "sun.json"):  # before any work
         refuse_overwriting_inputs(path, source)
     check_openexr_target(names["sun_dim"], dst_layout)
+    if chunked(source, memory, scheduler):
+        if srgb_decode:
+            raise ArgumentError("a panorama larger than memory is read as linear data", source)
+        out_dir.mkdir(parents=True, exist_ok=True)
+        _dims_chunked(source, names, src_layout, (dst_layout, size, method, order, window),
+                      memory, scheduler)  # fmt: skip
+        return
     out_dir.mkdir(parents=True, exist_ok=True)
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     check_picture_format(layout, fmt, source)
@@ -87,6 +110,10 @@ def dims(
         f"({describe(pair.sun_dim, dst_layout)}, method {method}), shadow_probe.{fmt} "
         f"({describe(image, layout)}), sun.json; {elapsed:.2f} s"
     )
+    _report(pair)
+
+
+def _report(pair: DimPair | HugeDimPair) -> None:
     if pair.sun is None:
         click.echo("  no sun: the two DIMs are equal and the probe is unchanged")
     else:
@@ -95,6 +122,45 @@ def dims(
         lit = float(np.mean(pair.sun_dim[..., :3]))
         shade = float(np.mean(pair.shadow_dim[..., :3]))
         click.echo(f"  mean DIM            lit {lit:.4g}, shadow {shade:.4g}")
+
+
+def _dims_chunked(
+    source: Path,
+    names: dict[str, Path],
+    src_layout: str | None,
+    options: tuple[str, int | tuple[int, int] | None, str, int, str],
+    memory: int | str | None,
+    scheduler: str | None,
+) -> None:
+    """The DIM pair of a latlong panorama larger than memory (:func:`bakeshop.huge.dim_pair`)."""
+    import functools
+
+    from bakeshop import progress
+    from bakeshop.huge import dim_pair as dim_pair_chunked
+    from bakeshop.huge import write_shadow_probe
+    from bakeshop.io import write_environment, write_json
+    from bakeshop.io.stream import open_image
+    from bakeshop.light import sun_document
+
+    dst_layout, size, method, order, window = options
+    reader = open_image(source)
+    h, w, _ = reader.shape
+    with engine(memory, scheduler) as eng:
+        compute = functools.partial(dim_pair_chunked, engine=eng)
+        pair, elapsed = timed(compute, reader, src_layout or "latlong", dst_layout, size, method,
+                              order, window)  # fmt: skip
+        with progress.step(f"writing {names['sun_dim'].parent}"):
+            write_environment(names["sun_dim"], pair.sun_dim, dst_layout)
+            write_environment(names["shadow_dim"], pair.shadow_dim, dst_layout)
+            write_shadow_probe(reader, names["shadow_probe"], pair, engine=eng)
+            write_json(names["sun_dim"].parent / "sun.json", sun_document(pair.sun))
+    click.echo(
+        f"wrote {names['sun_dim'].parent}: {names['sun_dim'].name} and "
+        f"{names['shadow_dim'].name} ({describe(pair.sun_dim, dst_layout)}, method {method}), "
+        f"{names['shadow_probe'].name} (latlong {w}x{h}, by strips), sun.json; {elapsed:.2f} s, "
+        "chunked"
+    )
+    _report(pair)
 
 
 def register(group: click.Group) -> None:

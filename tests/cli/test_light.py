@@ -141,6 +141,43 @@ def test_dims_writes_the_pair(probe, tmp_path, capsys):
     assert probe_out.shape == img.shape and probe_out.max() < 10
 
 
+@pytest.mark.parametrize("method", ["exact", "auto"])
+def test_dims_of_a_panorama_larger_than_memory_equal_the_in_memory_ones(tmp_path, capsys, method):
+    """``--memory`` takes the chunked path (two passes of strips, the sun's search piece by
+    piece, the shadow probe written by strips): the same sun and shadow probe, and the DIMs
+    within the rounding of their partial sums, as the command in memory."""
+    img, _ = _sky_with_sun(height=256)
+    path = tmp_path / "pano.pfm"
+    write_image(path, img)
+    common = ["--size", "64x32", "--format", "pfm", "--method", method]
+    assert main(["-q", "dims", str(path), "-o", str(tmp_path / "mem"), *common]) == 0
+    assert main(["dims", str(path), "-o", str(tmp_path / "big"), *common, "--memory", "5MB"]) == 0
+    assert "chunked" in capsys.readouterr().out
+    want, got = (json.loads((tmp_path / d / "sun.json").read_text()) for d in ("mem", "big"))
+    assert got == want
+    same = read_image(tmp_path / "big" / "shadow_probe.pfm")
+    assert np.array_equal(same, read_image(tmp_path / "mem" / "shadow_probe.pfm"))
+    tolerance = 1e-6 if method == "exact" else 2e-3  # auto: its bins are made strip by strip
+    for name in ("sun_dim.pfm", "shadow_dim.pfm"):
+        a, b = (read_image(tmp_path / d / name) for d in ("mem", "big"))
+        assert np.abs(a - b).max() <= tolerance * np.abs(a).max()
+
+
+def test_dims_of_a_panorama_refuses_a_bound_its_suns_search_cannot_fit(tmp_path, capsys):
+    # 8192 x 4096 (a sparse file): its strips fit 5 MB, a light's cap at a pole (185 rows) not
+    path = tmp_path / "wide.pfm"
+    header = b"PF\n8192 4096\n-1.0\n"
+    with open(path, "wb") as f:
+        f.write(header)
+        f.truncate(len(header) + 8192 * 4096 * 12)
+    out = tmp_path / "d"
+    status = main(["-q", "dims", str(path), "-o", str(out), "--size", "64x32", "--memory", "5MB"])
+    err = capsys.readouterr().err
+    assert status == 2 and err.count("\n") == 1
+    assert "the sun's search needs at least" in err and "raise it with --memory" in err
+    assert not out.exists() or not any(out.iterdir())
+
+
 def test_cube_probes_from_ktx2_and_face_files(probe, tmp_path, capsys):
     # a cube file gives the DIM of that cube (stored as half floats), close to the latlong's
     # (the area remap into 48-texel faces keeps all but ~0.8% of the tiny sun's energy), and
