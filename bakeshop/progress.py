@@ -32,7 +32,10 @@ T = TypeVar("T")
 #: overrides it).
 LOG_INTERVAL = 5.0
 
+#: the console progress goes to, made on first use (:func:`_get_console`), and whether progress
+#: is shown at all.
 _console: Console | None = None
+_enabled = False
 #: the rich Progress on screen (shared by nested tasks) and how many tasks use it.
 _live = None
 _live_users = 0
@@ -42,26 +45,33 @@ _local = threading.local()
 
 
 def enable(console: Console | None = None) -> None:
-    """Show progress on ``console`` (a :class:`rich.console.Console`, stderr by default): bars on
-    a terminal, periodic log lines elsewhere."""
-    global _console
-    if console is None:
-        from rich.console import Console
-
-        console = Console(stderr=True)
-    _console = console
+    """Show progress on ``console`` (a :class:`rich.console.Console`, stderr's by default, made
+    when progress is first shown): bars on a terminal, periodic log lines elsewhere."""
+    global _console, _enabled
+    _console, _enabled = console, True
 
 
 def disable() -> None:
     """Silence progress reporting again."""
-    global _console
-    _console = None
+    global _console, _enabled
+    _console, _enabled = None, False
 
 
 def enabled() -> bool:
     """True when progress is shown in this thread (the command line, not a library call, and
     not inside a task of a chunked job)."""
-    return _console is not None and not getattr(_local, "quiet", False)
+    return _enabled and not getattr(_local, "quiet", False)
+
+
+def _get_console() -> Console:
+    """The console of :func:`enable`, stderr's made now if it gave none: importing rich costs
+    about 0.05 s, which a command that shows no progress (``info``) does not pay."""
+    global _console
+    if _console is None:
+        from rich.console import Console
+
+        _console = Console(stderr=True)
+    return _console
 
 
 @contextlib.contextmanager
@@ -85,7 +95,7 @@ def _interval() -> float:
 
 
 def _logging() -> bool:
-    return enabled() and _console is not None and not _console.is_terminal
+    return enabled() and not _get_console().is_terminal
 
 
 def _seconds(t: float) -> str:
@@ -145,8 +155,8 @@ class Task:
         return text
 
     def _log(self, now: float) -> None:
-        if _console is not None:
-            _console.print(self.line(now), markup=False, highlight=False, soft_wrap=True)
+        if _enabled:
+            _get_console().print(self.line(now), markup=False, highlight=False, soft_wrap=True)
 
 
 @contextlib.contextmanager
@@ -184,9 +194,9 @@ def task(description: str, total: int | None = None) -> Iterator[Task]:
         stop.set()
         thread.join()
     elapsed = time.perf_counter() - t.started
-    if _console is None or (elapsed < _interval() and t._last_log == t.started):
+    if not _enabled or (elapsed < _interval() and t._last_log == t.started):
         return  # a step shorter than the interval in a log: no line
-    _console.print(
+    _get_console().print(
         f"bakeshop: {description}: done in {_seconds(elapsed)}",
         markup=False,
         highlight=False,
@@ -232,7 +242,7 @@ def _progress() -> Progress:
         MofNCompleteColumn(),
         TimeElapsedColumn(),
         TimeRemainingColumn(),
-        console=_console,
+        console=_get_console(),
         transient=True,
     )
 
@@ -261,6 +271,5 @@ def step(description: str) -> Iterator[None]:
         with task(description):
             yield
         return
-    assert _console is not None  # enabled() said so
-    with _console.status(description, spinner="dots"):
+    with _get_console().status(description, spinner="dots"):
         yield

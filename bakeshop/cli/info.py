@@ -63,32 +63,30 @@ def info(files: tuple[Path, ...], as_json: bool) -> None:
 
 
 def _print_info(r: dict) -> None:
-    from rich.console import Console
-    from rich.table import Table
-
-    console = Console(soft_wrap=True)
+    """The report as text: a line for the file, a table of the channels' statistics, the rest
+    one fact a line (plain click output: importing rich would add 0.05-0.07 s to a 0.3 s
+    command)."""
     names = {1: "Y", 2: "RG", 3: "RGB", 4: "RGBA"}.get(r["channels"], "?" * r["channels"])
     stops = r["dynamic_range_stops"]
     guess = ", ".join(r["layout_guess"]) or "none (not a panorama shape)"
-    console.print(
-        f"[bold]{r['file']}[/bold]: {r['format']}, {r['width']}x{r['height']}, {names}, "
-        f"stored as {r['stored']}"
+    click.echo(
+        click.style(r["file"], bold=True) + f": {r['format']}, {r['width']}x{r['height']}, "
+        f"{names}, stored as {r['stored']}"
     )
-    table = Table(box=None, padding=(0, 2), show_edge=False)
-    for col in ("channel", "min", "max", "mean"):
-        table.add_column(col, justify="right")
-    for name, s in zip(names, r["channel_stats"], strict=True):
-        table.add_row(
-            name, *(f"{s[k]:.6g}" if s[k] is not None else "-" for k in ("min", "max", "mean"))
-        )
-    console.print(table)
-    console.print(
+    rows = [("channel", "min", "max", "mean")] + [
+        (name, *(f"{s[k]:.6g}" if s[k] is not None else "-" for k in ("min", "max", "mean")))
+        for name, s in zip(names, r["channel_stats"], strict=True)
+    ]
+    widths = [max(len(row[i]) for row in rows) for i in range(4)]
+    for row in rows:
+        click.echo("  " + "    ".join(cell.rjust(w) for cell, w in zip(row, widths, strict=True)))
+    click.echo(
         f"  NaN: {r['nan']}  Inf: {r['inf']}  dynamic range: "
         + (f"{stops:.1f} stops" if stops is not None else "n/a")
     )
-    console.print(f"  layout (a guess from the shape): {guess}")
+    click.echo(f"  layout (a guess from the shape): {guess}")
     for key, value in r["metadata"].items():
-        console.print(f"  {key}: {value}")
+        click.echo(f"  {key}: {value}")
 
 
 def register(group: click.Group) -> None:

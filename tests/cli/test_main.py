@@ -62,15 +62,17 @@ def test_version_and_help_load_no_numerical_library(args):
     assert loaded(*args) == []
 
 
-def test_info_loads_neither_numba_nor_scipy(tmp_path):
-    """``info`` of an OpenEXR probe: numpy and the file's codec, no kernels."""
+@pytest.mark.parametrize("name", ["probe.exr", "probe.hdr"])
+def test_info_loads_only_numpy_and_the_codec(tmp_path, name):
+    """``info`` of an OpenEXR or Radiance probe: numpy and the file's codec, no kernels, and no
+    rich (its output is plain text, and progress makes its console only when it shows some)."""
     import numpy as np
 
     from bakeshop.io import write_image
 
-    path = tmp_path / "probe.exr"
+    path = tmp_path / name
     write_image(path, np.ones((16, 32, 3), np.float32))
-    assert {"numba", "scipy", "matplotlib"}.isdisjoint(loaded("info", str(path)))
+    assert {"numba", "scipy", "matplotlib", "rich"}.isdisjoint(loaded("info", str(path)))
 
 
 def test_an_unknown_command_is_one_error_line():
