@@ -83,3 +83,45 @@ def test_an_unknown_command_is_one_error_line():
     )
     assert out.returncode == 2
     assert "No such command 'bake-everything'" in out.stderr
+
+
+#: the executable's entry point in a fresh interpreter, after an exit handler of the caller's
+#: and, when told, a thread: ``bakeshop --version``.
+EXECUTABLE = """
+import atexit, sys, threading, time
+from pathlib import Path
+from bakeshop.cli.main import command
+out = Path(sys.argv[1])
+atexit.register(lambda: (out / "handler").write_text("ran"))
+def late():
+    time.sleep(0.5)
+    (out / "thread").write_text("done")
+if sys.argv[2] == "thread":
+    threading.Thread(target=late).start()
+sys.argv[1:] = ["--version"]
+command()
+"""
+
+
+@pytest.mark.parametrize("thread", ["thread", "none"])
+def test_the_executable_runs_exit_handlers_and_waits_for_threads(tmp_path, thread):
+    """``command`` skips the interpreter's teardown, not what a caller registered: the exit
+    handlers run, and a running thread is waited for."""
+    done = subprocess.run(
+        [sys.executable, "-c", EXECUTABLE, str(tmp_path), thread], capture_output=True, text=True
+    )
+    assert done.returncode == 0 and done.stdout.startswith("bakeshop, version")
+    assert (tmp_path / "handler").read_text() == "ran"
+    assert (tmp_path / "thread").exists() == (thread == "thread")
+    if thread == "thread":
+        assert (tmp_path / "thread").read_text() == "done"
+
+
+def test_the_executable_exits_with_the_commands_status(tmp_path):
+    """Through the fast exit: 0 for a command that worked, 2 and one line for bad input."""
+    good = subprocess.run([sys.executable, "-m", "bakeshop.cli.main", "--help"],
+                          capture_output=True, text=True)  # fmt: skip
+    bad = subprocess.run([sys.executable, "-m", "bakeshop.cli.main", "info",
+                          str(tmp_path / "none.hdr")], capture_output=True, text=True)  # fmt: skip
+    assert good.returncode == 0 and "Usage: bakeshop" in good.stdout
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and bad.stdout == ""
