@@ -11,7 +11,8 @@ its binary. A peer that is absent is reported as not measured.
 Jobs (input: Poly Haven's Quarry 01, 1024x512, upsampled bilinearly to 4096x2048 for "4k" and
 area-averaged to 64x32 for "64"):
 
-- ``start``: ``bakeshop --version``, ``--help``, ``info`` of the 1k probe (.hdr and .exr);
+- ``start``: ``bakeshop --version``, ``--help``, a command's ``--help``, ``info`` of the 1k
+  probe (.hdr and .exr);
 - ``dim-1k``, ``dim-4k``: diffuse irradiance. bakeshop ``irradiance`` (``auto``: exact to the
   bound of docs/irradiance.md, a 360x180 latlong DIM); cmgen ``--sh=3 --sh-irradiance`` (9 SH
   coefficients, approximate); cmft ``--filter irradiance`` (an order-5 SH, 25 coefficients,
@@ -107,6 +108,7 @@ def contenders(job: str, work: Path, run: peers.Peers) -> dict[str, list[str] | 
         return {
             "bakeshop --version": [BAKESHOP, "--version"],
             "bakeshop --help": [BAKESHOP, "--help"],
+            "bakeshop irradiance --help": [BAKESHOP, "irradiance", "--help"],
             "bakeshop info (1k .hdr)": [BAKESHOP, "info", str(work / "probe_1k.hdr")],
             "bakeshop info (1k .exr)": [BAKESHOP, "info", str(work / "probe_1k.exr")],
         }

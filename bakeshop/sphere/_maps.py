@@ -15,24 +15,20 @@ import math
 import numba
 import numpy as np
 
-from bakeshop.sphere.cube import FACE_BASES, OPENEXR_FACE_BASES
-
-(
-    LATLONG,
+from bakeshop.sphere._kinds import (  # noqa: F401 (the kernels name layouts by these)
     ANGULAR,
-    MIRRORBALL,
-    DUAL_PARABOLOID,
-    OCTAHEDRAL,
-    CUBE,
     ANGULAR_PHYSICAL,
+    CUBE,
+    DISK_OVERLAP_EPS,
+    DUAL_PARABOLOID,
+    LATLONG,
+    MIRRORBALL,
     MIRRORBALL_PHYSICAL,
-    OPENEXR_LATLONG,
+    OCTAHEDRAL,
     OPENEXR_CUBE,
-) = range(10)
-
-#: a disk texel is valid when it reaches this far (in r^2) into the disk: texels that only
-#: touch the rim (solid angle below ~1e-13 of the texel's) are left out.
-DISK_OVERLAP_EPS = 1e-9
+    OPENEXR_LATLONG,
+)
+from bakeshop.sphere.cube import FACE_BASES, OPENEXR_FACE_BASES
 
 _BASES = np.ascontiguousarray(FACE_BASES)
 _EXR_BASES = np.ascontiguousarray(OPENEXR_FACE_BASES)
@@ -437,3 +433,17 @@ def latlong_trig(h: int, w: int) -> np.ndarray:
         theta = math.pi * (j + 0.5) / h
         trig[2, j], trig[3, j] = math.sin(theta), math.cos(theta)
     return trig
+
+
+@numba.njit(parallel=True, cache=True)
+def latlong_directions(out: np.ndarray) -> None:
+    """Fill ``out`` (H, W, 3) with the latlong texel-centre directions
+    ``(sin theta_j sin phi_i, cos theta_j, -sin theta_j cos phi_i)``."""
+    h, w = out.shape[0], out.shape[1]
+    trig = latlong_trig(h, w)
+    for j in numba.prange(h):
+        st, ct = trig[2, j], trig[3, j]
+        for i in range(w):
+            out[j, i, 0] = st * trig[0, i]
+            out[j, i, 1] = ct
+            out[j, i, 2] = -st * trig[1, i]

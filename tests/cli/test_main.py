@@ -62,6 +62,25 @@ def test_version_and_help_load_no_numerical_library(args):
     assert loaded(*args) == []
 
 
+def command_paths() -> list[list[str]]:
+    """Every command and subcommand, as the words that name it."""
+    ctx = click.Context(main.cli)
+    found = []
+    for name in main.COMMANDS:
+        command = main.cli.get_command(ctx, name)
+        found.append([name])
+        if isinstance(command, click.Group):
+            found += [[name, sub] for sub in command.list_commands(ctx)]
+    return found
+
+
+@pytest.mark.parametrize("words", command_paths(), ids=" ".join)
+def test_a_commands_help_loads_no_kernels(words):
+    """``bakeshop COMMAND --help`` names layouts, methods and encodings without loading the
+    kernels behind them (numba: half a second before the help shows)."""
+    assert {"numba", "scipy", "matplotlib", "rich"}.isdisjoint(loaded(*words, "--help"))
+
+
 @pytest.mark.parametrize("name", ["probe.exr", "probe.hdr"])
 def test_info_loads_only_numpy_and_the_codec(tmp_path, name):
     """``info`` of an OpenEXR or Radiance probe: numpy and the file's codec, no kernels, and no

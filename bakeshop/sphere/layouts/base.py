@@ -1,4 +1,7 @@
-"""The base class of every panorama layout, and the limits on layout sizes."""
+"""The base class of every panorama layout, and the limits on layout sizes.
+
+The layouts' formulas are the numba functions of :mod:`bakeshop.sphere._maps`, imported by the
+methods that run them: naming a layout (a command's ``--help``, its options) loads no numba."""
 
 from __future__ import annotations
 
@@ -8,7 +11,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
-from bakeshop.sphere import _maps
 
 #: largest accepted edge length of any layout, in texels.
 MAX_EDGE = 1 << 16
@@ -118,6 +120,8 @@ class Layout:
         if not self.cubic:
             flat = np.concatenate([np.zeros((len(flat), 1)), flat], axis=1)
         out = np.empty((len(flat), 3))
+        from bakeshop.sphere import _maps
+
         _maps.directions_at(self.kind, h, w, np.ascontiguousarray(flat), out)
         return out.reshape(c.shape[:-1] + (3,))
 
@@ -156,6 +160,8 @@ class Layout:
         h, w, _ = self.grid(shape)
         d = _dirs_array(dirs)
         out = np.empty((d.size // 3, 3))
+        from bakeshop.sphere import _maps
+
         _maps.coordinates_of(self.kind, h, w, np.ascontiguousarray(d.reshape(-1, 3)), out)
         coords = out.reshape(d.shape[:-1] + (3,))
         return coords if self.cubic else coords[..., 1:]

@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
-from bakeshop.sphere import _maps
+from bakeshop.sphere import _kinds
 from bakeshop.sphere import cube as _cube
 from bakeshop.sphere.layouts.base import (
     Layout,
@@ -38,7 +38,7 @@ class Cube(Layout):
     exact: ``atan(xy / sqrt(1 + x^2 + y^2))`` differenced over the texel's corners."""
 
     name = "cube"
-    kind = _maps.CUBE
+    kind = _kinds.CUBE
     cubic = True
 
     def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:

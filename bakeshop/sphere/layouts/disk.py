@@ -9,7 +9,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from bakeshop.errors import ArgumentError
-from bakeshop.sphere import _maps
+from bakeshop.sphere import _kinds
 from bakeshop.sphere.layouts.base import (
     _GAUSS_W,
     _GAUSS_X,
@@ -56,7 +56,7 @@ class _Disk(Layout):
     def _overlap(self, n: int) -> np.ndarray:
         """Texels of one disk's square that overlap the open unit disk (the valid ones)."""
         t = np.maximum(np.abs(2 * (np.arange(n) + 0.5) / n - 1) - 1 / n, 0)
-        return t[None, :] ** 2 + t[:, None] ** 2 < 1 - _maps.DISK_OVERLAP_EPS
+        return t[None, :] ** 2 + t[:, None] ** 2 < 1 - _kinds.DISK_OVERLAP_EPS
 
     def _valid(self, shape: tuple[int, ...]) -> np.ndarray:
         return np.concatenate([self._overlap(shape[0])] * self.disks, axis=1)
@@ -108,7 +108,7 @@ class Angular(_Disk):
     """
 
     name = "angular"
-    kind = _maps.ANGULAR
+    kind = _kinds.ANGULAR
 
     def _H(self, q: np.ndarray) -> np.ndarray:
         # G(rho) = 1 - cos(pi rho) = (pi^2 / 2) rho^2 sinc(rho / 2)^2
@@ -121,7 +121,7 @@ class AngularPhysical(Angular):
     the z-mirror image of :class:`Angular` (HDRShop's), for matching a photographed set."""
 
     name = "angular-physical"
-    kind = _maps.ANGULAR_PHYSICAL
+    kind = _kinds.ANGULAR_PHYSICAL
 
 
 class MirrorBall(_Disk):
@@ -131,7 +131,7 @@ class MirrorBall(_Disk):
     ``d = (2 n_z a, 2 n_z b, -(1 - 2 r^2))``, ``n_z = sqrt(1 - r^2)``. ``dOmega/dA = 4``."""
 
     name = "mirrorball"
-    kind = _maps.MIRRORBALL
+    kind = _kinds.MIRRORBALL
 
     def _H(self, q: np.ndarray) -> np.ndarray:
         return np.full_like(q, 2.0)
@@ -143,7 +143,7 @@ class MirrorBallPhysical(MirrorBall):
     centre +Z (behind the camera), rim -Z. The z-mirror image of :class:`MirrorBall`."""
 
     name = "mirrorball-physical"
-    kind = _maps.MIRRORBALL_PHYSICAL
+    kind = _kinds.MIRRORBALL_PHYSICAL
 
 
 class DualParaboloid(_Disk):
@@ -156,7 +156,7 @@ class DualParaboloid(_Disk):
     """
 
     name = "dual-paraboloid"
-    kind = _maps.DUAL_PARABOLOID
+    kind = _kinds.DUAL_PARABOLOID
     disks = 2
     g_max = 1.0
 

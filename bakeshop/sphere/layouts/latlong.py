@@ -4,11 +4,10 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError
-from bakeshop.sphere import _maps
+from bakeshop.sphere import _kinds
 from bakeshop.sphere.layouts.base import (
     Layout,
 )
@@ -23,7 +22,7 @@ class LatLong(Layout):
     """
 
     name = "latlong"
-    kind = _maps.LATLONG
+    kind = _kinds.LATLONG
 
     def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
         if isinstance(size, (tuple, list)):
@@ -44,7 +43,9 @@ class LatLong(Layout):
         # bit-identical to the general path: the same trigonometry as remap's plans)
         shape = self.check_shape(shape)
         dirs = np.empty(shape + (3,))
-        _latlong_directions(dirs)
+        from bakeshop.sphere import _maps
+
+        _maps.latlong_directions(dirs)
         return dirs, self._valid(shape)
 
     def solid_angles(self, shape: Sequence[int]) -> np.ndarray:
@@ -53,17 +54,3 @@ class LatLong(Layout):
         c = np.cos(np.pi * np.arange(h + 1) / h)
         band = (c[:-1] - c[1:]) * (2 * np.pi / w)
         return np.repeat(band[:, None], w, axis=1)
-
-
-@numba.njit(parallel=True, cache=True)
-def _latlong_directions(out: np.ndarray) -> None:
-    """Fill ``out`` (H, W, 3) with the latlong texel-centre directions
-    ``(sin theta_j sin phi_i, cos theta_j, -sin theta_j cos phi_i)``."""
-    h, w = out.shape[0], out.shape[1]
-    trig = _maps.latlong_trig(h, w)
-    for j in numba.prange(h):
-        st, ct = trig[2, j], trig[3, j]
-        for i in range(w):
-            out[j, i, 0] = st * trig[0, i]
-            out[j, i, 1] = ct
-            out[j, i, 2] = -st * trig[1, i]

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from bakeshop.errors import ArgumentError
-from bakeshop.sphere import _maps
+from bakeshop.sphere import _kinds
 from bakeshop.sphere.layouts.base import (
     Layout,
 )
@@ -27,7 +27,7 @@ class Octahedral(Layout):
     """
 
     name = "octahedral"
-    kind = _maps.OCTAHEDRAL
+    kind = _kinds.OCTAHEDRAL
 
     def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
         if isinstance(size, (tuple, list)):

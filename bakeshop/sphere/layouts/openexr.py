@@ -8,7 +8,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
-from bakeshop.sphere import _maps
+from bakeshop.sphere import _kinds
 from bakeshop.sphere.layouts.base import (
     Layout,
     _dirs_array,
@@ -41,7 +41,7 @@ class OpenEXRLatLong(Layout):
     """
 
     name = "openexr-latlong"
-    kind = _maps.OPENEXR_LATLONG
+    kind = _kinds.OPENEXR_LATLONG
 
     def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
         if isinstance(size, (tuple, list)):
@@ -84,7 +84,7 @@ class OpenEXRCube(Layout):
     """
 
     name = "openexr-cube"
-    kind = _maps.OPENEXR_CUBE
+    kind = _kinds.OPENEXR_CUBE
 
     def shape(self, size: int | tuple[int, int] | list[int]) -> tuple[int, ...]:
         if isinstance(size, (tuple, list)):
@@ -123,6 +123,8 @@ class OpenEXRCube(Layout):
         face = np.clip(np.floor(c[..., 1] / s), 0, 5)
         fxy = np.stack([face, c[..., 0], c[..., 1] - face * s], axis=-1).reshape(-1, 3)
         out = np.empty((len(fxy), 3))
+        from bakeshop.sphere import _maps
+
         _maps.directions_at(self.kind, s, s, np.ascontiguousarray(fxy), out)
         return out.reshape(c.shape[:-1] + (3,))
 
@@ -130,6 +132,8 @@ class OpenEXRCube(Layout):
         s = self.face_size(shape)
         d = _dirs_array(dirs)
         out = np.empty((d.size // 3, 3))
+        from bakeshop.sphere import _maps
+
         _maps.coordinates_of(self.kind, s, s, np.ascontiguousarray(d.reshape(-1, 3)), out)
         fxy = out.reshape(d.shape[:-1] + (3,))
         return np.stack([fxy[..., 1], fxy[..., 0] * s + fxy[..., 2]], axis=-1)
