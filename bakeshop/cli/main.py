@@ -226,17 +226,24 @@ def command() -> NoReturn:
     When a command returns, its files are written and closed and its temporaries removed;
     what is left is Python freeing every object of every module, 0.2 s once numba is loaded
     (its typing and lowering registries): a tenth of a small command. The handlers registered
-    with :mod:`atexit` still run and the streams are flushed. A thread that is still running
-    (none of bakeshop's) gets the ordinary exit, which waits for it."""
+    with :mod:`atexit` still run and the streams are flushed. The ordinary exit is kept where
+    something waits for it: a thread still running (the workers of dask's thread pool, after
+    a chunked job) or a tracer or profiler (coverage, cProfile, pdb), which writes its results
+    then."""
     status = main()
     main_thread = threading.main_thread()
-    if any(t is not main_thread and t.is_alive() and not t.daemon for t in threading.enumerate()):
+    if (
+        any(t is not main_thread and t.is_alive() and not t.daemon for t in threading.enumerate())
+        or sys.gettrace() is not None
+        or sys.getprofile() is not None
+    ):
         sys.exit(status)
     atexit._run_exitfuncs()
     try:
-        sys.stdout.flush()
-        sys.stderr.flush()
-    except OSError:  # a closed pipe: Python's own exit reports it
+        for stream in (sys.stdout, sys.stderr):
+            if stream is not None:  # None: the descriptor was closed when Python started
+                stream.flush()
+    except (OSError, ValueError):  # a closed pipe or stream: Python's own exit reports it
         sys.exit(status)
     os._exit(status)
 

@@ -110,7 +110,8 @@ def _library_messages() -> Iterator[list[str]]:
     messages: list[str] = []
     text = io.StringIO()
     with tempfile.TemporaryFile() as err:
-        sys.stderr.flush()
+        if sys.stderr is not None:  # None: descriptor 2 was closed when Python started
+            sys.stderr.flush()
         try:
             saved = os.dup(2)
         except OSError:  # no stderr to protect

@@ -144,3 +144,36 @@ def test_the_executable_exits_with_the_commands_status(tmp_path):
                           str(tmp_path / "none.hdr")], capture_output=True, text=True)  # fmt: skip
     assert good.returncode == 0 and "Usage: bakeshop" in good.stdout
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and bad.stdout == ""
+
+
+@pytest.mark.parametrize("args,status", [(["--version"], 0), (["info", "none.hdr"], 2)])
+def test_the_executable_with_stdout_closed(tmp_path, args, status):
+    """With its standard output closed (``sys.stdout`` is None) the command keeps its status and
+    its stderr: the fast exit flushes only the streams that exist."""
+    command = " ".join([sys.executable, "-m", "bakeshop.cli.main", *args]) + " >&-"
+    done = subprocess.run(["sh", "-c", command], cwd=tmp_path, capture_output=True, text=True)
+    assert done.returncode == status
+    assert "Traceback" not in done.stderr and done.stderr.count("\n") == (status != 0)
+
+
+def test_the_executable_under_a_profiler_exits_the_ordinary_way(tmp_path):
+    """cProfile writes its results at the ordinary exit, which the executable then takes."""
+    profile = tmp_path / "run.prof"
+    done = subprocess.run(
+        [sys.executable, "-m", "cProfile", "-o", str(profile), "-m", "bakeshop.cli.main",
+         "--version"], capture_output=True, text=True,
+    )  # fmt: skip
+    assert done.returncode == 0 and profile.stat().st_size > 0
+
+
+def test_an_openexr_read_with_stderr_closed(tmp_path):
+    """The OpenEXR reader collects the library's messages from descriptor 2; with stderr closed
+    (``sys.stderr`` is None) it reads all the same."""
+    import numpy as np
+
+    from bakeshop.io import write_image
+
+    write_image(tmp_path / "probe.exr", np.ones((8, 16, 3), np.float32))
+    command = f"{sys.executable} -m bakeshop.cli.main info probe.exr 2>&- >/dev/null"
+    done = subprocess.run(["sh", "-c", command], cwd=tmp_path, capture_output=True, text=True)
+    assert done.returncode == 0
