@@ -15,7 +15,7 @@ import math
 import numba
 import numpy as np
 
-from bakeshop.sphere._kinds import (  # noqa: F401 (the kernels name layouts by these)
+from bakeshop.sphere._kinds import (
     ANGULAR,
     ANGULAR_PHYSICAL,
     CUBE,
