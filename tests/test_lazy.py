@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-LAZY_PACKAGES = ["bakeshop.sphere", "bakeshop.image", "bakeshop.normals"]
+LAZY_PACKAGES = ["bakeshop.sphere", "bakeshop.image", "bakeshop.normals", "bakeshop.light"]
 
 
 @pytest.mark.parametrize("name", LAZY_PACKAGES)
