@@ -613,42 +613,54 @@ def scale_rows(indptr: ndarray, indices: ndarray, values: ndarray,
                 values[e] = values[e] / total
 
 
+@numba.njit(cache=True, error_model="numpy")
+def transpose(indptr: ndarray, indices: ndarray, values: ndarray, colptr: ndarray, rows: ndarray,
+              by_column: ndarray) -> None:  # fmt: skip
+    """The CSR matrix (``indptr``, ``indices``, ``values``) in CSC form: column p's entries are
+    ``colptr[p]:colptr[p + 1]`` of ``rows`` and ``by_column`` (``colptr`` zero on entry; rows in
+    increasing order within a column)."""
+    for e in range(indices.shape[0]):
+        colptr[indices[e] + 1] += 1
+    for p in range(colptr.shape[0] - 1):
+        colptr[p + 1] += colptr[p]
+    cursor = colptr[:-1].copy()
+    for q in range(indptr.shape[0] - 1):
+        for e in range(indptr[q], indptr[q + 1]):
+            k = cursor[indices[e]]
+            rows[k] = q
+            by_column[k] = values[e]
+            cursor[indices[e]] = k + 1
+
+
 @numba.njit(parallel=True, cache=True, error_model="numpy")
 def balance_rows(indptr: ndarray, indices: ndarray, values: ndarray, omega_out: ndarray,
-                 col: ndarray, sums: ndarray) -> None:  # fmt: skip
-    """One pass of the area filter's balancing of M = diag(r) K diag(col) (K: ``values``):
-    the row scales r making every nonempty row sum 1, and the energy each column then sends,
-    sum_q omega_out[q] r[q] K[q, p] (x col[p] to come), as partial sums per chunk of rows in
-    ``sums`` (zero on entry: :func:`balance_columns` clears them as it reads them)."""
-    m = indptr.shape[0] - 1
-    chunks = sums.shape[0]
-    for t in numba.prange(chunks):
-        for q in range(t * m // chunks, (t + 1) * m // chunks):
-            total = 0.0
-            for e in range(indptr[q], indptr[q + 1]):
-                total += values[e] * col[indices[e]]
-            if total > 0:
-                scale = omega_out[q] / total
-                for e in range(indptr[q], indptr[q + 1]):
-                    sums[t, indices[e]] += scale * values[e]
+                 col: ndarray, sent: ndarray) -> None:  # fmt: skip
+    """The row step of the area filter's balancing of M = diag(r) K diag(col) (K: ``values``):
+    ``sent[q]`` = omega_out[q] r[q], r making every nonempty row of M sum 1 (0 for an empty
+    row): the energy per unit weight that output texel q draws."""
+    for q in numba.prange(indptr.shape[0] - 1):
+        total = 0.0
+        for e in range(indptr[q], indptr[q + 1]):
+            total += values[e] * col[indices[e]]
+        sent[q] = omega_out[q] / total if total > 0 else 0.0
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def balance_columns(sums: ndarray, omega_in: ndarray, col: ndarray,
-                    step: ndarray) -> float:  # fmt: skip
-    """The column step, over-relaxed with momentum: where source texel p sends ``sent`` =
-    col[p] x (sum of its partial sums) > 0, log col[p] moves by ``step[p]`` = 1.5 log(omega_in
-    / sent) + 0.5 x its previous step (kept as the factor exp(step), so no logarithms).
-    Returns the largest |omega_in / sent - 1|."""
+def balance_columns(colptr: ndarray, rows: ndarray, by_column: ndarray, sent: ndarray,
+                    omega_in: ndarray, col: ndarray, step: ndarray) -> float:  # fmt: skip
+    """The column step, over-relaxed with momentum: where source texel p sends ``energy`` =
+    col[p] sum_q sent[q] K[q, p] > 0 (K in CSC form: ``colptr``, ``rows``, ``by_column``),
+    log col[p] moves by ``step[p]`` = 1.5 log(omega_in / energy) + 0.5 x its previous step
+    (kept as the factor exp(step), so no logarithms). Returns the largest
+    |omega_in / energy - 1|."""
     err = 0.0
     for p in numba.prange(omega_in.shape[0]):
-        sent = 0.0
-        for t in range(sums.shape[0]):
-            sent += sums[t, p]
-            sums[t, p] = 0.0
-        sent *= col[p]
-        if sent > 0:
-            r = omega_in[p] / sent
+        energy = 0.0
+        for k in range(colptr[p], colptr[p + 1]):
+            energy += by_column[k] * sent[rows[k]]
+        energy *= col[p]
+        if energy > 0:
+            r = omega_in[p] / energy
             err = max(err, abs(r - 1))
             step[p] = r * math.sqrt(r * step[p])
             col[p] *= step[p]
