@@ -15,6 +15,7 @@ block is in.
 from __future__ import annotations
 
 import os
+import pickle
 from collections.abc import Callable, Sequence
 from typing import Any, TypeVar
 
@@ -137,12 +138,17 @@ class Engine:
 
     def check_source(self, source: Reader) -> None:
         """Refuse an in-memory source on a cluster (workers read files, not this process's
-        memory)."""
-        if self.distributed and isinstance(source, ArrayReader):
+        memory), and a reader that cannot be sent to them, with its own error (pickling a
+        Radiance reader walks the file's scanlines: a corrupt file is refused here, not in
+        dask's serialisation)."""
+        if not self.distributed:
+            return
+        if isinstance(source, ArrayReader):
             raise UnsupportedError(
                 "a cluster's workers read their windows from files: give a file path that every "
                 "worker sees (a .zarr store is best), not an array in memory"
             )
+        pickle.dumps(source)
 
     def _task(self, fn: Callable) -> InTask:
         cores = numba.config.NUMBA_NUM_THREADS

@@ -231,6 +231,22 @@ def test_a_two_worker_cluster_gives_the_local_results(tmp_path, cluster):
     assert np.allclose(got.sun_dim, want.sun_dim, rtol=1e-6, atol=0)
 
 
+@pytest.mark.slow
+def test_a_corrupt_radiance_file_is_refused_with_its_error_before_a_cluster_job(tmp_path, cluster):
+    """Opening a .hdr reads its header; the scanlines are walked when the reader is sent to
+    the workers, and a truncated file is refused there with its own error (not as dask's
+    failure to serialise the graph)."""
+    from bakeshop.errors import FormatError
+    from bakeshop.io import write_image
+
+    _, client = cluster
+    path = tmp_path / "short.hdr"
+    write_image(path, np.ones((64, 128, 3), np.float32))
+    path.write_bytes(path.read_bytes()[:-200])
+    with pytest.raises(FormatError, match="truncated"):
+        resize(path, (32, 16), engine=Engine(client, memory="8MB"))
+
+
 def _die_once(marker):
     """A worker plugin: the first worker to start one of the job's tasks exits on the spot.
 

@@ -52,8 +52,9 @@ def test_headers_are_checked_before_anything_is_read(tmp_path):
     a = _image(32, 64)
     write_image(path, a)
     path.write_bytes(path.read_bytes()[:-100])
-    with pytest.raises(FormatError):
-        open_image(path)
+    reader = open_image(path)  # the header is whole; the scanlines are walked on the first read
+    with pytest.raises(FormatError, match="truncated"):
+        reader.read((0, 1))
 
 
 def test_a_window_outside_the_image_is_refused(tmp_path):
@@ -61,3 +62,18 @@ def test_a_window_outside_the_image_is_refused(tmp_path):
     write_image(tmp_path / "x.pfm", a)
     with pytest.raises(BakeshopError, match="not inside"):
         open_image(tmp_path / "x.pfm").read((10, 21))
+
+
+def test_a_pickled_radiance_reader_carries_its_scanline_index(tmp_path):
+    """Opening reads the header only; pickling (a dask task's copy) indexes the scanlines once,
+    so the tasks that unpickle it do not each walk the file."""
+    import pickle
+
+    path = tmp_path / "x.hdr"
+    a = _image(24, 40)
+    write_image(path, a)
+    reader = open_image(path)
+    assert "starts" not in reader.__dict__
+    copy = pickle.loads(pickle.dumps(reader))
+    assert len(copy.__dict__["starts"]) == 25
+    np.testing.assert_array_equal(copy.read((3, 9)), reader.read((3, 9)))

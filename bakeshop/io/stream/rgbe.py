@@ -1,13 +1,14 @@
 """Radiance .hdr by windows: an index of scanline offsets, then only the window's scanlines.
 
-Run-length encoded scanlines have no fixed size, so opening the file walks it once in blocks of
-:data:`SCAN_BYTES` (nothing decoded, nothing held but the block) and records where each scanline
-starts: 8 bytes per scanline, 128 KB for a 16384-row image. A window then reads the bytes of its
-scanlines and decodes them with the in-memory codec's decoder (:mod:`bakeshop.io.rgbe`), so a
-window is bit-identical to the same texels of a whole read. Old-style run-length files, whose
-first pixel of a scanline may repeat the last one of the previous scanline, decode one scanline
-more before the window. Files stored with scanlines along columns (``+X``/``-X`` first in the
-resolution string, rare) are refused: a window of rows would need every scanline.
+Run-length encoded scanlines have no fixed size, so the first read walks the file once in blocks
+of :data:`SCAN_BYTES` (nothing decoded, nothing held but the block) and records where each
+scanline starts (opening reads the header only): 8 bytes per scanline, 128 KB for a 16384-row
+image. A window then reads the bytes of its scanlines and decodes them with the in-memory
+codec's decoder (:mod:`bakeshop.io.rgbe`), so a window is bit-identical to the same texels of a
+whole read. Old- style run-length files, whose first pixel of a scanline may repeat the last one
+of the previous scanline, decode one scanline more before the window. Files stored with
+scanlines along columns (``+X``/``-X`` first in the resolution string, rare) are refused: a
+window of rows would need every scanline.
 
 Writing encodes strip after strip (new-style run-length, as the in-memory writer does).
 """
@@ -15,6 +16,7 @@ Writing encodes strip after strip (new-style run-length, as the in-memory writer
 from __future__ import annotations
 
 import builtins
+import functools
 import os
 from collections.abc import Iterable
 
@@ -133,11 +135,14 @@ class RgbeReader(Reader):
         if not raw:
             self.factors /= facts["exposure"] * np.asarray(facts["colorcorr"])
         self.metadata = facts
-        self.starts = self._index(offset, size)
         self.block = (max(1, (1 << 22) // (4 * width)), width)
+        self._extent = (offset, size)
 
-    def _index(self, offset: int, size: int) -> np.ndarray:
-        """File offsets of the scanlines in file order, plus the end of the last one."""
+    @functools.cached_property
+    def starts(self) -> np.ndarray:
+        """File offsets of the scanlines in file order, plus the end of the last one (the
+        file walked on the first read)."""
+        offset, size = self._extent
         height, width, _ = self.shape
         starts = np.empty(height + 1, np.int64)
         done, pos = 0, offset
@@ -163,6 +168,12 @@ class RgbeReader(Reader):
                 os.posix_fadvise(f.fileno(), 0, 0, os.POSIX_FADV_DONTNEED)
         starts[height] = pos
         return starts
+
+    def __getstate__(self) -> dict:
+        """Pickled with its index (made here if no read made it yet), so that the tasks that
+        unpickle the reader do not each walk the file."""
+        self.starts  # noqa: B018 - the cached index
+        return self.__dict__
 
     def _read(self, top: int, bottom: int, left: int, right: int) -> np.ndarray:
         height, width, _ = self.shape
@@ -193,7 +204,8 @@ class RgbeReader(Reader):
 
 
 def open(path: str | os.PathLike, *, raw: bool = False) -> RgbeReader:  # noqa: A001 - the codec interface's name
-    """A :class:`RgbeReader` of ``path`` (header checked, scanlines indexed)."""
+    """A :class:`RgbeReader` of ``path`` (header checked; the scanlines are indexed on the
+    first read)."""
     return RgbeReader(path, raw=raw)
 
 
