@@ -11,7 +11,13 @@ from pathlib import Path
 
 import pytest
 
-LAZY_PACKAGES = ["bakeshop.sphere", "bakeshop.image", "bakeshop.normals", "bakeshop.light"]
+LAZY_PACKAGES = [
+    "bakeshop.sphere",
+    "bakeshop.image",
+    "bakeshop.normals",
+    "bakeshop.light",
+    "bakeshop.huge",
+]
 
 
 @pytest.mark.parametrize("name", LAZY_PACKAGES)
