@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -97,7 +98,9 @@ def dims(
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     check_picture_format(layout, fmt, source)
     image, _ = linearise(image, source, meta, srgb_decode)
-    pair, elapsed = timed(dim_pair, image, layout, dst_layout, size, method, order, window)
+    # the decoded probe is this command's own: the shadow probe is painted into it, not a copy
+    paint_in_place = functools.partial(dim_pair, copy=False)
+    pair, elapsed = timed(paint_in_place, image, layout, dst_layout, size, method, order, window)
     with progress.step(f"writing {out_dir}"):
         write_environment(names["sun_dim"], pair.sun_dim, dst_layout)
         write_environment(names["shadow_dim"], pair.shadow_dim, dst_layout)

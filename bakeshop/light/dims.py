@@ -82,6 +82,7 @@ def dim_pair(
     method: str = "auto",
     order: int = 2,
     window: str = "minimal",
+    copy: bool = True,
 ) -> DimPair:
     """The sun DIM, the shadow DIM, the sun-removed probe and the sun, from one probe.
 
@@ -97,6 +98,9 @@ def dim_pair(
     layout : str
     to, size, method, order, window
         As for :func:`bakeshop.light.irradiance`.
+    copy : bool
+        False: the shadow probe is painted into ``image`` itself when it is a float32 array
+        (the command line's own decoded probe: a large probe is not copied).
 
     Returns
     -------
@@ -109,7 +113,7 @@ def dim_pair(
     lit, shadow, removal = dim_pair_of(
         env, to=to, size=size, method=method, order=order, window=window
     )
-    probe = env.image.copy()  # the fill is fractional: a float copy
+    probe = env.image.copy() if copy else env.image  # the fill is fractional: float32
     if removal is not None:
         removal.paint(probe)
     return DimPair(

@@ -242,6 +242,18 @@ def test_dim_pair_splits_the_sun():
     assert pair.shadow_probe.shape == env.shape and pair.shadow_probe.dtype == env.dtype
 
 
+def test_dim_pair_paints_a_copy_unless_told_to_paint_the_probe_itself():
+    env = _probe("quarry_01")
+    before = env.copy()
+    pair = ir.dim_pair(env, "latlong", size=SIZE)
+    np.testing.assert_array_equal(env, before)  # the caller's probe is untouched
+    assert not np.array_equal(pair.shadow_probe, env)  # the sun is painted out of a copy
+    in_place = ir.dim_pair(env, "latlong", size=SIZE, copy=False)
+    assert np.shares_memory(in_place.shadow_probe, env)
+    np.testing.assert_array_equal(env, pair.shadow_probe)
+    np.testing.assert_array_equal(in_place.sun_dim, pair.sun_dim)
+
+
 def test_dim_pair_without_a_sun():
     env = _probe("forest_slope")
     pair = ir.dim_pair(env, "latlong", size=SIZE)
