@@ -1,6 +1,7 @@
 """The numba kernels of the Radiance codec (:mod:`bakeshop.io.rgbe`): the scanline decoder for
-large files and the encoder. Imported when they are needed, so that reading a small file (which
-:mod:`bakeshop.io.rgbe` decodes with numpy) does not load numba."""
+large files (in parts on every thread), the scanline walk of the window reader
+(:mod:`bakeshop.io.stream.rgbe`) and the encoder. Imported when they are needed, so that reading
+a small file (which :mod:`bakeshop.io.rgbe` decodes with numpy) does not load numba."""
 
 from __future__ import annotations
 
@@ -126,6 +127,116 @@ def _decode(
                     for c in range(3):
                         out[s, j, c] = (line[j, c] + 0.5) * f * factors[c]
     return _OK, nscan, pos
+
+
+@numba.njit(cache=True, nogil=True)
+def scan(
+    data: np.ndarray, pos: int, scanlen: int, count: int, starts: np.ndarray, first: int
+) -> tuple[int, int, int]:  # pragma: no cover - compiled
+    """Walk up to ``count`` scanlines of ``data[pos:]``, writing each one's start (plus
+    ``first``, the offset of ``data`` in the file) into ``starts``; return (scanlines walked,
+    position after the last complete one, status). Stops, status 0, at an incomplete scanline."""
+    n = data.size
+    done = 0
+    while done < count:
+        start = pos
+        if (
+            8 <= scanlen <= 0x7FFF
+            and pos + 4 <= n
+            and data[pos] == 2
+            and data[pos + 1] == 2
+            and data[pos + 2] < 128
+        ):
+            if (np.int64(data[pos + 2]) << 8) + data[pos + 3] != scanlen:
+                return done, start, 1
+            pos += 4
+            for _c in range(4):
+                j = 0
+                while j < scanlen:
+                    if pos >= n:
+                        return done, start, 0
+                    code = np.int64(data[pos])
+                    pos += 1
+                    if code > 128:
+                        pos += 1
+                        j += code - 128
+                    elif code == 0:
+                        return done, start, 2
+                    else:
+                        pos += code
+                        j += code
+                    if j > scanlen:
+                        return done, start, 3
+            if pos > n:
+                return done, start, 0
+        else:
+            j = 0
+            shift = 0
+            while j < scanlen:
+                if pos + 4 > n:
+                    return done, start, 0
+                if data[pos] == 1 and data[pos + 1] == 1 and data[pos + 2] == 1:
+                    e = np.int64(data[pos + 3])
+                    if e != 0:
+                        if shift > 24:
+                            return done, start, 3
+                        j += e << shift
+                    shift += 8
+                else:
+                    j += 1
+                    shift = 0
+                pos += 4
+            if j > scanlen:
+                return done, start, 3
+        starts[done] = start + first
+        done += 1
+    return done, pos, 0
+
+
+#: images of at least this many pixels whose scanlines are new-style are decoded in parts on
+#: every thread (:func:`decode`).
+_PARALLEL_PIXELS = 1 << 20
+
+
+def decode(
+    data: np.ndarray,
+    pos: int,
+    nscan: int,
+    scanlen: int,
+    out: np.ndarray,
+    factors: np.ndarray,
+    dry: bool,
+) -> tuple[int, int, int]:
+    """:func:`_decode`, in parts on every thread for a large image: the scanlines are located
+    first (:func:`scan`, packet headers only: 4 ms for 12.6 MP), and each part starts at a
+    new-style scanline, which never refers to the one before. Anything else (a dry pass, a
+    small image, old-style or faulty scanlines) is decoded serially, the serial kernel
+    reporting what is wrong."""
+    parts = numba.get_num_threads()
+    if dry or parts < 2 or nscan * scanlen < _PARALLEL_PIXELS or nscan < 2 * parts:
+        return _decode(data, pos, nscan, scanlen, out, factors, dry)
+    starts = np.empty(nscan + 1, np.int64)
+    walked, end, status = scan(data, pos, scanlen, nscan, starts, 0)
+    bounds = np.linspace(0, nscan, parts + 1).astype(np.int64)
+    first = starts[bounds[:-1]]
+    if walked < nscan or status or not all(data[p] == 2 == data[p + 1] for p in first):
+        return _decode(data, pos, nscan, scanlen, out, factors, dry)
+    if not _decode_parts(data, first, bounds, scanlen, out, factors):
+        return _decode(data, pos, nscan, scanlen, out, factors, dry)
+    return _OK, nscan, end
+
+
+@numba.njit(cache=True, nogil=True, parallel=True)
+def _decode_parts(data: np.ndarray, first: np.ndarray, bounds: np.ndarray, scanlen: int,
+                  out: np.ndarray, factors: np.ndarray) -> bool:  # fmt: skip
+    """Scanlines ``bounds[k]:bounds[k + 1]`` decoded from ``data[first[k]:]`` by
+    :func:`_decode`, the parts in parallel; True when every part decodes whole."""
+    ok = 0
+    for k in numba.prange(first.shape[0]):
+        status, _, _ = _decode(data, first[k], bounds[k + 1] - bounds[k], scanlen,
+                               out[bounds[k] : bounds[k + 1]], factors, False)  # fmt: skip
+        ok += status == _OK
+    return ok == first.shape[0]
 
 
 @numba.njit(cache=True, nogil=True, inline="always")

@@ -192,9 +192,9 @@ def _decode(
         result = _decode_runs(data, pos, nscan, scanlen, out, factors, dry)
         if result is not None:
             return result
-    from bakeshop.io._rgbe_kernels import _decode as kernel  # numba: large or old-style files
+    from bakeshop.io._rgbe_kernels import decode  # numba: large or old-style files
 
-    return kernel(data, pos, nscan, scanlen, out, factors, dry)
+    return decode(data, pos, nscan, scanlen, out, factors, dry)
 
 
 def _decode_runs(

@@ -291,6 +291,33 @@ def test_small_file_decoder_finds_the_kernels_problems(tmp_path, seed):
                     assert np.array_equal(out.view(np.uint32), kernel_out.view(np.uint32))
 
 
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_parallel_decoder_gives_the_serial_kernels_bits_and_problems(tmp_path, seed):
+    """A large image is decoded in parts on every thread: the same float32 bits as the serial
+    kernel, and the same (status, scanline, position) for files mutated or cut anywhere."""
+    from bakeshop.io._rgbe_kernels import _decode, decode
+
+    rng = np.random.default_rng(seed)
+    image = np.exp(rng.normal(0, 3, (1040, 1024, 3))).astype(np.float32)
+    image[:, 100:400] = image[:, 99:100]  # runs
+    write_image(tmp_path / "big.hdr", image)
+    data = np.fromfile(tmp_path / "big.hdr", np.uint8)
+    _, offset = rgbe._header(data)
+    factors = np.array([1.0, 0.5, 2.0])
+    candidates = [data]
+    for k in rng.integers(offset, data.size, 6):
+        mutated = data.copy()
+        mutated[k] = rng.integers(0, 256)
+        candidates += [mutated, data[:k]]
+    for candidate in candidates:
+        got, want = np.zeros((2, 1040, 1024, 3), np.float32)
+        status = decode(candidate, offset, 1040, 1024, got, factors, False)
+        assert status == _decode(candidate, offset, 1040, 1024, want, factors, False)
+        if status[0] == 0:
+            assert np.array_equal(got.view(np.uint32), want.view(np.uint32))
+
+
 # --- the encoder ----------------------------------------------------------------------------------
 
 

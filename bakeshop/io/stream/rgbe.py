@@ -20,83 +20,18 @@ import functools
 import os
 from collections.abc import Iterable
 
-import numba
 import numpy as np
 
 from bakeshop.errors import FormatError, UnsupportedError
 from bakeshop.io import rgbe
 from bakeshop.io._files import atomic_path, check_dimensions, check_payload
-from bakeshop.io._rgbe_kernels import _decode
+from bakeshop.io._rgbe_kernels import _decode, scan
 from bakeshop.io.stream._base import Reader
 
 #: bytes read per step while indexing the scanlines.
 SCAN_BYTES = 1 << 24
 #: streamed images may be this large.
 MAX_PIXELS = 1 << 40
-
-
-@numba.njit(cache=True, nogil=True)
-def _scan(
-    data: np.ndarray, pos: int, scanlen: int, count: int, starts: np.ndarray, first: int
-) -> tuple[int, int, int]:  # pragma: no cover - compiled
-    """Walk up to ``count`` scanlines of ``data[pos:]``, writing each one's start (plus
-    ``first``, the offset of ``data`` in the file) into ``starts``; return (scanlines walked,
-    position after the last complete one, status). Stops, status 0, at an incomplete scanline."""
-    n = data.size
-    done = 0
-    while done < count:
-        start = pos
-        if (
-            8 <= scanlen <= 0x7FFF
-            and pos + 4 <= n
-            and data[pos] == 2
-            and data[pos + 1] == 2
-            and data[pos + 2] < 128
-        ):
-            if (np.int64(data[pos + 2]) << 8) + data[pos + 3] != scanlen:
-                return done, start, 1
-            pos += 4
-            for _c in range(4):
-                j = 0
-                while j < scanlen:
-                    if pos >= n:
-                        return done, start, 0
-                    code = np.int64(data[pos])
-                    pos += 1
-                    if code > 128:
-                        pos += 1
-                        j += code - 128
-                    elif code == 0:
-                        return done, start, 2
-                    else:
-                        pos += code
-                        j += code
-                    if j > scanlen:
-                        return done, start, 3
-            if pos > n:
-                return done, start, 0
-        else:
-            j = 0
-            shift = 0
-            while j < scanlen:
-                if pos + 4 > n:
-                    return done, start, 0
-                if data[pos] == 1 and data[pos + 1] == 1 and data[pos + 2] == 1:
-                    e = np.int64(data[pos + 3])
-                    if e != 0:
-                        if shift > 24:
-                            return done, start, 3
-                        j += e << shift
-                    shift += 8
-                else:
-                    j += 1
-                    shift = 0
-                pos += 4
-            if j > scanlen:
-                return done, start, 3
-        starts[done] = start + first
-        done += 1
-    return done, pos, 0
 
 
 _PROBLEMS = {
@@ -150,7 +85,7 @@ class RgbeReader(Reader):
             while done < height:
                 f.seek(pos)
                 data = np.frombuffer(f.read(SCAN_BYTES), np.uint8)
-                walked, end, status = _scan(data, 0, width, height - done, starts[done:], pos)
+                walked, end, status = scan(data, 0, width, height - done, starts[done:], pos)
                 if status:
                     raise FormatError(
                         f"corrupt pixel data in scanline {done + walked + 1} of {height}: "
