@@ -291,7 +291,6 @@ def test_small_file_decoder_finds_the_kernels_problems(tmp_path, seed):
                     assert np.array_equal(out.view(np.uint32), kernel_out.view(np.uint32))
 
 
-
 @pytest.mark.parametrize("seed", range(3))
 def test_the_parallel_decoder_gives_the_serial_kernels_bits_and_problems(tmp_path, seed):
     """A large image is decoded in parts on every thread: the same float32 bits as the serial
