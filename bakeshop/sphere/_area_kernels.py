@@ -150,10 +150,17 @@ def _band_centroid(t0: float, t1: float) -> tuple[float, float]:
     """The colatitude of the centroid of the band t0 <= theta <= t1 (weighted by sin theta:
     [sin t - t cos t] / [-cos t] over the band) and the band's cos t0 - cos t1; a texel at a
     pole holds its energy 2/3 of the way out, not halfway."""
-    band = math.cos(t0) - math.cos(t1)
+    return _band_centroid_of(t0, t1, math.sin(t0), math.cos(t0), math.sin(t1), math.cos(t1))
+
+
+@_jit
+def _band_centroid_of(t0: float, t1: float, s0: float, c0: float, s1: float,
+                      c1: float) -> tuple[float, float]:  # fmt: skip
+    """:func:`_band_centroid` from the sines (s) and cosines (c) of t0 and t1."""
+    band = c0 - c1
     if not band > 1e-300:
         return 0.5 * (t0 + t1), 0.0
-    moment = math.sin(t1) - math.sin(t0) - (t1 * math.cos(t1) - t0 * math.cos(t0))
+    moment = s1 - s0 - (t1 * c1 - t0 * c0)
     return moment / band, band
 
 
@@ -346,16 +353,28 @@ def splat_exceptions(skind: int, sh: int, sw: int, omega: ndarray, dkind: int, d
         nx, ny = parts[p, 0], parts[p, 1]
         o = offsets[k]
         e = o
+        cut_latlong = skind == LATLONG and nx * ny > 1
+        if cut_latlong:
+            # the parts' edges are equally spaced in longitude (dp apart, centres at odd
+            # multiples) and colatitude (dt): their sines and cosines are stepped from the
+            # texel's corner by the angle-sum identities, one sine and cosine per texel and
+            # step, one per row of parts for its centroid
+            dt, dp = math.pi / (sh * ny), math.pi / (sw * nx)
+            sdt, cdt = math.sin(dt), math.cos(dt)
+            sht, cht = math.sin(dt / 2), math.cos(dt / 2)
+            sdp, cdp = math.sin(dp), math.cos(dp)
+            s1, c1 = trig[2, 2 * j], trig[3, 2 * j]
         for b in range(ny):
-            if skind == LATLONG:
-                # the parts' directions from one sine and cosine per row and column (as
-                # ``direction`` computes them)
+            if cut_latlong:
                 # each part centred on its centroid, with its exact solid angle
-                theta, band = _band_centroid(math.pi * (j + b / ny) / sh,
-                                             math.pi * (j + (b + 1) / ny) / sh)  # fmt: skip
+                s0, c0 = s1, c1
+                s1, c1 = s0 * cdt + c0 * sdt, c0 * cdt - s0 * sdt
+                theta, band = _band_centroid_of(math.pi * (j + b / ny) / sh,
+                                                math.pi * (j + (b + 1) / ny) / sh, s0, c0, s1,
+                                                c1)  # fmt: skip
                 st, ct = math.sin(theta), math.cos(theta)
-                theta += math.pi / ny / 2 / sh
-                st2, ct2 = math.sin(theta), math.cos(theta)
+                st2, ct2 = st * cht + ct * sht, ct * cht - st * sht
+                se, ce = trig[0, 2 * i], trig[1, 2 * i]  # the texel's left edge
             for a in range(nx):
                 if nx * ny == 1:
                     df, cx, cy, hx, hy, _, _, _ = _footprint(
@@ -363,11 +382,10 @@ def splat_exceptions(skind: int, sh: int, sw: int, omega: ndarray, dkind: int, d
                     )
                     om = 1.0
                 elif skind == LATLONG:
-                    u = i + (a + 0.5) / nx
-                    phi = 2 * math.pi * (u / sw - 0.5)
-                    sp, cp = math.sin(phi), math.cos(phi)
-                    phi = 2 * math.pi * ((u + 1 / nx / 2) / sw - 0.5)
-                    sp2, cp2 = math.sin(phi), math.cos(phi)
+                    # the part's centre and the midpoint of its right edge
+                    sp, cp = se * cdp + ce * sdp, ce * cdp - se * sdp
+                    sp2, cp2 = sp * cdp + cp * sdp, cp * cdp - sp * sdp
+                    se, ce = sp2, cp2
                     x, y, z = _latlong_unit(sp, cp, st, ct)
                     ax, ay, az = _latlong_unit(sp2, cp2, st, ct)
                     bx, by, bz = _latlong_unit(sp, cp, st2, ct2)
