@@ -29,6 +29,9 @@ area-averaged to 64x32 for "64"):
 - ``faces-4k``: the latlong as six 1024x1024 faces. bakeshop ``remap --to faces``; cmgen
   ``--extract``; cmft ``--filter none`` (its faces against bakeshop's, fidelity: cmft reads a
   latlong mirrored, +Z forward).
+- ``area-4k``: the same faces through the area filter (``--filter area``: an energy-preserving
+  average; neither peer has one), cold (the first run at these sizes builds the filter's
+  matrix) and warm (it is read from the user cache);
 - ``dims-64``, ``faces-64``: the same commands on a 64x32 probe (six 16^2 faces), whose work
   is nothing: what each command costs before its work (start-up, loading its kernels).
 
@@ -59,13 +62,16 @@ import peers
 ROOT = Path(__file__).resolve().parents[1]
 BAKESHOP = str(ROOT / ".venv" / "bin" / "bakeshop")
 SOURCE = ROOT / "tests" / "data" / "quarry_01_1k.hdr"
-JOBS = ["start", "dim-1k", "dim-4k", "dims-12mp", "ggx-4k", "faces-4k", "dims-64", "faces-64"]
+JOBS = ["start", "dim-1k", "dim-4k", "dims-12mp", "ggx-4k", "faces-4k", "area-4k", "dims-64",
+        "faces-64"]  # fmt: skip
 #: input name -> (width, height).
 SIZES = {"1k": (1024, 512), "4k": (4096, 2048), "12mp": (5020, 2510), "64": (64, 32)}
 #: input name -> the face edge of the ``faces`` job (a quarter of the latlong's width).
 FACES = {"4k": 1024, "64": 16}
 #: jobs repeated 3 times by default (the short ones).
 SHORT = ("start", "dim-1k", "dims-64", "faces-64")
+#: jobs without a peer (neither has an area filter): a run of these alone measures no peer.
+PEERLESS = ("start", "area-4k")
 THREADS = 2  # cmft's CPU threads: the machine's cores
 
 
@@ -157,6 +163,11 @@ def contenders(job: str, work: Path, run: peers.Peers) -> dict[str, list[str] | 
                 "--glossScale", "10", "--glossBias", "1", "--lightingModel", "phongbrdf",
                 "--edgeFixup", "none", "--output0params", "dds,rgba16f,cubemap",
             )  # fmt: skip
+    elif job.startswith("area"):
+        cmd = [BAKESHOP, "-q", "remap", str(src), str(out / "f_{face}.hdr"), "--to", "faces",
+               "--size", str(FACES[size]), "--filter", "area"]  # fmt: skip
+        found["bakeshop remap --to faces --filter area (plan cache cold)"] = ("cold", cmd)
+        found["bakeshop remap --to faces --filter area"] = cmd
     else:
         cmd = [BAKESHOP, "-q", "remap", str(src), str(out / "f_{face}.hdr"), "--to", "faces",
                "--size", str(FACES[size])]  # fmt: skip
@@ -314,7 +325,7 @@ def main() -> None:
     jobs = args.jobs or JOBS
     if set(jobs) - set(JOBS):
         parser.error(f"unknown jobs {sorted(set(jobs) - set(JOBS))}; jobs: {', '.join(JOBS)}")
-    run = peers.Peers(["cmgen", "cmft"])
+    run = peers.Peers(["cmgen", "cmft"] if set(jobs) - set(PEERLESS) else [])
     print(f"machine: {peers.machine()}; input {SOURCE.name}")
     results: dict[str, dict] = {}
     with tempfile.TemporaryDirectory() as tmp:
