@@ -137,12 +137,23 @@ def _reason(messages: list[str], error: Exception | None = None) -> str:
     return "corrupt or truncated OpenEXR file" + (f" (OpenEXR says: {detail})" if detail else "")
 
 
+def _every_core() -> None:
+    """Let OpenEXR compress and decompress chunks on every core, as OpenImageIO does: reads and
+    writes take the library's global thread pool (the bindings' ``num_threads`` does not reach
+    the writer in OpenEXR 3.5; noisy 4096x2048 half ZIP: write 0.81 -> 0.36 s, read 0.16 ->
+    0.12 s on 2 cores)."""
+    cores = os.cpu_count() or 1
+    if OpenEXR.global_thread_count() < cores:
+        OpenEXR.set_global_thread_count(cores)
+
+
 def _library(action: Callable[..., _T | None], *args: object) -> _T:
     """Return ``action(*args)`` (a call into OpenEXR); its failures become a FormatError.
 
     The bindings raise RuntimeError, ValueError, IndexError, UnicodeDecodeError ... for corrupt
     files, or print a warning and return an empty file (``action`` then returns None).
     """
+    _every_core()
     result, error = None, None
     with _library_messages() as messages:
         try:
@@ -440,9 +451,9 @@ def write(
     header = {"compression": COMPRESSIONS[compression], "type": OpenEXR.scanlineimage}
     if envmap is not None:
         header["envmap"] = ENVMAPS[envmap]
+    _every_core()
     try:
-        # chunks compressed on every core (the deflate is most of the time), as OpenImageIO does
-        OpenEXR.File(header, channels, num_threads=os.cpu_count() or 1).write(os.fspath(path))
+        OpenEXR.File(header, channels).write(os.fspath(path))
     except MemoryError:
         raise
     except Exception as e:

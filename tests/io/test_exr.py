@@ -195,6 +195,18 @@ def test_integer_and_float64_input_are_written_by_value(tmp_path):
     assert read_image(tmp_path / "d.exr").shape == (2, 2, 1)
 
 
+def test_writes_compress_on_every_core_and_openimageio_reads_them(tmp_path):
+    """The writer runs OpenEXR's global thread pool (what compresses chunks in parallel), one
+    thread a core, and the file is the same image."""
+    import os
+
+    a = np.random.default_rng(5).random((300, 200, 3)).astype(np.float32)
+    write_image(tmp_path / "a.exr", a, pixel_type="float")
+    assert OpenEXR.global_thread_count() >= (os.cpu_count() or 1)
+    got = oiio.ImageInput.open(str(tmp_path / "a.exr")).read_image("float")
+    assert np.array_equal(got, a)
+
+
 def test_bad_write_options(tmp_path):
     with pytest.raises(ArgumentError, match="compression 'lzma'"):
         write_image(tmp_path / "a.exr", np.zeros((2, 2, 3)), compression="lzma")
