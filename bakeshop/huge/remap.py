@@ -445,7 +445,7 @@ def remap(
             return resize(reader, (dw, dh), engine=engine, weighting="latlong")
         ratio = valid_texels(s.name, src_shape) / valid_texels(d.name, dst_shape)
         if ratio >= 1:  # k as the in-memory filter takes it (bakeshop.sphere.area.supersampling)
-            k = min(max(1, round(math.sqrt(ratio))), _largest_k(d.base, base_shape))
+            k = min(area.samples_per_side(ratio), _largest_k(d.base, base_shape))
             out = supersample_tiles(reader, s.name, d.base.name, base_shape, k=k, rotation=rotation,
                                     engine=engine, what=what)  # fmt: skip
             return out if d.base is d else cube_to_view(out, d.name)

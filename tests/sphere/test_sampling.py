@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from bakeshop.errors import ArgumentError
+from bakeshop.io import read_image
 from bakeshop.sphere import (
     LAYOUT_NAMES,
     cache_info,
@@ -19,6 +20,7 @@ from bakeshop.sphere import (
     rotation_matrix,
     sample,
 )
+from tests.files import DATA
 from tests.tolerances import (
     FLOAT32_WEIGHTS,
     SPHERE_AREA_ENERGY_RTOL,
@@ -600,6 +602,32 @@ def test_supersampling_is_the_area_average_of_a_brute_force_supersampling(probe,
     assert area < SPHERE_SUPERSAMPLE_VS_BRUTE_FORCE_RRMS and area < bilinear / 2.5
 
 
+@pytest.mark.parametrize("size", [256, 200])
+def test_supersampling_at_1_to_1_sizes_is_the_area_average(supersampled, size):
+    """Regression: where the output is as fine as the source (4096x2048 -> 6x1024^2 is
+    supersampled), one sample an output texel sent each bright texel's energy to the few output
+    texels that sampled it, or to the wrong ones (35 % RMS off the area average). The quarry
+    probe (its sun clipped) into faces as fine as its texels, against the brute-force
+    average of 8 x 8 nearest lookups per output texel."""
+    img = np.minimum(read_image(DATA / "quarry_01_1k.hdr")[..., :3], 50).astype(np.float32)
+    k = 8
+    lay = layout("cube")
+    dirs, _ = lay.directions(lay.shape(size * k))
+    omega = lay.solid_angles(lay.shape(size * k))
+    weighted = sample(img, "latlong", dirs, filter="nearest") * omega[..., None]
+    blocks = (6, size, k, size, k)
+    ref = (
+        weighted.reshape(blocks + (3,)).sum(axis=(2, 4))
+        / omega.reshape(blocks).sum(axis=(2, 4))[..., None]
+    )
+    out = remap(img, "latlong", "cube", size, filter="area")
+    assert np.sqrt(np.mean((out - ref) ** 2) / np.mean(ref**2)) < (
+        SPHERE_SUPERSAMPLE_VS_BRUTE_FORCE_RRMS
+    )
+    np.testing.assert_allclose(energy(out, "cube"), energy(img, "latlong"),
+                               rtol=SPHERE_AREA_ENERGY_RTOL)  # fmt: skip
+
+
 def test_supersampling_keeps_a_uniform_environment_uniform_and_rotates(probe, supersampled):
     for dst in ("cube", "angular", "octahedral"):
         out = remap(np.full((256, 512, 3), 2.5, np.float32), "latlong", dst, 16, filter="area")
@@ -629,7 +657,7 @@ def test_the_area_filter_supersamples_only_beyond_the_matrix_size():
 
     assert area.supersampling("latlong", (1024, 2048), "cube", (6, 256, 256)) == 0
     assert area.supersampling("latlong", (4096, 8192), "cube", (6, 256, 256)) == 9
-    assert area.supersampling("latlong", (4096, 8192), "cube", (6, 2048, 2048)) == 1
+    assert area.supersampling("latlong", (4096, 8192), "cube", (6, 2048, 2048)) == 3  # 1:1
     assert area.supersampling("latlong", (4096, 8192), "cube", (6, 4096, 4096)) == 0  # up
 
 
