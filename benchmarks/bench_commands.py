@@ -30,8 +30,9 @@ area-averaged to 64x32 for "64"):
   ``--extract``; cmft ``--filter none`` (its faces against bakeshop's, fidelity: cmft reads a
   latlong mirrored, +Z forward).
 - ``area-4k``: the same faces through the area filter (``--filter area``: an energy-preserving
-  average; neither peer has one), cold (the first run at these sizes builds the filter's
-  matrix) and warm (it is read from the user cache);
+  average; neither peer has one), with an empty plan cache and a filled one (a source this
+  large is supersampled with no matrix, so both should cost the same; docs/BENCHMARKS.md
+  times the sizes that build a matrix);
 - ``dims-64``, ``faces-64``: the same commands on a 64x32 probe (six 16^2 faces), whose work
   is nothing: what each command costs before its work (start-up, loading its kernels).
 

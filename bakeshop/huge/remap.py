@@ -22,7 +22,6 @@ Sources are flat layouts (latlong, angular, mirrorball, octahedral, dual-parabol
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -35,7 +34,6 @@ from bakeshop.huge.memory import blocks, plan_blocks, refuse
 from bakeshop.huge.resize import Source, as_reader, resize
 from bakeshop.io.stream import Reader
 from bakeshop.sphere import area, cube_to_view, layout, texel_strips, valid_texels
-from bakeshop.sphere.layouts import MAX_EDGE, MAX_TEXELS, Layout
 from bakeshop.sphere.reductions import box_reduce
 from bakeshop.sphere.windows import gather_taps, localise_taps, remap_part_taps, taps_window
 
@@ -377,16 +375,6 @@ def remap_tiles(
     return out.reshape(tuple(dst_shape) + (c,))
 
 
-def _largest_k(d: Layout, shape: tuple[int, ...]) -> int:
-    """The largest supersampling of an output of base layout ``d`` and ``shape`` whose grid of
-    samples is a layout's shape (:data:`bakeshop.sphere.layouts.MAX_TEXELS`, ``MAX_EDGE``): the
-    grid is never allocated, but its texels are addressed as a layout's. A 32768 x 16384 source
-    to 6 x 2048^2 faces takes 4 samples a side where the texel ratio asks 5 (16 samples a
-    texel for 21 source texels; the bright texels are still deposited exactly)."""
-    dh, dw, faces = d.grid(shape)
-    return max(1, min(math.isqrt(MAX_TEXELS // (faces * dh * dw)), MAX_EDGE // max(dh, dw)))
-
-
 def remap(
     source: Source,
     src: str,
@@ -445,7 +433,7 @@ def remap(
             return resize(reader, (dw, dh), engine=engine, weighting="latlong")
         ratio = valid_texels(s.name, src_shape) / valid_texels(d.name, dst_shape)
         if ratio >= 1:  # k as the in-memory filter takes it (bakeshop.sphere.area.supersampling)
-            k = min(area.samples_per_side(ratio), _largest_k(d.base, base_shape))
+            k = area.samples_per_side(ratio, d.base, base_shape)
             out = supersample_tiles(reader, s.name, d.base.name, base_shape, k=k, rotation=rotation,
                                     engine=engine, what=what)  # fmt: skip
             return out if d.base is d else cube_to_view(out, d.name)

@@ -99,8 +99,9 @@ def dim_pair(
     to, size, method, order, window
         As for :func:`bakeshop.light.irradiance`.
     copy : bool
-        False: the shadow probe is painted into ``image`` itself when it is a float32 array
-        (the command line's own decoded probe: a large probe is not copied).
+        False: the shadow probe is painted into the checked probe itself, which is ``image``
+        when it is a writable C-contiguous float32 or float64 array (the command line's own
+        decoded probe: a large probe is not copied), else a copy.
 
     Returns
     -------
@@ -113,7 +114,8 @@ def dim_pair(
     lit, shadow, removal = dim_pair_of(
         env, to=to, size=size, method=method, order=order, window=window
     )
-    probe = env.image.copy() if copy else env.image  # the fill is fractional: float32
+    # the fill is fractional: a float array
+    probe = env.image if not copy and env.image.flags.writeable else env.image.copy()
     if removal is not None:
         removal.paint(probe)
     return DimPair(

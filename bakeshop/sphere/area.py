@@ -32,7 +32,7 @@ from bakeshop.sphere import _gather, _maps, _plans
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere._gather import EXCEPTION
 from bakeshop.sphere.cube import FACE_BASES
-from bakeshop.sphere.layouts import Layout, layout
+from bakeshop.sphere.layouts import MAX_EDGE, MAX_TEXELS, Layout, layout
 from bakeshop.sphere.reductions import box_reduce
 from bakeshop.sphere.rotation import key_matrix
 from bakeshop.sphere.texels import (
@@ -338,14 +338,18 @@ def supersampling(
     src, dst = valid_texels(s, src_shape), valid_texels(d, dst_shape)
     if src <= AREA_MATRIX_TEXELS or src < dst:
         return 0
-    return samples_per_side(src / dst)
+    return samples_per_side(src / dst, d, dst_shape)
 
 
-def samples_per_side(ratio: float) -> int:
-    """Samples per output texel along each axis of a supersampled remap whose source has
-    ``ratio`` times the output's texels: the ratio of their texel pitches, rounded, at least
-    :data:`SUPERSAMPLE_MIN`."""
-    return max(SUPERSAMPLE_MIN, round(math.sqrt(ratio)))
+def samples_per_side(ratio: float, d: Layout, shape: tuple[int, ...]) -> int:
+    """Samples per output texel along each axis of a supersampled remap into base layout ``d``
+    and ``shape`` whose source has ``ratio`` times the output's texels: the ratio of their
+    texel pitches, rounded, at least :data:`SUPERSAMPLE_MIN`, and at most what keeps the grid
+    of samples a layout's shape (``MAX_TEXELS``, ``MAX_EDGE``: the grid is never allocated, but
+    its texels are addressed as a layout's; 2 a side for 6 x 4096^2 faces, 1 beyond)."""
+    dh, dw, faces = d.grid(shape)
+    largest = max(1, min(math.isqrt(MAX_TEXELS // (faces * dh * dw)), MAX_EDGE // max(dh, dw)))
+    return min(max(SUPERSAMPLE_MIN, round(math.sqrt(ratio))), largest)
 
 
 def fine_shape(d: Layout, dst_shape: tuple[int, ...], k: int) -> tuple[int, ...]:

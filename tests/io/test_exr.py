@@ -201,10 +201,34 @@ def test_writes_compress_on_every_core_and_openimageio_reads_them(tmp_path):
     import os
 
     a = np.random.default_rng(5).random((300, 200, 3)).astype(np.float32)
+    OpenEXR.set_global_thread_count(0)  # as a process that has not touched OpenEXR yet
     write_image(tmp_path / "a.exr", a, pixel_type="float")
-    assert OpenEXR.global_thread_count() >= (os.cpu_count() or 1)
+    assert OpenEXR.global_thread_count() >= len(os.sched_getaffinity(0))
     got = oiio.ImageInput.open(str(tmp_path / "a.exr")).read_image("float")
     assert np.array_equal(got, a)
+
+
+def test_a_forked_child_reads_and_writes_exr_after_its_parent(tmp_path):
+    """The pool's threads do not survive a fork: without stopping it around one, a forked
+    child's first EXR write waited for them forever (multiprocessing forks on Linux)."""
+    import os
+    import signal
+
+    a = np.random.default_rng(6).random((64, 48, 3)).astype(np.float32)
+    write_image(tmp_path / "parent.exr", a, pixel_type="float")  # the parent's pool runs
+    pid = os.fork()
+    if pid == 0:  # the child: done in 20 s or killed by the alarm
+        signal.alarm(20)
+        try:
+            write_image(tmp_path / "child.exr", a, pixel_type="float")
+            ok = np.array_equal(read_image(tmp_path / "child.exr"), a)
+        except BaseException:
+            ok = False
+        os._exit(0 if ok else 1)
+    _, status = os.waitpid(pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 0
+    assert np.array_equal(read_image(tmp_path / "parent.exr"), a)  # the parent's pool is back
+    assert OpenEXR.global_thread_count() >= 1
 
 
 def test_bad_write_options(tmp_path):

@@ -315,6 +315,14 @@ def test_the_parallel_decoder_gives_the_serial_kernels_bits_and_problems(tmp_pat
         assert status == _decode(candidate, offset, 1040, 1024, want, factors, False)
         if status[0] == 0:
             assert np.array_equal(got.view(np.uint32), want.view(np.uint32))
+    # into the flipped and transposed views that read() passes for other orientations
+    for base, view in (((1040, 1024), lambda a: a[::-1, ::-1]),
+                       ((1024, 1040), lambda a: a.transpose(1, 0, 2)[::-1])):  # fmt: skip
+        got, want = np.zeros((2, *base, 3), np.float32)
+        status = decode(data, offset, 1040, 1024, view(got), factors, False)
+        assert status == _decode(data, offset, 1040, 1024, view(want), factors, False)
+        assert status[0] == 0
+        assert np.array_equal(got.view(np.uint32), want.view(np.uint32))
 
 
 # --- the encoder ----------------------------------------------------------------------------------

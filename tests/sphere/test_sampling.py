@@ -658,6 +658,9 @@ def test_the_area_filter_supersamples_only_beyond_the_matrix_size():
     assert area.supersampling("latlong", (1024, 2048), "cube", (6, 256, 256)) == 0
     assert area.supersampling("latlong", (4096, 8192), "cube", (6, 256, 256)) == 9
     assert area.supersampling("latlong", (4096, 8192), "cube", (6, 2048, 2048)) == 3  # 1:1
+    # the grid of samples stays a layout's shape (2^29 texels): 2, then 1 a side
+    assert area.supersampling("latlong", (8192, 16384), "cube", (6, 4096, 4096)) == 2
+    assert area.supersampling("latlong", (16384, 32768), "cube", (6, 8192, 8192)) == 1
     assert area.supersampling("latlong", (4096, 8192), "cube", (6, 4096, 4096)) == 0  # up
 
 

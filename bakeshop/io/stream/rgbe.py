@@ -5,7 +5,7 @@ of :data:`SCAN_BYTES` (nothing decoded, nothing held but the block) and records 
 scanline starts (opening reads the header only): 8 bytes per scanline, 128 KB for a 16384-row
 image. A window then reads the bytes of its scanlines and decodes them with the in-memory
 codec's decoder (:mod:`bakeshop.io.rgbe`), so a window is bit-identical to the same texels of a
-whole read. Old- style run-length files, whose first pixel of a scanline may repeat the last one
+whole read. Old-style run-length files, whose first pixel of a scanline may repeat the last one
 of the previous scanline, decode one scanline more before the window. Files stored with
 scanlines along columns (``+X``/``-X`` first in the resolution string, rare) are refused: a
 window of rows would need every scanline.
@@ -18,6 +18,7 @@ from __future__ import annotations
 import builtins
 import functools
 import os
+import threading
 from collections.abc import Iterable
 
 import numpy as np
@@ -28,6 +29,9 @@ from bakeshop.io._files import atomic_path, check_dimensions, check_payload
 from bakeshop.io._rgbe_kernels import _decode, scan
 from bakeshop.io.stream._base import Reader
 
+#: held while a reader walks its file's scanlines (once per reader, whichever thread reads
+#: first).
+_INDEXING = threading.Lock()
 #: bytes read per step while indexing the scanlines.
 SCAN_BYTES = 1 << 24
 #: streamed images may be this large.
@@ -76,7 +80,13 @@ class RgbeReader(Reader):
     @functools.cached_property
     def starts(self) -> np.ndarray:
         """File offsets of the scanlines in file order, plus the end of the last one (the
-        file walked on the first read)."""
+        file walked on the first read; threads reading at once wait for one walk)."""
+        with _INDEXING:
+            if "starts" in self.__dict__:  # made by the thread this one waited for
+                return self.__dict__["starts"]
+            return self._walk()
+
+    def _walk(self) -> np.ndarray:
         offset, size = self._extent
         height, width, _ = self.shape
         starts = np.empty(height + 1, np.int64)
