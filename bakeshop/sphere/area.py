@@ -4,7 +4,7 @@ Every source texel deposits its solid angle into the output texels that its foot
 bounding its locally affine image) overlaps, in proportion to the overlap; where the output is
 locally finer, the source texel is first cut into parts, each depositing its own solid angle.
 The resulting matrix is built in four stages, each a function here over the kernels of
-:mod:`bakeshop.sphere._area_kernels`:
+:mod:`bakeshop.sphere._area_kernels` (balanced by :mod:`~bakeshop.sphere._matrix_kernels`):
 
 1. :func:`_splat`: the deposits of ordinary texels (a 3x3 block of output texels each) and the
    blend towards bilinear where the deposits cover too little;
@@ -29,6 +29,7 @@ import numpy as np
 from bakeshop import progress
 from bakeshop.sphere import _area_kernels as kernels
 from bakeshop.sphere import _gather, _maps, _plans
+from bakeshop.sphere import _matrix_kernels as matrix_kernels
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere._gather import EXCEPTION
 from bakeshop.sphere.cube import FACE_BASES
@@ -196,17 +197,17 @@ def _balance(indptr: np.ndarray, indices: np.ndarray, values: np.ndarray, omega_
     n = len(omega_in)
     colptr = np.zeros(n + 1, np.int64)
     transposed = (np.empty(len(indices), np.int32), np.empty(len(values), np.float32))
-    kernels.transpose(indptr, indices, values, colptr, *transposed)
+    matrix_kernels.transpose(indptr, indices, values, colptr, *transposed)
     sent = np.empty(len(omega_out))
     col = np.ones(n)
     step = np.ones(n)
     err = np.inf
     for _ in range(AREA_BALANCE_ITERATIONS):
-        kernels.balance_rows(indptr, indices, values, omega_out, col, sent)
-        err = kernels.balance_columns(colptr, *transposed, sent, omega_in, col, step)
+        matrix_kernels.balance_rows(indptr, indices, values, omega_out, col, sent)
+        err = matrix_kernels.balance_columns(colptr, *transposed, sent, omega_in, col, step)
         if err <= AREA_BALANCE_RTOL:
             break
-    kernels.scale_rows(indptr, indices, values, col)
+    matrix_kernels.scale_rows(indptr, indices, values, col)
     return err
 
 
@@ -271,7 +272,7 @@ def _build_for(
     lengths[1:][used] = np.diff(indptr)[order[used]]
     view_indptr = np.cumsum(lengths)
     view_rows = (np.empty_like(indices), np.empty_like(values))
-    kernels.reorder_rows(indptr, indices, values, order, view_indptr, *view_rows)
+    matrix_kernels.reorder_rows(indptr, indices, values, order, view_indptr, *view_rows)
     plan = (view_indptr, *view_rows)
     for a in plan:
         a.setflags(write=False)
@@ -299,7 +300,7 @@ def area_remap(
         if len(indptr) == 0:
             return None
         out = np.empty(dst_shape + (flat.shape[1],), flat.dtype)
-        kernels.area_gather(flat, indptr, indices, values, out.reshape(-1, flat.shape[1]))
+        matrix_kernels.area_gather(flat, indptr, indices, values, out.reshape(-1, flat.shape[1]))
     return out
 
 
@@ -314,10 +315,9 @@ def area_remap(
 AREA_MATRIX_TEXELS = 1 << 22
 #: the parts of a supersampled remap hold at most this many samples.
 SUPERSAMPLE_PART = 1 << 20
-#: fewest samples per output texel along each axis of a supersampled remap: with one sample
-#: an output texel (4096x2048 -> 6x1024^2), a bright texel's energy went to the few output
-#: texels whose single sample touched it (2.9-7.3 % RMS off the area average of a real probe
-#: at 1:1 sizes, against 1.2-1.4 % with 3 a side; tests/sphere/test_sampling.py).
+#: fewest samples per output texel along each axis of a supersampled remap: with one, a bright
+#: texel's energy goes to the few output texels that sample it (2.9-7.3 % RMS off the area
+#: average at 1:1 sizes, 1.2-1.4 % with 3; tests/sphere/test_sampling.py).
 SUPERSAMPLE_MIN = 3
 #: a supersampled remap deposits the energy of its source's bright texels exactly: those whose
 #: brightest channel exceeds BRIGHT_RATIO times the mean (solid-angle weighted), at most
@@ -342,11 +342,9 @@ def supersampling(
 
 
 def samples_per_side(ratio: float, d: Layout, shape: tuple[int, ...]) -> int:
-    """Samples per output texel along each axis of a supersampled remap into base layout ``d``
-    and ``shape`` whose source has ``ratio`` times the output's texels: the ratio of their
-    texel pitches, rounded, at least :data:`SUPERSAMPLE_MIN`, and at most what keeps the grid
-    of samples a layout's shape (``MAX_TEXELS``, ``MAX_EDGE``: the grid is never allocated, but
-    its texels are addressed as a layout's; 2 a side for 6 x 4096^2 faces, 1 beyond)."""
+    """Samples a side per output texel of ``d``, ``shape``, from a source of ``ratio`` times its
+    texels: their pitches' ratio, rounded, at least :data:`SUPERSAMPLE_MIN`, at most what keeps
+    the (never allocated) grid of samples a layout's shape (2 for 6 x 4096^2 faces, 1 beyond)."""
     dh, dw, faces = d.grid(shape)
     largest = max(1, min(math.isqrt(MAX_TEXELS // (faces * dh * dw)), MAX_EDGE // max(dh, dw)))
     return min(max(SUPERSAMPLE_MIN, round(math.sqrt(ratio))), largest)
