@@ -1,5 +1,5 @@
 """The numba kernels of the Radiance codec (:mod:`bakeshop.io.rgbe`): the scanline decoder for
-large files (in parts on every thread), the scanline walk of the window reader
+large files (and its parts on every thread), the scanline walk of the window reader
 (:mod:`bakeshop.io.stream.rgbe`) and the encoder. Imported when they are needed, so that reading
 a small file (which :mod:`bakeshop.io.rgbe` decodes with numpy) does not load numba."""
 
@@ -191,39 +191,6 @@ def scan(
         starts[done] = start + first
         done += 1
     return done, pos, 0
-
-
-#: images of at least this many pixels whose scanlines are new-style are decoded in parts on
-#: every thread (:func:`decode`).
-_PARALLEL_PIXELS = 1 << 20
-
-
-def decode(
-    data: np.ndarray,
-    pos: int,
-    nscan: int,
-    scanlen: int,
-    out: np.ndarray,
-    factors: np.ndarray,
-    dry: bool,
-) -> tuple[int, int, int]:
-    """:func:`_decode`, in parts on every thread for a large image: the scanlines are located
-    first (:func:`scan`, packet headers only: 4 ms for 12.6 MP), and each part starts at a
-    new-style scanline, which never refers to the one before. Anything else (a dry pass, a
-    small image, old-style or faulty scanlines) is decoded serially, the serial kernel
-    reporting what is wrong."""
-    parts = numba.get_num_threads()
-    if dry or parts < 2 or nscan * scanlen < _PARALLEL_PIXELS or nscan < 2 * parts:
-        return _decode(data, pos, nscan, scanlen, out, factors, dry)
-    starts = np.empty(nscan + 1, np.int64)
-    walked, end, status = scan(data, pos, scanlen, nscan, starts, 0)
-    bounds = np.linspace(0, nscan, parts + 1).astype(np.int64)
-    first = starts[bounds[:-1]]
-    if walked < nscan or status or not all(data[p] == 2 == data[p + 1] for p in first):
-        return _decode(data, pos, nscan, scanlen, out, factors, dry)
-    if not _decode_parts(data, first, bounds, scanlen, out, factors):
-        return _decode(data, pos, nscan, scanlen, out, factors, dry)
-    return _OK, nscan, end
 
 
 @numba.njit(cache=True, nogil=True, parallel=True)

@@ -331,9 +331,7 @@ def supersampling(
     s: Layout | str, src_shape: tuple[int, ...], d: Layout | str, dst_shape: tuple[int, ...]
 ) -> int:
     """Samples per output texel along each axis when the area filter supersamples a remap
-    (:data:`AREA_MATRIX_TEXELS`), else 0: the ratio of the output's texel pitch to the
-    source's, rounded, and at least :data:`SUPERSAMPLE_MIN` (near 1:1 sizes, fewer samples let
-    a bright texel's exact deposit land on the few output texels that happen to sample it)."""
+    (:data:`AREA_MATRIX_TEXELS`; :func:`samples_per_side`), else 0."""
     s, d = layout(s), layout(d)
     src, dst = valid_texels(s, src_shape), valid_texels(d, dst_shape)
     if src <= AREA_MATRIX_TEXELS or src < dst:
@@ -538,7 +536,7 @@ def bright_deposits(
     # pitch apart (at most 0.99 source texels), so that none is skipped where the output's
     # texels are locally as small as the source's (near 1:1 sizes, a face's corners)
     pitch = math.sqrt(valid_texels(s, src_shape) / valid_texels(d, dst_shape))
-    steps = max(2, math.ceil(2 * 0.99 / min(0.99, pitch / 4)))
+    steps = max(2, math.ceil(2 * 0.99 / (pitch / 4)))
     cols, rows = np.meshgrid(
         np.linspace(-0.99, 0.99, steps + 1), np.linspace(-0.99, 0.99, steps + 1)
     )

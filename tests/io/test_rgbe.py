@@ -295,7 +295,7 @@ def test_small_file_decoder_finds_the_kernels_problems(tmp_path, seed):
 def test_the_parallel_decoder_gives_the_serial_kernels_bits_and_problems(tmp_path, seed):
     """A large image is decoded in parts on every thread: the same float32 bits as the serial
     kernel, and the same (status, scanline, position) for files mutated or cut anywhere."""
-    from bakeshop.io._rgbe_kernels import _decode, decode
+    from bakeshop.io._rgbe_kernels import _decode
 
     rng = np.random.default_rng(seed)
     image = np.exp(rng.normal(0, 3, (1040, 1024, 3))).astype(np.float32)
@@ -311,7 +311,7 @@ def test_the_parallel_decoder_gives_the_serial_kernels_bits_and_problems(tmp_pat
         candidates += [mutated, data[:k]]
     for candidate in candidates:
         got, want = np.zeros((2, 1040, 1024, 3), np.float32)
-        status = decode(candidate, offset, 1040, 1024, got, factors, False)
+        status = rgbe._decode(candidate, offset, 1040, 1024, got, factors, False)
         assert status == _decode(candidate, offset, 1040, 1024, want, factors, False)
         if status[0] == 0:
             assert np.array_equal(got.view(np.uint32), want.view(np.uint32))
@@ -319,7 +319,7 @@ def test_the_parallel_decoder_gives_the_serial_kernels_bits_and_problems(tmp_pat
     for base, view in (((1040, 1024), lambda a: a[::-1, ::-1]),
                        ((1024, 1040), lambda a: a.transpose(1, 0, 2)[::-1])):  # fmt: skip
         got, want = np.zeros((2, *base, 3), np.float32)
-        status = decode(data, offset, 1040, 1024, view(got), factors, False)
+        status = rgbe._decode(data, offset, 1040, 1024, view(got), factors, False)
         assert status == _decode(data, offset, 1040, 1024, view(want), factors, False)
         assert status[0] == 0
         assert np.array_equal(got.view(np.uint32), want.view(np.uint32))
