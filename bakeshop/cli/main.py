@@ -19,6 +19,7 @@ import click
 
 from bakeshop import __version__, progress
 from bakeshop.cli._process import ByteSize, record_command_writes, run
+from bakeshop.cli._startup import skip_blas_probe
 
 #: command name -> (its module, the start of its help as ``--help`` lists it), in the order
 #: ``--help`` shows them. A command's module is imported only when that command runs or shows
@@ -198,6 +199,7 @@ def cli(quiet: bool, max_decoded: int | None) -> None:
     from bakeshop.sphere import persist_caches
 
     record_command_writes(click.get_current_context())
+    skip_blas_probe()  # 0.2 s of a small command's start-up
     # what depends only on shapes (area-filter matrices) is built once per user, not per run
     persist_caches(user_store())
     if not quiet:

@@ -177,3 +177,51 @@ def test_an_openexr_read_with_stderr_closed(tmp_path):
     command = f"{sys.executable} -m bakeshop.cli.main info probe.exr 2>&- >/dev/null"
     done = subprocess.run(["sh", "-c", command], cwd=tmp_path, capture_output=True, text=True)
     assert done.returncode == 0
+
+
+#: in a fresh interpreter: a command that runs kernels, then what numba's BLAS probe found,
+#: whether scipy.linalg was imported, and then a compiled np.dot of 2-D floats against numpy's.
+BLAS_PROBE = """
+import json, sys
+import numpy as np
+from bakeshop.cli.main import main
+status = main(sys.argv[1:])
+import numba
+from numba.np import arraymath
+found = {"status": status, "probe": arraymath._HAVE_BLAS, "linalg": "scipy.linalg" in sys.modules}
+a = np.arange(12.0).reshape(3, 4)
+found["dot"] = bool(np.allclose(numba.njit(lambda x, y: np.dot(x, y))(a, a.T), a @ a.T))
+import scipy.linalg
+found["linalg_after"] = bool(np.allclose(scipy.linalg.inv(np.eye(2) * 2), np.eye(2) / 2))
+print(json.dumps(found))
+"""
+
+
+def test_a_command_skips_numbas_blas_probe_and_blas_still_works(tmp_path):
+    """A command's first kernel loads numba's target without numba importing scipy.linalg to
+    probe for a BLAS (0.2 s of start-up); BLAS is found all the same by compiled ``np.dot``,
+    and scipy.linalg imports afterwards."""
+    import numpy as np
+
+    from bakeshop.io import write_image
+
+    write_image(tmp_path / "probe.hdr", np.ones((32, 64, 3), np.float32))
+    args = ["-q", "irradiance", str(tmp_path / "probe.hdr"), str(tmp_path / "dim.pfm")]
+    out = subprocess.run([sys.executable, "-c", BLAS_PROBE, *args], check=True,
+                         capture_output=True, text=True).stdout  # fmt: skip
+    found = json.loads(out.strip().splitlines()[-1])
+    assert found == {"status": 0, "probe": False, "linalg": False, "dot": True,
+                     "linalg_after": True}  # fmt: skip
+    assert (tmp_path / "dim.pfm").exists()
+
+
+def test_the_blas_probe_is_left_alone_once_numba_is_loaded():
+    """In a process whose numba target is already loaded (a library user's), the command line
+    adds no import hook."""
+    import numba.np.arraymath  # noqa: F401
+
+    from bakeshop.cli import _startup
+
+    before = list(sys.meta_path)
+    _startup.skip_blas_probe()
+    assert sys.meta_path == before
