@@ -13,6 +13,7 @@ from bakeshop.sphere._maps import (
     LATLONG,
     coordinates,
     direction,
+    face_row,
     is_cubic,
     is_disk,
     latlong_trig,
@@ -153,8 +154,13 @@ def plan(
         xs, ys, zs = np.empty(dw), np.empty(dw), np.empty(dw)
         us, vs = np.empty(dw), np.empty(dw)
         sf = np.zeros(dw, np.int64)
-        for i in range(dw):
-            xs[i], ys[i], zs[i] = _plan_direction(dkind, dh, dw, f, i, j, rot, trig)
+        if is_cubic(dkind):
+            face_row(dkind, dw, f, j, xs, ys, zs)
+            for i in range(dw):
+                xs[i], ys[i], zs[i] = rotate(rot, xs[i], ys[i], zs[i])
+        else:
+            for i in range(dw):
+                xs[i], ys[i], zs[i] = _plan_direction(dkind, dh, dw, f, i, j, rot, trig)
         if skind == LATLONG:
             _latlong_row(sh, sw, xs, ys, zs, us, vs)
         else:

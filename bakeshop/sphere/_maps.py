@@ -173,16 +173,8 @@ def direction(
         cl = math.cos(lat)
         return math.sin(lon) * cl, math.sin(lat), math.cos(lon) * cl
     if is_cubic(kind):
-        n = _cube_scale(kind, w)
-        o = _cube_offset(kind)
-        sc = 2 * (x - o) / n - 1
-        tc = 2 * (y - o) / n - 1
-        fi = min(max(int(f), 0), 5)
-        bases = _BASES if kind == CUBE else _EXR_BASES
-        dx = bases[fi, 0, 0] + sc * bases[fi, 1, 0] + tc * bases[fi, 2, 0]
-        dy = bases[fi, 0, 1] + sc * bases[fi, 1, 1] + tc * bases[fi, 2, 1]
-        dz = bases[fi, 0, 2] + sc * bases[fi, 1, 2] + tc * bases[fi, 2, 2]
-    elif kind == OCTAHEDRAL:
+        return _face_direction(kind, w, min(max(int(f), 0), 5), x, y)
+    if kind == OCTAHEDRAL:
         dx, dy, dz = _octahedron_point(2 * x / w - 1, 2 * y / h - 1)
     else:
         n = h
@@ -197,6 +189,32 @@ def direction(
         dx, dy, dz = _disk_direction(kind, a, b, disk)
     norm = math.sqrt(dx * dx + dy * dy + dz * dz)
     return dx / norm, dy / norm, dz / norm
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _face_direction(kind: int, w: int, fi: int, x: float, y: float) -> tuple[float, float, float]:
+    """``direction`` at (fi, x, y) of a cube of face edge ``w``: N + sc U + tc V, normalised."""
+    n = _cube_scale(kind, w)
+    o = _cube_offset(kind)
+    sc = 2 * (x - o) / n - 1
+    tc = 2 * (y - o) / n - 1
+    bases = _BASES if kind == CUBE else _EXR_BASES
+    dx = bases[fi, 0, 0] + sc * bases[fi, 1, 0] + tc * bases[fi, 2, 0]
+    dy = bases[fi, 0, 1] + sc * bases[fi, 1, 1] + tc * bases[fi, 2, 1]
+    dz = bases[fi, 0, 2] + sc * bases[fi, 1, 2] + tc * bases[fi, 2, 2]
+    norm = math.sqrt(dx * dx + dy * dy + dz * dz)
+    return dx / norm, dy / norm, dz / norm
+
+
+@_jit
+def face_row(
+    kind: int, w: int, f: int, j: int, xs: np.ndarray, ys: np.ndarray, zs: np.ndarray
+) -> None:
+    """``direction`` at the centres (i + 0.5, j + 0.5) of cube face f's row j, i < len(xs):
+    the same arithmetic as one loop that vectorises (a call per texel does not: 6x faster)."""
+    fi = min(max(f, 0), 5)
+    for i in range(xs.shape[0]):
+        xs[i], ys[i], zs[i] = _face_direction(kind, w, fi, i + 0.5, j + 0.5)
 
 
 # --- coordinates of directions ------------------------------------------------------------------

@@ -413,9 +413,13 @@ def _row_directions(  # pragma: no cover - compiled
     kind: int, h: int, w: int, r0: int, r1: int, trig: np.ndarray, out: np.ndarray
 ) -> None:
     for r in numba.prange(r1 - r0):
+        row = out[r * w : (r + 1) * w]
+        if _maps.is_cubic(kind):
+            f = (r0 + r) // h
+            _maps.face_row(kind, w, f, r0 + r - f * h, row[:, 0], row[:, 1], row[:, 2])
+            continue
         for i in range(w):
-            p = r * w + i
-            out[p, 0], out[p, 1], out[p, 2] = _texel_direction(kind, h, w, r0 + r, i, trig)
+            row[i, 0], row[i, 1], row[i, 2] = _texel_direction(kind, h, w, r0 + r, i, trig)
 
 
 @numba.njit(parallel=True, cache=True)
