@@ -18,14 +18,17 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
-import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.resources import Cost, require
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 #: bytes of the sparse weights per entry (float64 value, int32 index) and per row (int32).
 _WEIGHT_BYTES = 12
@@ -44,6 +47,8 @@ def area_weights(n_in: int, n_out: int) -> sp.csr_matrix:
     so every row sums to 1 and every column to ``n_out / n_in``. Exact in rational arithmetic:
     positions are scaled by ``n_out`` so that both grids are integers.
     """
+    import scipy.sparse as sp  # 0.08 s to import: paid by the commands that build weights
+
     # In units of 1/n_out input texels: input texel k spans [k*n_out, (k+1)*n_out),
     # output texel i spans [i*n_in, (i+1)*n_in).
     i = np.arange(n_out)

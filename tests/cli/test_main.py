@@ -225,3 +225,21 @@ def test_the_blas_probe_is_left_alone_once_numba_is_loaded():
     before = list(sys.meta_path)
     _startup.skip_blas_probe()
     assert sys.meta_path == before
+
+
+def test_a_bilinear_remap_loads_no_sparse_matrices(tmp_path):
+    """scipy.sparse (0.08 s) is imported by the filters that build sparse weights (the area
+    filter's exact reductions, resize), not by every command that could reach them."""
+    import numpy as np
+
+    from bakeshop.io import write_image
+
+    write_image(tmp_path / "probe.hdr", np.ones((32, 64, 3), np.float32))
+    probe = "import sys\nfrom bakeshop.cli.main import main\nmain(sys.argv[1:])\n"
+    probe += "print('scipy.sparse' in sys.modules)"
+    args = ["-q", "remap", str(tmp_path / "probe.hdr"), str(tmp_path / "f_{face}.hdr"), "--to",
+            "faces"]  # fmt: skip
+    out = subprocess.run([sys.executable, "-c", probe, *args], check=True, capture_output=True,
+                         text=True).stdout  # fmt: skip
+    assert out.strip().splitlines()[-1] == "False"
+    assert len(list(tmp_path.glob("f_*.hdr"))) == 6
