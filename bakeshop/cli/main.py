@@ -19,7 +19,6 @@ import click
 
 from bakeshop import __version__, progress
 from bakeshop.cli._process import ByteSize, record_command_writes, run
-from bakeshop.cli._startup import skip_blas_probe
 
 #: command name -> (its module, the start of its help as ``--help`` lists it), in the order
 #: ``--help`` shows them. A command's module is imported only when that command runs or shows
@@ -195,6 +194,7 @@ def cli(quiet: bool, max_decoded: int | None) -> None:
       bakeshop info probe.hdr
       bakeshop --max-decoded 8G convert flat_16k_mask.png mask.exr
     """
+    from bakeshop.cli._startup import skip_blas_probe
     from bakeshop.io import user_store
     from bakeshop.sphere import persist_caches
 
