@@ -1,7 +1,7 @@
-"""The area filter's kernels that build its matrix: source texels' footprints in the
-destination, their deposits (box overlaps), the transposed rows and the bilinear fill-in (see
-:mod:`bakeshop.sphere.area`, which drives them; :mod:`bakeshop.sphere._matrix_kernels` balances
-and applies the matrix)."""
+"""The area filter's geometry: source texels' footprints in the destination, their deposits
+(box overlaps, of the whole texel or of its parts) and the blend towards bilinear (see
+:mod:`bakeshop.sphere.area`, which drives them; :mod:`bakeshop.sphere._matrix_kernels` makes
+the deposits a matrix, balances and applies it)."""
 
 from __future__ import annotations
 
@@ -37,22 +37,31 @@ AREA_SPLAT_RATIO = 1.5
 AREA_COVERAGE = 0.75
 #: most parts a source texel is cut into along each of its axes by the area filter.
 AREA_MAX_PARTS = 2048
+#: a texel cut into at most this many parts along each axis, whose image lies in one image (or
+#: face) within a window of at most AREA_WINDOW x AREA_WINDOW destination texels, is deposited
+#: through its affine image (:func:`_window_taps`).
+AREA_AFFINE_PARTS = 4
+AREA_WINDOW = 8
 
 _BASES = np.ascontiguousarray(FACE_BASES)
 _EXR_BASES = np.ascontiguousarray(OPENEXR_FACE_BASES)
 _jit = numba.njit(cache=True, error_model="numpy")
 
 
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _overlap(c: float, half: float, q: int) -> float:
+    """The overlap of [c - half, c + half] with texel q ([q, q + 1]) as a fraction of its
+    length (texel q spans [q, q + 1]); for a point (half ~ 0), 1 for the texel holding it."""
+    if half < 1e-9:
+        return 1.0 if q <= c < q + 1 else 0.0
+    return max(0.0, min(q + 1, c + half) - max(q, c - half)) / (2 * half)
+
+
 @_jit
 def _box_weights(c: float, half: float, lo: int, out: ndarray) -> None:
-    """Overlaps of [c - half, c + half] with texels lo..lo+2 (texel q spans [q, q + 1]) as
-    fractions of its length; for a point (half ~ 0), 1 for the texel containing it."""
+    """:func:`_overlap` with texels lo..lo+2."""
     for k in range(3):
-        a, b = lo + k, lo + k + 1
-        if half < 1e-9:
-            out[k] = 1.0 if a <= c < b else 0.0
-        else:
-            out[k] = max(0.0, min(b, c + half) - max(a, c - half)) / (2 * half)
+        out[k] = _overlap(c, half, lo + k)
 
 
 @_jit
@@ -166,18 +175,28 @@ def _band_centroid_of(t0: float, t1: float, s0: float, c0: float, s1: float,
 
 
 @_jit
+def _affine_image(skind: int, sh: int, sw: int, f: float, i: int, j: int, trig: ndarray,
+                  rot: ndarray, dkind: int, dh: int,
+                  dw: int) -> tuple[float, float, float, float, float, float, float]:  # fmt: skip
+    """Source texel (f, i, j)'s locally affine image in destination coordinates: the face and
+    centre (cx, cy) of its centre's image and the images (ex0, ex1), (ey0, ey1) of its two
+    axes (twice the images of the centre-to-edge-midpoint steps)."""
+    x, y, z = _source_direction(skind, sh, sw, f, 2 * i + 1, 2 * j + 1, trig)
+    x, y, z = rotate(rot.T, x, y, z)
+    df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
+    b0, b1 = _image(skind, sh, sw, f, 2 * i + 2, 2 * j + 1, trig, rot, dkind, dh, dw, df, cx, cy)
+    d0, d1 = _image(skind, sh, sw, f, 2 * i + 1, 2 * j + 2, trig, rot, dkind, dh, dw, df, cx, cy)
+    return df, cx, cy, 2 * (b0 - cx), 2 * (b1 - cy), 2 * (d0 - cx), 2 * (d1 - cy)
+
+
+@_jit
 def _footprint(skind: int, sh: int, sw: int, f: float, i: int, j: int, trig: ndarray, rot: ndarray,
                dkind: int, dh: int,
                dw: int) -> tuple[float, float, float, float, float, float, int, int]:  # fmt: skip
     """Source texel (f, i, j) in destination coordinates: (face, centre x, centre y, half
     widths of the box bounding its locally affine image (at most 1/2), its narrower width)."""
-    x, y, z = _source_direction(skind, sh, sw, f, 2 * i + 1, 2 * j + 1, trig)
-    x, y, z = rotate(rot.T, x, y, z)
-    df, cx, cy = coordinates(dkind, dh, dw, x, y, z)
-    # the footprint: twice the images of the centre-to-edge-midpoint steps
-    b0, b1 = _image(skind, sh, sw, f, 2 * i + 2, 2 * j + 1, trig, rot, dkind, dh, dw, df, cx, cy)
-    d0, d1 = _image(skind, sh, sw, f, 2 * i + 1, 2 * j + 2, trig, rot, dkind, dh, dw, df, cx, cy)
-    ex0, ex1, ey0, ey1 = 2 * (b0 - cx), 2 * (b1 - cy), 2 * (d0 - cx), 2 * (d1 - cy)
+    df, cx, cy, ex0, ex1, ey0, ey1 = _affine_image(skind, sh, sw, f, i, j, trig, rot, dkind, dh,
+                                                   dw)  # fmt: skip
     if skind == LATLONG:
         # centred on the texel's centroid
         theta, _ = _band_centroid(math.pi * j / sh, math.pi * (j + 1) / sh)
@@ -343,76 +362,150 @@ def splat_exceptions(skind: int, sh: int, sw: int, omega: ndarray, dkind: int, d
     corner, left out); a texel cut into nx x ny parts (``parts``) deposits each part's solid
     angle into the texels the part's box overlaps (within the 3 x 3 around its centre), so
     that a texel wider than the destination's texels is shared among all the texels it
-    overlaps. Repeated taps are merged, in increasing order."""
+    overlaps: through its affine image where it is cut into few parts away from seams
+    (:func:`_window_taps`), else part by part (:func:`_part_taps`). Taps in increasing order."""
     trig = _half_texel_trig(sh, sw)
     for k in numba.prange(where.shape[0]):
-        wx = np.empty(3)
-        wy = np.empty(3)
         p = where[k]
         f, r = divmod(p, sh * sw)
         j, i = divmod(r, sw)
         nx, ny = parts[p, 0], parts[p, 1]
-        o = offsets[k]
-        e = o
-        cut_latlong = skind == LATLONG and nx * ny > 1
+        n = -1
+        if 1 < nx * ny and nx <= AREA_AFFINE_PARTS and ny <= AREA_AFFINE_PARTS:
+            n = _window_taps(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw, nx, ny, omega[p],
+                             offsets[k], taps, weights)  # fmt: skip
+        if n < 0:
+            n = _part_taps(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw, nx, ny, omega[p],
+                           offsets[k], taps, weights)  # fmt: skip
+        counts[k] = n
+
+
+@_jit
+def _window_taps(skind: int, sh: int, sw: int, f: int, i: int, j: int, trig: ndarray,
+                 rot: ndarray, dkind: int, dh: int, dw: int, nx: int, ny: int, om: float, o: int,
+                 taps: ndarray, weights: ndarray) -> int:  # fmt: skip
+    """Source texel (f, i, j)'s merged taps at ``o`` onwards through its affine image: its
+    centre c and the images ex, ey of its axes (one projection each), part (a, b)'s centre
+    c + ((a + 1/2) / nx - 1/2) ex + ((b + 1/2) / ny - 1/2) ey, its box |ex| / nx + |ey| / ny
+    wide, its weight its share of the texel's solid angle (a latlong's band, else equal),
+    deposited by box overlaps into a dense window of destination texels whose nonzero texels
+    are the taps, in increasing order with no sorting. -1 where it does not apply: a window
+    crossing a seam or larger than AREA_WINDOW or than the 4 nx ny entries of room, a latlong
+    source's two rows at each pole (wedges, not parallelograms)."""
+    if skind == LATLONG and (j < 2 or j > sh - 3):
+        return -1
+    df, cx, cy, ex0, ex1, ey0, ey1 = _affine_image(skind, sh, sw, f, i, j, trig, rot, dkind, dh,
+                                                   dw)  # fmt: skip
+    rx, ry = 0.5 * (abs(ex0) + abs(ey0)), 0.5 * (abs(ex1) + abs(ey1))
+    if not (rx < AREA_WINDOW and ry < AREA_WINDOW):  # NaN too
+        return -1
+    x0, y0 = int(math.floor(cx - rx)), int(math.floor(cy - ry))
+    wx, wy = int(math.floor(cx + rx)) - x0 + 1, int(math.floor(cy + ry)) - y0 + 1
+    if max(wx, wy) > AREA_WINDOW or wx * wy > 4 * nx * ny:
+        return -1
+    base = block(dkind, dh, dw, df, x0, y0, max(wx, wy))
+    if base < 0:
+        return -1
+    window = np.zeros((wy, wx))
+    col = np.empty(wx)
+    hx, hy = 0.5 * (abs(ex0) / nx + abs(ey0) / ny), 0.5 * (abs(ex1) / nx + abs(ey1) / ny)
+    for b in range(ny):
+        share = 1.0
+        if skind == LATLONG:
+            share = math.cos(math.pi * (j + b / ny) / sh) - math.cos(
+                math.pi * (j + (b + 1) / ny) / sh
+            )
+        fb = (b + 0.5) / ny - 0.5
+        for a in range(nx):
+            fa = (a + 0.5) / nx - 0.5
+            px, py = cx + fa * ex0 + fb * ey0, cy + fa * ex1 + fb * ey1
+            for c in range(wx):
+                col[c] = _overlap(px, hx, x0 + c)
+            for r in range(wy):
+                wr = share * _overlap(py, hy, y0 + r)
+                if wr > 0:
+                    for c in range(wx):
+                        window[r, c] += wr * col[c]
+    total = window.sum()
+    n = 0
+    for r in range(wy):
+        for c in range(wx):
+            if window[r, c] > 0:
+                taps[o + n] = base + r * dw + c
+                weights[o + n] = om * window[r, c] / total
+                n += 1
+    return n
+
+
+@_jit
+def _part_taps(skind: int, sh: int, sw: int, f: int, i: int, j: int, trig: ndarray, rot: ndarray,
+               dkind: int, dh: int, dw: int, nx: int, ny: int, om_texel: float, o: int,
+               taps: ndarray, weights: ndarray) -> int:  # fmt: skip
+    """Source texel (f, i, j)'s merged taps at ``o`` onwards, part by part: each part projected
+    (a latlong's parts centred on their centroids, with their exact solid angles) and deposited
+    into the 3 x 3 destination texels around it, across seams."""
+    wx = np.empty(3)
+    wy = np.empty(3)
+    e = o
+    cut_latlong = skind == LATLONG and nx * ny > 1
+    if cut_latlong:
+        # the parts' edges are equally spaced in longitude (dp apart, centres at odd
+        # multiples) and colatitude (dt): their sines and cosines are stepped from the
+        # texel's corner by the angle-sum identities, one sine and cosine per texel and
+        # step, one per row of parts for its centroid
+        dt, dp = math.pi / (sh * ny), math.pi / (sw * nx)
+        sdt, cdt = math.sin(dt), math.cos(dt)
+        sht, cht = math.sin(dt / 2), math.cos(dt / 2)
+        sdp, cdp = math.sin(dp), math.cos(dp)
+        s1, c1 = trig[2, 2 * j], trig[3, 2 * j]
+    for b in range(ny):
         if cut_latlong:
-            # the parts' edges are equally spaced in longitude (dp apart, centres at odd
-            # multiples) and colatitude (dt): their sines and cosines are stepped from the
-            # texel's corner by the angle-sum identities, one sine and cosine per texel and
-            # step, one per row of parts for its centroid
-            dt, dp = math.pi / (sh * ny), math.pi / (sw * nx)
-            sdt, cdt = math.sin(dt), math.cos(dt)
-            sht, cht = math.sin(dt / 2), math.cos(dt / 2)
-            sdp, cdp = math.sin(dp), math.cos(dp)
-            s1, c1 = trig[2, 2 * j], trig[3, 2 * j]
-        for b in range(ny):
-            if cut_latlong:
-                # each part centred on its centroid, with its exact solid angle
-                s0, c0 = s1, c1
-                s1, c1 = s0 * cdt + c0 * sdt, c0 * cdt - s0 * sdt
-                theta, band = _band_centroid_of(math.pi * (j + b / ny) / sh,
-                                                math.pi * (j + (b + 1) / ny) / sh, s0, c0, s1,
-                                                c1)  # fmt: skip
-                st, ct = math.sin(theta), math.cos(theta)
-                st2, ct2 = st * cht + ct * sht, ct * cht - st * sht
-                se, ce = trig[0, 2 * i], trig[1, 2 * i]  # the texel's left edge
-            for a in range(nx):
-                if nx * ny == 1:
-                    df, cx, cy, hx, hy, _, _, _ = _footprint(
-                        skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw
-                    )
-                    om = 1.0
-                elif skind == LATLONG:
-                    # the part's centre and the midpoint of its right edge
-                    sp, cp = se * cdp + ce * sdp, ce * cdp - se * sdp
-                    sp2, cp2 = sp * cdp + cp * sdp, cp * cdp - sp * sdp
-                    se, ce = sp2, cp2
-                    x, y, z = _latlong_unit(sp, cp, st, ct)
-                    ax, ay, az = _latlong_unit(sp2, cp2, st, ct)
-                    bx, by, bz = _latlong_unit(sp, cp, st2, ct2)
-                    df, cx, cy, hx, hy, _ = _part_of(
-                        x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw
-                    )
-                    om = 2 * math.pi / sw / nx * band
-                else:
-                    df, cx, cy, hx, hy, om = _part_footprint(
-                        skind, sh, sw, f, i + (a + 0.5) / nx, j + (b + 0.5) / ny, 1 / nx, 1 / ny,
-                        rot, dkind, dh, dw,
-                    )  # fmt: skip
-                lx = int(math.floor(cx - 0.5 - hx))
-                ly = int(math.floor(cy - 0.5 - hy))
-                _box_weights(cx, hx, lx, wx)
-                _box_weights(cy, hy, ly, wy)
-                for yb in range(3):
-                    for xa in range(3):
-                        wt = om * wx[xa] * wy[yb]
-                        if wt > 0:
-                            q = resolve(dkind, dh, dw, df, lx + xa, ly + yb, cx)
-                            if q >= 0:
-                                taps[e] = q
-                                weights[e] = wt
-                                e += 1
-        counts[k] = _merge_taps(taps, weights, o, e, omega[p])
+            # each part centred on its centroid, with its exact solid angle
+            s0, c0 = s1, c1
+            s1, c1 = s0 * cdt + c0 * sdt, c0 * cdt - s0 * sdt
+            theta, band = _band_centroid_of(math.pi * (j + b / ny) / sh,
+                                            math.pi * (j + (b + 1) / ny) / sh, s0, c0, s1,
+                                            c1)  # fmt: skip
+            st, ct = math.sin(theta), math.cos(theta)
+            st2, ct2 = st * cht + ct * sht, ct * cht - st * sht
+            se, ce = trig[0, 2 * i], trig[1, 2 * i]  # the texel's left edge
+        for a in range(nx):
+            if nx * ny == 1:
+                df, cx, cy, hx, hy, _, _, _ = _footprint(
+                    skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw
+                )
+                om = 1.0
+            elif skind == LATLONG:
+                # the part's centre and the midpoint of its right edge
+                sp, cp = se * cdp + ce * sdp, ce * cdp - se * sdp
+                sp2, cp2 = sp * cdp + cp * sdp, cp * cdp - sp * sdp
+                se, ce = sp2, cp2
+                x, y, z = _latlong_unit(sp, cp, st, ct)
+                ax, ay, az = _latlong_unit(sp2, cp2, st, ct)
+                bx, by, bz = _latlong_unit(sp, cp, st2, ct2)
+                df, cx, cy, hx, hy, _ = _part_of(
+                    x, y, z, ax, ay, az, bx, by, bz, rot, dkind, dh, dw
+                )
+                om = 2 * math.pi / sw / nx * band
+            else:
+                df, cx, cy, hx, hy, om = _part_footprint(
+                    skind, sh, sw, f, i + (a + 0.5) / nx, j + (b + 0.5) / ny, 1 / nx, 1 / ny,
+                    rot, dkind, dh, dw,
+                )  # fmt: skip
+            lx = int(math.floor(cx - 0.5 - hx))
+            ly = int(math.floor(cy - 0.5 - hy))
+            _box_weights(cx, hx, lx, wx)
+            _box_weights(cy, hy, ly, wy)
+            for yb in range(3):
+                for xa in range(3):
+                    wt = om * wx[xa] * wy[yb]
+                    if wt > 0:
+                        q = resolve(dkind, dh, dw, df, lx + xa, ly + yb, cx)
+                        if q >= 0:
+                            taps[e] = q
+                            weights[e] = wt
+                            e += 1
+    return _merge_taps(taps, weights, o, e, om_texel)
 
 
 @_jit
@@ -499,47 +592,6 @@ def deposit_exceptions(where: ndarray, offsets: ndarray, taps: ndarray, weights:
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def splat_rows(anchor: ndarray, wq: ndarray, scale: ndarray, row: int, offsets: ndarray,
-               taps: ndarray, weights: ndarray, alpha: ndarray, inverse: ndarray, cursor: ndarray,
-               fill: bool, indices: ndarray, values: ndarray) -> None:  # fmt: skip
-    """The splat plan (:func:`splat_plan`, :func:`splat_exceptions`) transposed into rows, one
-    per destination texel q with alpha > 0: source texel p's weight w into q becomes the entry
-    (p, w alpha[q] inverse[q]) of row q. Chunk t of the source texels counts its entries per
-    row into ``cursor[t, q]`` (``fill`` False), or writes them at ``cursor[t, q]`` onwards
-    (``fill`` True; the chunks' starts in each row), so that each row lists p in order."""
-    n = anchor.shape[0]
-    chunks = cursor.shape[0]
-    for t in numba.prange(chunks):
-        for p in range(t * n // chunks, (t + 1) * n // chunks):
-            b = anchor[p]
-            if b >= 0:
-                wx0, wx1 = float(wq[p, 0]), float(wq[p, 1])
-                wy0, wy1 = float(wq[p, 2]), float(wq[p, 3])
-                wx2, wy2 = max(0.0, 1.0 - wx0 - wx1), max(0.0, 1.0 - wy0 - wy1)
-                for yb in range(3):
-                    wy = wy0 if yb == 0 else (wy1 if yb == 1 else wy2)
-                    for xa in range(3):
-                        w = scale[p] * wy * (wx0 if xa == 0 else (wx1 if xa == 1 else wx2))
-                        q = b + yb * row + xa
-                        if w > 0 and alpha[q] > 0:
-                            if fill:
-                                e = cursor[t, q]
-                                indices[e] = p
-                                values[e] = w * alpha[q] * inverse[q]
-                            cursor[t, q] += 1
-            elif b != -1:
-                k = EXCEPTION - b
-                for m in range(offsets[k], offsets[k + 1]):
-                    q = taps[m]
-                    if weights[m] > 0 and alpha[q] > 0:
-                        if fill:
-                            e = cursor[t, q]
-                            indices[e] = p
-                            values[e] = weights[m] * alpha[q] * inverse[q]
-                        cursor[t, q] += 1
-
-
-@numba.njit(parallel=True, cache=True, error_model="numpy")
 def area_alpha(acc: ndarray, omega: ndarray, alpha: ndarray, inverse: ndarray) -> None:
     """The area filter's blend per destination texel from the splat of ones and of the
     source footprints' widths (``acc[t, q] = (sum w, sum w width)``): alpha = 1 (the splat's
@@ -562,54 +614,3 @@ def area_alpha(acc: ndarray, omega: ndarray, alpha: ndarray, inverse: ndarray) -
                 a *= min(1.0, wsum / (AREA_COVERAGE * omega[p]))
         alpha[p] = a
         inverse[p] = 1 / wsum if wsum > 0 else 0.0
-
-
-@numba.njit(cache=True, error_model="numpy")
-def row_starts(cursor: ndarray, extra: ndarray, indptr: ndarray) -> None:
-    """Row q holds sum_t cursor[t, q] + extra[q] entries: ``indptr`` their running sum, and
-    ``cursor[t, q]`` becomes where chunk t's entries of row q start (after the earlier
-    chunks')."""
-    total = 0
-    for q in range(extra.shape[0]):
-        indptr[q] = total
-        for t in range(cursor.shape[0]):
-            count = cursor[t, q]
-            cursor[t, q] = total
-            total += count
-        total += extra[q]
-    indptr[extra.shape[0]] = total
-
-
-@numba.njit(parallel=True, cache=True, error_model="numpy")
-def bilinear_rows(alpha: ndarray, row: int, base: ndarray, frac: ndarray, taps: ndarray,
-                  indptr: ndarray, counts: ndarray, fill: bool, indices: ndarray,
-                  values: ndarray) -> None:  # fmt: skip
-    """Append to row q (at ``indptr[q + 1] - counts[q]``) the bilinear taps of the plan
-    (:func:`plan`) weighted by 1 - alpha[q], where alpha[q] < 1 (``fill``); else count them
-    into ``counts[q]``. A cube corner's missing tap (the mean of the other three) gives a third
-    of its weight to each of them."""
-    for q in numba.prange(alpha.shape[0]):
-        b = base[q]
-        if alpha[q] >= 1 or b == -1:
-            continue
-        if b >= 0:
-            i0, i1, i2, i3 = b, b + 1, b + row, b + row + 1
-        else:
-            x = EXCEPTION - b
-            i0, i1, i2, i3 = taps[x, 0], taps[x, 1], taps[x, 2], taps[x, 3]
-        if not fill:
-            counts[q] = (i0 >= 0) + (i1 >= 0) + (i2 >= 0) + (i3 >= 0)
-            continue
-        fx, fy = float(frac[q, 0]), float(frac[q, 1])
-        w0, w1, w2, w3 = (1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy
-        lost = (w0 if i0 < 0 else 0.0) + (w1 if i1 < 0 else 0.0)
-        lost += (w2 if i2 < 0 else 0.0) + (w3 if i3 < 0 else 0.0)
-        scale = 1.0 - alpha[q]
-        e = indptr[q + 1] - counts[q]
-        for k in range(4):
-            i = i0 if k == 0 else (i1 if k == 1 else (i2 if k == 2 else i3))
-            w = w0 if k == 0 else (w1 if k == 1 else (w2 if k == 2 else w3))
-            if i >= 0:
-                indices[e] = i
-                values[e] = scale * (w + lost / 3)
-                e += 1

@@ -1,5 +1,6 @@
-"""The area filter's kernels on its built matrix (CSR: int64 row starts, int32 source texels,
-float32 weights): Sinkhorn balancing through its transpose, its rows reordered into a cube
+"""The area filter's kernels on its matrix (CSR: int64 row starts, int32 source texels, float32
+weights): its rows assembled from the deposits of :mod:`bakeshop.sphere._area_kernels` and the
+bilinear fill-in, Sinkhorn balancing through its transpose, its rows reordered into a cube
 picture's, and its application (see :mod:`bakeshop.sphere.area`, which drives them)."""
 
 from __future__ import annotations
@@ -8,6 +9,100 @@ import math
 
 import numba
 from numpy import ndarray
+
+from bakeshop.sphere._gather import EXCEPTION
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def splat_rows(anchor: ndarray, wq: ndarray, scale: ndarray, row: int, offsets: ndarray,
+               taps: ndarray, weights: ndarray, alpha: ndarray, inverse: ndarray, cursor: ndarray,
+               fill: bool, indices: ndarray, values: ndarray) -> None:  # fmt: skip
+    """The splat plan (:func:`splat_plan`, :func:`splat_exceptions`) transposed into rows, one
+    per destination texel q with alpha > 0: source texel p's weight w into q becomes the entry
+    (p, w alpha[q] inverse[q]) of row q. Chunk t of the source texels counts its entries per
+    row into ``cursor[t, q]`` (``fill`` False), or writes them at ``cursor[t, q]`` onwards
+    (``fill`` True; the chunks' starts in each row), so that each row lists p in order."""
+    n = anchor.shape[0]
+    chunks = cursor.shape[0]
+    for t in numba.prange(chunks):
+        for p in range(t * n // chunks, (t + 1) * n // chunks):
+            b = anchor[p]
+            if b >= 0:
+                wx0, wx1 = float(wq[p, 0]), float(wq[p, 1])
+                wy0, wy1 = float(wq[p, 2]), float(wq[p, 3])
+                wx2, wy2 = max(0.0, 1.0 - wx0 - wx1), max(0.0, 1.0 - wy0 - wy1)
+                for yb in range(3):
+                    wy = wy0 if yb == 0 else (wy1 if yb == 1 else wy2)
+                    for xa in range(3):
+                        w = scale[p] * wy * (wx0 if xa == 0 else (wx1 if xa == 1 else wx2))
+                        q = b + yb * row + xa
+                        if w > 0 and alpha[q] > 0:
+                            if fill:
+                                e = cursor[t, q]
+                                indices[e] = p
+                                values[e] = w * alpha[q] * inverse[q]
+                            cursor[t, q] += 1
+            elif b != -1:
+                k = EXCEPTION - b
+                for m in range(offsets[k], offsets[k + 1]):
+                    q = taps[m]
+                    if weights[m] > 0 and alpha[q] > 0:
+                        if fill:
+                            e = cursor[t, q]
+                            indices[e] = p
+                            values[e] = weights[m] * alpha[q] * inverse[q]
+                        cursor[t, q] += 1
+
+
+@numba.njit(cache=True, error_model="numpy")
+def row_starts(cursor: ndarray, extra: ndarray, indptr: ndarray) -> None:
+    """Row q holds sum_t cursor[t, q] + extra[q] entries: ``indptr`` their running sum, and
+    ``cursor[t, q]`` becomes where chunk t's entries of row q start (after the earlier
+    chunks')."""
+    total = 0
+    for q in range(extra.shape[0]):
+        indptr[q] = total
+        for t in range(cursor.shape[0]):
+            count = cursor[t, q]
+            cursor[t, q] = total
+            total += count
+        total += extra[q]
+    indptr[extra.shape[0]] = total
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def bilinear_rows(alpha: ndarray, row: int, base: ndarray, frac: ndarray, taps: ndarray,
+                  indptr: ndarray, counts: ndarray, fill: bool, indices: ndarray,
+                  values: ndarray) -> None:  # fmt: skip
+    """Append to row q (at ``indptr[q + 1] - counts[q]``) the bilinear taps of the plan
+    (:func:`plan`) weighted by 1 - alpha[q], where alpha[q] < 1 (``fill``); else count them
+    into ``counts[q]``. A cube corner's missing tap (the mean of the other three) gives a third
+    of its weight to each of them."""
+    for q in numba.prange(alpha.shape[0]):
+        b = base[q]
+        if alpha[q] >= 1 or b == -1:
+            continue
+        if b >= 0:
+            i0, i1, i2, i3 = b, b + 1, b + row, b + row + 1
+        else:
+            x = EXCEPTION - b
+            i0, i1, i2, i3 = taps[x, 0], taps[x, 1], taps[x, 2], taps[x, 3]
+        if not fill:
+            counts[q] = (i0 >= 0) + (i1 >= 0) + (i2 >= 0) + (i3 >= 0)
+            continue
+        fx, fy = float(frac[q, 0]), float(frac[q, 1])
+        w0, w1, w2, w3 = (1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy
+        lost = (w0 if i0 < 0 else 0.0) + (w1 if i1 < 0 else 0.0)
+        lost += (w2 if i2 < 0 else 0.0) + (w3 if i3 < 0 else 0.0)
+        scale = 1.0 - alpha[q]
+        e = indptr[q + 1] - counts[q]
+        for k in range(4):
+            i = i0 if k == 0 else (i1 if k == 1 else (i2 if k == 2 else i3))
+            w = w0 if k == 0 else (w1 if k == 1 else (w2 if k == 2 else w3))
+            if i >= 0:
+                indices[e] = i
+                values[e] = scale * (w + lost / 3)
+                e += 1
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")

@@ -4,7 +4,8 @@ Every source texel deposits its solid angle into the output texels that its foot
 bounding its locally affine image) overlaps, in proportion to the overlap; where the output is
 locally finer, the source texel is first cut into parts, each depositing its own solid angle.
 The resulting matrix is built in four stages, each a function here over the kernels of
-:mod:`bakeshop.sphere._area_kernels` (balanced by :mod:`~bakeshop.sphere._matrix_kernels`):
+:mod:`bakeshop.sphere._area_kernels` (the deposits) and :mod:`~bakeshop.sphere._matrix_kernels`
+(the matrix):
 
 1. :func:`_splat`: the deposits of ordinary texels (a 3x3 block of output texels each) and the
    blend towards bilinear where the deposits cover too little;
@@ -168,14 +169,14 @@ def _rows(splat: _Splat, merged: tuple[np.ndarray, np.ndarray, np.ndarray], alph
     none = (np.empty(0, np.int32), np.empty(0, np.float32))
     deposits = (splat.anchor, splat.wq, splat.scale, dst_width, offsets, taps, weights, alpha,
                 inverse, cursor)  # fmt: skip
-    kernels.splat_rows(*deposits, False, *none)
+    matrix_kernels.splat_rows(*deposits, False, *none)
     counts = np.zeros(m, np.int64)
-    kernels.bilinear_rows(alpha, src_width, *bilinear, counts, counts, False, *none)
+    matrix_kernels.bilinear_rows(alpha, src_width, *bilinear, counts, counts, False, *none)
     indptr = np.zeros(m + 1, np.int64)
-    kernels.row_starts(cursor, counts, indptr)
+    matrix_kernels.row_starts(cursor, counts, indptr)
     rows = (np.empty(indptr[-1], np.int32), np.empty(indptr[-1], np.float32))
-    kernels.splat_rows(*deposits, True, *rows)
-    kernels.bilinear_rows(alpha, src_width, *bilinear, indptr, counts, True, *rows)
+    matrix_kernels.splat_rows(*deposits, True, *rows)
+    matrix_kernels.bilinear_rows(alpha, src_width, *bilinear, indptr, counts, True, *rows)
     return indptr, rows[0], rows[1]
 
 
