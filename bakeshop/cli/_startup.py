@@ -1,13 +1,14 @@
 """What a command's process leaves out at start-up: numba's probe for a BLAS.
 
 The first kernel a command calls loads numba's CPU target, which imports
-``numba.np.arraymath``; that module probes for a BLAS at import by importing
-``scipy.linalg.cython_blas``, and so all of ``scipy.linalg`` (0.18-0.2 s of a 1 s command: its
-array-API layer imports most of numpy's submodules). The probe's answer is used only by
-``np.convolve`` and ``np.correlate`` inside compiled code, which no kernel of bakeshop calls
-(``np.dot`` and ``np.linalg`` in compiled code look for the BLAS themselves when compiled). So
-while that one module executes, a command hides scipy's BLAS module; the probe answers "none",
-and ``scipy.linalg`` imports as usual for whoever asks afterwards.
+``numba.np.arraymath``; that module probes for a BLAS at import by calling
+``numba.np.linalg.ensure_blas``, which imports ``scipy.linalg.cython_blas`` and so all of
+``scipy.linalg`` (0.18-0.2 s of a 1 s command: its array-API layer imports most of numpy's
+submodules). The probe's answer is used only by ``np.convolve`` and ``np.correlate`` inside
+compiled code, which no kernel of bakeshop calls (``np.dot`` and ``np.linalg`` in compiled code
+call ``ensure_blas`` themselves when compiled). So while that one module executes, a command
+gives it an ``ensure_blas`` that answers "none"; numba's own is back as soon as it has run, and
+nothing else in the process (``sys.modules``, scipy, another thread's imports) is touched.
 """
 
 from __future__ import annotations
@@ -20,13 +21,16 @@ import types
 from collections.abc import Sequence
 from typing import Any
 
-#: the module whose import probes for a BLAS, and the module it imports to probe.
+#: the module whose import probes for a BLAS.
 PROBING = "numba.np.arraymath"
-PROBED = "scipy.linalg.cython_blas"
 
 
-class _HideProbed(importlib.abc.Loader):
-    """``PROBING``'s own loader, executing it with ``PROBED`` hidden (unless already loaded)."""
+def _no_blas() -> None:
+    raise ImportError("the BLAS probe is skipped at a command's start-up")
+
+
+class _WithoutProbe(importlib.abc.Loader):
+    """``PROBING``'s own loader, executing it with numba's ``ensure_blas`` answering "none"."""
 
     def __init__(self, loader: importlib.abc.Loader) -> None:
         self._loader = loader
@@ -35,14 +39,16 @@ class _HideProbed(importlib.abc.Loader):
         return self._loader.create_module(spec)
 
     def exec_module(self, module: types.ModuleType) -> None:
-        hide = PROBED not in sys.modules
-        if hide:
-            sys.modules[PROBED] = None  # type: ignore[assignment]  # an import of it fails
+        import numba.np.linalg as linalg  # the CPU target imports it just before arraymath
+
+        real = linalg.ensure_blas
+        linalg.ensure_blas = _no_blas  # arraymath binds it by name as it executes
         try:
             self._loader.exec_module(module)
         finally:
-            if hide and sys.modules.get(PROBED, 0) is None:
-                del sys.modules[PROBED]
+            linalg.ensure_blas = real
+            if getattr(module, "ensure_blas", None) is _no_blas:
+                module.ensure_blas = real  # type: ignore[attr-defined]
 
     def __getattr__(self, name: str) -> Any:  # get_source, get_filename, ... for tracebacks
         return getattr(self._loader, name)
@@ -62,7 +68,7 @@ class _SkipBlasProbe(importlib.abc.MetaPathFinder):
         sys.meta_path.remove(self)
         spec = importlib.util.find_spec(fullname)
         if spec is not None and spec.loader is not None:
-            spec.loader = _HideProbed(spec.loader)
+            spec.loader = _WithoutProbe(spec.loader)
         return spec
 
 

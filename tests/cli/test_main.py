@@ -243,3 +243,43 @@ def test_a_bilinear_remap_loads_no_sparse_matrices(tmp_path):
                          text=True).stdout  # fmt: skip
     assert out.strip().splitlines()[-1] == "False"
     assert len(list(tmp_path.glob("f_*.hdr"))) == 6
+
+
+#: in a fresh interpreter: the first kernel loads numba.np.arraymath with the hook installed,
+#: held inside numba's BLAS probe (a tracer) while another thread imports scipy.linalg.
+PROBE_RACE = """
+import sys, threading
+import numba
+from bakeshop.cli._startup import skip_blas_probe
+skip_blas_probe()
+inside, done, result = threading.Event(), threading.Event(), []
+def tracer(frame, event, arg):
+    code = frame.f_code
+    if event == "call" and code.co_name == "_check_blas" and "arraymath" in code.co_filename:
+        inside.set()
+        done.wait(30)
+def other():
+    inside.wait(30)
+    try:
+        import scipy.linalg
+        result.append("imported" if scipy.linalg.inv is not None else "?")
+    except Exception as e:
+        result.append(repr(e))
+    done.set()
+thread = threading.Thread(target=other)
+thread.start()
+sys.settrace(tracer)
+numba.njit(lambda x: x + 1)(1)
+sys.settrace(None)
+thread.join()
+from numba.np import arraymath
+print(result[0], arraymath._HAVE_BLAS)
+"""
+
+
+def test_another_thread_imports_scipy_linalg_while_the_probe_is_skipped():
+    """Regression: the hook once hid scipy's BLAS module process-wide while numba's module ran,
+    so another thread's ``import scipy.linalg`` (or scipy.optimize, scipy.integrate) failed."""
+    out = subprocess.run([sys.executable, "-c", PROBE_RACE], check=True, capture_output=True,
+                         text=True, timeout=120).stdout  # fmt: skip
+    assert out.split() == ["imported", "False"]
