@@ -12,6 +12,12 @@ from numpy import ndarray
 
 from bakeshop.sphere._gather import EXCEPTION
 
+#: how far the balancing may scale a column (either way): a column that cannot carry its solid
+#: angle, such as a mirror ball's rim texels, all deposited into the few texels of the one
+#: direction behind it (ten times their solid angle), stops there instead of growing until
+#: float32 overflows and the rows turn to NaN.
+AREA_COLUMN_LIMIT = 1e6
+
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
 def splat_rows(anchor: ndarray, wq: ndarray, scale: ndarray, row: int, offsets: ndarray,
@@ -160,8 +166,8 @@ def balance_columns(colptr: ndarray, rows: ndarray, by_column: ndarray, sent: nd
     """The column step, over-relaxed with momentum: where source texel p sends ``energy`` =
     col[p] sum_q sent[q] K[q, p] > 0 (K in CSC form: ``colptr``, ``rows``, ``by_column``),
     log col[p] moves by ``step[p]`` = 1.5 log(omega_in / energy) + 0.5 x its previous step
-    (kept as the factor exp(step), so no logarithms). Returns the largest
-    |omega_in / energy - 1|."""
+    (kept as the factor exp(step), so no logarithms), col[p] kept within AREA_COLUMN_LIMIT of
+    1. Returns the largest |omega_in / energy - 1|."""
     err = 0.0
     for p in numba.prange(omega_in.shape[0]):
         energy = 0.0
@@ -171,8 +177,10 @@ def balance_columns(colptr: ndarray, rows: ndarray, by_column: ndarray, sent: nd
         if energy > 0:
             r = omega_in[p] / energy
             err = max(err, abs(r - 1))
-            step[p] = r * math.sqrt(r * step[p])
-            col[p] *= step[p]
+            scaled = col[p] * r * math.sqrt(r * step[p])
+            scaled = min(max(scaled, 1 / AREA_COLUMN_LIMIT), AREA_COLUMN_LIMIT)
+            step[p] = scaled / col[p]
+            col[p] = scaled
     return err
 
 

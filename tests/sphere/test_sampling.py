@@ -726,3 +726,19 @@ def test_a_large_plan_applied_in_parts_equals_the_whole_and_is_not_kept(monkeypa
     parts = remap(img, "latlong", "cube", 40, filter=filter, rotation=(10, 20, 30))
     np.testing.assert_array_equal(parts, whole)
     assert cache_info()["remap plans"]["entries"] == 0
+
+
+@pytest.mark.parametrize(("size", "out"), [(128, 128), (256, 128)])
+def test_area_filter_from_a_mirror_ball_stays_finite(probe, size, out):
+    """Regression: a mirror ball's rim texels (the one direction behind it) all deposit into
+    the few latlong texels there, ten times those texels' solid angle; the balancing scaled
+    their columns until float32 overflowed, and four texels came out NaN. A constant stays
+    constant everywhere, and a probe's energy is kept."""
+    ball = remap(np.ones((size, size, 1), np.float32), "mirrorball", "latlong", out, filter="area")
+    np.testing.assert_allclose(ball, 1, rtol=1e-5)
+    img = remap(np.minimum(probe[..., :3], 50).astype(np.float32), "latlong", "mirrorball", size,
+                filter="area")  # fmt: skip
+    back = remap(img, "mirrorball", "latlong", out, filter="area")
+    assert np.isfinite(back).all()
+    np.testing.assert_allclose(energy(back, "latlong"), energy(img, "mirrorball"),
+                               rtol=SPHERE_AREA_ENERGY_RTOL)  # fmt: skip
