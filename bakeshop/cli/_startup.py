@@ -13,13 +13,15 @@ nothing else in the process (``sys.modules``, scipy, another thread's imports) i
 
 from __future__ import annotations
 
-import importlib.abc
-import importlib.machinery
 import importlib.util
 import sys
-import types
-from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
+
+if TYPE_CHECKING:  # importlib.abc imports importlib.resources and tempfile: 7 ms of `info`
+    import importlib.abc
+    import importlib.machinery
+    import types
+    from collections.abc import Sequence
 
 #: the module whose import probes for a BLAS.
 PROBING = "numba.np.arraymath"
@@ -29,8 +31,9 @@ def _no_blas() -> None:
     raise ImportError("the BLAS probe is skipped at a command's start-up")
 
 
-class _WithoutProbe(importlib.abc.Loader):
-    """``PROBING``'s own loader, executing it with numba's ``ensure_blas`` answering "none"."""
+class _WithoutProbe:
+    """``PROBING``'s own importlib loader, executing it with numba's ``ensure_blas`` answering
+    "none"."""
 
     def __init__(self, loader: importlib.abc.Loader) -> None:
         self._loader = loader
@@ -54,8 +57,9 @@ class _WithoutProbe(importlib.abc.Loader):
         return getattr(self._loader, name)
 
 
-class _SkipBlasProbe(importlib.abc.MetaPathFinder):
-    """Finds ``PROBING`` (once) through the other finders and wraps its loader."""
+class _SkipBlasProbe:
+    """A meta path finder: finds ``PROBING`` (once) through the other finders and wraps its
+    loader."""
 
     def find_spec(
         self,
@@ -68,7 +72,7 @@ class _SkipBlasProbe(importlib.abc.MetaPathFinder):
         sys.meta_path.remove(self)
         spec = importlib.util.find_spec(fullname)
         if spec is not None and spec.loader is not None:
-            spec.loader = _WithoutProbe(spec.loader)
+            spec.loader = cast("importlib.abc.Loader", _WithoutProbe(spec.loader))
         return spec
 
 
