@@ -627,10 +627,9 @@ def peak_candidates(values: np.ndarray, omega: np.ndarray, start: int = 0) -> tu
     values)``, the sums ``[sum peak omega, sum omega, largest peak]`` (peak: a texel's
     brightest channel) and the :data:`MAX_BRIGHT` + 1 texels of largest peak."""
     values = np.asarray(values)
-    peak = values.max(axis=1) if values.shape[1] > 1 else values[:, 0].copy()
-    peak[~(omega > 0)] = -np.inf
+    peak = np.empty(len(values), values.dtype)
     stats = np.zeros(3)
-    _peak_stats(values, omega, stats)
+    _peak_stats(values, omega, stats, peak)
     keep = min(len(peak), MAX_BRIGHT + 1)
     top = np.argpartition(peak, len(peak) - keep)[len(peak) - keep :]
     top = top[np.isfinite(peak[top])]
@@ -662,13 +661,17 @@ def bright_texels(parts: list) -> tuple[float, np.ndarray, np.ndarray]:
 
 @numba.njit(cache=True)
 def _peak_stats(  # pragma: no cover - compiled
-    values: np.ndarray, omega: np.ndarray, stats: np.ndarray
+    values: np.ndarray, omega: np.ndarray, stats: np.ndarray, peaks: np.ndarray
 ) -> None:
+    # peaks[t]: texel t's brightest channel, -inf where it has no solid angle (one pass:
+    # numpy's max over a 3-long last axis took 40 ms per million texels)
     for t in range(values.shape[0]):
+        peaks[t] = -np.inf
         if omega[t] > 0:
             peak = values[t, 0]
             for c in range(1, values.shape[1]):
                 peak = max(peak, values[t, c])
+            peaks[t] = peak
             stats[0] += peak * omega[t]
             stats[1] += omega[t]
             stats[2] = max(stats[2], peak)
