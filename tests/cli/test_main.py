@@ -180,7 +180,8 @@ def test_an_openexr_read_with_stderr_closed(tmp_path):
 
 
 #: in a fresh interpreter: a command that runs kernels, then what numba's BLAS probe found,
-#: whether scipy.linalg was imported, and then a compiled np.dot of 2-D floats against numpy's.
+#: whether scipy.linalg and numba's compiler registries were imported, and then a compiled
+#: np.dot of 2-D floats (a kernel not in the cache: compiled in the same process) against numpy's.
 BLAS_PROBE = """
 import json, sys
 import numpy as np
@@ -188,7 +189,8 @@ from bakeshop.cli.main import main
 status = main(sys.argv[1:])
 import numba
 from numba.np import arraymath
-found = {"status": status, "probe": arraymath._HAVE_BLAS, "linalg": "scipy.linalg" in sys.modules}
+found = {"status": status, "probe": arraymath._HAVE_BLAS, "linalg": "scipy.linalg" in sys.modules,
+         "registries": "numba.typed.typeddict" in sys.modules}
 a = np.arange(12.0).reshape(3, 4)
 found["dot"] = bool(np.allclose(numba.njit(lambda x, y: np.dot(x, y))(a, a.T), a @ a.T))
 import scipy.linalg
@@ -197,10 +199,11 @@ print(json.dumps(found))
 """
 
 
-def test_a_command_skips_numbas_blas_probe_and_blas_still_works(tmp_path):
-    """A command's first kernel loads numba's target without numba importing scipy.linalg to
-    probe for a BLAS (0.2 s of start-up); BLAS is found all the same by compiled ``np.dot``,
-    and scipy.linalg imports afterwards."""
+def test_a_command_loads_cached_kernels_without_numbas_compiler_or_blas_probe(tmp_path):
+    """A command's cached kernels load without numba's compiler registries (0.2-0.3 s of
+    start-up) and without numba importing scipy.linalg to probe for a BLAS (0.2 s); a kernel
+    compiled afterwards in the same process (compiled ``np.dot``, which finds BLAS) works, and
+    scipy.linalg imports."""
     import numpy as np
 
     from bakeshop.io import write_image
@@ -210,21 +213,77 @@ def test_a_command_skips_numbas_blas_probe_and_blas_still_works(tmp_path):
     out = subprocess.run([sys.executable, "-c", BLAS_PROBE, *args], check=True,
                          capture_output=True, text=True).stdout  # fmt: skip
     found = json.loads(out.strip().splitlines()[-1])
-    assert found == {"status": 0, "probe": False, "linalg": False, "dot": True,
-                     "linalg_after": True}  # fmt: skip
+    assert found == {"status": 0, "probe": False, "linalg": False, "registries": False,
+                     "dot": True, "linalg_after": True}  # fmt: skip
     assert (tmp_path / "dim.pfm").exists()
 
 
-def test_the_blas_probe_is_left_alone_once_numba_is_loaded():
-    """In a process whose numba target is already loaded (a library user's), the command line
-    adds no import hook."""
-    import numba.np.arraymath  # noqa: F401
+#: a module of kernels in numba's on-disk cache: parallel (the thread pool is started by the
+#: reload hook pickled with it), allocating (numba's runtime) and calling libm.
+CACHED_KERNELS = """
+import numba
+import numpy as np
 
-    from bakeshop.cli import _startup
+@numba.njit(cache=True, parallel=True)
+def exp_and_prefix(x):
+    out = np.empty((x.shape[0], 2))
+    for i in numba.prange(x.shape[0]):
+        out[i, 0] = np.exp(x[i])
+        out[i, 1] = x[: i + 1].sum()
+    return out
+"""
 
-    before = list(sys.meta_path)
-    _startup.skip_blas_probe()
-    assert sys.meta_path == before
+#: in a fresh interpreter, with the command line's hooks installed before numba is imported:
+#: the kernel against numpy, the cache's hits, and whether the compiler's registries loaded.
+CACHED_RUN = """
+import json, sys
+sys.path.insert(0, sys.argv[1])
+from bakeshop.cli._startup import trim_numba_startup
+trim_numba_startup()
+import numpy as np
+import kernels
+x = np.linspace(0.0, 1.0, 1000)
+right = np.allclose(kernels.exp_and_prefix(x), np.stack([np.exp(x), np.cumsum(x)], axis=1))
+print(json.dumps([bool(right), sum(kernels.exp_and_prefix.stats.cache_hits.values()),
+                  "numba.typed.typeddict" in sys.modules]))
+"""
+
+
+def test_a_kernel_compiled_then_loaded_from_the_cache_without_the_compiler(tmp_path):
+    """The first process compiles the kernel (a cache miss: numba's compiler loads its
+    registries itself); the second loads it from the cache without them, and it computes the
+    same (threads, allocation, libm)."""
+    import os
+
+    (tmp_path / "kernels.py").write_text(CACHED_KERNELS)
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    runs = [
+        json.loads(subprocess.run([sys.executable, "-c", CACHED_RUN, str(tmp_path)], check=True,
+                                  capture_output=True, text=True, env=env).stdout)
+        for _ in range(2)
+    ]  # fmt: skip
+    assert runs == [[True, 0, True], [True, 1, False]]
+
+
+#: in a fresh interpreter whose numba target is already loaded (a library user's): the hooks
+#: that are still pending, and whether cached kernels load without the registries.
+LOADED = """
+import json, sys
+import numba.np.arraymath
+from numba.core.caching import Cache
+from bakeshop.cli._startup import _load_overload, trim_numba_startup
+before = list(sys.meta_path)
+trim_numba_startup()
+print(json.dumps([sys.meta_path == before, Cache.load_overload is _load_overload]))
+"""
+
+
+def test_once_numba_is_loaded_no_import_hook_is_added():
+    """In a process whose numba target is already loaded, the command line adds no import hook
+    (the BLAS probe has run); cached kernels still load without the registries."""
+    out = subprocess.run([sys.executable, "-c", LOADED], check=True, capture_output=True,
+                         text=True).stdout  # fmt: skip
+    assert json.loads(out) == [True, True]
 
 
 def test_a_bilinear_remap_loads_no_sparse_matrices(tmp_path):
@@ -250,8 +309,8 @@ def test_a_bilinear_remap_loads_no_sparse_matrices(tmp_path):
 PROBE_RACE = """
 import sys, threading
 import numba
-from bakeshop.cli._startup import skip_blas_probe
-skip_blas_probe()
+from bakeshop.cli._startup import trim_numba_startup
+trim_numba_startup()
 inside, done, result = threading.Event(), threading.Event(), []
 def tracer(frame, event, arg):
     code = frame.f_code
