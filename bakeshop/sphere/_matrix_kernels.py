@@ -1,6 +1,6 @@
 """The area filter's kernels on its matrix (CSR: int64 row starts, int32 source texels, float32
 weights): its rows assembled from the deposits of :mod:`bakeshop.sphere._area_kernels` and the
-bilinear fill-in, Sinkhorn balancing through its transpose, its rows reordered into a cube
+bilinear fill-in, Sinkhorn balancing, its rows reordered into a cube
 picture's, and its application (see :mod:`bakeshop.sphere.area`, which drives them)."""
 
 from __future__ import annotations
@@ -128,54 +128,42 @@ def scale_rows(indptr: ndarray, indices: ndarray, values: ndarray,
                 values[e] = values[e] / total
 
 
-@numba.njit(cache=True, error_model="numpy")
-def transpose(indptr: ndarray, indices: ndarray, values: ndarray, colptr: ndarray, rows: ndarray,
-              by_column: ndarray) -> None:  # fmt: skip
-    """The CSR matrix (``indptr``, ``indices``, ``values``) in CSC form: column p's entries are
-    ``colptr[p]:colptr[p + 1]`` of ``rows`` and ``by_column`` (``colptr`` zero on entry; rows in
-    increasing order within a column)."""
-    for e in range(indices.shape[0]):
-        colptr[indices[e] + 1] += 1
-    for p in range(colptr.shape[0] - 1):
-        colptr[p + 1] += colptr[p]
-    cursor = colptr[:-1].copy()
-    for q in range(indptr.shape[0] - 1):
-        for e in range(indptr[q], indptr[q + 1]):
-            k = cursor[indices[e]]
-            rows[k] = q
-            by_column[k] = values[e]
-            cursor[indices[e]] = k + 1
-
-
 @numba.njit(parallel=True, cache=True, error_model="numpy")
 def balance_rows(indptr: ndarray, indices: ndarray, values: ndarray, omega_out: ndarray,
-                 col: ndarray, sent: ndarray) -> None:  # fmt: skip
-    """The row step of the area filter's balancing of M = diag(r) K diag(col) (K: ``values``):
-    ``sent[q]`` = omega_out[q] r[q], r making every nonempty row of M sum 1 (0 for an empty
-    row): the energy per unit weight that output texel q draws."""
-    for q in numba.prange(indptr.shape[0] - 1):
-        total = 0.0
-        for e in range(indptr[q], indptr[q + 1]):
-            total += values[e] * col[indices[e]]
-        sent[q] = omega_out[q] / total if total > 0 else 0.0
+                 col: ndarray, blocks: ndarray, energy: ndarray) -> None:  # fmt: skip
+    """The row step of the area filter's balancing of M = diag(r) K diag(col) (K: ``values``),
+    with the next column step's sums gathered on the way: r[q] makes every nonempty row of M sum
+    1, and ``energy[t, p]`` += omega_out[q] r[q] K[q, p] over the rows q of block t (rows
+    ``blocks[t]:blocks[t + 1]``, one block per thread; ``energy`` zero on entry). One read of
+    the matrix per step: each row's entries are read again from the cache."""
+    for t in numba.prange(blocks.shape[0] - 1):
+        sums = energy[t]
+        for q in range(blocks[t], blocks[t + 1]):
+            total = 0.0
+            for e in range(indptr[q], indptr[q + 1]):
+                total += values[e] * col[indices[e]]
+            if total > 0:
+                sent = omega_out[q] / total
+                for e in range(indptr[q], indptr[q + 1]):
+                    sums[indices[e]] += values[e] * sent
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def balance_columns(colptr: ndarray, rows: ndarray, by_column: ndarray, sent: ndarray,
-                    omega_in: ndarray, col: ndarray, step: ndarray) -> float:  # fmt: skip
+def balance_columns(energy: ndarray, omega_in: ndarray, col: ndarray, step: ndarray) -> float:
     """The column step, over-relaxed with momentum: where source texel p sends ``energy`` =
-    col[p] sum_q sent[q] K[q, p] > 0 (K in CSC form: ``colptr``, ``rows``, ``by_column``),
-    log col[p] moves by ``step[p]`` = 1.5 log(omega_in / energy) + 0.5 x its previous step
-    (kept as the factor exp(step), so no logarithms), col[p] kept within AREA_COLUMN_LIMIT of
-    1. Returns the largest |omega_in / energy - 1|."""
+    col[p] sum_t energy[t, p] > 0 (the row step's sums, zeroed here for the next one), log
+    col[p] moves by ``step[p]`` = 1.5 log(omega_in / energy) + 0.5 x its previous step (kept as
+    the factor exp(step), so no logarithms), col[p] kept within AREA_COLUMN_LIMIT of 1. Returns
+    the largest |omega_in / energy - 1|."""
     err = 0.0
     for p in numba.prange(omega_in.shape[0]):
-        energy = 0.0
-        for k in range(colptr[p], colptr[p + 1]):
-            energy += by_column[k] * sent[rows[k]]
-        energy *= col[p]
-        if energy > 0:
-            r = omega_in[p] / energy
+        sent = 0.0
+        for t in range(energy.shape[0]):
+            sent += energy[t, p]
+            energy[t, p] = 0.0
+        sent *= col[p]
+        if sent > 0:
+            r = omega_in[p] / sent
             err = max(err, abs(r - 1))
             scaled = col[p] * r * math.sqrt(r * step[p])
             scaled = min(max(scaled, 1 / AREA_COLUMN_LIMIT), AREA_COLUMN_LIMIT)

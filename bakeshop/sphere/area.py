@@ -188,24 +188,23 @@ def _balance(indptr: np.ndarray, indices: np.ndarray, values: np.ndarray, omega_
     sum_q omega_out[q] M[q, p] = omega_in[p] (radiance x solid angle is preserved).
 
     Sinkhorn's alternating normalisation (Sinkhorn & Knopp 1967) of the energy transport
-    omega_out[q] M[q, p], on the scale vectors (one pass over M per step, the column steps
-    through its transpose, so that both passes read the entries in order and gather), its
-    column steps over-relaxed (Thibault et al. 2017) and with momentum (the slow, smooth
-    imbalances around a latlong's poles converge ~3x sooner), ending on the rows (exact).
-    Stops when every column is within AREA_BALANCE_RTOL or after AREA_BALANCE_ITERATIONS;
-    returns the largest relative column error left. The transpose costs 8 bytes per entry
-    and per source texel while it runs."""
+    omega_out[q] M[q, p], on the scale vectors, one read of M per step (each row's scale, then
+    its entries' share of the column sums, into one float64 buffer of the source's size per
+    thread, as many as fit in AREA_BUFFER_BYTES), its column steps over-relaxed (Thibault et al.
+    2017) and with momentum (the slow, smooth imbalances around a latlong's poles converge ~3x
+    sooner), ending on the rows (exact). Stops when every column is within AREA_BALANCE_RTOL or
+    after AREA_BALANCE_ITERATIONS; returns the largest relative column error left."""
     n = len(omega_in)
-    colptr = np.zeros(n + 1, np.int64)
-    transposed = (np.empty(len(indices), np.int32), np.empty(len(values), np.float32))
-    matrix_kernels.transpose(indptr, indices, values, colptr, *transposed)
-    sent = np.empty(len(omega_out))
+    threads = max(1, min(numba.get_num_threads(), AREA_BUFFER_BYTES // (n * 8)))
+    blocks = np.searchsorted(indptr, np.linspace(0, indptr[-1], threads + 1)).astype(np.int64)
+    blocks[-1] = len(indptr) - 1  # rows of equal total length, the empty last rows included
+    energy = np.zeros((threads, n))
     col = np.ones(n)
     step = np.ones(n)
     err = np.inf
     for _ in range(AREA_BALANCE_ITERATIONS):
-        matrix_kernels.balance_rows(indptr, indices, values, omega_out, col, sent)
-        err = matrix_kernels.balance_columns(colptr, *transposed, sent, omega_in, col, step)
+        matrix_kernels.balance_rows(indptr, indices, values, omega_out, col, blocks, energy)
+        err = matrix_kernels.balance_columns(energy, omega_in, col, step)
         if err <= AREA_BALANCE_RTOL:
             break
     matrix_kernels.scale_rows(indptr, indices, values, col)
