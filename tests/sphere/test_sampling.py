@@ -25,6 +25,7 @@ from tests.tolerances import (
     FLOAT32_WEIGHTS,
     SPHERE_AREA_ENERGY_RTOL,
     SPHERE_AREA_LINEAR_ATOL,
+    SPHERE_AREA_POLAR_RRMS,
     SPHERE_AREA_VS_BRUTE_FORCE_RRMS,
     SPHERE_BILINEAR_SMOOTH_ATOL,
     SPHERE_LATLONG_CUBE_ROUND_TRIP_ATOL,
@@ -337,12 +338,15 @@ def test_area_filter_preserves_the_energy_of_a_one_texel_sun_where_the_output_is
     )
 
 
-def brute_force_area_average(img, src, dst, size, k):
+def brute_force_area_average(img, src, dst, size, k, rotation=None):
     """Each output texel of ``dst`` cut into k x k sub-texels, each looking the (piecewise
-    constant) source up by nearest, averaged by their solid angles: (means, valid)."""
+    constant) source up by nearest (at R^T d when the environment is rotated by R), averaged
+    by their solid angles: (means, valid)."""
     lay = layout(dst)
     shape, fine = lay.shape(size), lay.shape(size * k)
     dirs, _ = lay.directions(fine)
+    if rotation is not None:
+        dirs = dirs @ rotation_matrix(*rotation)
     omega = lay.solid_angles(fine)
     energy = sample(img, src, dirs, filter="nearest") * omega[..., None]
     blocks = (6, size, k, size, k) if lay.cubic else (shape[0], k, shape[1], k)
@@ -396,6 +400,21 @@ def test_area_filter_near_one_to_one_is_the_area_average(probe, src, dst, size):
     area = rrms(remap(img, src, dst, size, filter="area"))
     assert area < SPHERE_AREA_VS_BRUTE_FORCE_RRMS / 2
     assert area < rrms(remap(img, src, dst, size, filter="bilinear")) / 1.4
+
+
+@pytest.mark.parametrize("rotation", [None, (30, 50, 10)])
+def test_area_filter_from_a_cube_around_a_latlongs_poles_is_the_area_average(rotation):
+    """Around a latlong's poles a cube texel covers a few rows and tens of columns; its exact
+    overlaps there (``_polar_kernels``) make the filter the area average: noise from a 64^2
+    cube into a 128x64 latlong, the three rows at each pole against 64 x 64 nearest lookups
+    per output texel (see SPHERE_AREA_POLAR_RRMS)."""
+    img = np.random.default_rng(1).random((6, 64, 64, 1)).astype(np.float32)
+    ref, valid = brute_force_area_average(img, "cube", "latlong", 64, 64, rotation)
+    out = remap(img, "cube", "latlong", 64, filter="area", rotation=rotation)
+    rows = np.broadcast_to(np.arange(64)[:, None], (64, 128))[valid]
+    polar = (rows < 3) | (rows >= 61)
+    error = out[valid][polar] - ref[polar]
+    assert np.sqrt(np.mean(error**2) / np.mean(ref[polar] ** 2)) < SPHERE_AREA_POLAR_RRMS
 
 
 @pytest.mark.parametrize(
