@@ -11,6 +11,7 @@ import numba
 import numpy as np
 from numpy import ndarray
 
+from bakeshop.sphere._cube_latlong import latlong_taps
 from bakeshop.sphere._gather import EXCEPTION, block
 from bakeshop.sphere._maps import (
     ANGULAR,
@@ -28,7 +29,6 @@ from bakeshop.sphere._maps import (
     resolve,
     rotate,
 )
-from bakeshop.sphere._polar_kernels import polar_taps
 from bakeshop.sphere.cube import FACE_BASES, OPENEXR_FACE_BASES
 
 #: the area filter averages (splats) where a destination texel is at least this many source
@@ -388,8 +388,8 @@ def splat_exceptions(skind: int, sh: int, sw: int, omega: ndarray, dkind: int, d
     angle into the texels the part's box overlaps (within the 3 x 3 around its centre), so
     that a texel wider than the destination's texels is shared among all the texels it
     overlaps: through its affine image where it is cut into few parts away from seams
-    (:func:`_window_taps`), else part by part (:func:`_part_taps`), and a cube texel around a
-    latlong's pole by its exact overlaps instead (``_polar_kernels.polar_taps``). Taps in
+    (:func:`_window_taps`), else part by part (:func:`_part_taps`); a cube texel into a
+    latlong deposits its exact overlaps instead (``_cube_latlong.latlong_taps``). Taps in
     increasing order."""
     trig = _half_texel_trig(sh, sw)
     for k in numba.prange(where.shape[0]):
@@ -398,9 +398,9 @@ def splat_exceptions(skind: int, sh: int, sw: int, omega: ndarray, dkind: int, d
         j, i = divmod(r, sw)
         nx, ny = parts[p, 0], parts[p, 1]
         n = -1
-        if is_cubic(skind) and dkind == LATLONG and max(nx, ny) > AREA_AFFINE_PARTS:
-            n = polar_taps(skind, sh, sw, f, i, j, rot, dh, dw, omega[p], offsets[k],
-                           4 * nx * ny, taps, weights)  # fmt: skip
+        if is_cubic(skind) and dkind == LATLONG and max(nx, ny) > 1:
+            n = latlong_taps(skind, sh, sw, f, i, j, rot, dh, dw, omega[p], offsets[k],
+                             4 * nx * ny, taps, weights)  # fmt: skip
         elif 1 < nx * ny and nx <= AREA_AFFINE_PARTS and ny <= AREA_AFFINE_PARTS:
             n = _window_taps(skind, sh, sw, f, i, j, trig, rot, dkind, dh, dw, nx, ny, omega[p],
                              offsets[k], taps, weights)  # fmt: skip
