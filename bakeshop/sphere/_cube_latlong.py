@@ -21,9 +21,8 @@ from bakeshop.sphere._maps import direction, rotate
 #: this far from the equator (|y|: its gnomonic image at most 50 from the pole's tangent point;
 #: the texels across the equator are cut into parts).
 AREA_EXACT_Y = 0.02
-#: 2-point Gauss-Legendre on [-1, 1].
+#: the nodes of 2-point Gauss-Legendre on [-1, 1] (both weights 1).
 _GAUSS_NODES = np.array([-math.sqrt(1 / 3), math.sqrt(1 / 3)])
-_GAUSS_WEIGHTS = np.array([1.0, 1.0])
 
 _jit = numba.njit(cache=True, error_model="numpy")
 
@@ -57,6 +56,14 @@ def _segment_distance(ax: float, ay: float, bx: float, by: float) -> float:
 
 
 @_jit
+def _longitude(x: float, y: float, around: bool, centre: float) -> float:
+    """The longitude of point (x, y) of the tangent plane in the turn of the columns: within pi
+    of ``centre`` unless ``around`` (in (-pi, pi] then)."""
+    phi = math.atan2(y, x)
+    return phi if around else centre + (phi - centre + math.pi) % (2 * math.pi) - math.pi
+
+
+@_jit
 def _crossings(ax: float, ay: float, bx: float, by: float, radius: float, around: bool,
                centre: float, breaks: ndarray, n: int) -> int:  # fmt: skip
     """Append to ``breaks[n:]`` the longitudes where the segment from (ax, ay) to (bx, by)
@@ -69,10 +76,7 @@ def _crossings(ax: float, ay: float, bx: float, by: float, radius: float, around
         return n
     for t in ((-ae - math.sqrt(disc)) / ee, (-ae + math.sqrt(disc)) / ee):
         if 0 < t < 1:
-            phi = math.atan2(ay + t * ey, ax + t * ex)
-            if not around:
-                phi = centre + (phi - centre + math.pi) % (2 * math.pi) - math.pi
-            breaks[n] = phi
+            breaks[n] = _longitude(ax + t * ex, ay + t * ey, around, centre)
             n += 1
     return n
 
@@ -95,11 +99,10 @@ def _overlaps(px: ndarray, py: ndarray, orient: float, breaks: ndarray, a: float
                 phi = mid + half * _GAUSS_NODES[g]
                 lo, hi = _chord(px, py, orient, math.cos(phi), math.sin(phi))
                 if hi > lo:
-                    weight = half * _GAUSS_WEIGHTS[g]
                     for r in range(out.shape[0]):
                         near, far = max(lo, radii[r]), min(hi, radii[r + 1])
                         if far > near:
-                            out[r] += weight * (
+                            out[r] += half * (
                                 1 / math.sqrt(1 + near * near) - 1 / math.sqrt(1 + far * far)
                             )
             lo_end = hi_end
@@ -107,8 +110,8 @@ def _overlaps(px: ndarray, py: ndarray, orient: float, breaks: ndarray, a: float
 
 @_jit
 def latlong_taps(skind: int, sh: int, sw: int, f: int, i: int, j: int, rot: ndarray, dh: int,
-               dw: int, om: float, o: int, room: int, taps: ndarray,
-               weights: ndarray) -> int:  # fmt: skip
+                 dw: int, om: float, o: int, room: int, taps: ndarray,
+                 weights: ndarray) -> int:  # fmt: skip
     """Source cube texel (f, i, j)'s overlaps with the texels of a latlong destination
     (``dh`` x ``dw``) at ``o`` onwards, at most ``room`` of them, in increasing order, weights
     scaled to sum ``om``; -1 where it does not apply (its corners not all in one hemisphere,
@@ -145,15 +148,13 @@ def latlong_taps(skind: int, sh: int, sw: int, f: int, i: int, j: int, rot: ndar
         r_min = min(r_min, _segment_distance(px[k], py[k], px[n], py[n]))
         around &= orient * (px[n] - px[k]) * py[k] - orient * (py[n] - py[k]) * px[k] <= 0
     centre = 0.0
+    if not around:
+        centre = math.atan2(py.sum(), px.sum())
+    for k in range(4):
+        corners[k] = _longitude(px[k], py[k], around, centre)
     if around:
         r_min, c0, count = 0.0, 0, dw
-        for k in range(4):
-            corners[k] = math.atan2(py[k], px[k])
     else:
-        centre = math.atan2(py.sum(), px.sum())
-        for k in range(4):
-            d = (math.atan2(py[k], px[k]) - centre + math.pi) % (2 * math.pi) - math.pi
-            corners[k] = centre + d
         c0 = int(math.floor((corners.min() / (2 * math.pi) + 0.5) * dw))
         count = min(dw, int(math.floor((corners.max() / (2 * math.pi) + 0.5) * dw)) - c0 + 1)
     # the rows between those radii: colatitude atan r from the north pole, pi - atan r south
