@@ -10,18 +10,16 @@ BIN := $(VENV)/bin
 .PHONY: demo test test-fast lint bench sysdeps clean
 
 # Installing ends by compiling the package's bytecode (pip does it for a regular install, not for
-# an editable one) and running the main job once into a scratch folder: that compiles its numba
-# kernels into their cache beside the package (bakeshop/*/__pycache__), so the first real run is
-# as fast as any later one.
+# an editable one) and running `bakeshop warm-up`: every command once on small inputs, which
+# compiles their numba kernels into their cache beside the package (bakeshop/*/__pycache__), so
+# that a command's first real run is as fast as any later one.
 $(BIN)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install -q --upgrade pip
 	$(BIN)/pip install -q -e '.[preview]'
 	$(BIN)/python -m compileall -q bakeshop
-	@echo "compiling the main job's numba kernels (once: about 2 minutes of CPU, see docs/install.md)"
-	rm -rf $(VENV)/warm-up
-	$(BIN)/bakeshop -q bake-probe -o $(VENV)/warm-up > /dev/null
-	rm -rf $(VENV)/warm-up
+	@echo "compiling every command's numba kernels (once: about 5 minutes of CPU, see docs/install.md)"
+	$(BIN)/bakeshop -q warm-up
 	touch $@
 
 $(BIN)/.installed-test: $(BIN)/.installed

@@ -133,6 +133,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
             "and water, rebuilding only the..."
         ),
     ),
+    "warm-up": (
+        "warm_up",
+        "Compile every command's numba kernels now, so that no command compiles on its first run.",
+    ),
 }
 
 COMMAND_MODULES = list(dict.fromkeys(module for module, _ in COMMANDS.values()))

@@ -1,0 +1,272 @@
+"""``bakeshop warm-up``: every command's numba kernels compiled into their cache, once.
+
+numba compiles a kernel on its first call and keeps the machine code on disk (``cache=True``),
+so a command's first run after installing costs seconds to a minute more than later runs. The
+warm-up runs a tour of every command on small inputs made from the embedded default probe
+(:data:`TOUR`), as separate processes, several at once, so that the compilation is paid once,
+at install time. The tour covers every cached kernel of the package
+(tests/cli/test_warm_up.py checks it against the kernels found in the modules).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import shlex
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import click
+
+from bakeshop import progress
+from bakeshop.cli._numbers import Integer
+from bakeshop.errors import BakeshopError
+
+#: a mesh with texture coordinates for ``normals transfer``: a unit square, two triangles.
+QUAD_OBJ = """v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+vt 0 0
+vt 1 0
+vt 1 1
+vt 0 1
+vn 0 0 1
+f 1/1/1 2/2/1 3/3/1
+f 1/1/1 3/3/1 4/4/1
+"""
+
+
+@dataclass(frozen=True)
+class Job:
+    """Command lines (without ``bakeshop``; ``{probe}`` stands for the default probe's path) run
+    one after another in the tour's scratch folder, a later one reading what an earlier one
+    wrote; ``needs`` names the modules of the optional ``extra`` they use."""
+
+    name: str
+    commands: tuple[str, ...]
+    needs: tuple[str, ...] = ()
+    extra: str = ""
+
+    def argv(self, k: int, probe: str) -> list[str]:
+        """Command ``k`` as arguments."""
+        return shlex.split(self.commands[k].format(probe=shlex.quote(probe)))
+
+
+#: what the warm-up runs, the longest jobs first: every command, and the options that select
+#: kernels of their own (layouts, filters, methods, formats), on inputs made from the default
+#: probe (1024x512) and small outputs.
+TOUR = (
+    Job("bake-probe", ("bake-probe {probe} -o bake",)),
+    Job(
+        "float",
+        (
+            "float --shape peep --density 300 --fps 10",
+            "float --shape box --density 500 --waves 0.2:8:30",
+        ),
+    ),
+    Job(
+        "light",
+        (
+            "irradiance {probe} dim_exact.hdr --method exact --size 32x16",
+            "irradiance {probe} dim_sh.exr --method sh --sh-json sh.json --shader sh.glsl",
+            "irradiance {probe} dim_sh4.exr --method sh --order 4",
+            "irradiance {probe} dim.png --to cross-vertical --size 16",
+            "sun {probe}",
+            "dims {probe} -o dims",
+            "dims {probe} -o dims_chunked --memory 64M",
+            "prefilter {probe} phong.dds --brdf phong --exponent 64 --size 32",
+            "prefilter {probe} ggx_{{face}}_{{mip}}.png --size 16 --mips 3",
+            "dfg dfg.exr --size 16 --samples 64",
+        ),
+    ),
+    Job(
+        "codecs",
+        (
+            "convert {probe} probe.exr",
+            "convert {probe} probe.pfm",
+            "convert {probe} probe.tga",
+            "convert {probe} rle.tga -O rle=true",
+            "convert probe.exr probe16.png --bits 16",
+            "info probe.exr probe.pfm probe.tga rle.tga probe16.png",
+            "resize {probe} small.hdr --size 256x128",
+            "resize probe16.png small.png --size 300x150",
+            "tonemap {probe} aces.png --operator aces",
+            "tonemap {probe} reinhard.jpg --operator reinhard --white 8",
+        ),
+    ),
+    Job(
+        "panoramas",
+        (
+            "remap {probe} ball.hdr --to mirrorball --size 256",
+            "remap ball.hdr angular.exr --from mirrorball --to angular",
+            "remap {probe} cross.exr --to cross-vertical --size 32 --filter area",
+            "remap cross.exr back.hdr --from cross-vertical --to latlong --filter area",
+            "remap {probe} octahedral.exr --to octahedral --size 64 --filter area",
+            "remap {probe} paraboloid.pfm --to dual-paraboloid --size 32",
+            "remap {probe} env_cube.exr --to openexr-cube --size 16",
+            "unwrap ball.hdr -o unwrapped.exr --to latlong --size 128 --circle 127.5,127.5,128",
+            # sizes that select kernels of their own: a .hdr over 1 MP, EXR's half floats of a
+            # large image, the area filter's supersampling (over 4 M texels), out of core
+            "remap {probe} large.hdr --to latlong --size 4096x2048",
+            "convert large.hdr large.exr",
+            "info large.exr",
+            "remap large.hdr large_{{face}}.hdr --to faces --size 32 --filter area",
+            "remap large.exr large_octahedral.pfm --to octahedral --size 64 --filter area",
+            "remap {probe} chunked.exr --to cross-vertical --size 64 --memory 64M",
+            "remap {probe} chunked.hdr --to latlong --size 512x256 --memory 64M",
+        ),
+    ),
+    Job(
+        "water and normals",
+        (
+            "water ocean ocean --size 16 --resolution 32 --period 2",
+            "water ocean choppy --size 16 --resolution 32 --period 2 --choppiness 0.8"
+            " --outputs normal,height,foam --layout atlas",
+            "water ocean cascades --size 16 --resolution 32 --period 2 --cascades 2",
+            "water ocean gerstner --size 16 --resolution 32 --period 2 --method gerstner --waves 8",
+            "water ripples wave --model wave --rain 4 --resolution 64 --frames 4",
+            "water ripples ripples",
+            "water murk murk --water-type IB",
+            "fresnel {probe} fresnel.exr",
+            "fresnel {probe} fresnel.png --ldr --dither --report",
+            "fresnel {probe} fresnel_{{face}}.png --layout cube --size 16 --ldr",
+            "normals combine ocean/ocean_normal_0000.png ocean/ocean_normal_0001.png combined.png"
+            " --tile 2",
+            "normals transfer quad.obj ocean/ocean_normal_0000.png triplanar.png --size 32"
+            " --projection triplanar --macro combined.png",
+            "normals transfer quad.obj ocean/ocean_normal_0000.png box.png --size 32"
+            " --projection box",
+            "normals combine ocean/ocean_normal_0000.png ocean/ocean_normal_0001.png masked.png"
+            " --mask fresnel.png",
+            "normals check combined.png",
+            "normals convert combined.png combined_dx.png --from gl --to dx",
+            "normals from-height fresnel.png from_height.png --strength 8",
+        ),
+    ),
+    Job(
+        "photographs",
+        (
+            "tonemap {probe} bracket_0.png --operator none --exposure -4",
+            "tonemap {probe} bracket_1.png --operator none --exposure 0",
+            "tonemap {probe} bracket_2.png --operator none --exposure 4",
+            "merge bracket_0.png bracket_1.png bracket_2.png --times 1/16,1,16 -o merged.exr"
+            " --align --ghost 0.25",
+        ),
+    ),
+    Job(
+        "compress",
+        (
+            "compress {probe} probe_bc6h.dds --cube --size 32 --overflow clamp",
+            "compress {probe} probe_signed.ktx2 --cube --size 16 --format bc6h-signed"
+            " --overflow clamp",
+            "compress {probe} env_{{mip}}_{{face}}.png --cube --size 16 --format rgbd --mips 1",
+            "tonemap {probe} picture.png",
+            "compress picture.png picture_bc7.dds",
+            "water ocean normals --size 16 --resolution 32 --period 1",
+            "compress normals/ocean_normal_0000.png normal_bc5.dds --normal",
+            "bake-probe {probe} -o bake_bc --compress --cube-size 64 --specular-size 32 --mips 6",
+        ),
+        needs=("ispc_texcomp",),
+        extra="compress",
+    ),
+)
+
+
+def _available(job: Job) -> bool:
+    return all(importlib.util.find_spec(m) is not None for m in job.needs)
+
+
+def _start(job: Job, k: int, probe: str, work: Path) -> subprocess.Popen:
+    """Command ``k`` of ``job`` as a child process in ``work``, its stderr kept in a file; the
+    area filter's plans go to the scratch folder, not the user cache."""
+    env = {**os.environ, "BAKESHOP_CACHE_DIR": str(work / "plan-cache")}
+    argv = [sys.executable, "-m", "bakeshop.cli.main", "-q", *job.argv(k, probe)]
+    with (work / f"{job.name}.log").open("wb") as log:
+        return subprocess.Popen(argv, cwd=work, env=env, stdout=subprocess.DEVNULL, stderr=log)
+
+
+def run_tour(jobs: int) -> tuple[list[Job], list[Job]]:
+    """Run :data:`TOUR`, ``jobs`` processes at once: (the jobs run, those skipped for a missing
+    extra). A signal or a failure stops the processes still running.
+
+    Raises
+    ------
+    BakeshopError
+        A command of the tour failed: its error line.
+    """
+    from bakeshop.data import default_probe_path
+
+    probe = str(default_probe_path())
+    todo = [job for job in TOUR if _available(job)]
+    waiting = list(todo)
+    live: dict[Job, tuple[subprocess.Popen, int]] = {}
+    with (
+        tempfile.TemporaryDirectory(prefix="bakeshop-warm-up-") as tmp,
+        progress.task(
+            "warm-up: compiling every command's kernels", sum(len(j.commands) for j in todo)
+        ) as task,
+    ):
+        work = Path(tmp)
+        (work / "quad.obj").write_text(QUAD_OBJ)
+        try:
+            while waiting or live:
+                while waiting and len(live) < jobs:
+                    job = waiting.pop(0)
+                    live[job] = (_start(job, 0, probe, work), 0)
+                time.sleep(0.05)
+                for job, (child, k) in list(live.items()):
+                    if child.poll() is None:
+                        continue
+                    if child.returncode != 0:
+                        lines = (work / f"{job.name}.log").read_text(errors="replace").splitlines()
+                        reason = lines[-1].removeprefix("bakeshop: error: ") if lines else ""
+                        raise BakeshopError(
+                            f"warm-up: 'bakeshop {shlex.join(job.argv(k, probe))}' failed: "
+                            + (reason or f"exit status {child.returncode}")
+                        )
+                    task.advance()
+                    del live[job]
+                    if k + 1 < len(job.commands):
+                        live[job] = (_start(job, k + 1, probe, work), k + 1)
+        finally:
+            for child, _ in live.values():
+                child.terminate()
+                child.wait()
+    return todo, [job for job in TOUR if job not in todo]
+
+
+@click.command("warm-up", context_settings={"max_content_width": 100})
+@click.option("--jobs", "-j", type=Integer(1, 256), default=None,
+              help="Processes at once (default: the machine's cores).")  # fmt: skip
+def warm_up(jobs: int | None) -> None:
+    """Compile every command's numba kernels now, so that no command compiles on its first run.
+
+    A kernel is compiled to machine code on its first call and kept on disk beside its module
+    (or in NUMBA_CACHE_DIR): without this, a command's first run after installing or upgrading
+    bakeshop costs seconds to a minute more than later runs. The warm-up runs every command
+    on small inputs made from the embedded default probe, in a scratch folder it removes,
+    several processes at once: about 3 minutes of CPU once (a second warm-up only loads the
+    kernels). `make demo` runs it while installing. Commands of an optional extra that is not
+    installed (compress) are skipped and named.
+
+    \b
+    Example:
+      bakeshop warm-up
+      NUMBA_CACHE_DIR=~/.cache/bakeshop-kernels bakeshop warm-up --jobs 4
+    """
+    started = time.perf_counter()
+    ran, skipped = run_tour(jobs or os.cpu_count() or 1)
+    commands = sum(len(job.commands) for job in ran)
+    line = f"warmed up: {commands} commands, {time.perf_counter() - started:.0f} s"
+    skips = [f"{job.name} (needs bakeshop[{job.extra}])" for job in skipped]
+    click.echo(line + (f"; skipped {', '.join(skips)}" if skips else ""))
+
+
+def register(group: click.Group) -> None:
+    """Add the command to the root group."""
+    group.add_command(warm_up)

@@ -1,0 +1,176 @@
+"""``bakeshop warm-up``: after it, every cached numba kernel of the package is on disk, and a
+command's run on another probe compiles nothing; a failure, a missing extra and a signal are
+answered as every command answers them.
+
+The kernels are found by importing every module of the package (not from the tour), and
+"compiled" is read from numba's cache files in an empty ``NUMBA_CACHE_DIR``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import pytest
+
+from bakeshop.cli import warm_up
+from bakeshop.cli.main import main
+from tests.cli.test_process import EXIT_SECONDS, one_error_line
+
+DATA = Path(__file__).parents[1] / "data"
+
+#: cached kernels no command calls, with the library function that does: the warm-up runs
+#: commands, so these compile on the first such library call.
+LIBRARY_ONLY = {
+    "bakeshop.light.dfg._dfg_kernel": "dfg_terms at arbitrary points (the command's table: "
+    "_dfg_grid)",
+    "bakeshop.normals.transfer._world_to_tangent": "world_to_tangent",
+    "bakeshop.water._kernels._free_spectra": "ocean_frames at free times (commands loop)",
+    "bakeshop.water.cascades._sample_add": "sample_periodic",
+    "bakeshop.sphere._gather.gather_plan": "a second remap of the same sizes in one process",
+    "bakeshop.sphere._gather.reorder_plan": "a second remap of the same sizes into a cube "
+    "picture in one process",
+}
+
+#: lists the cached kernels of every module whose cache index is missing (run in a process with
+#: the warm-up's NUMBA_CACHE_DIR: numba picks a kernel's cache folder when it is decorated).
+MISSING = """
+import importlib, json, os, pkgutil
+from numba.core.dispatcher import Dispatcher
+import bakeshop
+missing, found = [], 0
+for info in pkgutil.walk_packages(bakeshop.__path__, "bakeshop."):
+    module = importlib.import_module(info.name)
+    for kernel in vars(module).values():
+        if not isinstance(kernel, Dispatcher) or kernel.__module__ != info.name:
+            continue
+        if type(kernel._cache).__name__ != "FunctionCache":
+            continue  # not cache=True
+        if kernel.targetoptions.get("inline") == "always":
+            continue  # compiled into its callers, never on its own
+        found += 1
+        if not os.path.exists(kernel._cache._cache_file._index_path):
+            missing.append(f"{info.name}.{kernel.py_func.__qualname__}")
+print(json.dumps({"found": found, "missing": sorted(set(missing))}))
+"""
+
+
+def _cache_files(folder: Path) -> dict[str, tuple[int, int]]:
+    return {str(p): (p.stat().st_size, p.stat().st_mtime_ns) for p in folder.rglob("*.nb[ic]")}
+
+
+@pytest.mark.slow
+def test_after_the_warm_up_every_kernel_is_compiled_and_a_command_compiles_nothing(tmp_path):
+    kernels, scratch, user = tmp_path / "kernels", tmp_path / "tmp", tmp_path / "user-cache"
+    scratch.mkdir()
+    env = {
+        **os.environ,
+        "NUMBA_CACHE_DIR": str(kernels),
+        "TMPDIR": str(scratch),
+        "BAKESHOP_CACHE_DIR": str(user),
+    }
+    bakeshop = [sys.executable, "-m", "bakeshop.cli.main", "-q"]
+    done = subprocess.run([*bakeshop, "warm-up"], env=env, capture_output=True, text=True)
+    assert done.returncode == 0 and done.stderr == "", done.stderr
+    assert done.stdout.startswith("warmed up: ") and "skipped" not in done.stdout
+    assert list(scratch.iterdir()) == []  # the tour's folder is removed
+    assert not user.exists()  # the tour's plans stayed in its folder
+
+    found = subprocess.run([sys.executable, "-c", MISSING], env=env, capture_output=True,
+                           text=True, check=True)  # fmt: skip
+    report = json.loads(found.stdout)
+    assert report["found"] > 100
+    assert report["missing"] == sorted(LIBRARY_ONLY)
+
+    # a probe the tour never saw (a small, very bright sun), through commands and options the
+    # tour ran on the default probe: numba's cache is only read
+    before = _cache_files(kernels)
+    probe = str(DATA / "quarry_01_1k.hdr")
+    for command in (
+        ["dims", probe, "-o", str(tmp_path / "dims")],
+        ["prefilter", probe, str(tmp_path / "ggx.dds"), "--size", "32", "--mips", "4"],
+        ["remap", probe, str(tmp_path / "cross.exr"), "--to", "cross-vertical", "--size", "32"],
+    ):
+        subprocess.run([*bakeshop, *command], env=env, check=True, capture_output=True)
+    assert _cache_files(kernels) == before
+
+
+@pytest.fixture
+def scratch(tmp_path, monkeypatch) -> Path:
+    """The folder the warm-up makes its scratch folder in."""
+    folder = tmp_path / "tmp"
+    folder.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(folder))
+    return folder
+
+
+def test_a_failing_command_stops_the_warm_up_in_one_line(scratch, monkeypatch, capfd):
+    slow = "water ocean o --size 64 --resolution 512 --period 8"
+    tour = (warm_up.Job("slow", (slow,)), warm_up.Job("bad", ("info {probe}", "info nothing.exr")))
+    monkeypatch.setattr(warm_up, "TOUR", tour)
+    started = time.monotonic()
+    assert main(["-q", "warm-up", "--jobs", "2"]) == 2
+    assert one_error_line(capfd) == (
+        "bakeshop: error: warm-up: 'bakeshop info nothing.exr' failed: nothing.exr: no such file"
+    )
+    assert list(scratch.iterdir()) == []
+    assert time.monotonic() - started < 30  # the slow job was stopped, not waited for
+
+
+def test_a_missing_extra_is_skipped_and_named(scratch, monkeypatch, capfd):
+    tour = (
+        warm_up.Job("info", ("info {probe}",)),
+        warm_up.Job("fast", ("info {probe}",), needs=("no_such_module_here",), extra="compress"),
+    )
+    monkeypatch.setattr(warm_up, "TOUR", tour)
+    assert main(["-q", "warm-up"]) == 0
+    out, err = capfd.readouterr()
+    assert err == ""
+    assert out.startswith("warmed up: 1 commands, ")
+    assert out.endswith("s; skipped fast (needs bakeshop[compress])\n")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_stops_every_process_of_the_tour_and_removes_its_folder(tmp_path, signum):
+    env = {**os.environ, "TMPDIR": str(tmp_path)}
+    parent = subprocess.Popen(
+        [sys.executable, "-m", "bakeshop.cli.main", "-q", "warm-up", "--jobs", "2"],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    deadline = time.monotonic() + EXIT_SECONDS
+    children: list[int] = []
+    while len(children) < 2:
+        assert time.monotonic() < deadline and parent.poll() is None, "no tour started"
+        time.sleep(0.05)
+        children = _children(parent.pid)
+    parent.send_signal(signum)
+    out, err = parent.communicate(timeout=EXIT_SECONDS)
+    assert parent.returncode == 128 + signum
+    assert err == f"bakeshop: interrupted by {signal.Signals(signum).name}\n" and out == ""
+    assert list(tmp_path.iterdir()) == []
+    for pid in children:
+        with pytest.raises(ProcessLookupError):
+            os.kill(pid, 0)
+
+
+def _children(pid: int) -> list[int]:
+    """The processes whose parent is ``pid`` (Linux's /proc)."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):
+            continue
+        if int(fields[1]) == pid:
+            found.append(int(stat.parent.name))
+    return found
