@@ -29,15 +29,16 @@ process is left alone.
 
 from __future__ import annotations
 
-import importlib.util
 import sys
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any
 
-if TYPE_CHECKING:  # importlib.abc imports importlib.resources and tempfile: 7 ms of `info`
+from bakeshop._import_hooks import hook_imports
+
+if TYPE_CHECKING:
     import importlib.abc
-    import importlib.machinery
     import types
-    from collections.abc import Callable, Sequence
+
+    from bakeshop._import_hooks import Hook
 
 #: numba's module of on-disk kernel caches.
 CACHING = "numba.core.caching"
@@ -86,50 +87,10 @@ def _without_blas_probe(loader: importlib.abc.Loader, module: types.ModuleType) 
 
 
 #: module -> how its loader executes it in a command's process.
-HOOKS: dict[str, Callable[[importlib.abc.Loader, types.ModuleType], None]] = {
+HOOKS: dict[str, Hook] = {
     CACHING: _then_patch_cache,
     PROBING: _without_blas_probe,
 }
-
-
-class _Hooked:
-    """A hooked module's own importlib loader, executing it through its hook."""
-
-    def __init__(self, loader: importlib.abc.Loader, name: str) -> None:
-        self._loader, self._name = loader, name
-
-    def create_module(self, spec: importlib.machinery.ModuleSpec) -> types.ModuleType | None:
-        return self._loader.create_module(spec)
-
-    def exec_module(self, module: types.ModuleType) -> None:
-        HOOKS[self._name](self._loader, module)
-
-    def __getattr__(self, name: str) -> Any:  # get_source, get_filename, ... for tracebacks
-        return getattr(self._loader, name)
-
-
-class _Hooks:
-    """A meta path finder: finds each module of ``pending`` (once) through the other finders and
-    wraps its loader; leaves ``sys.meta_path`` when none is pending."""
-
-    def __init__(self, pending: set[str]) -> None:
-        self.pending = pending
-
-    def find_spec(
-        self,
-        fullname: str,
-        path: Sequence[str] | None,
-        target: types.ModuleType | None = None,
-    ) -> importlib.machinery.ModuleSpec | None:
-        if fullname not in self.pending:
-            return None
-        self.pending.discard(fullname)
-        if not self.pending:
-            sys.meta_path.remove(self)
-        spec = importlib.util.find_spec(fullname)
-        if spec is not None and spec.loader is not None:
-            spec.loader = cast("importlib.abc.Loader", _Hooked(spec.loader, fullname))
-        return spec
 
 
 def trim_numba_startup() -> None:
@@ -137,8 +98,4 @@ def trim_numba_startup() -> None:
     (see the module notes): for modules already imported, what can still be done now."""
     if CACHING in sys.modules:
         _patch_cache(sys.modules[CACHING])
-    if any(isinstance(f, _Hooks) for f in sys.meta_path):
-        return
-    pending = {name for name in HOOKS if name not in sys.modules}
-    if pending:
-        sys.meta_path.insert(0, _Hooks(pending))
+    hook_imports(HOOKS)
