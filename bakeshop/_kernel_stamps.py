@@ -32,8 +32,9 @@ if TYPE_CHECKING:
     import importlib.abc
     import types
 
-#: the package's folder.
-ROOT = Path(__file__).resolve().parent
+#: the package's folder, as its modules' ``__file__`` name it.
+ROOT = Path(__file__).parent
+_PREFIX = str(ROOT) + os.sep
 #: numba's module of on-disk kernel caches.
 CACHING = "numba.core.caching"
 #: ``import bakeshop.x.y`` and ``from bakeshop.x import a, b`` (names in parentheses too).
@@ -69,7 +70,8 @@ def _imports(path: Path) -> tuple[Path, ...]:
             words = name.split()
             if words:
                 modules.append(f"{source}.{words[0]}")  # a submodule, when it is one
-        found += [_modules()[m] for m in modules if m in _modules()]
+        known = _modules()
+        found += [known[m] for m in modules if m in known]
     return tuple(sorted(set(found)))
 
 
@@ -105,11 +107,11 @@ class _Stamped:
     _py_file: str
 
     def get_source_stamp(self) -> str:
-        return stamp(Path(self._py_file).resolve())
+        return stamp(Path(self._py_file))
 
     @classmethod
     def from_function(cls, py_func: Any, py_file: str) -> Any:
-        if not Path(py_file).resolve().is_relative_to(ROOT):
+        if not py_file.startswith(_PREFIX):
             return None
         return super().from_function(py_func, py_file)  # type: ignore[misc]
 
