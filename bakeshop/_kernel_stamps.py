@@ -124,7 +124,8 @@ def _register(caching: types.ModuleType) -> None:
         return  # another numba: its own stamps
     if any(issubclass(c, _Stamped) for c in impl._locator_classes):
         return
-    mine = [type(f"Stamped{b}", (_Stamped, getattr(caching, b)), {}) for b in bases]
+    mine = [type(f"Stamped{b}", (_Stamped, getattr(caching, b)), {"__module__": __name__})
+            for b in bases]  # fmt: skip
     impl._locator_classes[:0] = mine
 
 
