@@ -19,7 +19,7 @@ $(BIN)/.installed: pyproject.toml
 	$(BIN)/pip install -q -e '.[preview]'
 	$(BIN)/python -m compileall -q bakeshop
 	@echo "compiling every command's numba kernels (once: about 5 minutes of CPU, see docs/install.md)"
-	$(BIN)/bakeshop -q warm-up
+	$(BIN)/bakeshop warm-up
 	touch $@
 
 $(BIN)/.installed-test: $(BIN)/.installed
