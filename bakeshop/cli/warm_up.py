@@ -251,8 +251,8 @@ def warm_up(jobs: int | None) -> None:
     bakeshop costs seconds to a minute more than later runs. The warm-up runs every command
     on small inputs made from the embedded default probe, in a scratch folder it removes,
     several processes at once: about 5 minutes of CPU once, 3 on two cores (a second warm-up
-    only loads the kernels: a minute). `make demo` runs it while installing. Commands of an optional extra that is not
-    installed (compress) are skipped and named.
+    only loads the kernels: a minute). `make demo` runs it while installing. Commands of an
+    optional extra that is not installed (compress) are skipped and named.
 
     \b
     Example:
