@@ -3,7 +3,8 @@
 module it imports changes, where numba's own stamp (its file alone) loaded the old machine code.
 
 Checked end to end on a copy of the package with two small kernel modules added, in fresh
-processes sharing one NUMBA_CACHE_DIR."""
+processes sharing one NUMBA_CACHE_DIR; and the closure, read from import statements, against
+what every kernel of the package names when it runs."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ import os
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -91,3 +93,47 @@ def test_the_closure_follows_every_form_of_import():
     # a command module imports the commands' shared options, the library lazily (in functions)
     rel = {p.relative_to(ROOT).as_posix() for p in closure(ROOT / "cli" / "irradiance.py")}
     assert {"cli/_common.py", "light/diffuse.py", "sphere/_maps.py"} <= rel
+
+
+def _names(code) -> set[str]:
+    """The global names a code object and the functions nested in it read."""
+    names = set(code.co_names)
+    for const in code.co_consts:
+        if hasattr(const, "co_names"):
+            names |= _names(const)
+    return names
+
+
+def test_every_kernel_and_module_a_kernel_names_is_in_its_closure():
+    """The closure is read from import statements; what numba compiles into a kernel is what
+    its code names at run time: every kernel it calls and every package module it reads from
+    must be in the closure of the kernel's file (the constants come through those modules)."""
+    import importlib
+    import inspect
+    import pkgutil
+    import types
+
+    from numba.core.dispatcher import Dispatcher
+
+    import bakeshop
+
+    checked, outside = 0, []
+    for info in pkgutil.walk_packages(bakeshop.__path__, "bakeshop."):
+        module = importlib.import_module(info.name)
+        for kernel in vars(module).values():
+            if not isinstance(kernel, Dispatcher) or kernel.__module__ != info.name:
+                continue
+            own = closure(Path(inspect.getfile(kernel.py_func)))
+            for name in _names(kernel.py_func.__code__):
+                value = kernel.py_func.__globals__.get(name)
+                if isinstance(value, Dispatcher):
+                    file = inspect.getfile(value.py_func)
+                elif isinstance(value, types.ModuleType):
+                    file = getattr(value, "__file__", None) or ""
+                else:
+                    continue
+                checked += 1
+                if file.startswith(str(ROOT)) and Path(file) not in own:
+                    outside.append(f"{info.name}.{kernel.__name__} -> {name} ({file})")
+    assert checked > 100
+    assert outside == []
