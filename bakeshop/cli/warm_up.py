@@ -13,6 +13,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import shlex
+import signal
 import subprocess
 import sys
 import tempfile
@@ -177,6 +178,14 @@ TOUR = (
 )
 
 
+#: seconds a command of the tour may take (the longest takes ~40 s with nothing compiled yet).
+COMMAND_SECONDS = 600
+#: seconds a stopped command is given to exit before it is killed: a child defers a signal
+#: until the kernel it is compiling is done, up to ~20 s, and a second Ctrl-C must not be
+#: needed (it would leave the scratch folder behind).
+STOP_SECONDS = 2.0
+
+
 def _available(job: Job) -> bool:
     return all(importlib.util.find_spec(m) is not None for m in job.needs)
 
@@ -204,7 +213,7 @@ def run_tour(jobs: int) -> tuple[list[Job], list[Job]]:
     probe = str(default_probe_path())
     todo = [job for job in TOUR if _available(job)]
     waiting = list(todo)
-    live: dict[Job, tuple[subprocess.Popen, int]] = {}
+    live: dict[Job, tuple[subprocess.Popen, int, float]] = {}
     with (
         tempfile.TemporaryDirectory(prefix="bakeshop-warm-up-") as tmp,
         progress.task(
@@ -217,27 +226,49 @@ def run_tour(jobs: int) -> tuple[list[Job], list[Job]]:
             while waiting or live:
                 while waiting and len(live) < jobs:
                     job = waiting.pop(0)
-                    live[job] = (_start(job, 0, probe, work), 0)
+                    live[job] = (_start(job, 0, probe, work), 0, time.monotonic())
                 time.sleep(0.05)
-                for job, (child, k) in list(live.items()):
+                for job, (child, k, started) in list(live.items()):
+                    command = f"'bakeshop {shlex.join(job.argv(k, probe))}'"
                     if child.poll() is None:
+                        if time.monotonic() - started > COMMAND_SECONDS:
+                            raise BakeshopError(
+                                f"warm-up: {command} did not end in {COMMAND_SECONDS} s"
+                            )
                         continue
                     if child.returncode != 0:
-                        lines = (work / f"{job.name}.log").read_text(errors="replace").splitlines()
-                        reason = lines[-1].removeprefix("bakeshop: error: ") if lines else ""
-                        raise BakeshopError(
-                            f"warm-up: 'bakeshop {shlex.join(job.argv(k, probe))}' failed: "
-                            + (reason or f"exit status {child.returncode}")
-                        )
+                        reason = _reason(work / f"{job.name}.log", child.returncode)
+                        raise BakeshopError(f"warm-up: {command} failed: {reason}")
                     task.advance()
                     del live[job]
                     if k + 1 < len(job.commands):
-                        live[job] = (_start(job, k + 1, probe, work), k + 1)
+                        live[job] = (_start(job, k + 1, probe, work), k + 1, time.monotonic())
         finally:
-            for child, _ in live.values():
-                child.terminate()
-                child.wait()
+            _stop([child for child, _, _ in live.values()])
     return todo, [job for job in TOUR if job not in todo]
+
+
+def _reason(log: Path, status: int) -> str:
+    """Why a child failed: its error line, or the signal that ended it."""
+    lines = log.read_text(errors="replace").splitlines()
+    if lines:
+        return lines[-1].removeprefix("bakeshop: error: ")
+    if status < 0:
+        return f"killed by {signal.Signals(-status).name}"
+    return f"exit status {status}"
+
+
+def _stop(children: list[subprocess.Popen]) -> None:
+    """Terminate the children, and kill those still running after :data:`STOP_SECONDS`."""
+    for child in children:
+        child.terminate()
+    deadline = time.monotonic() + STOP_SECONDS
+    for child in children:
+        try:
+            child.wait(max(0.0, deadline - time.monotonic()))
+        except subprocess.TimeoutExpired:
+            child.kill()
+            child.wait()
 
 
 @click.command("warm-up", context_settings={"max_content_width": 100})
@@ -250,9 +281,9 @@ def warm_up(jobs: int | None) -> None:
     (or in NUMBA_CACHE_DIR): without this, a command's first run after installing or upgrading
     bakeshop costs seconds to a minute more than later runs. The warm-up runs every command
     on small inputs made from the embedded default probe, in a scratch folder it removes,
-    several processes at once: about 5 minutes of CPU once, 3 on two cores (a second warm-up
-    only loads the kernels: a minute). `make demo` runs it while installing. Commands of an
-    optional extra that is not installed (compress) are skipped and named.
+    several processes at once: about 5 minutes of CPU once, 3 minutes of waiting on two cores
+    (a second warm-up only loads the kernels: a minute). `make demo` runs it while installing.
+    Commands of an optional extra that is not installed (compress) are skipped and named.
 
     \b
     Example:

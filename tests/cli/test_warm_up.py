@@ -174,3 +174,36 @@ def _children(pid: int) -> list[int]:
         if int(fields[1]) == pid:
             found.append(int(stat.parent.name))
     return found
+
+
+def test_a_child_that_does_not_stop_is_killed(scratch, monkeypatch, capfd):
+    # a child compiling a kernel takes a signal only when the compile ends (up to ~20 s): the
+    # warm-up's stop must not wait for it, or a second Ctrl-C kills the warm-up mid-clean-up
+    stubborn: list[subprocess.Popen] = []
+    start = warm_up._start
+
+    def starting(job, k, probe, work):
+        if job.name != "stubborn":
+            return start(job, k, probe, work)
+        code = "import signal, time; signal.signal(signal.SIGTERM, signal.SIG_IGN); time.sleep(60)"
+        stubborn.append(subprocess.Popen([sys.executable, "-c", code]))
+        return stubborn[-1]
+
+    monkeypatch.setattr(warm_up, "_start", starting)
+    tour = (warm_up.Job("stubborn", ("info {probe}",)), warm_up.Job("bad", ("info nothing.exr",)))
+    monkeypatch.setattr(warm_up, "TOUR", tour)
+    started = time.monotonic()
+    assert main(["-q", "warm-up", "--jobs", "2"]) == 2
+    assert time.monotonic() - started < warm_up.STOP_SECONDS + 10
+    assert "'bakeshop info nothing.exr' failed" in one_error_line(capfd)
+    assert stubborn[0].returncode == -signal.SIGKILL
+    assert list(scratch.iterdir()) == []
+
+
+def test_a_child_killed_by_a_signal_is_named(tmp_path):
+    log = tmp_path / "job.log"
+    log.write_text("")
+    assert warm_up._reason(log, -signal.SIGSEGV) == "killed by SIGSEGV"
+    assert warm_up._reason(log, 3) == "exit status 3"
+    log.write_text("Traceback...\nbakeshop: error: x.hdr: no such file\n")
+    assert warm_up._reason(log, 2) == "x.hdr: no such file"
