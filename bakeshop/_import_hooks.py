@@ -59,18 +59,24 @@ class _Hooks:
         return spec
 
 
-#: the (module, hook) pairs given to :func:`hook_imports` in this process.
-_given: set[tuple[str, Hook]] = set()
+def after(patch: Callable[[types.ModuleType], None]) -> Hook:
+    """A hook that executes the module, then gives it to ``patch``."""
+
+    def hook(loader: importlib.abc.Loader, module: types.ModuleType) -> None:
+        loader.exec_module(module)
+        patch(module)
+
+    return hook
 
 
 def hook_imports(hooks: dict[str, Hook]) -> None:
     """Execute each module named in ``hooks`` through its hook when it is first imported (the
-    modules already imported are left to the caller; a pair given before is not hooked again)."""
+    modules already imported are left to the caller; a hook still pending is not added again)."""
+    waiting = [f.pending for f in sys.meta_path if isinstance(f, _Hooks)]
     pending = {
         name: hook
         for name, hook in hooks.items()
-        if name not in sys.modules and (name, hook) not in _given
+        if name not in sys.modules and not any(p.get(name) is hook for p in waiting)
     }
-    _given.update(pending.items())
     if pending:
         sys.meta_path.insert(0, _Hooks(pending))

@@ -26,10 +26,9 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from bakeshop._import_hooks import hook_imports
+from bakeshop._import_hooks import after, hook_imports
 
 if TYPE_CHECKING:
-    import importlib.abc
     import types
 
 #: the package's folder, as its modules' ``__file__`` name it.
@@ -129,9 +128,8 @@ def _register(caching: types.ModuleType) -> None:
     impl._locator_classes[:0] = mine
 
 
-def _then_register(loader: importlib.abc.Loader, module: types.ModuleType) -> None:
-    loader.exec_module(module)
-    _register(module)
+#: numba's caching module -> the stamped locators registered as it loads.
+_HOOKS = {CACHING: after(_register)}
 
 
 def install() -> None:
@@ -140,4 +138,4 @@ def install() -> None:
     if CACHING in sys.modules:
         _register(sys.modules[CACHING])
     else:
-        hook_imports({CACHING: _then_register})
+        hook_imports(_HOOKS)

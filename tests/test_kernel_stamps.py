@@ -108,33 +108,27 @@ def test_every_kernel_and_module_a_kernel_names_is_in_its_closure():
     """The closure is read from import statements; what numba compiles into a kernel is what
     its code names at run time: every kernel it calls and every package module it reads from
     must be in the closure of the kernel's file (the constants come through those modules)."""
-    import importlib
     import inspect
-    import pkgutil
     import types
 
     from numba.core.dispatcher import Dispatcher
 
-    import bakeshop
+    from tests.kernels import package_kernels
 
     checked, outside = 0, []
-    for info in pkgutil.walk_packages(bakeshop.__path__, "bakeshop."):
-        module = importlib.import_module(info.name)
-        for kernel in vars(module).values():
-            if not isinstance(kernel, Dispatcher) or kernel.__module__ != info.name:
+    for qualified, kernel in package_kernels():
+        own = closure(Path(inspect.getfile(kernel.py_func)))
+        for name in _names(kernel.py_func.__code__):
+            value = kernel.py_func.__globals__.get(name)
+            if isinstance(value, Dispatcher):
+                file = inspect.getfile(value.py_func)
+            elif isinstance(value, types.ModuleType):
+                file = getattr(value, "__file__", None) or ""
+            else:
                 continue
-            own = closure(Path(inspect.getfile(kernel.py_func)))
-            for name in _names(kernel.py_func.__code__):
-                value = kernel.py_func.__globals__.get(name)
-                if isinstance(value, Dispatcher):
-                    file = inspect.getfile(value.py_func)
-                elif isinstance(value, types.ModuleType):
-                    file = getattr(value, "__file__", None) or ""
-                else:
-                    continue
-                checked += 1
-                if file.startswith(str(ROOT)) and Path(file) not in own:
-                    outside.append(f"{info.name}.{kernel.__name__} -> {name} ({file})")
+            checked += 1
+            if file.startswith(str(ROOT)) and Path(file) not in own:
+                outside.append(f"{qualified} -> {name} ({file})")
     assert checked > 100
     assert outside == []
 

@@ -32,7 +32,8 @@ from __future__ import annotations
 import sys
 from typing import TYPE_CHECKING, Any
 
-from bakeshop._import_hooks import hook_imports
+from bakeshop._import_hooks import after, hook_imports
+from bakeshop._kernel_stamps import CACHING
 
 if TYPE_CHECKING:
     import importlib.abc
@@ -40,8 +41,6 @@ if TYPE_CHECKING:
 
     from bakeshop._import_hooks import Hook
 
-#: numba's module of on-disk kernel caches.
-CACHING = "numba.core.caching"
 #: the module whose import probes for a BLAS.
 PROBING = "numba.np.arraymath"
 
@@ -64,11 +63,6 @@ def _patch_cache(module: types.ModuleType) -> None:
         cache.load_overload = _load_overload  # type: ignore[union-attr]
 
 
-def _then_patch_cache(loader: importlib.abc.Loader, module: types.ModuleType) -> None:
-    loader.exec_module(module)
-    _patch_cache(module)
-
-
 def _no_blas() -> None:
     raise ImportError("the BLAS probe is skipped at a command's start-up")
 
@@ -88,7 +82,7 @@ def _without_blas_probe(loader: importlib.abc.Loader, module: types.ModuleType) 
 
 #: module -> how its loader executes it in a command's process.
 HOOKS: dict[str, Hook] = {
-    CACHING: _then_patch_cache,
+    CACHING: after(_patch_cache),
     PROBING: _without_blas_probe,
 }
 

@@ -229,16 +229,15 @@ def run_tour(jobs: int) -> tuple[list[Job], list[Job]]:
                     live[job] = (_start(job, 0, probe, work), 0, time.monotonic())
                 time.sleep(0.05)
                 for job, (child, k, started) in list(live.items()):
-                    command = f"'bakeshop {shlex.join(job.argv(k, probe))}'"
-                    if child.poll() is None:
-                        if time.monotonic() - started > COMMAND_SECONDS:
-                            raise BakeshopError(
-                                f"warm-up: {command} did not end in {COMMAND_SECONDS} s"
-                            )
+                    status = child.poll()
+                    if status is None and time.monotonic() - started <= COMMAND_SECONDS:
                         continue
-                    if child.returncode != 0:
-                        reason = _reason(work / f"{job.name}.log", child.returncode)
-                        raise BakeshopError(f"warm-up: {command} failed: {reason}")
+                    if status != 0:
+                        log = work / f"{job.name}.log"
+                        why = "failed: " + _reason(log, status) if status is not None else (
+                            f"did not end in {COMMAND_SECONDS} s")  # fmt: skip
+                        command = shlex.join(job.argv(k, probe))
+                        raise BakeshopError(f"warm-up: 'bakeshop {command}' {why}")
                     task.advance()
                     del live[job]
                     if k + 1 < len(job.commands):

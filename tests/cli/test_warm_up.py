@@ -41,22 +41,17 @@ LIBRARY_ONLY = {
 #: lists the cached kernels of every module whose cache index is missing (run in a process with
 #: the warm-up's NUMBA_CACHE_DIR: numba picks a kernel's cache folder when it is decorated).
 MISSING = """
-import importlib, json, os, pkgutil
-from numba.core.dispatcher import Dispatcher
-import bakeshop
+import json, os
+from tests.kernels import package_kernels
 missing, found = [], 0
-for info in pkgutil.walk_packages(bakeshop.__path__, "bakeshop."):
-    module = importlib.import_module(info.name)
-    for kernel in vars(module).values():
-        if not isinstance(kernel, Dispatcher) or kernel.__module__ != info.name:
-            continue
-        if type(kernel._cache).__name__ != "FunctionCache":
-            continue  # not cache=True
-        if kernel.targetoptions.get("inline") == "always":
-            continue  # compiled into its callers, never on its own
-        found += 1
-        if not os.path.exists(kernel._cache._cache_file._index_path):
-            missing.append(f"{info.name}.{kernel.py_func.__qualname__}")
+for name, kernel in package_kernels():
+    if type(kernel._cache).__name__ != "FunctionCache":
+        continue  # not cache=True
+    if kernel.targetoptions.get("inline") == "always":
+        continue  # compiled into its callers, never on its own
+    found += 1
+    if not os.path.exists(kernel._cache._cache_file._index_path):
+        missing.append(name)
 print(json.dumps({"found": found, "missing": sorted(set(missing))}))
 """
 
@@ -82,8 +77,8 @@ def test_after_the_warm_up_every_kernel_is_compiled_and_a_command_compiles_nothi
     assert list(scratch.iterdir()) == []  # the tour's folder is removed
     assert not user.exists()  # the tour's plans stayed in its folder
 
-    found = subprocess.run([sys.executable, "-c", MISSING], env=env, capture_output=True,
-                           text=True, check=True)  # fmt: skip
+    found = subprocess.run([sys.executable, "-c", MISSING], env=env, cwd=DATA.parents[1],
+                           capture_output=True, text=True, check=True)  # fmt: skip
     report = json.loads(found.stdout)
     assert report["found"] > 100
     assert report["missing"] == sorted(LIBRARY_ONLY)
