@@ -11,6 +11,7 @@ from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.io._files import MAX_SIDE
+from bakeshop.io.budget import check_decode
 
 P = ParamSpec("P")
 R = TypeVar("R")
@@ -29,6 +30,30 @@ MAX_LEVELS = 21
 def mip_size(size: int, level: int) -> int:
     """Side of mip ``level`` of a texture whose level 0 is ``size`` (floor halving, at least 1)."""
     return max(1, size >> level)
+
+
+def check_chain_decode(
+    width: int,
+    height: int,
+    levels: int,
+    images: int,
+    channels: int,
+    stored: int,
+    file_size: int,
+    *,
+    decode: bool,
+) -> None:
+    """Refuse, from the header alone and before any level is read, inflated or decoded, a
+    chain that would exceed the decode budget (:func:`bakeshop.io.budget.check_decode`).
+
+    The bytes counted are the ``stored`` bytes the levels hold once read (inflated, for a
+    supercompressed file) plus, with ``decode``, the float32 levels returned: ``images`` (faces
+    times layers) of ``channels`` per texel at every level of a ``width`` x ``height`` chain.
+    """
+    texels = sum(mip_size(width, m) * mip_size(height, m) for m in range(levels))
+    needed = stored + (images * texels * channels * 4 if decode else 0)
+    what = f"the {levels}-level {width}x{height} chain" + (f" of {images} images" if images > 1 else "")
+    check_decode(needed, file_size, what)
 
 
 def check_levels(

@@ -60,6 +60,7 @@ from bakeshop.io._levels import (
     DTYPES,
     MAX_LEVELS,
     UNORM_DTYPES,
+    check_chain_decode,
     check_levels,
     encode,
     mip_size,
@@ -392,6 +393,9 @@ def _read(
 
         sizes = [level_bytes(block, mip_size(width, m), mip_size(height, m)) for m in range(levels)]
         check_payload(faces * sum(sizes), size - offset)
+        check_chain_decode(
+            width, height, levels, faces, block.channels, faces * sum(sizes), size, decode=decode
+        )
         with open(path, "rb") as f:
             f.seek(offset)
             blob = f.read(faces * sum(sizes))
@@ -410,6 +414,10 @@ def _read(
     shapes = [(mip_size(height, m), mip_size(width, m), channels) for m in range(levels)]
     face_bytes = sum(h * w * c for h, w, c in shapes) * itemsize
     check_payload(layers * faces * face_bytes, size - offset)
+    check_chain_decode(
+        width, height, levels, layers * faces, channels, layers * faces * face_bytes, size,
+        decode=True,
+    )  # fmt: skip
     raw = np.fromfile(
         path,
         dtype=SAMPLE_TYPES[dtype],

@@ -26,8 +26,9 @@ compressed format (GL_COMPRESSED_RGB_BPTC_UNSIGNED_FLOAT 0x8E8F, GL_COMPRESSED_R
 0x8E8C, GL_COMPRESSED_RG_RGTC2 0x8DBD, ...), glBaseInternalFormat its base format, and per level
 ``imageSize`` (the bytes of one face) then each face's blocks.
 
-The reader takes what these writers write (any byte order): float formats as they are, block
-formats decoded with bakeshop's own decoders (:func:`read_ktx`) or kept (:func:`read_ktx_blocks`).
+The reader takes what these writers write, in either byte order (a big-endian file's fields
+and samples are swapped per glTypeSize: 2 for half, 4 for float, 1 for blocks, which have no
+order): float formats as they are, block formats decoded with bakeshop's own decoders (:func:`read_ktx`) or kept (:func:`read_ktx_blocks`).
 """
 
 from __future__ import annotations
@@ -46,6 +47,7 @@ from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_inpu
 from bakeshop.io._levels import (
     DTYPES,
     MAX_LEVELS,
+    check_chain_decode,
     check_levels,
     encode,
     mip_size,
@@ -243,8 +245,8 @@ def _read(
             "BC1/3/4/5/6H/7 formats)"
         )
     if block is not None:
-        if gl_type != 0 or gl_format != 0:
-            raise FormatError("a compressed KTX file must have glType and glFormat 0")
+        if gl_type != 0 or gl_format != 0 or type_size != 1:
+            raise FormatError("a compressed KTX file must have glType 0, glFormat 0, glTypeSize 1")
     else:
         dtype, channels = match[0]
         if gl_type != _GL_TYPES[dtype] or type_size != DTYPES[dtype].itemsize:
@@ -273,6 +275,19 @@ def _read(
         "gl_internal_format": internal,
         "key_values": key_values,
     }
+    if block is not None:
+        stored = faces * sum(
+            level_bytes(block, mip_size(width, m), mip_size(height, m)) for m in range(levels)
+        )
+        check_chain_decode(
+            width, height, levels, faces, block.channels, stored, len(data), decode=decode
+        )
+    else:
+        texel = channels * DTYPES[dtype].itemsize
+        stored = faces * sum(
+            _pad4(mip_size(width, m) * texel) * mip_size(height, m) for m in range(levels)
+        )
+        check_chain_decode(width, height, levels, faces, channels, stored, len(data), decode=decode)
     if block is not None:
         from bakeshop.io.compress.texture import BlockTexture
 

@@ -64,6 +64,7 @@ from bakeshop.io._levels import (
     DTYPES,
     MAX_LEVELS,
     UNORM_DTYPES,
+    check_chain_decode,
     check_levels,
     encode,
     mip_size,
@@ -450,9 +451,9 @@ def _read(
                 "this KTX2 file is Zstandard-supercompressed: install bakeshop[compress]"
             ) from None
         inflater = zstandard.ZstdDecompressor()
-    raw_levels = []
-    for m in range(levels):
-        offset, length, full = _LEVEL.unpack_from(data, _HEADER.size + _LEVEL.size * m)
+    index = [_LEVEL.unpack_from(data, _HEADER.size + _LEVEL.size * m) for m in range(levels)]
+    sizes = []
+    for m, (offset, length, full) in enumerate(index):
         h, w = mip_size(height, m), mip_size(width, m)
         if block is not None:
             expected = faces * level_bytes(block, w, h)
@@ -461,9 +462,25 @@ def _read(
         if full != expected or (not scheme and length != expected):
             raise FormatError(f"level {m}: byteLength {length}, expected {expected}")
         check_payload(offset + length, len(data), f"level {m}")
+        sizes.append(expected)
+    images = max(layers, 1) * faces
+    check_chain_decode(
+        width, height, levels, images, channels if block is None else block.channels,
+        sum(sizes), len(data), decode=decode,
+    )  # fmt: skip
+    raw_levels = []
+    for m, ((offset, length, _), expected) in enumerate(zip(index, sizes, strict=True)):
         level = data[offset : offset + length]
         if scheme:
+            # the output is capped by the size the index declares (zstandard trusts a frame's
+            # own content size over the cap, so a frame declaring another size is refused first)
             try:
+                declared = zstandard.frame_content_size(level)
+                if declared not in (-1, expected):  # -1: the frame does not say
+                    raise FormatError(
+                        f"level {m}: its Zstandard frame declares {declared} bytes, the level "
+                        f"index {expected}"
+                    )
                 level = inflater.decompress(level, max_output_size=expected)
             except zstandard.ZstdError as e:
                 raise FormatError(f"level {m}: corrupt Zstandard data ({e})") from None

@@ -16,7 +16,8 @@ sample)
 Uncompressed and deflate (``zlib``) TIFFs are decoded by tifffile alone; LZW, PackBits, JPEG
 and the other compressions need the ``imagecodecs`` package (``pip install bakeshop[tiff]``),
 and a file that needs it without it is refused with that hint. The header's size is checked
-against bakeshop's limits before any pixel is decoded.
+against bakeshop's limits and the decode budget (:mod:`bakeshop.io.budget`: the larger of the
+samples tifffile decompresses and the float32 image returned) before any pixel is decoded.
 
 Writing: ``bits`` 8, 16 (unsigned integers, scaled from [0, 1] floats as PNG does) or 32
 (float32 samples, the default for float input: an HDR TIFF); ``compression`` ``"zlib"``
@@ -37,6 +38,7 @@ from numpy.typing import ArrayLike
 from bakeshop.errors import ArgumentError, BakeshopError, FormatError, UnsupportedError
 from bakeshop.io._files import MAX_PIXELS, check_dimensions
 from bakeshop.io._quantize import float_to_unsigned, unsigned_to_float
+from bakeshop.io.budget import check_decode
 
 NAME = "TIFF"
 
@@ -96,6 +98,10 @@ def read(path: str | os.PathLike, *, max_pixels: int = MAX_PIXELS) -> tuple[np.n
                     f"this TIFF is {page.compression.name}-compressed, which needs the "
                     "imagecodecs package: pip install bakeshop[tiff]"
                 )
+            samples = int(np.prod(series.shape)) // (width * height)
+            returned = width * height * (4 if samples == 2 else samples) * 4
+            stored = int(np.prod(series.shape)) * series.dtype.itemsize
+            check_decode(max(stored, returned), os.path.getsize(path), "the image")
             values = series.asarray()
             meta = {
                 "format": "BigTIFF" if tif.is_bigtiff else "TIFF",

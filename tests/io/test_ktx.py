@@ -236,3 +236,47 @@ def test_opengl_finds_every_texel_where_its_direction_points(tmp_path):
         offset += 4 + 6 * n
     for m, got in enumerate(opengl_lookup(face_bytes, size, "f4")):
         np.testing.assert_array_equal(got, direction_chain(size, levels)[m])
+
+
+def big_endian(data: bytes) -> bytes:
+    """A little-endian KTX 1 file (one key/value entry, as bakeshop writes it) in big-endian
+    order: every field swapped, and every sample per glTypeSize (blocks, size 1, as they are)."""
+    fields = struct.unpack_from("<13I", data, 12)
+    type_size, faces, levels, kv = fields[2], fields[10], fields[11], fields[12]
+    out = bytearray(data[:12] + struct.pack(">13I", *fields))
+    out += struct.pack(">I", u32(data, 64)) + data[68 : 64 + kv]
+    offset = 64 + kv
+    sample = {1: "u1", 2: "u2", 4: "u4"}[type_size]
+    for _ in range(max(levels, 1)):
+        size = u32(data, offset)
+        out += struct.pack(">I", size)
+        values = np.frombuffer(data, "<" + sample, faces * size // type_size, offset + 4)
+        out += values.astype(">" + sample).tobytes()
+        offset += 4 + faces * size
+    return bytes(out)
+
+
+def test_big_endian_half_and_block_files_read_as_the_little_endian_ones(tmp_path):
+    from bakeshop.io.compress.texture import encode_texture
+    from bakeshop.io.ktx import write_ktx_blocks
+
+    write_ktx(tmp_path / "h.ktx", chain(8, 3, 4), dtype="float16")
+    write_ktx_blocks(tmp_path / "b.ktx", encode_texture(chain(8, 3, 4), "bc6h"))
+    for name in ("h.ktx", "b.ktx"):
+        (tmp_path / f"be_{name}").write_bytes(big_endian((tmp_path / name).read_bytes()))
+        little, _ = read_ktx(tmp_path / name)
+        big, _ = read_ktx(tmp_path / f"be_{name}")
+        for a, b in zip(big, little, strict=True):
+            np.testing.assert_array_equal(a, b)
+
+
+def test_a_compressed_file_with_another_type_size_is_refused(tmp_path):
+    from bakeshop.io.compress.texture import encode_texture
+    from bakeshop.io.ktx import write_ktx_blocks
+
+    write_ktx_blocks(tmp_path / "b.ktx", encode_texture(chain(8, 3, 1), "bc6h"))
+    data = bytearray((tmp_path / "b.ktx").read_bytes())
+    struct.pack_into("<I", data, 20, 2)  # glTypeSize 2: swapping 2-byte units would be wrong
+    (tmp_path / "b.ktx").write_bytes(bytes(data))
+    with pytest.raises(FormatError, match="glTypeSize 1"):
+        read_ktx(tmp_path / "b.ktx")
