@@ -239,6 +239,8 @@ def parse_size(text: str | int | tuple[int, int]) -> tuple[int, int] | int:
 INPUT = InputPath()
 #: click type for an input environment: one file, or six named with {face} (checked on reading).
 ENVIRONMENT = InputPath(patterns=True)
+#: click type for an input environment that may also be a .zarr store (the chunked commands).
+ENVIRONMENT_SOURCE = InputPath(patterns=True, stores=True)
 #: click type for input frames: files or glob patterns (each match checked on reading).
 FRAMES = InputPath(patterns=True)
 #: click type for an input image that may also be a .zarr store (a directory).

@@ -11,7 +11,7 @@ import numpy as np
 
 from bakeshop.cli._common import float_format_option, linearise, out_dir_option, srgb_decode_option
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
-from bakeshop.cli._paths import ENVIRONMENT, refuse_overwriting_inputs
+from bakeshop.cli._paths import ENVIRONMENT_SOURCE, refuse_overwriting_inputs
 from bakeshop.cli._probe import (
     check_picture_format,
     from_option,
@@ -34,7 +34,7 @@ if TYPE_CHECKING:
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("source", metavar="IN", type=ENVIRONMENT)
+@click.argument("source", metavar="IN", type=ENVIRONMENT_SOURCE)
 @out_dir_option("Directory for the outputs (created if missing).")
 @from_option
 @float_format_option("File format of the three images.")

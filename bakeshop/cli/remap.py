@@ -20,7 +20,12 @@ from bakeshop.cli._common import (
 )
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 from bakeshop.cli._numbers import Numbers, Size
-from bakeshop.cli._paths import ENVIRONMENT, OUTPUT_FACES, parse_size, refuse_overwriting_inputs
+from bakeshop.cli._paths import (
+    ENVIRONMENT_SOURCE,
+    OUTPUT_FACES,
+    parse_size,
+    refuse_overwriting_inputs,
+)
 from bakeshop.errors import ArgumentError
 from bakeshop.io import stored_bits
 from bakeshop.io.environment import (
@@ -56,7 +61,7 @@ def _check_target(target: Path, layout: str) -> None:
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("source", type=ENVIRONMENT)
+@click.argument("source", type=ENVIRONMENT_SOURCE)
 @click.argument("target", type=OUTPUT_FACES)
 @click.option(
     "--from",

@@ -24,7 +24,7 @@ import numpy as np
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, BakeshopError, UnsupportedError
-from bakeshop.huge.memory import resolve_memory
+from bakeshop.huge.memory import refuse, resolve_memory
 from bakeshop.io.stream import ArrayReader, Reader
 
 T = TypeVar("T")
@@ -137,10 +137,21 @@ class Engine:
         return max(0, self.memory - fixed) // self.workers
 
     def check_source(self, source: Reader) -> None:
-        """Refuse an in-memory source on a cluster (workers read files, not this process's
-        memory), and a reader that cannot be sent to them, with its own error (pickling a
-        Radiance reader walks the file's scanlines: a corrupt file is refused here, not in
-        dask's serialisation)."""
+        """Refuse a source whose smallest read (one whole compressed chunk or tile inflated,
+        :attr:`Reader.read_floor`) does not fit a task's share of the bound, an in-memory
+        source on a cluster (workers read files, not this process's memory), and a reader
+        that cannot be sent to them, with its own error (pickling a Radiance reader walks the
+        file's scanlines: a corrupt file is refused here, not in dask's serialisation)."""
+        if source.read_floor > self.per_task():
+            rows, cols = source.block
+            error = refuse(
+                f"reading one {rows}x{cols} block of the source (its codec inflates a block "
+                "whole)",
+                self.workers * source.read_floor,
+                self.memory,
+            )
+            error.path = source.path
+            raise error
         if not self.distributed:
             return
         if isinstance(source, ArrayReader):

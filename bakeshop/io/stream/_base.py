@@ -8,7 +8,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, BakeshopError, FormatError
 
 #: a ``(start, stop)`` range of rows or columns.
 Window = tuple[int, int]
@@ -48,6 +48,9 @@ class Reader:
     block : (int, int)
         The file's natural block (rows, columns): a tile, a chunk, or a run of scanlines;
         reads aligned to it waste nothing.
+    read_floor : int
+        Bytes any read costs beyond the window it returns, however small: the codec inflates
+        a whole compressed block (a zarr chunk, a TIFF tile or strip) to cut a window from it.
     format : str
         The format's name.
     """
@@ -57,6 +60,7 @@ class Reader:
     dtype = np.dtype(np.float32)
     stored = "float32"
     block: tuple[int, int] = (256, 0)
+    read_floor = 0
     format = ""
 
     @property
@@ -69,7 +73,16 @@ class Reader:
         """The window ``rows = (top, bottom)``, ``cols = (left, right)`` (None: all) as a
         float32 ``(bottom - top, right - left, C)`` array, row 0 at the top."""
         top, bottom, left, right = window_of(self.shape, rows, cols)
-        return self._read(top, bottom, left, right)
+        try:
+            return self._read(top, bottom, left, right)
+        except (BakeshopError, MemoryError):
+            raise
+        except Exception as e:  # codecs raise many kinds on damaged blocks
+            raise FormatError(
+                f"corrupt or truncated data in rows {top}..{bottom}, columns {left}..{right} "
+                f"({type(e).__name__}: {e})",
+                self.path,
+            ) from None
 
     def _read(self, top: int, bottom: int, left: int, right: int) -> np.ndarray:
         raise NotImplementedError

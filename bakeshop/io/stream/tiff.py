@@ -63,7 +63,9 @@ class TiffReader(Reader):
         self.path = os.fspath(path)
         self.shape = (h, w, c)
         self.stored = str(dtype)
-        self.block = (int(block[0]), int(block[1]) or w)
+        self.block = (min(int(block[0]), h), min(int(block[1]) or w, w))
+        # a tile or strip is inflated whole, from its compressed bytes (at most as many)
+        self.read_floor = 2 * self.block[0] * self.block[1] * c * dtype.itemsize
 
     def _read(self, top: int, bottom: int, left: int, right: int) -> np.ndarray:
         tifffile = _tifffile()

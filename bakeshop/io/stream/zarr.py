@@ -12,6 +12,7 @@ only then).
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import shutil
 import tempfile
@@ -58,10 +59,15 @@ class ZarrReader(Reader):
         h, w = a.shape[:2]
         c = a.shape[2] if a.ndim == 3 else 1
         check_dimensions(w, h, c, max_pixels=MAX_PIXELS)
+        if min(a.chunks) < 1:
+            raise FormatError(f"the chunk shape {a.chunks} has an empty side")
         self.path = os.fspath(path)
         self.shape = (h, w, c)
         self.stored = str(a.dtype)
         self.block = (int(a.chunks[0]), int(a.chunks[1]))
+        # a chunk is inflated whole, in its stored type, from its compressed bytes (at most as
+        # many), to cut any window from it
+        self.read_floor = 2 * math.prod(min(n, s) for n, s in zip(a.chunks, a.shape)) * a.dtype.itemsize
         self.attributes = dict(a.attrs)
 
     def array(self) -> Any:  # a zarr.Array (zarr is an optional dependency)
