@@ -84,10 +84,12 @@ def convention_option(help: str) -> Callable[[F], F]:
 
 
 def is_ldr(path: str | os.PathLike) -> bool:
-    """True when ``path``'s format stores 8-bit display-encoded pictures (PNG, JPEG, TGA)."""
+    """True when ``path``'s format stores 8-bit display-encoded pictures (PNG, JPEG, TGA); a
+    texture container (.dds, .ktx, .ktx2) holds the values a GPU samples, so never."""
     from bakeshop.io import HDR_CODECS, codec_for
+    from bakeshop.io.containers import is_container
 
-    return codec_for(path) not in HDR_CODECS
+    return not is_container(path) and codec_for(path) not in HDR_CODECS
 
 
 # -- pictures: the display rule, bit depth and display-encoded inputs -----------------------------

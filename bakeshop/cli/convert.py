@@ -42,7 +42,7 @@ def convert(
     picture: PictureRule,
 ) -> None:
     """Convert SOURCE to TARGET, any supported format to any other (by extension: .hdr .pfm
-    .exr .tga .png .jpg).
+    .exr .tga .png .jpg; a 2-D .dds/.ktx/.ktx2 texture's level 0 as SOURCE).
 
     Float to 8/16-bit (for example .hdr to .png) follows the display rule of every command
     (docs/tonemap.md): --exposure (default 0; a float TARGET is scaled by it too), --tonemap
@@ -66,14 +66,14 @@ def convert(
     form of huge images for bakeshop and its dask workers (docs/huge-images.md).
     """
     from bakeshop.image import srgb_decode as decode
-    from bakeshop.io import ALPHA_EXTENSIONS, read_image
+    from bakeshop.io import ALPHA_EXTENSIONS
 
     refuse_overwriting_inputs(target, source)
     writer_options = parse_options(options)
     if _streams(source, target):
         _convert_strips(source, target, picture, srgb_decode, writer_options)
         return
-    image, meta = read_image(source, with_metadata=True)
+    image, meta = _read(source)
     bits = stored_bits(meta)
     steps = []
     if image.shape[2] == 4 and target.suffix.lower() not in ALPHA_EXTENSIONS:
@@ -99,6 +99,25 @@ def convert(
     h, w, c = image.shape
     how = f" ({', '.join(steps)})" if steps else ""
     click.echo(f"wrote {target}: {w}x{h}x{c}{how}")
+
+
+def _read(source: Path) -> tuple[np.ndarray, dict]:
+    """The image of ``source`` with its metadata: a 2-D texture container (.dds, .ktx, .ktx2)
+    gives its level 0; a cube map or a texture array is refused (remap reads cubes)."""
+    from bakeshop.io import read_container, read_image
+    from bakeshop.io.containers import is_container
+
+    if not is_container(source):
+        return read_image(source, with_metadata=True)
+    mips, meta = read_container(source)
+    if meta.get("cube") or mips[0].ndim != 3:
+        what = "a cube map" if meta.get("cube") else "a texture array"
+        raise ArgumentError(
+            f"{what} is not one picture; bakeshop remap turns a cube map into one, and bakeshop "
+            "compress writes it as another container",
+            source,
+        )
+    return mips[0], meta
 
 
 #: formats converted strip by strip (images larger than memory).
