@@ -145,8 +145,7 @@ class Engine:
         if source.read_floor > self.per_task():
             rows, cols = source.block
             error = refuse(
-                f"reading one {rows}x{cols} block of the source (its codec inflates a block "
-                "whole)",
+                f"reading one {rows}x{cols} block of the source (its codec inflates a block whole)",
                 self.workers * source.read_floor,
                 self.memory,
             )

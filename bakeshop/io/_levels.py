@@ -52,7 +52,7 @@ def check_chain_decode(
     """
     texels = sum(mip_size(width, m) * mip_size(height, m) for m in range(levels))
     needed = stored + (images * texels * channels * 4 if decode else 0)
-    what = f"the {levels}-level {width}x{height} chain" + (f" of {images} images" if images > 1 else "")
+    what = f"the {levels}-level {width}x{height} chain" + (f" of {images} images" * (images > 1))
     check_decode(needed, file_size, what)
 
 

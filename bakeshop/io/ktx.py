@@ -28,7 +28,8 @@ compressed format (GL_COMPRESSED_RGB_BPTC_UNSIGNED_FLOAT 0x8E8F, GL_COMPRESSED_R
 
 The reader takes what these writers write, in either byte order (a big-endian file's fields
 and samples are swapped per glTypeSize: 2 for half, 4 for float, 1 for blocks, which have no
-order): float formats as they are, block formats decoded with bakeshop's own decoders (:func:`read_ktx`) or kept (:func:`read_ktx_blocks`).
+order): float formats as they are, block formats decoded with bakeshop's own decoders
+(:func:`read_ktx`) or kept (:func:`read_ktx_blocks`).
 """
 
 from __future__ import annotations

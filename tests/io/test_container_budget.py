@@ -124,7 +124,9 @@ def test_a_level_inflating_beyond_its_declared_size_is_refused(tmp_path, content
     )
     path = tmp_path / "liar.ktx2"
     path.write_bytes(ktx2_blocks(8, 8, 1, frame, level_bytes(BC6H, 8, 8)))
-    reason = "its Zstandard frame declares 67108864 bytes" if content_size else "corrupt Zstandard data"
+    reason = (
+        "its Zstandard frame declares 67108864 bytes" if content_size else "corrupt Zstandard data"
+    )
     tracemalloc.start()
     try:
         with pytest.raises(FormatError, match=f"level 0: {reason}"):

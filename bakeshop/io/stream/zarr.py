@@ -67,7 +67,8 @@ class ZarrReader(Reader):
         self.block = (int(a.chunks[0]), int(a.chunks[1]))
         # a chunk is inflated whole, in its stored type, from its compressed bytes (at most as
         # many), to cut any window from it
-        self.read_floor = 2 * math.prod(min(n, s) for n, s in zip(a.chunks, a.shape)) * a.dtype.itemsize
+        chunk = math.prod(min(n, s) for n, s in zip(a.chunks, a.shape, strict=True))
+        self.read_floor = 2 * chunk * a.dtype.itemsize
         self.attributes = dict(a.attrs)
 
     def array(self) -> Any:  # a zarr.Array (zarr is an optional dependency)
