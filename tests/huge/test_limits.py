@@ -220,7 +220,7 @@ def test_a_two_worker_cluster_gives_the_local_results(tmp_path, cluster):
     _, client = cluster
     a, path = _zarr_image(tmp_path)
     on_cluster = Engine(client, memory="8MB")
-    local = Engine("threads", memory="8MB")
+    local = Engine("synchronous", memory="8MB")  # threads: a chunk each, over 8 MB at 6 cores
     assert np.array_equal(resize(path, (100, 50), engine=on_cluster), resize_area(a, (100, 50)))
     assert np.array_equal(
         remap(path, "latlong", "cube", 64, filter="bilinear", engine=on_cluster),
