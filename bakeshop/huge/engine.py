@@ -131,10 +131,12 @@ class Engine:
             return max(1, sum(w.get("nthreads", 1) for w in info.values()))
         return self.workers
 
-    def per_task(self, fixed: int = 0) -> int:
+    def per_task(self, fixed: int = 0, source: Reader | None = None) -> int:
         """Bytes one task may use: what the bound leaves after ``fixed`` (held by this process
-        for the whole job: the output, plans), shared by the tasks that run at once."""
-        return max(0, self.memory - fixed) // self.workers
+        for the whole job: the output, plans), shared by the tasks that run at once, less what
+        any read of ``source`` costs beyond its window (:attr:`Reader.read_floor`)."""
+        floor = 0 if source is None else source.read_floor
+        return max(0, max(0, self.memory - fixed) // self.workers - floor)
 
     def check_source(self, source: Reader) -> None:
         """Refuse a source whose smallest read (one whole compressed chunk or tile inflated,

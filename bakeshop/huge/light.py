@@ -112,7 +112,7 @@ def _strips(reader: Reader, engine: Engine, fixed: int, what: str) -> list[tuple
     each (the interpreter, numpy, numba and dask already hold ~300 MB outside the bound)."""
     h, w, c = reader.shape
     row = w * (_TEXEL_BYTES + 8 * c)
-    per_task = min(engine.per_task(fixed), STRIP_BYTES)
+    per_task = min(engine.per_task(fixed, reader), STRIP_BYTES)
     if fixed + engine.workers * row > engine.memory:
         raise refuse(what, fixed + engine.workers * row, engine.memory)
     rows = max(1, per_task // row)
@@ -389,7 +389,7 @@ def dim_pair(
     search = out_bytes + EXAMINED_BYTES * w * cap_rows
     if search + _PIECE_BYTES * w > engine.memory:
         raise refuse(f"{what}: the sun's search", search + _PIECE_BYTES * w, engine.memory)
-    texels = max(w, min(engine.per_task(search), STRIP_BYTES) // _PIECE_BYTES)
+    texels = max(w, min(engine.per_task(search, reader), STRIP_BYTES) // _PIECE_BYTES)
     top, coeffs, e = engine.reduce(
         _strip, [(r, reader, order, method, flat_normals) for r in strips], f"{what}: pass 1 of 2"
     )

@@ -325,7 +325,7 @@ def supersample_tiles(
     strips = _strips(reader, engine, out_bytes, what)
     peaks = engine.reduce(_peaks, [(r, reader, src) for r in strips], f"{what}: bright texels")
     clamp, bright, values = area.bright_texels([peaks.part])
-    per_task = engine.per_task(out_bytes)
+    per_task = engine.per_task(out_bytes, reader)
     sample_bytes = 64 + 24 * c  # taps, fractions, local taps, weights, the clamped window
 
     def cost(rows: int, cols: int) -> int:
@@ -362,7 +362,7 @@ def remap_tiles(
     out_bytes = faces * dh * dw * c * 4
     if out_bytes + engine.workers * (_TEXEL_BYTES + 2 * 4 * 4 * c) > engine.memory:
         raise refuse(what, out_bytes + engine.workers * 4096, engine.memory)
-    per_task = engine.per_task(out_bytes)
+    per_task = engine.per_task(out_bytes, reader)
     texels_per = max(1.0, valid_texels(src, (h, w)) / max(1, faces * dh * dw))
 
     def cost(rows: int, cols: int) -> int:

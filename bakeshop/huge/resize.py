@@ -90,7 +90,7 @@ def plan(
 ) -> list[tuple[int, int, int, int]]:
     """The output blocks of a resize of ``reader`` to ``size`` under the engine's bound."""
     width, height = size
-    per_task = min(engine.per_task(fixed), MAX_WINDOW_BYTES)
+    per_task = min(engine.per_task(fixed, reader), MAX_WINDOW_BYTES)
     cost = _block_bytes(reader, size)
     if fixed + engine.workers * cost(1, 1) > engine.memory:
         raise refuse(what, fixed + engine.workers * cost(1, 1), engine.memory)

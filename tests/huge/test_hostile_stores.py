@@ -105,3 +105,11 @@ def test_dims_and_remap_read_a_zarr_store(store, tmp_path, capfd, command):
         written = tmp_path / "r.exr"
     assert main(["-q", *argv]) == 0, capfd.readouterr().err
     assert written.is_file()
+
+
+def test_a_tasks_share_of_the_bound_leaves_room_for_its_chunk(store):
+    reader = open_image(store)  # 32 x 32 x 3 float32 chunks: 12 KiB, 24 KiB with their bytes
+    assert reader.read_floor == 2 * 32 * 32 * 3 * 4
+    engine = Engine("synchronous", 8 << 20)
+    assert engine.per_task(1 << 20, reader) == (7 << 20) - reader.read_floor
+    assert engine.per_task(1 << 20) == 7 << 20
