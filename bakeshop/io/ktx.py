@@ -276,19 +276,15 @@ def _read(
         "gl_internal_format": internal,
         "key_values": key_values,
     }
+    sides = [(mip_size(width, m), mip_size(height, m)) for m in range(levels)]
     if block is not None:
-        stored = faces * sum(
-            level_bytes(block, mip_size(width, m), mip_size(height, m)) for m in range(levels)
-        )
-        check_chain_decode(
-            width, height, levels, faces, block.channels, stored, len(data), decode=decode
-        )
+        decoded, sizes = block.channels, [level_bytes(block, w, h) for w, h in sides]
     else:
         texel = channels * DTYPES[dtype].itemsize
-        stored = faces * sum(
-            _pad4(mip_size(width, m) * texel) * mip_size(height, m) for m in range(levels)
-        )
-        check_chain_decode(width, height, levels, faces, channels, stored, len(data), decode=decode)
+        decoded, sizes = channels, [_pad4(w * texel) * h for w, h in sides]
+    check_chain_decode(
+        width, height, levels, faces, decoded, faces * sum(sizes), len(data), decode=decode
+    )
     if block is not None:
         from bakeshop.io.compress.texture import BlockTexture
 
