@@ -449,8 +449,9 @@ def energy(level: ArrayLike, *, cube: bool) -> np.ndarray:
 
 
 def _worst_ratio(a: np.ndarray, b: np.ndarray) -> float:
-    """The channel ratio ``a / b`` furthest from 1."""
-    ratio = a / np.maximum(b, np.finfo(np.float64).tiny)
+    """The channel ratio ``a / b`` furthest from 1 (1 where both are 0: a black probe)."""
+    tiny = np.finfo(np.float64).tiny
+    ratio = (a + tiny) / (b + tiny)
     return float(ratio[np.argmax(np.abs(ratio - 1))])
 
 

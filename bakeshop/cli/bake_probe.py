@@ -242,16 +242,19 @@ def _require_writable(folder: Path) -> None:
     import tempfile
 
     from bakeshop.errors import ArgumentError
+    from bakeshop.io import describe_os_error
 
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as e:
-        raise ArgumentError(f"cannot create this folder: {e.strerror}", folder) from None
+        raise ArgumentError(f"cannot create this folder: {describe_os_error(e)}", folder) from None
     try:
         with tempfile.TemporaryFile(dir=folder):
             pass
     except OSError as e:
-        raise ArgumentError(f"cannot write in this folder: {e.strerror}", folder) from None
+        raise ArgumentError(
+            f"cannot write in this folder: {describe_os_error(e)}", folder
+        ) from None
 
 
 def _require_space(

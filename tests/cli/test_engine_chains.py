@@ -117,6 +117,13 @@ def test_openimageio_reads_the_same_dds_levels(baked):
             )
 
 
+def test_a_black_probe_passes_the_check():
+    black = [np.zeros((6, 4, 4, 3), np.float32)]
+    report = engines.check_energy(black, engines.SourceEnergy.of_bake(np.zeros((9, 3)), None),
+                                  cube=True, encoded=black)  # fmt: skip
+    assert report["levels"][0]["energy_ratio"] == 1
+
+
 def test_a_chain_made_from_the_shadow_probe_is_refused():
     sky, _ = _sky()
     bake = bake_probe(sky, "latlong", cube_size=16, specular_size=16, mips=5)
@@ -159,7 +166,7 @@ def test_a_missing_zstandard_is_refused_before_the_bake(capfd, tmp_path, monkeyp
 def test_an_output_folder_under_a_file_is_refused_before_the_bake(capfd, tmp_path):
     (tmp_path / "file").write_text("not a folder")
     err = _refused_at_once(capfd, tmp_path, "-o", tmp_path / "file" / "baked")
-    assert f"{tmp_path / 'file' / 'baked'}: cannot create this folder: Not a directory" in err
+    assert f"{tmp_path / 'file' / 'baked'}: cannot create this folder: not a directory" in err
 
 
 def test_a_folder_without_room_for_files_is_refused_before_the_bake(capfd, tmp_path):
