@@ -414,7 +414,7 @@ class SourceEnergy:
     """What every output of a probe bake must keep of the source probe (colour channels).
 
     ``energy`` is the integral of the radiance over the sphere, ``4 pi`` times its mean (radiance
-    units times sr); ``sun`` the sun's irradiance at normal incidence (:attr:`Sun.irradiance`,
+    units times sr); ``sun`` the sun's irradiance at normal incidence (``Sun.irradiance``,
     zero without a sun). A GGX filter is a normalised kernel of the angle between directions, so
     it keeps the energy at every roughness; a missing sun takes ``sun`` away from it.
     """

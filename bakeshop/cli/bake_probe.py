@@ -145,6 +145,7 @@ def bake_probe(
     _require_space(
         out_dir, image.shape, layout, cube_size, specular_size, mips, bool(compress or engine)
     )
+    out_dir.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
     # the shadow probe is a copy (counted in the bake's cost): the engine chains are re-baked
     # from the probe itself, sun included
@@ -236,25 +237,30 @@ def _require_extras(target: Path, zstd: bool) -> None:
         raise
 
 
+def _nearest_existing(path: Path) -> Path:
+    """``path``, or the nearest of its parents that exists."""
+    while not path.exists() and path != path.parent:
+        path = path.parent
+    return path
+
+
 def _require_writable(folder: Path) -> None:
-    """Create ``folder`` and write a temporary file in it (removed at once), or refuse with the
-    system's reason: a read-only file system, a file in the way, no permission."""
+    """Refuse when ``folder`` cannot be written in or created: a temporary file is written (and
+    removed at once) in it, or in the nearest existing folder above it; nothing is created."""
     import tempfile
 
     from bakeshop.errors import ArgumentError
     from bakeshop.io import describe_os_error
 
+    existing = _nearest_existing(folder)
+    what = "write in" if existing == folder else "create"
+    if not existing.is_dir():
+        raise ArgumentError(f"cannot {what} this folder: {existing} is a file", folder)
     try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise ArgumentError(f"cannot create this folder: {describe_os_error(e)}", folder) from None
-    try:
-        with tempfile.TemporaryFile(dir=folder):
+        with tempfile.TemporaryFile(dir=existing):
             pass
     except OSError as e:
-        raise ArgumentError(
-            f"cannot write in this folder: {describe_os_error(e)}", folder
-        ) from None
+        raise ArgumentError(f"cannot {what} this folder: {describe_os_error(e)}", folder) from None
 
 
 def _require_space(
@@ -282,7 +288,7 @@ def _require_space(
     need = 4 * samples + 4 * 2 * 128**2 + 2**20
     if compress:  # the environment's box mips (4/3 of level 0) and a chain of at most as many
         need += 6 * size**2 * 4 // 3 + chain
-    free = shutil.disk_usage(out_dir).free
+    free = shutil.disk_usage(_nearest_existing(out_dir)).free
     if need > free:
         raise ArgumentError(
             f"the bake writes up to {need / 1e6:.1f} MB and this file system has "
