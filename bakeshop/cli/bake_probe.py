@@ -218,7 +218,11 @@ def bake_probe(
         )  # fmt: skip
         click.echo(f"  compressed for {ENGINES[engine or 'generic'].title}:")
         for path, what, report in written:
-            q = f": {describe_quality(report['quality'])}" if report else ""
+            q = ""
+            if report:
+                ratios = [row["energy_ratio"] for row in report["source"]["levels"]]
+                worst = max(ratios, key=lambda r: abs(r - 1))
+                q = f": {describe_quality(report['quality'])}; energy {worst:.1%} of the probe's"
             click.echo(f"    {path.relative_to(out_dir)}  {what}{q}")
 
 
