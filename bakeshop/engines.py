@@ -16,6 +16,9 @@ orthonormal SH of radiance in graphics order) into the engine's:
   shader mapping from roughness to LOD, so that a chain baked with it is sampled where the
   engine expects it (or None: the engine prefilters the environment itself).
 - :func:`sh_export` - the SH coefficients in the layout and scaling the engine reads.
+- :func:`check_energy` - what a written level keeps of the source probe: its energy and its
+  sun's integral, so that an output made from anything else (the probe with its sun painted
+  out) is refused, whatever its compression error against that intermediate.
 
 What each rule rests on (an engine's shader source, its documentation, or only its documented
 axis convention) is in :data:`Engine.checked`, and ``docs/engines.md`` repeats it per engine.
@@ -30,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.errors import ArgumentError, BakeshopError, validate_choice
 
 __all__ = [
     "ENGINES",
@@ -40,6 +43,10 @@ __all__ = [
     "panorama",
     "mip_roughness",
     "sh_export",
+    "ENERGY_TOLERANCE",
+    "SourceEnergy",
+    "energy",
+    "check_energy",
 ]
 
 #: the constant factor of each real SH basis polynomial (graphics order): Y_k = K_k * poly_k,
@@ -394,3 +401,103 @@ def sh_export(coeffs: ArrayLike, e: Engine | str) -> dict:
         "flat": unity.T.ravel().tolist(),
         "meaning": "SphericalHarmonicsL2 sh[channel, k]; ShadeSH9 gives E/pi",
     }
+
+
+#: The largest relative error of a level's energy (per colour channel) against the source
+#: probe's that :func:`check_energy` accepts beyond the block format's own (measured: a GGX
+#: chain of a 128x64 sky with a 1e4-bright sun, 6x32 to 6x1, keeps it within 1.1 %).
+ENERGY_TOLERANCE = 0.02
+
+
+@dataclass(frozen=True)
+class SourceEnergy:
+    """What every output of a probe bake must keep of the source probe (colour channels).
+
+    ``energy`` is the integral of the radiance over the sphere, ``4 pi`` times its mean (radiance
+    units times sr); ``sun`` the sun's irradiance at normal incidence (``Sun.irradiance``,
+    zero without a sun). A GGX filter is a normalised kernel of the angle between directions, so
+    it keeps the energy at every roughness; a missing sun takes ``sun`` away from it.
+    """
+
+    energy: np.ndarray
+    sun: np.ndarray
+
+    @classmethod
+    def of_bake(cls, sh: ArrayLike, sun_irradiance: ArrayLike | None) -> SourceEnergy:
+        """From a bake's SH radiance coefficients of the source probe (``4 pi`` times the
+        mean is ``2 sqrt(pi)`` times the first) and its sun's irradiance (None: no sun)."""
+        first = np.asarray(sh, np.float64)[0]
+        energy = 2 * math.sqrt(math.pi) * first[: min(3, first.size)]
+        sun = np.zeros_like(energy) if sun_irradiance is None else np.asarray(sun_irradiance)
+        return cls(energy, np.asarray(sun, np.float64)[: energy.size])
+
+    def to_dict(self) -> dict:
+        """The source figures of a quality sidecar."""
+        return {"energy": self.energy.tolist(), "sun_irradiance": self.sun.tolist()}
+
+
+def energy(level: ArrayLike, *, cube: bool) -> np.ndarray:
+    """The integral of the radiance over the sphere of each colour channel of a cube level
+    ``(6, S, S, C)`` or a latlong ``(H, W, C)`` (a panorama rolled about the vertical keeps it):
+    sum of value times texel solid angle, float64."""
+    from bakeshop.sphere import layout
+
+    a = np.asarray(level)
+    omega = layout("cube" if cube else "latlong").solid_angles(a.shape[:-1]).ravel()
+    colour = a.reshape(-1, a.shape[-1])[:, : min(3, a.shape[-1])]
+    return np.einsum("ic,i->c", colour, omega, dtype=np.float64)
+
+
+def _worst_ratio(a: np.ndarray, b: np.ndarray) -> float:
+    """The channel ratio ``a / b`` furthest from 1 (1 where both are 0: a black probe)."""
+    tiny = np.finfo(np.float64).tiny
+    ratio = (a + tiny) / (b + tiny)
+    return float(ratio[np.argmax(np.abs(ratio - 1))])
+
+
+def check_energy(
+    levels: list,
+    source: SourceEnergy,
+    *,
+    cube: bool,
+    encoded: list | None = None,
+) -> dict:
+    """Measure each level's energy against the source probe's, and the sun's integral it holds
+    (its energy less the source's energy without the sun).
+
+    ``encoded``: the levels the decoded ``levels`` were compressed from; the format's own error
+    (their energies' worst relative difference: BC6H loses a few percent of a sun sharing
+    blocks with the sky, more when ``--overflow clamp`` clamps it) is allowed on top of
+    :data:`ENERGY_TOLERANCE`. Raises :class:`~bakeshop.errors.BakeshopError` when a level is
+    off by more: a level made from anything but the source probe (its sun painted out).
+
+    Returns the sidecar's ``source`` figures: the source's, and per level ``energy``,
+    ``energy_ratio`` (worst channel), ``format_error``, ``tolerance`` and ``sun_integral``.
+    """
+    rows = []
+    for m, level in enumerate(levels):
+        e = energy(level, cube=cube)
+        worst = _worst_ratio(e, source.energy)
+        lost = 0.0 if encoded is None else abs(_worst_ratio(e, energy(encoded[m], cube=cube)) - 1)
+        bound = ENERGY_TOLERANCE + lost
+        sun = e - (source.energy - source.sun)
+        rows.append(
+            {
+                "level": m,
+                "energy": e.tolist(),
+                "energy_ratio": worst,
+                "format_error": lost,
+                "tolerance": bound,
+                "sun_integral": sun.tolist(),
+            }
+        )
+        if abs(worst - 1) > bound:
+            kept = ""
+            if np.any(source.sun > 0):
+                share = float(np.sum(sun) / np.sum(source.sun))
+                kept = f" and {share:.1%} of its sun's integral"
+            raise BakeshopError(
+                f"level {m} holds {worst:.1%} of the source probe's energy{kept} (within "
+                f"{bound:.1%} expected): it was not made from the source probe; nothing written"
+            )
+    return {**source.to_dict(), "levels": rows}

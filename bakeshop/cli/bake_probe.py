@@ -105,7 +105,6 @@ def bake_probe(
     from bakeshop.io import ALPHA_EXTENSIONS, write_image, write_json
     from bakeshop.light import bake_probe as bake
     from bakeshop.light import contact_sheet, sh, sheet_exposure, sun_document
-    from bakeshop.sphere import check_environment
 
     paths = {
         "cube": out_dir / f"env_{{face}}.{fmt}",
@@ -130,21 +129,29 @@ def bake_probe(
                 outputs.append(sidecar_path(outputs[-1]))
     for path in outputs:  # before any work
         refuse_overwriting_inputs(path, source)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    if compress or engine:
+        _require_extras(
+            out_dir / preset.name / preset.files["environment"],
+            zstd and preset.container == "ktx2",
+        )
+    for folder in dict.fromkeys(path.parent for path in outputs):
+        _require_writable(folder)
     image, layout, source, meta = read_probe(source, src_layout, with_metadata=True)
     check_picture_format(layout, fmt, source)
     image, _ = linearise(image, source, meta, srgb_decode)
     dropped = image.shape[-1] == 4 and f".{fmt}" not in ALPHA_EXTENSIONS
     if dropped:  # alpha is carried by every step, but .hdr and .pfm store none
         image = image[..., :3].copy()  # the RGBA probe is not kept
+    _require_space(
+        out_dir, image.shape, layout, cube_size, specular_size, mips, bool(compress or engine)
+    )
+    out_dir.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
-    # the shadow probe is painted into the probe itself once nothing else reads it: a 16k
-    # probe is never held twice
-    baked = bake(image, layout, cube_size=cube_size, specular_size=specular_size, mips=mips,
-                 shadow_probe=False)  # fmt: skip
+    # the shadow probe is a copy (counted in the bake's cost): the engine chains are re-baked
+    # from the probe itself, sun included
+    baked = bake(image, layout, cube_size=cube_size, specular_size=specular_size, mips=mips)
     from bakeshop import progress
 
-    # the sheet reads the probe before the sun is painted out of it
     with progress.step("contact sheet"):
         ev = sheet_exposure(image, layout)
         sheet = contact_sheet(baked, image, ev=ev)
@@ -162,13 +169,10 @@ def bake_probe(
             description=f"bakeshop display: exposure {ev:+.4f} EV; exposure {ev:+.2f} EV (auto "
             "over the probe's sphere), ACES, clamped, sRGB, 8-bit",
         )
-        env = check_environment(image, layout)  # the probe itself, with a channel axis
-        if baked.fill is not None:
-            baked.fill.paint(env.image)
         # a cube probe (faces or a container) is painted as a cube: one picture, a cross
-        write_environment(
-            paths["shadow_probe"], as_picture(env.shaped(env.image), layout), picture_layout(layout)
-        )
+        assert baked.shadow_probe is not None  # bake_probe paints a copy unless told not to
+        shadow = as_picture(baked.shadow_probe, layout)
+        write_environment(paths["shadow_probe"], shadow, picture_layout(layout))
     elapsed = time.perf_counter() - started
     t = baked.timings
     s = baked.cube.shape[1]
@@ -214,8 +218,88 @@ def bake_probe(
         )  # fmt: skip
         click.echo(f"  compressed for {ENGINES[engine or 'generic'].title}:")
         for path, what, report in written:
-            q = f": {describe_quality(report['quality'])}" if report else ""
+            q = ""
+            if report:
+                ratios = [row["energy_ratio"] for row in report["source"]["levels"]]
+                worst = max(ratios, key=lambda r: abs(r - 1))
+                q = f": {describe_quality(report['quality'])}; energy {worst:.1%} of the probe's"
             click.echo(f"    {path.relative_to(out_dir)}  {what}{q}")
+
+
+def _require_extras(target: Path, zstd: bool) -> None:
+    """Refuse before any work when the compress extra that ``target`` needs is missing."""
+    from bakeshop.errors import BakeshopError
+    from bakeshop.io.compress.encode import ispc
+    from bakeshop.io.ktx2 import zstandard
+
+    try:
+        ispc()
+        if zstd:
+            zstandard()
+    except BakeshopError as e:
+        e.path = str(target)
+        raise
+
+
+def _nearest_existing(path: Path) -> Path:
+    """``path``, or the nearest of its parents that exists."""
+    while not path.exists() and path != path.parent:
+        path = path.parent
+    return path
+
+
+def _require_writable(folder: Path) -> None:
+    """Refuse when ``folder`` cannot be written in or created: a temporary file is written (and
+    removed at once) in it, or in the nearest existing folder above it; nothing is created."""
+    import tempfile
+
+    from bakeshop.errors import ArgumentError
+    from bakeshop.io import describe_os_error
+
+    existing = _nearest_existing(folder)
+    what = "write in" if existing == folder else "create"
+    if not existing.is_dir():
+        raise ArgumentError(f"cannot {what} this folder: {existing} is a file", folder)
+    try:
+        with tempfile.TemporaryFile(dir=existing):
+            pass
+    except OSError as e:
+        raise ArgumentError(f"cannot {what} this folder: {describe_os_error(e)}", folder) from None
+
+
+def _require_space(
+    out_dir: Path,
+    shape: tuple[int, ...],
+    layout: str,
+    cube_size: int | None,
+    specular_size: int,
+    mips: int,
+    compress: bool,
+) -> None:
+    """Refuse before the bake when ``out_dir``'s file system has less room than the bake writes:
+    an upper bound at 4 bytes a sample (float32; half floats and RGBE take less), one byte a
+    texel for BC6H, and a megabyte for the JSON files and the contact sheet."""
+    import math
+    import shutil
+
+    from bakeshop.errors import ArgumentError
+    from bakeshop.light.probe import default_cube_size
+
+    channels = min(4, shape[-1])  # of the outputs; the shadow probe has the probe's samples
+    size = cube_size or default_cube_size(shape, layout)
+    chain = sum(6 * max(1, specular_size >> m) ** 2 for m in range(mips))
+    samples = channels * (6 * size**2 + 2 * 360 * 180 + chain) + math.prod(shape)
+    need = 4 * samples + 4 * 2 * 128**2 + 2**20
+    if compress:  # the environment's box mips (4/3 of level 0) and a chain of at most as many
+        need += 6 * size**2 * 4 // 3 + chain
+    free = shutil.disk_usage(_nearest_existing(out_dir)).free
+    if need > free:
+        raise ArgumentError(
+            f"the bake writes up to {need / 1e6:.1f} MB and this file system has "
+            f"{free / 1e6:.1f} MB free: free some space, or lower --cube-size, --specular-size "
+            "or the probe's size",
+            out_dir,
+        )
 
 
 def register(group: click.Group) -> None:

@@ -105,10 +105,15 @@ def write_levels(
     normal_convention: str = "gl",
     rgbm_range: float = 8.0,
     extra: dict | None = None,
+    source: Callable[[list, list], dict] | None = None,
 ) -> tuple[list[Path], dict]:
     """Compress ``levels`` (already in the engine's orientation) to ``target``, check the
     floors, write the file and its sidecar; returns (paths, report). Nothing is written when a
-    floor fails."""
+    floor fails.
+
+    ``source(levels, decoded)`` measures the decoded levels against the source the levels
+    were made from (:func:`bakeshop.engines.check_energy`): its figures go to the report's
+    ``source``, and it raises when they fail."""
     from bakeshop import progress
     from bakeshop.io.compress.pipeline import compress_levels, write_compressed
 
@@ -130,6 +135,12 @@ def write_levels(
         except BakeshopError as e:  # refused arguments, and memory that cannot fit
             if e.path is None:
                 e.path = str(target)
+            raise
+    if source is not None:
+        try:
+            result.report["source"] = source(levels, result.decoded)
+        except BakeshopError as e:
+            e.path = str(target)
             raise
     q = result.report["quality"]
     if min_psnr is not None:
@@ -421,9 +432,15 @@ def bake_compressed(
     zstd: bool = False,
 ) -> list[tuple[Path, str, dict | None]]:
     """Write an engine's compressed files from a probe bake into ``out_dir / engine``: the
-    environment (cube with box mips, or Godot's panorama), the GGX chain re-baked with the
-    roughness per level the engine's shader assumes, and its SH layout. Returns
-    ``(path, what, report)`` rows; reports are None for JSON files."""
+    environment (cube with box mips, or Godot's panorama), the GGX chain re-baked from
+    ``image`` (the source probe, its sun included) with the roughness per level the engine's
+    shader assumes, and its SH layout. Returns ``(path, what, report)`` rows; reports are None
+    for JSON files.
+
+    Every texture is decoded and measured against the source probe before it is written
+    (:func:`bakeshop.engines.check_energy`): the environment's level 0 (box filtering does not
+    keep a cube's energy below it) and every level of the chain; a file that misses the
+    source's energy (a chain made from the probe without its sun) is refused."""
     from bakeshop import engines
     from bakeshop.io.compress.pipeline import box_mips, write_json
     from bakeshop.light import specular
@@ -432,7 +449,17 @@ def bake_compressed(
     folder = out_dir / preset.name
     folder.mkdir(parents=True, exist_ok=True)
 
-    def write(path: Path, levels: list, *, cube: bool, extra: dict) -> tuple[list[Path], dict]:
+    reference = engines.SourceEnergy.of_bake(
+        bake.sh, None if bake.sun is None else bake.sun.irradiance
+    )
+
+    def write(
+        path: Path, levels: list, *, cube: bool, extra: dict, every_level: bool
+    ) -> tuple[list[Path], dict]:
+        def source(levels: list, decoded: list) -> dict:
+            n = len(decoded) if every_level else 1
+            return engines.check_energy(decoded[:n], reference, cube=cube, encoded=levels[:n])
+
         return write_levels(
             path,
             levels,
@@ -443,6 +470,7 @@ def bake_compressed(
             overflow=overflow,
             min_psnr=min_psnr,
             zstd=zstd and preset.container == "ktx2",
+            source=source,
         )
 
     rows: list[tuple[Path, str, dict | None]] = []
@@ -453,11 +481,11 @@ def bake_compressed(
 
         pano = sphere.remap(bake.cube, "cube", "latlong", filter="area")
         levels = box_mips(engines.panorama(pano, preset), cube=False)
-        paths, report = write(env_path, levels, cube=False, extra=extra)
+        paths, report = write(env_path, levels, cube=False, extra=extra, every_level=False)
         rows.append((paths[0], f"panorama {pano.shape[1]}x{pano.shape[0]}, BC6H", report))
     else:
         levels = [engines.cube_faces(m, preset) for m in box_mips(bake.cube, cube=True)]
-        paths, report = write(env_path, levels, cube=True, extra=extra)
+        paths, report = write(env_path, levels, cube=True, extra=extra, every_level=False)
         rows.append((paths[0], f"environment 6x{bake.cube.shape[1]}, BC6H", report))
     if "specular" in preset.files:
         count = preset.specular_levels or len(bake.specular)
@@ -472,7 +500,9 @@ def bake_compressed(
             )
         chain = [engines.cube_faces(level, preset) for level in chain]
         spec_extra = {**extra, "roughness_per_level": [float(r) for r in rough]}
-        paths, report = write(folder / preset.files["specular"], chain, cube=True, extra=spec_extra)
+        paths, report = write(
+            folder / preset.files["specular"], chain, cube=True, extra=spec_extra, every_level=True
+        )
         rows.append((paths[0], f"GGX chain, {count} levels for the engine's LOD mapping", report))
     if preset.sh is not None:
         sh_path = folder / preset.files["sh"]

@@ -31,7 +31,13 @@ from numpy.typing import ArrayLike
 
 from bakeshop.errors import BakeshopError, FormatError, UnsupportedError
 from bakeshop.io import _intent, verify
-from bakeshop.io._files import atomic_path, check_input, open_input, record_writes
+from bakeshop.io._files import (
+    atomic_path,
+    check_input,
+    describe_os_error,
+    open_input,
+    record_writes,
+)
 from bakeshop.io.budget import DECODE_FLOOR, DECODE_RATIO, decode_budget
 from bakeshop.io.containers import CONTAINERS, read_container, write_container
 from bakeshop.io.documents import read_json, write_json, write_text
@@ -79,6 +85,7 @@ __all__ = [
     "check_input",
     "codec_for",
     "decode_budget",
+    "describe_os_error",
     "load_mesh",
     "read_container",
     "read_environment",

@@ -45,6 +45,7 @@ import math
 import os
 import struct
 from collections.abc import Iterable, Sequence
+from types import ModuleType
 from typing import TYPE_CHECKING, Literal, overload
 
 import numpy as np
@@ -112,7 +113,14 @@ SUPERCOMPRESSION = {"none": 0, "zstd": 2}
 KHR_DF_SAMPLE_DATATYPE_FLOAT_BITS = {False: 0, True: KHR_DF_SAMPLE_DATATYPE_FLOAT}
 KHR_DF_TRANSFER_SRGB = 2
 
-__all__ = ["write_ktx2", "write_ktx2_blocks", "read_ktx2", "read_ktx2_blocks", "sniff"]
+__all__ = [
+    "write_ktx2",
+    "write_ktx2_blocks",
+    "read_ktx2",
+    "read_ktx2_blocks",
+    "sniff",
+    "zstandard",
+]
 
 
 def sniff(head: bytes) -> bool:
@@ -200,6 +208,17 @@ def _key_value_data(pairs: Iterable[tuple[bytes, bytes]]) -> bytes:
     return kv
 
 
+def zstandard() -> ModuleType:
+    """The ``zstandard`` module, or a one-line install hint (the compress extra)."""
+    try:
+        import zstandard
+    except ImportError:
+        raise BakeshopError(
+            "Zstandard supercompression needs the zstandard package: install bakeshop[compress]"
+        ) from None
+    return zstandard
+
+
 def write_ktx2_blocks(
     path: str | os.PathLike,
     texture: BlockTexture,
@@ -237,13 +256,7 @@ def write_ktx2_blocks(
     }
     if scheme:
         pairs["KTXwriterScParams"] = f"--zcmp {zstd_level}"
-        try:
-            import zstandard
-        except ImportError:
-            raise BakeshopError(
-                "Zstandard supercompression needs the zstandard package: install bakeshop[compress]"
-            ) from None
-        compressor = zstandard.ZstdCompressor(level=zstd_level)
+        compressor = zstandard().ZstdCompressor(level=zstd_level)
         data = [compressor.compress(level) for level in levels]
     else:
         data = levels

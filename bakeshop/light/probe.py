@@ -163,8 +163,8 @@ def bake_probe(
         Side of the DFG table.
     shadow_probe : bool
         Return the probe with its sun painted out as an array (a copy of the probe); False:
-        ``shadow_probe`` is None and ``fill`` paints it where the caller wants it (a command
-        writing a 16k probe paints its own copy, after everything else has read it).
+        ``shadow_probe`` is None and ``fill`` paints it where the caller wants it (into a
+        copy: a probe painted in place has lost its sun for whatever reads it next).
 
     Returns
     -------

@@ -180,8 +180,8 @@ def test_bake_probe_from_a_ktx2_cube(probe, tmp_path, capsys):
 
 
 def test_bake_probe_paints_its_own_copy_and_never_its_input(probe, tmp_path):
-    """The shadow probe is painted into the probe as read, once nothing else reads it: a PFM
-    input (a copy-on-write memory map) is left as it was, and the shadow probe is the
+    """The shadow probe is painted into a copy, never into the probe the engine chains are
+    made from nor into its file: a PFM input is left as it was, and the shadow probe is the
     library's."""
     from bakeshop.light import bake_probe
 

@@ -49,7 +49,8 @@ QUALITIES = {
 _STRIP_ROWS = 64
 
 
-def _ispc() -> ModuleType:
+def ispc() -> ModuleType:
+    """The ISPC texture compressor module, or a one-line install hint (the compress extra)."""
     try:
         import ispc_texcomp
     except ImportError:
@@ -232,7 +233,7 @@ def image_jobs(image: np.ndarray, fmt: str | BlockFormat, *, quality: str = "fas
 
         padded = _rgba(_pad(image.astype(np.float32)), 1.0)[..., :3]
         return [lambda: encode_bc6h_signed(padded)]
-    it = _ispc()
+    it = ispc()
     surface = _surface_data(image, fmt)
     opaque = image.shape[2] < 4 or bool(np.all(image[..., 3] >= 1))
     settings = _settings(it, fmt, quality, opaque)
