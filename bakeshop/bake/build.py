@@ -20,6 +20,12 @@ they are unchanged since (an edited one is left alone). A failed step keeps the 
 outputs it did not replace, is recorded as failed (it runs again next time, saying so) and
 stops the steps that read it; the others still run. The manifest is rewritten after every
 step, so an interrupted bake resumes where it stopped.
+
+The manifest and the digest cache are untrusted input: each is checked against its schema
+(JSON types, output files inside the folder the recipe governs) and refused in one line when
+it does not fit. A bake replaces or deletes only files it wrote itself: a file the manifest
+records as the step's output, with the size and digest recorded, inside the step's output and
+the governed folder, never an input of the recipe. Only regular files are hashed.
 """
 
 from __future__ import annotations
@@ -32,22 +38,25 @@ import hashlib
 import json
 import os
 import re
+import stat
 import threading
 import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 from bakeshop import __version__, progress
 from bakeshop.bake.operations import OPERATIONS
 from bakeshop.bake.recipe import Recipe, Step
-from bakeshop.errors import BakeshopError
+from bakeshop.errors import BakeshopError, FormatError
 
 __all__ = ["BakeResult", "Decision", "FileHashes", "plan", "run", "step_key"]
 
 #: version of the manifest's layout.
 MANIFEST_VERSION = 1
+#: a journal larger than this is not one of a bake's (a line is about 150 bytes per file).
+MAX_JOURNAL_BYTES = 64 << 20
 #: a cached digest is trusted only for files last modified this long before they were hashed
 #: (a write within the same timestamp tick as the hash would otherwise go unseen).
 RACY_NS = 2_000_000_000
@@ -66,6 +75,13 @@ def source_digest() -> str:
     return h.hexdigest()[:16]
 
 
+def _sha256(f: BinaryIO) -> str:
+    h = hashlib.sha256()
+    while chunk := f.read(_CHUNK):
+        h.update(chunk)
+    return h.hexdigest()
+
+
 class FileHashes:
     """SHA-256 digests of files, cached by (size, mtime, inode) in a JSON file."""
 
@@ -75,29 +91,27 @@ class FileHashes:
         self.hashed = 0  # files read in full (the work the cache saves)
         self.dirty = False
         self._lock = threading.Lock()
-        if path.is_file():
+        if os.path.lexists(path):
             from bakeshop.io import read_json
 
-            with contextlib.suppress(BakeshopError):
-                self.entries = dict(read_json(path).get("files", {}))
+            self.entries = _cache_entries(read_json(path), path)
 
     def digest(self, path: Path) -> str | None:
-        """The file's SHA-256 (hex), or None when it does not exist."""
-        try:
-            st = os.stat(path)
-        except FileNotFoundError:
+        """The file's SHA-256 (hex), or None when it does not exist; anything but a regular
+        file is a :class:`~bakeshop.errors.BakeshopError` (it is never opened)."""
+        from bakeshop.io import open_input
+
+        if not os.path.lexists(path):
             return None
         key = os.fspath(path)
         with self._lock:
             entry = self.entries.get(key)
-        stamp = [st.st_size, st.st_mtime_ns, st.st_ino]
-        if entry is not None and entry[:3] == stamp and st.st_mtime_ns < entry[3] - RACY_NS:
-            return entry[4]
-        h = hashlib.sha256()
-        with open(path, "rb") as f:
-            while chunk := f.read(_CHUNK):
-                h.update(chunk)
-        digest = h.hexdigest()
+        with open_input(path) as f:
+            st = os.fstat(f.fileno())
+            stamp = [st.st_size, st.st_mtime_ns, st.st_ino]
+            if entry is not None and entry[:3] == stamp and st.st_mtime_ns < entry[3] - RACY_NS:
+                return entry[4]
+            digest = _sha256(f)
         with self._lock:
             self.hashed += 1
             self.entries[key] = [*stamp, time.time_ns(), digest]
@@ -114,6 +128,185 @@ class FileHashes:
             entries, self.dirty = dict(self.entries), False
         self.path.parent.mkdir(parents=True, exist_ok=True)
         write_json(self.path, {"files": entries})
+
+
+def _cache_entries(document: dict, path: Path) -> dict[str, list]:
+    """The digest cache's entries, each ``[size, mtime_ns, inode, hashed_ns, sha256]``; a
+    :class:`~bakeshop.errors.FormatError` naming the cache when they are not."""
+    files = document.get("files", {})
+    if not isinstance(files, dict):
+        raise FormatError(f"files must be an object, not {_json_type(files)}{_CACHE_HINT}", path)
+    for name, entry in files.items():
+        if not (
+            isinstance(entry, list)
+            and len(entry) == 5
+            and all(_is(v, int) for v in entry[:4])
+            and isinstance(entry[4], str)
+        ):
+            raise FormatError(
+                f"files.{name} must be [size, mtime_ns, inode, hashed_ns, sha256], not "
+                f"{_json_type(entry)}{_CACHE_HINT}",
+                path,
+            )
+    return dict(files)
+
+
+_CACHE_HINT = " (delete the digest cache: it is rebuilt)"
+_MANIFEST_HINT = " (delete the manifest to bake every step again)"
+#: the manifest's keys that a bake reads, with their JSON types (every one optional).
+_MANIFEST_TYPES = {"manifest_version": int, "bakeshop": str, "recipe": str, "steps": dict}
+_RECORD_TYPES = {
+    "failed": str,
+    "operation": str,
+    "operation_version": int,
+    "bakeshop": str,
+    "bakeshop_source": str,
+    "key": str,
+    "options": dict,
+    "inputs": dict,
+    "outputs": list,
+    "facts": dict,
+    "removed": list,
+    "seconds": (int, float),
+    "built": str,
+}
+#: an output's keys and types: ``file``, ``bytes`` and ``sha256`` are required.
+_OUTPUT_TYPES = {"file": str, "bytes": int, "sha256": str, "reload": dict}
+
+
+def _is(value: object, kind: type | tuple[type, ...]) -> bool:
+    """``isinstance``, where true and false are not numbers."""
+    return isinstance(value, kind) and not isinstance(value, bool)
+
+
+def _json_type(value: object) -> str:
+    if isinstance(value, bool):
+        return "true or false"
+    names = {dict: "an object", list: "a list", str: "a string", int: "a number"}
+    return names.get(type(value), "a number" if isinstance(value, float) else "null")
+
+
+def _typed(document: dict, types: dict, where: str, fail: Callable[[str], Any]) -> None:
+    for key, kind in types.items():
+        if key in document and not _is(document[key], kind):
+            expected = _json_type(kind[0]() if isinstance(kind, tuple) else kind())
+            fail(f"{where}{key} must be {expected}, not {_json_type(document[key])}")
+
+
+def _check_manifest(document: dict, recipe: Recipe) -> dict[str, dict]:
+    """The manifest's step records, checked against its schema: the JSON types of every key a
+    bake reads, and output files that lie inside the folder the recipe governs."""
+
+    def fail(reason: str) -> None:
+        raise FormatError(reason + _MANIFEST_HINT, recipe.manifest)
+
+    _typed(document, _MANIFEST_TYPES, "", fail)
+    steps = document.get("steps", {})
+    for name, record in steps.items():
+        where = f"steps.{name}"
+        if not isinstance(record, dict):
+            fail(f"{where} must be an object, not {_json_type(record)}")
+        _typed(record, _RECORD_TYPES, where + ".", fail)
+        for key, digest in record.get("inputs", {}).items():
+            if not isinstance(digest, str):
+                fail(f"{where}.inputs.{key} must be a string, not {_json_type(digest)}")
+        for i, removed in enumerate(record.get("removed", [])):
+            if not isinstance(removed, str):
+                fail(f"{where}.removed[{i}] must be a string, not {_json_type(removed)}")
+        for i, out in enumerate(record.get("outputs", [])):
+            _check_output(out, f"{where}.outputs[{i}]", recipe, fail)
+    return dict(steps)
+
+
+def _check_output(out: object, at: str, recipe: Recipe, fail: Callable[[str], Any]) -> None:
+    """An output entry of the manifest or the journal: its keys and types, and a file inside
+    the folder the recipe governs that is neither the recipe nor the bake's bookkeeping."""
+    if not isinstance(out, dict):
+        fail(f"{at} must be an object, not {_json_type(out)}")
+    for key in ("file", "bytes", "sha256"):
+        if key not in out:
+            fail(f"{at} has no {key}")
+    _typed(out, _OUTPUT_TYPES, at + ".", fail)
+    path = "\0" not in out["file"] and _output_file(recipe, out["file"])
+    if not path or path == recipe.folder or recipe.folder not in path.parents:
+        fail(f"{at}.file {out['file']!r} is not a file inside {recipe.folder}")
+    if path == recipe.path or path == recipe.manifest or recipe.cache in path.parents:
+        fail(f"{at}.file {out['file']!r} is the recipe or the bake's bookkeeping")
+
+
+def _journal(recipe: Recipe) -> Path:
+    """Where a running bake notes each file just before it takes its name (JSON lines: the
+    step, and the file's entry), so that a bake killed mid-step (SIGKILL) leaves a record of
+    what it replaced for the next bake to trust."""
+    return recipe.cache / f"{recipe.path.stem}.journal"
+
+
+_journal_lock = threading.Lock()
+
+
+def _note(recipe: Recipe, step: str, out: dict) -> None:
+    line = json.dumps({"step": step, **out}) + "\n"
+    with _journal_lock, open(_journal(recipe), "a", encoding="utf-8") as f:
+        f.write(line)
+
+
+def _resume(recipe: Recipe, records: dict[str, dict]) -> None:
+    """Fold the journal of a killed bake into ``records``: each step it names with files its
+    record does not hold is recorded as failed, with those files among its outputs."""
+    from bakeshop.io import open_input
+
+    path = _journal(recipe)
+    if not os.path.lexists(path):
+        return
+
+    def fail(reason: str) -> None:
+        raise FormatError(reason + _CACHE_HINT, path)
+
+    with open_input(path) as f:
+        lines = f.read(MAX_JOURNAL_BYTES + 1).split(b"\n")[:-1]  # the last: cut by a kill
+    if sum(map(len, lines)) > MAX_JOURNAL_BYTES:
+        fail(f"a journal holds at most {MAX_JOURNAL_BYTES >> 20} MiB")
+    written: dict[str, dict[str, dict]] = {}
+    for i, line in enumerate(lines):
+        try:
+            entry = json.loads(line)
+        except (ValueError, RecursionError):
+            fail(f"line {i + 1} is not a JSON object")
+        _check_output(entry, f"line {i + 1}", recipe, fail)
+        if not isinstance(entry.get("step"), str):
+            fail(f"line {i + 1} names no step")
+        out = {k: entry[k] for k in ("file", "bytes", "sha256")}
+        written.setdefault(entry["step"], {})[out["file"]] = out
+    for name, outs in written.items():  # a file may have been noted and not renamed: both
+        old = records.get(name, {})
+        known = {(o["file"], o["sha256"]) for o in old.get("outputs", [])}
+        if all((o["file"], o["sha256"]) in known for o in outs.values()):
+            continue  # the step finished and was recorded
+        records[name] = {
+            "failed": "interrupted while it wrote its outputs",
+            "inputs": old.get("inputs", {}),
+            "outputs": old.get("outputs", []) + list(outs.values()),
+        }
+
+
+def _output_file(recipe: Recipe, name: str) -> Path:
+    """An output the manifest names (relative to the recipe), resolved."""
+    return (recipe.root / name).resolve()
+
+
+def _output_change(recipe: Recipe, out: dict, hashes: FileHashes) -> str | None:
+    """Why the output the manifest records as ``out`` no longer holds what was baked, or None
+    when it does (only a regular file of the recorded size is hashed)."""
+    path, name = _output_file(recipe, out["file"]), out["file"]
+    try:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        return f"output {name} is missing"
+    if not stat.S_ISREG(st.st_mode):
+        return f"output {name} is no longer a regular file"
+    if st.st_size != out["bytes"] or hashes.digest(path) != out["sha256"]:
+        return f"output {name} differs from what was baked and re-read (edited or corrupted)"
+    return None
 
 
 @dataclass
@@ -179,17 +372,20 @@ def step_key(step: Step, recipe: Recipe, inputs: dict[str, str]) -> str:
 
 
 def _load_manifest(recipe: Recipe) -> tuple[dict, str | None]:
+    """The step records of the manifest, with what the journal of a killed bake adds, and a
+    note when the manifest is of another layout."""
     from bakeshop.io import read_json
 
-    if not recipe.manifest.is_file():
-        return {}, None
-    try:
+    records: dict[str, dict] = {}
+    note = None
+    if os.path.lexists(recipe.manifest):
         document = read_json(recipe.manifest)
-    except BakeshopError as e:
-        return {}, f"the manifest {recipe.relative(recipe.manifest)} could not be read ({e.reason})"
-    if document.get("manifest_version") != MANIFEST_VERSION:
-        return {}, "the manifest was written by another version of bakeshop's bake"
-    return dict(document.get("steps", {})), None
+        if document.get("manifest_version") != MANIFEST_VERSION:
+            note = "the manifest was written by another version of bakeshop's bake"
+        else:
+            records = _check_manifest(document, recipe)
+    _resume(recipe, records)
+    return records, note
 
 
 def _decide(
@@ -230,8 +426,9 @@ def _decide(
         )
     old, new = record.get("options", {}), _canonical(step.options, recipe)
     for key in sorted(set(old) | set(new)):
-        if old.get(key) != new.get(key):
-            reasons.append(f"option {key} changed ({_show(old.get(key))} -> {_show(new.get(key))})")
+        if old.get(key, _UNSET) != new.get(key, _UNSET):
+            where, was, now = _first_difference(old.get(key, _UNSET), new.get(key, _UNSET))
+            reasons.append(f"option {key}{where} changed ({_show(was)} -> {_show(now)})")
     before = record.get("inputs", {})
     for name, digest in inputs.items():
         if name not in before:
@@ -242,22 +439,34 @@ def _decide(
         if name not in inputs:
             reasons.append(f"input {name} is no longer read")
     for out in record.get("outputs", []):
-        digest = hashes.digest(recipe.root / out["file"])
-        if digest is None:
-            reasons.append(f"output {out['file']} is missing")
-        elif digest != out["sha256"]:
-            reasons.append(
-                f"output {out['file']} differs from what was baked and re-read "
-                "(edited or corrupted)"
-            )
+        change = _output_change(recipe, out, hashes)
+        if change is not None:
+            reasons.append(change)
     if not record.get("outputs"):
         reasons.append("no outputs recorded")
     return Decision(step.name, "build" if reasons else "skip", reasons), inputs
 
 
+#: an option a record or a recipe does not hold.
+_UNSET = object()
+
+
+def _first_difference(old: object, new: object, where: str = "") -> tuple[str, object, object]:
+    """Where two option values first differ (``.key`` and ``[i]`` steps into tables and lists
+    of one length) and the two values there."""
+    if isinstance(old, dict) and isinstance(new, dict):
+        for key in sorted(set(old) | set(new), key=str):
+            if old.get(key, _UNSET) != new.get(key, _UNSET):
+                return _first_difference(old.get(key, _UNSET), new.get(key, _UNSET), f"{where}.{key}")
+    if isinstance(old, list) and isinstance(new, list) and len(old) == len(new):
+        for i, (a, b) in enumerate(zip(old, new)):
+            if a != b:
+                return _first_difference(a, b, f"{where}[{i}]")
+    return where, old, new
+
+
 def _show(value: object) -> str:
-    text = json.dumps(value)
-    return text if len(text) <= 40 else text[:37] + "..."
+    return "unset" if value is _UNSET else json.dumps(value)
 
 
 def plan(recipe: Recipe, *, force: Iterable[str] = ()) -> list[Decision]:
@@ -374,7 +583,7 @@ def run(
         caller decides how to report the errors (the command line exits 2 with the first).
         ``decisions`` are in the recipe's order, ``built`` in the order the steps finished.
     """
-    from bakeshop.io import write_json
+    from bakeshop.io import record_writes, write_json
 
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise BakeshopError(f"jobs must be a whole number of at least 1, got {jobs!r}")
@@ -386,6 +595,7 @@ def run(
         records, note = _load_manifest(recipe)
         records = {s.name: records[s.name] for s in recipe.steps if s.name in records}
         hashes = FileHashes(recipe.cache / "hashes.json")
+        reads = {path for s in recipe.steps for path in s.inputs}
         decided: dict[str, Decision] = {}
         built: list[str] = []
         failed: dict[str, BakeshopError] = {}
@@ -424,21 +634,23 @@ def run(
                 if decision.action == "skip":
                     return
                 previous = records.pop(step.name, None)
+            written: list[Path] = []
             try:
-                record = _build(step, recipe, inputs, hashes, previous)
-            except BakeshopError as e:
-                if not e.reason.startswith(step.name):
+                with record_writes(this_thread=True) as written:
+                    record = _build(step, recipe, inputs, hashes, previous, written, reads)
+            except BaseException as e:
+                if isinstance(e, BakeshopError) and not e.reason.startswith(step.name):
                     e.reason = f"{step.name}: {e.reason}"
                     e.args = (e.reason, *e.args[1:])
+                why = str(e) if isinstance(e, BakeshopError) else f"interrupted ({type(e).__name__})"
+                kept = _outputs(recipe, written, hashes, previous)
                 with lock:
+                    records[step.name] = {"failed": why, "inputs": inputs, "outputs": kept}
+                    save()
+                    if not isinstance(e, BakeshopError):
+                        raise
                     failed[step.name] = e
-                    records[step.name] = {"failed": str(e), "inputs": inputs}
-                    save()
                 return
-            except BaseException:
-                with lock:
-                    save()
-                raise
             with lock:
                 records[step.name] = record
                 built.append(step.name)
@@ -453,8 +665,10 @@ def run(
 
             graph = {s.name: (functools.partial(bake_step, s), *s.after) for s in recipe.steps}
             dask.threaded.get(graph, list(graph), num_workers=jobs)
-        if not recipe.manifest.is_file() or hashes.dirty:
+        if not recipe.manifest.is_file() or hashes.dirty or _journal(recipe).exists():
             save()
+        with contextlib.suppress(FileNotFoundError):
+            _journal(recipe).unlink()  # every file it names is in the manifest now
     decisions = [decided[s.name] for s in recipe.steps]
     return BakeResult(
         decisions, built, failed, time.perf_counter() - started, hashes.hashed, recipe.manifest
@@ -462,21 +676,28 @@ def run(
 
 
 def _build(
-    step: Step, recipe: Recipe, inputs: dict, hashes: FileHashes, previous: dict | None
+    step: Step,
+    recipe: Recipe,
+    inputs: dict,
+    hashes: FileHashes,
+    previous: dict | None,
+    written: list[Path],
+    reads: set[Path],
 ) -> dict:
-    """Run one step with every write re-read and checked; its manifest record. Then tidy: the
-    outputs of its previous bake that it no longer writes are removed when they are still as
-    that bake left them (water frames beyond a new, shorter loop; a probe's faces in the old
-    format), and so are temporaries of its outputs left by a killed bake."""
-    from bakeshop.io import record_writes, verify_writes
+    """Run one step with every write re-read and checked (``written`` collects the files, as
+    :func:`bakeshop.io.record_writes` does) and guarded (:func:`_guard`); its manifest record.
+    Then tidy: the outputs of its previous bake that it no longer writes are removed when they
+    are still as that bake left them (water frames beyond a new, shorter loop; a probe's faces
+    in the old format) and no step reads them, and so are temporaries of its outputs left by a
+    killed bake."""
+    from bakeshop.io import verify_writes
 
     op = OPERATIONS[step.operation]
     step.output.parent.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
     with (
         progress.step(f"{step.name}"),
-        record_writes(this_thread=True) as written,
-        verify_writes(this_thread=True) as checks,
+        verify_writes(this_thread=True, guard=_guard(step, recipe, hashes, previous)) as checks,
     ):
         facts = op.run(dict(step.options))
     seconds = time.perf_counter() - started
@@ -487,18 +708,11 @@ def _build(
             step.output,
         )
     proofs = {os.path.abspath(c["file"]): c for c in checks}
-    outputs = []
-    for path in dict.fromkeys(Path(os.path.abspath(p)) for p in written):
-        proof = {k: v for k, v in proofs[os.fspath(path)].items() if k != "file"}
-        outputs.append(
-            {
-                "file": recipe.relative(path),
-                "bytes": path.stat().st_size,
-                "sha256": hashes.digest(path),
-                "reload": proof,
-            }
-        )
-    removed = _tidy(recipe, {o["file"] for o in outputs}, previous, hashes)
+    outputs = _outputs(recipe, written, hashes, None)
+    for out in outputs:
+        proof = proofs[os.fspath(_output_file(recipe, out["file"]))]
+        out["reload"] = {k: v for k, v in proof.items() if k != "file"}
+    removed = _tidy(recipe, {o["file"] for o in outputs}, previous, hashes, reads)
     return {
         "operation": op.name,
         "operation_version": op.version,
@@ -515,19 +729,80 @@ def _build(
     }
 
 
-def _tidy(recipe: Recipe, written: set, previous: dict | None, hashes: FileHashes) -> list:
-    """Remove a step's stale outputs (unchanged since its previous bake wrote them) and the
-    temporaries of its outputs (``.STEM.<12 hex>.EXT``, what :func:`bakeshop.io.atomic_path`
-    leaves only when killed); return the stale outputs removed."""
+def _outputs(
+    recipe: Recipe, written: list[Path], hashes: FileHashes, previous: dict | None
+) -> list[dict]:
+    """Manifest entries (file, bytes, sha256) of the files ``written``, after those of the
+    ``previous`` record that were not rewritten (what a failed step leaves)."""
+    fresh = [Path(p).parent.resolve() / Path(p).name for p in dict.fromkeys(written)]
+    names = [recipe.relative(p) for p in fresh]
+    kept = [o for o in (previous or {}).get("outputs", []) if o["file"] not in names]
+    made = [
+        {"file": name, "bytes": path.stat().st_size, "sha256": hashes.digest(path)}
+        for name, path in zip(names, fresh)
+    ]
+    return kept + made
+
+
+def _guard(
+    step: Step, recipe: Recipe, hashes: FileHashes, previous: dict | None
+) -> Callable[[Path, Path], None]:
+    """The check of each file ``step`` is about to write: its output, a file in its output
+    folder, or one beside its output file named from it (``{face}`` files, ``OUT.json``
+    sidecars); and where a file is already there, one that its previous bake wrote and left as
+    it was. Each file let through is noted in the journal before it takes its name."""
+    recorded: dict[str, list[dict]] = {}
+    for o in (previous or {}).get("outputs", []):
+        recorded.setdefault(o["file"], []).append(o)
+    mine: set[Path] = set()
+    out = step.output
+    stem = out.name.split("{")[0]
+
+    def guard(target: Path, tmp: Path) -> None:
+        path = Path(target).parent.resolve() / Path(target).name
+        if out not in path.parents and not (
+            path.parent == out.parent and path.name.startswith(stem)
+        ):
+            raise BakeshopError(
+                f"{step.name} writes only its output {recipe.relative(out)} and the files "
+                "named from it",
+                target,
+            )
+        name = recipe.relative(path)
+        if path not in mine and os.path.lexists(path):
+            if all(_output_change(recipe, o, hashes) for o in recorded.get(name, [])):
+                raise BakeshopError(
+                    f"{step.name} would replace {name}, which its last bake did not leave there "
+                    "(not in the manifest, or changed since): bakeshop replaces only files it "
+                    "wrote; move it away to bake this step",
+                    target,
+                )
+        mine.add(path)
+        with open(tmp, "rb") as f:
+            entry = {"file": name, "bytes": os.fstat(f.fileno()).st_size, "sha256": _sha256(f)}
+        _note(recipe, step.name, entry)
+
+    return guard
+
+
+def _tidy(
+    recipe: Recipe, written: set, previous: dict | None, hashes: FileHashes, reads: set[Path]
+) -> list:
+    """Remove a step's stale outputs (unchanged since its previous bake wrote them, read by no
+    step) and the temporaries of its outputs (``.STEM.<12 hex>.EXT``, what
+    :func:`bakeshop.io.atomic_path` leaves only when killed); return the stale outputs
+    removed."""
     removed = []
     for out in (previous or {}).get("outputs", []):
-        path = recipe.root / out["file"]
-        if out["file"] not in written and hashes.digest(path) == out["sha256"]:
+        path = _output_file(recipe, out["file"])
+        if out["file"] in written or path in reads:
+            continue
+        if _output_change(recipe, out, hashes) is None:
             with contextlib.suppress(OSError):
                 path.unlink()
                 removed.append(out["file"])
     for name in written:
-        _remove_temporaries(recipe.root / name)
+        _remove_temporaries(_output_file(recipe, name))
     return removed
 
 
