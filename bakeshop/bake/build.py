@@ -457,9 +457,11 @@ def _first_difference(old: object, new: object, where: str = "") -> tuple[str, o
     if isinstance(old, dict) and isinstance(new, dict):
         for key in sorted(set(old) | set(new), key=str):
             if old.get(key, _UNSET) != new.get(key, _UNSET):
-                return _first_difference(old.get(key, _UNSET), new.get(key, _UNSET), f"{where}.{key}")
+                return _first_difference(
+                    old.get(key, _UNSET), new.get(key, _UNSET), f"{where}.{key}"
+                )
     if isinstance(old, list) and isinstance(new, list) and len(old) == len(new):
-        for i, (a, b) in enumerate(zip(old, new)):
+        for i, (a, b) in enumerate(zip(old, new, strict=True)):
             if a != b:
                 return _first_difference(a, b, f"{where}[{i}]")
     return where, old, new
@@ -642,7 +644,9 @@ def run(
                 if isinstance(e, BakeshopError) and not e.reason.startswith(step.name):
                     e.reason = f"{step.name}: {e.reason}"
                     e.args = (e.reason, *e.args[1:])
-                why = str(e) if isinstance(e, BakeshopError) else f"interrupted ({type(e).__name__})"
+                why = (
+                    str(e) if isinstance(e, BakeshopError) else f"interrupted ({type(e).__name__})"
+                )
                 kept = _outputs(recipe, written, hashes, previous)
                 with lock:
                     records[step.name] = {"failed": why, "inputs": inputs, "outputs": kept}
@@ -739,7 +743,7 @@ def _outputs(
     kept = [o for o in (previous or {}).get("outputs", []) if o["file"] not in names]
     made = [
         {"file": name, "bytes": path.stat().st_size, "sha256": hashes.digest(path)}
-        for name, path in zip(names, fresh)
+        for name, path in zip(names, fresh, strict=True)
     ]
     return kept + made
 

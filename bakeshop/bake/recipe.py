@@ -34,7 +34,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from bakeshop.bake.operations import OPERATIONS, Fail, Operation
-from bakeshop.errors import ArgumentError, BakeshopError, FormatError
+from bakeshop.errors import ArgumentError, FormatError
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -115,14 +115,18 @@ class Recipe:
             return os.fspath(path)
 
 
-def load_recipe(path: str | os.PathLike, *, allow_folder: str | os.PathLike | None = None) -> Recipe:
+def load_recipe(
+    path: str | os.PathLike, *, allow_folder: str | os.PathLike | None = None
+) -> Recipe:
     """Read and validate a recipe file (see the module notes); raises
     :class:`~bakeshop.errors.BakeshopError` naming the file and what is wrong. ``allow_folder``
     confirms a ``[bake] folder`` outside the recipe's own folder."""
     from bakeshop.io import check_input, open_input
 
     if "\0" in os.fspath(path):
-        raise ArgumentError("a path cannot hold a NUL character", os.fspath(path).replace("\0", "\\0"))
+        raise ArgumentError(
+            "a path cannot hold a NUL character", os.fspath(path).replace("\0", "\\0")
+        )
     path = Path(path)
     if check_input(path).st_size > MAX_RECIPE_BYTES:
         raise FormatError(f"a recipe is at most {MAX_RECIPE_BYTES >> 20} MiB of text", path)
@@ -192,7 +196,6 @@ def parse_recipe(
             steps.append(_step(op, f"{op_name}.{name}", merged, root, where, fail))
     if not steps:
         fail("the recipe has no steps; add one, e.g. [probe.NAME] with input and output")
-    ordered = _order(steps, fail)
     folder = _resolve(settings["folder"], root, "[bake] folder", fail)
     if not _inside(folder, root):
         if allow_folder is None or Path(allow_folder).resolve() != folder:
@@ -202,17 +205,20 @@ def parse_recipe(
             )
         if not folder.is_dir():
             fail(f"[bake] folder {folder} is not a folder")
-    recipe = Recipe(
+    manifest = _resolve(
+        settings["manifest"].replace("{stem}", path.stem), root, "[bake] manifest", fail
+    )
+    cache = _resolve(settings["cache"], root, "[bake] cache", fail)
+    _confine(steps, path, folder, manifest, cache, fail)
+    return Recipe(
         path=path,
         root=root,
-        steps=tuple(ordered),
-        manifest=_resolve(settings["manifest"].replace("{stem}", path.stem), root, "[bake] manifest", fail),
-        cache=_resolve(settings["cache"], root, "[bake] cache", fail),
+        steps=tuple(_order(steps, fail)),
+        manifest=manifest,
+        cache=cache,
         folder=folder,
         settings=settings,
     )
-    _confine(recipe, fail)
-    return recipe
 
 
 def _unknown_key(op: Operation, key: str, where: str) -> str:
@@ -263,25 +269,26 @@ def _inside(path: Path, folder: Path) -> bool:
     return path == folder or folder in path.parents
 
 
-def _confine(recipe: Recipe, fail: Fail) -> None:
-    """Refuse a recipe whose bake could write or delete outside its folder, or replace the
+def _confine(
+    steps: list[Step], recipe: Path, folder: Path, manifest: Path, cache: Path, fail: Fail
+) -> None:
+    """Refuse a recipe whose bake could write or delete outside ``folder``, or replace the
     recipe, its manifest or cache, or an input with its own bookkeeping."""
-    folder, manifest, cache = recipe.folder, recipe.manifest, recipe.cache
     for what, path in (("[bake] manifest", manifest), ("[bake] cache", cache)):
         if path == folder or not _inside(path, folder):
-            fail(f"{what} {path} is outside {folder}, the folder the bake writes in")
-    if manifest.suffix != ".json" or _inside(recipe.path, cache) or _inside(manifest, cache):
+            fail(f"{what} {path} must lie inside {folder}, the folder the bake writes in")
+    if manifest.suffix != ".json" or _inside(recipe, cache) or _inside(manifest, cache):
         fail(
             "[bake] manifest must be a .json file apart from the recipe, and [bake] cache a "
             "folder holding neither"
         )
-    for s in recipe.steps:
+    for s in steps:
         if s.output == folder or not _inside(s.output, folder):
             fail(
                 f"{s.name} writes {s.output}, outside {folder}: a bake writes only inside the "
                 "folder it governs (its recipe's, or [bake] folder)"
             )
-        for what, path in (("the recipe", recipe.path), ("its manifest", manifest)):
+        for what, path in (("the recipe", recipe), ("its manifest", manifest)):
             if _inside(path, s.output):
                 fail(f"{s.name} would write over {what} {path}")
         if _inside(s.output, cache) or _inside(cache, s.output):
