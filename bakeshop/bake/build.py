@@ -38,29 +38,31 @@ import hashlib
 import json
 import os
 import re
-import stat
 import threading
 import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, BinaryIO
+from typing import Any
 
 from bakeshop import __version__, progress
+from bakeshop.bake.manifest import (
+    FileHashes,
+    check_manifest,
+    guard_writes,
+    journal_path,
+    output_change,
+    output_file,
+    resume,
+)
 from bakeshop.bake.operations import OPERATIONS
 from bakeshop.bake.recipe import Recipe, Step
-from bakeshop.errors import BakeshopError, FormatError
+from bakeshop.errors import BakeshopError
 
 __all__ = ["BakeResult", "Decision", "FileHashes", "plan", "run", "step_key"]
 
 #: version of the manifest's layout.
 MANIFEST_VERSION = 1
-#: a journal larger than this is not one of a bake's (a line is about 150 bytes per file).
-MAX_JOURNAL_BYTES = 64 << 20
-#: a cached digest is trusted only for files last modified this long before they were hashed
-#: (a write within the same timestamp tick as the hash would otherwise go unseen).
-RACY_NS = 2_000_000_000
-_CHUNK = 1 << 20
 
 
 @functools.cache
@@ -73,240 +75,6 @@ def source_digest() -> str:
         h.update(path.relative_to(root).as_posix().encode() + b"\0")
         h.update(path.read_bytes())
     return h.hexdigest()[:16]
-
-
-def _sha256(f: BinaryIO) -> str:
-    h = hashlib.sha256()
-    while chunk := f.read(_CHUNK):
-        h.update(chunk)
-    return h.hexdigest()
-
-
-class FileHashes:
-    """SHA-256 digests of files, cached by (size, mtime, inode) in a JSON file."""
-
-    def __init__(self, path: Path):
-        self.path = path
-        self.entries: dict[str, list] = {}
-        self.hashed = 0  # files read in full (the work the cache saves)
-        self.dirty = False
-        self._lock = threading.Lock()
-        if os.path.lexists(path):
-            from bakeshop.io import read_json
-
-            self.entries = _cache_entries(read_json(path), path)
-
-    def digest(self, path: Path) -> str | None:
-        """The file's SHA-256 (hex), or None when it does not exist; anything but a regular
-        file is a :class:`~bakeshop.errors.BakeshopError` (it is never opened)."""
-        from bakeshop.io import open_input
-
-        if not os.path.lexists(path):
-            return None
-        key = os.fspath(path)
-        with self._lock:
-            entry = self.entries.get(key)
-        with open_input(path) as f:
-            st = os.fstat(f.fileno())
-            stamp = [st.st_size, st.st_mtime_ns, st.st_ino]
-            if entry is not None and entry[:3] == stamp and st.st_mtime_ns < entry[3] - RACY_NS:
-                return entry[4]
-            digest = _sha256(f)
-        with self._lock:
-            self.hashed += 1
-            self.entries[key] = [*stamp, time.time_ns(), digest]
-            self.dirty = True
-        return digest
-
-    def save(self) -> None:
-        """Write the cache when a digest was added or refreshed."""
-        from bakeshop.io import write_json
-
-        with self._lock:
-            if not self.dirty:
-                return
-            entries, self.dirty = dict(self.entries), False
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        write_json(self.path, {"files": entries})
-
-
-def _cache_entries(document: dict, path: Path) -> dict[str, list]:
-    """The digest cache's entries, each ``[size, mtime_ns, inode, hashed_ns, sha256]``; a
-    :class:`~bakeshop.errors.FormatError` naming the cache when they are not."""
-    files = document.get("files", {})
-    if not isinstance(files, dict):
-        raise FormatError(f"files must be an object, not {_json_type(files)}{_CACHE_HINT}", path)
-    for name, entry in files.items():
-        if not (
-            isinstance(entry, list)
-            and len(entry) == 5
-            and all(_is(v, int) for v in entry[:4])
-            and isinstance(entry[4], str)
-        ):
-            raise FormatError(
-                f"files.{name} must be [size, mtime_ns, inode, hashed_ns, sha256], not "
-                f"{_json_type(entry)}{_CACHE_HINT}",
-                path,
-            )
-    return dict(files)
-
-
-_CACHE_HINT = " (delete the digest cache: it is rebuilt)"
-_MANIFEST_HINT = " (delete the manifest to bake every step again)"
-#: the manifest's keys that a bake reads, with their JSON types (every one optional).
-_MANIFEST_TYPES = {"manifest_version": int, "bakeshop": str, "recipe": str, "steps": dict}
-_RECORD_TYPES = {
-    "failed": str,
-    "operation": str,
-    "operation_version": int,
-    "bakeshop": str,
-    "bakeshop_source": str,
-    "key": str,
-    "options": dict,
-    "inputs": dict,
-    "outputs": list,
-    "facts": dict,
-    "removed": list,
-    "seconds": (int, float),
-    "built": str,
-}
-#: an output's keys and types: ``file``, ``bytes`` and ``sha256`` are required.
-_OUTPUT_TYPES = {"file": str, "bytes": int, "sha256": str, "reload": dict}
-
-
-def _is(value: object, kind: type | tuple[type, ...]) -> bool:
-    """``isinstance``, where true and false are not numbers."""
-    return isinstance(value, kind) and not isinstance(value, bool)
-
-
-def _json_type(value: object) -> str:
-    if isinstance(value, bool):
-        return "true or false"
-    names = {dict: "an object", list: "a list", str: "a string", int: "a number"}
-    return names.get(type(value), "a number" if isinstance(value, float) else "null")
-
-
-def _typed(document: dict, types: dict, where: str, fail: Callable[[str], Any]) -> None:
-    for key, kind in types.items():
-        if key in document and not _is(document[key], kind):
-            expected = _json_type(kind[0]() if isinstance(kind, tuple) else kind())
-            fail(f"{where}{key} must be {expected}, not {_json_type(document[key])}")
-
-
-def _check_manifest(document: dict, recipe: Recipe) -> dict[str, dict]:
-    """The manifest's step records, checked against its schema: the JSON types of every key a
-    bake reads, and output files that lie inside the folder the recipe governs."""
-
-    def fail(reason: str) -> None:
-        raise FormatError(reason + _MANIFEST_HINT, recipe.manifest)
-
-    _typed(document, _MANIFEST_TYPES, "", fail)
-    steps = document.get("steps", {})
-    for name, record in steps.items():
-        where = f"steps.{name}"
-        if not isinstance(record, dict):
-            fail(f"{where} must be an object, not {_json_type(record)}")
-        _typed(record, _RECORD_TYPES, where + ".", fail)
-        for key, digest in record.get("inputs", {}).items():
-            if not isinstance(digest, str):
-                fail(f"{where}.inputs.{key} must be a string, not {_json_type(digest)}")
-        for i, removed in enumerate(record.get("removed", [])):
-            if not isinstance(removed, str):
-                fail(f"{where}.removed[{i}] must be a string, not {_json_type(removed)}")
-        for i, out in enumerate(record.get("outputs", [])):
-            _check_output(out, f"{where}.outputs[{i}]", recipe, fail)
-    return dict(steps)
-
-
-def _check_output(out: object, at: str, recipe: Recipe, fail: Callable[[str], Any]) -> None:
-    """An output entry of the manifest or the journal: its keys and types, and a file inside
-    the folder the recipe governs that is neither the recipe nor the bake's bookkeeping."""
-    if not isinstance(out, dict):
-        fail(f"{at} must be an object, not {_json_type(out)}")
-    for key in ("file", "bytes", "sha256"):
-        if key not in out:
-            fail(f"{at} has no {key}")
-    _typed(out, _OUTPUT_TYPES, at + ".", fail)
-    path = "\0" not in out["file"] and _output_file(recipe, out["file"])
-    if not path or path == recipe.folder or recipe.folder not in path.parents:
-        fail(f"{at}.file {out['file']!r} is not a file inside {recipe.folder}")
-    if path == recipe.path or path == recipe.manifest or recipe.cache in path.parents:
-        fail(f"{at}.file {out['file']!r} is the recipe or the bake's bookkeeping")
-
-
-def _journal(recipe: Recipe) -> Path:
-    """Where a running bake notes each file just before it takes its name (JSON lines: the
-    step, and the file's entry), so that a bake killed mid-step (SIGKILL) leaves a record of
-    what it replaced for the next bake to trust."""
-    return recipe.cache / f"{recipe.path.stem}.journal"
-
-
-_journal_lock = threading.Lock()
-
-
-def _note(recipe: Recipe, step: str, out: dict) -> None:
-    line = json.dumps({"step": step, **out}) + "\n"
-    with _journal_lock, open(_journal(recipe), "a", encoding="utf-8") as f:
-        f.write(line)
-
-
-def _resume(recipe: Recipe, records: dict[str, dict]) -> None:
-    """Fold the journal of a killed bake into ``records``: each step it names with files its
-    record does not hold is recorded as failed, with those files among its outputs."""
-    from bakeshop.io import open_input
-
-    path = _journal(recipe)
-    if not os.path.lexists(path):
-        return
-
-    def fail(reason: str) -> None:
-        raise FormatError(reason + _CACHE_HINT, path)
-
-    with open_input(path) as f:
-        lines = f.read(MAX_JOURNAL_BYTES + 1).split(b"\n")[:-1]  # the last: cut by a kill
-    if sum(map(len, lines)) > MAX_JOURNAL_BYTES:
-        fail(f"a journal holds at most {MAX_JOURNAL_BYTES >> 20} MiB")
-    written: dict[str, dict[str, dict]] = {}
-    for i, line in enumerate(lines):
-        try:
-            entry = json.loads(line)
-        except (ValueError, RecursionError):
-            fail(f"line {i + 1} is not a JSON object")
-        _check_output(entry, f"line {i + 1}", recipe, fail)
-        if not isinstance(entry.get("step"), str):
-            fail(f"line {i + 1} names no step")
-        out = {k: entry[k] for k in ("file", "bytes", "sha256")}
-        written.setdefault(entry["step"], {})[out["file"]] = out
-    for name, outs in written.items():  # a file may have been noted and not renamed: both
-        old = records.get(name, {})
-        known = {(o["file"], o["sha256"]) for o in old.get("outputs", [])}
-        if all((o["file"], o["sha256"]) in known for o in outs.values()):
-            continue  # the step finished and was recorded
-        records[name] = {
-            "failed": "interrupted while it wrote its outputs",
-            "inputs": old.get("inputs", {}),
-            "outputs": old.get("outputs", []) + list(outs.values()),
-        }
-
-
-def _output_file(recipe: Recipe, name: str) -> Path:
-    """An output the manifest names (relative to the recipe), resolved."""
-    return (recipe.root / name).resolve()
-
-
-def _output_change(recipe: Recipe, out: dict, hashes: FileHashes) -> str | None:
-    """Why the output the manifest records as ``out`` no longer holds what was baked, or None
-    when it does (only a regular file of the recorded size is hashed)."""
-    path, name = _output_file(recipe, out["file"]), out["file"]
-    try:
-        st = os.lstat(path)
-    except FileNotFoundError:
-        return f"output {name} is missing"
-    if not stat.S_ISREG(st.st_mode):
-        return f"output {name} is no longer a regular file"
-    if st.st_size != out["bytes"] or hashes.digest(path) != out["sha256"]:
-        return f"output {name} differs from what was baked and re-read (edited or corrupted)"
-    return None
 
 
 @dataclass
@@ -383,8 +151,8 @@ def _load_manifest(recipe: Recipe) -> tuple[dict, str | None]:
         if document.get("manifest_version") != MANIFEST_VERSION:
             note = "the manifest was written by another version of bakeshop's bake"
         else:
-            records = _check_manifest(document, recipe)
-    _resume(recipe, records)
+            records = check_manifest(document, recipe)
+    resume(recipe, records)
     return records, note
 
 
@@ -439,7 +207,7 @@ def _decide(
         if name not in inputs:
             reasons.append(f"input {name} is no longer read")
     for out in record.get("outputs", []):
-        change = _output_change(recipe, out, hashes)
+        change = output_change(recipe, out, hashes)
         if change is not None:
             reasons.append(change)
     if not record.get("outputs"):
@@ -669,10 +437,10 @@ def run(
 
             graph = {s.name: (functools.partial(bake_step, s), *s.after) for s in recipe.steps}
             dask.threaded.get(graph, list(graph), num_workers=jobs)
-        if not recipe.manifest.is_file() or hashes.dirty or _journal(recipe).exists():
+        if not recipe.manifest.is_file() or hashes.dirty or journal_path(recipe).exists():
             save()
         with contextlib.suppress(FileNotFoundError):
-            _journal(recipe).unlink()  # every file it names is in the manifest now
+            journal_path(recipe).unlink()  # every file it names is in the manifest now
     decisions = [decided[s.name] for s in recipe.steps]
     return BakeResult(
         decisions, built, failed, time.perf_counter() - started, hashes.hashed, recipe.manifest
@@ -701,7 +469,9 @@ def _build(
     started = time.perf_counter()
     with (
         progress.step(f"{step.name}"),
-        verify_writes(this_thread=True, guard=_guard(step, recipe, hashes, previous)) as checks,
+        verify_writes(
+            this_thread=True, guard=guard_writes(step, recipe, hashes, previous)
+        ) as checks,
     ):
         facts = op.run(dict(step.options))
     seconds = time.perf_counter() - started
@@ -714,7 +484,7 @@ def _build(
     proofs = {os.path.abspath(c["file"]): c for c in checks}
     outputs = _outputs(recipe, written, hashes, None)
     for out in outputs:
-        proof = proofs[os.fspath(_output_file(recipe, out["file"]))]
+        proof = proofs[os.fspath(output_file(recipe, out["file"]))]
         out["reload"] = {k: v for k, v in proof.items() if k != "file"}
     removed = _tidy(recipe, {o["file"] for o in outputs}, previous, hashes, reads)
     return {
@@ -748,47 +518,6 @@ def _outputs(
     return kept + made
 
 
-def _guard(
-    step: Step, recipe: Recipe, hashes: FileHashes, previous: dict | None
-) -> Callable[[Path, Path], None]:
-    """The check of each file ``step`` is about to write: its output, a file in its output
-    folder, or one beside its output file named from it (``{face}`` files, ``OUT.json``
-    sidecars); and where a file is already there, one that its previous bake wrote and left as
-    it was. Each file let through is noted in the journal before it takes its name."""
-    recorded: dict[str, list[dict]] = {}
-    for o in (previous or {}).get("outputs", []):
-        recorded.setdefault(o["file"], []).append(o)
-    mine: set[Path] = set()
-    out = step.output
-    stem = out.name.split("{")[0]
-
-    def guard(target: Path, tmp: Path) -> None:
-        path = Path(target).parent.resolve() / Path(target).name
-        if out not in path.parents and not (
-            path.parent == out.parent and path.name.startswith(stem)
-        ):
-            raise BakeshopError(
-                f"{step.name} writes only its output {recipe.relative(out)} and the files "
-                "named from it",
-                target,
-            )
-        name = recipe.relative(path)
-        if path not in mine and os.path.lexists(path):
-            if all(_output_change(recipe, o, hashes) for o in recorded.get(name, [])):
-                raise BakeshopError(
-                    f"{step.name} would replace {name}, which its last bake did not leave there "
-                    "(not in the manifest, or changed since): bakeshop replaces only files it "
-                    "wrote; move it away to bake this step",
-                    target,
-                )
-        mine.add(path)
-        with open(tmp, "rb") as f:
-            entry = {"file": name, "bytes": os.fstat(f.fileno()).st_size, "sha256": _sha256(f)}
-        _note(recipe, step.name, entry)
-
-    return guard
-
-
 def _tidy(
     recipe: Recipe, written: set, previous: dict | None, hashes: FileHashes, reads: set[Path]
 ) -> list:
@@ -798,15 +527,15 @@ def _tidy(
     removed."""
     removed = []
     for out in (previous or {}).get("outputs", []):
-        path = _output_file(recipe, out["file"])
+        path = output_file(recipe, out["file"])
         if out["file"] in written or path in reads:
             continue
-        if _output_change(recipe, out, hashes) is None:
+        if output_change(recipe, out, hashes) is None:
             with contextlib.suppress(OSError):
                 path.unlink()
                 removed.append(out["file"])
     for name in written:
-        _remove_temporaries(_output_file(recipe, name))
+        _remove_temporaries(output_file(recipe, name))
     return removed
 
 

@@ -266,7 +266,7 @@ def _resolve(value: object, root: Path, what: str, fail: Fail) -> Path:
 
 def _inside(path: Path, folder: Path) -> bool:
     """``path`` is ``folder`` or lies in it (both resolved)."""
-    return path == folder or folder in path.parents
+    return path == folder or os.fspath(path).startswith(os.path.join(folder, ""))
 
 
 def _confine(
