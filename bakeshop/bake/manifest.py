@@ -19,7 +19,7 @@ import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, BinaryIO
+from typing import BinaryIO, NoReturn
 
 from bakeshop.bake.recipe import Recipe, Step
 from bakeshop.errors import BakeshopError, FormatError
@@ -146,7 +146,7 @@ def _json_type(value: object) -> str:
     return names.get(type(value), "a number" if isinstance(value, float) else "null")
 
 
-def _typed(document: dict, types: dict, where: str, fail: Callable[[str], Any]) -> None:
+def _typed(document: dict, types: dict, where: str, fail: Callable[[str], NoReturn]) -> None:
     for key, kind in types.items():
         if key in document and not _is(document[key], kind):
             expected = _json_type(kind[0]() if isinstance(kind, tuple) else kind())
@@ -157,7 +157,7 @@ def check_manifest(document: dict, recipe: Recipe) -> dict[str, dict]:
     """The manifest's step records, checked against its schema: the JSON types of every key a
     bake reads, and output files that lie inside the folder the recipe governs."""
 
-    def fail(reason: str) -> None:
+    def fail(reason: str) -> NoReturn:
         raise FormatError(reason + _MANIFEST_HINT, recipe.manifest)
 
     _typed(document, _MANIFEST_TYPES, "", fail)
@@ -178,7 +178,7 @@ def check_manifest(document: dict, recipe: Recipe) -> dict[str, dict]:
     return dict(steps)
 
 
-def _check_output(out: object, at: str, recipe: Recipe, fail: Callable[[str], Any]) -> None:
+def _check_output(out: object, at: str, recipe: Recipe, fail: Callable[[str], NoReturn]) -> None:
     """An output entry of the manifest or the journal: its keys and types, and a file inside
     the folder the recipe governs that is neither the recipe nor the bake's bookkeeping."""
     if not isinstance(out, dict):
@@ -219,7 +219,7 @@ def resume(recipe: Recipe, records: dict[str, dict]) -> None:
     if not os.path.lexists(path):
         return
 
-    def fail(reason: str) -> None:
+    def fail(reason: str) -> NoReturn:
         raise FormatError(reason + _CACHE_HINT, path)
 
     with open_input(path) as f:
