@@ -8,6 +8,9 @@ TOML file, rebuilt incrementally, explained, and proven to load what they save.
 - :mod:`bakeshop.bake.build`: what to rebuild and why (:func:`plan`), the bake itself
   (:func:`run`), content digests cached by file stat, and the ``RECIPE.bake.json`` manifest holding
   every output's inputs, options, key and reload proof.
+- :mod:`bakeshop.bake.manifest`: the manifest, digest cache and journal checked as untrusted
+  input, and the proof that a file is the bake's own (the only files a bake replaces or
+  deletes).
 
 The command line is ``bakeshop bake RECIPE``; the same functions serve scripts (a DCC tool's
 Python) with the same manifest and cache::

@@ -20,6 +20,12 @@ they are unchanged since (an edited one is left alone). A failed step keeps the 
 outputs it did not replace, is recorded as failed (it runs again next time, saying so) and
 stops the steps that read it; the others still run. The manifest is rewritten after every
 step, so an interrupted bake resumes where it stopped.
+
+The manifest and the digest cache are untrusted input: each is checked against its schema
+(JSON types, output files inside the folder the recipe governs) and refused in one line when
+it does not fit. A bake replaces or deletes only files it wrote itself: a file the manifest
+records as the step's output, with the size and digest recorded, inside the step's output and
+the governed folder, never an input of the recipe. Only regular files are hashed.
 """
 
 from __future__ import annotations
@@ -40,6 +46,15 @@ from pathlib import Path
 from typing import Any
 
 from bakeshop import __version__, progress
+from bakeshop.bake.manifest import (
+    FileHashes,
+    check_manifest,
+    guard_writes,
+    journal_path,
+    output_change,
+    output_file,
+    resume,
+)
 from bakeshop.bake.operations import OPERATIONS
 from bakeshop.bake.recipe import Recipe, Step
 from bakeshop.errors import BakeshopError
@@ -48,10 +63,6 @@ __all__ = ["BakeResult", "Decision", "FileHashes", "plan", "run", "step_key"]
 
 #: version of the manifest's layout.
 MANIFEST_VERSION = 1
-#: a cached digest is trusted only for files last modified this long before they were hashed
-#: (a write within the same timestamp tick as the hash would otherwise go unseen).
-RACY_NS = 2_000_000_000
-_CHUNK = 1 << 20
 
 
 @functools.cache
@@ -64,56 +75,6 @@ def source_digest() -> str:
         h.update(path.relative_to(root).as_posix().encode() + b"\0")
         h.update(path.read_bytes())
     return h.hexdigest()[:16]
-
-
-class FileHashes:
-    """SHA-256 digests of files, cached by (size, mtime, inode) in a JSON file."""
-
-    def __init__(self, path: Path):
-        self.path = path
-        self.entries: dict[str, list] = {}
-        self.hashed = 0  # files read in full (the work the cache saves)
-        self.dirty = False
-        self._lock = threading.Lock()
-        if path.is_file():
-            from bakeshop.io import read_json
-
-            with contextlib.suppress(BakeshopError):
-                self.entries = dict(read_json(path).get("files", {}))
-
-    def digest(self, path: Path) -> str | None:
-        """The file's SHA-256 (hex), or None when it does not exist."""
-        try:
-            st = os.stat(path)
-        except FileNotFoundError:
-            return None
-        key = os.fspath(path)
-        with self._lock:
-            entry = self.entries.get(key)
-        stamp = [st.st_size, st.st_mtime_ns, st.st_ino]
-        if entry is not None and entry[:3] == stamp and st.st_mtime_ns < entry[3] - RACY_NS:
-            return entry[4]
-        h = hashlib.sha256()
-        with open(path, "rb") as f:
-            while chunk := f.read(_CHUNK):
-                h.update(chunk)
-        digest = h.hexdigest()
-        with self._lock:
-            self.hashed += 1
-            self.entries[key] = [*stamp, time.time_ns(), digest]
-            self.dirty = True
-        return digest
-
-    def save(self) -> None:
-        """Write the cache when a digest was added or refreshed."""
-        from bakeshop.io import write_json
-
-        with self._lock:
-            if not self.dirty:
-                return
-            entries, self.dirty = dict(self.entries), False
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        write_json(self.path, {"files": entries})
 
 
 @dataclass
@@ -179,17 +140,20 @@ def step_key(step: Step, recipe: Recipe, inputs: dict[str, str]) -> str:
 
 
 def _load_manifest(recipe: Recipe) -> tuple[dict, str | None]:
+    """The step records of the manifest, with what the journal of a killed bake adds, and a
+    note when the manifest is of another layout."""
     from bakeshop.io import read_json
 
-    if not recipe.manifest.is_file():
-        return {}, None
-    try:
+    records: dict[str, dict] = {}
+    note = None
+    if os.path.lexists(recipe.manifest):
         document = read_json(recipe.manifest)
-    except BakeshopError as e:
-        return {}, f"the manifest {recipe.relative(recipe.manifest)} could not be read ({e.reason})"
-    if document.get("manifest_version") != MANIFEST_VERSION:
-        return {}, "the manifest was written by another version of bakeshop's bake"
-    return dict(document.get("steps", {})), None
+        if document.get("manifest_version") != MANIFEST_VERSION:
+            note = "the manifest was written by another version of bakeshop's bake"
+        else:
+            records = check_manifest(document, recipe)
+    resume(recipe, records)
+    return records, note
 
 
 def _decide(
@@ -230,8 +194,9 @@ def _decide(
         )
     old, new = record.get("options", {}), _canonical(step.options, recipe)
     for key in sorted(set(old) | set(new)):
-        if old.get(key) != new.get(key):
-            reasons.append(f"option {key} changed ({_show(old.get(key))} -> {_show(new.get(key))})")
+        if old.get(key, _UNSET) != new.get(key, _UNSET):
+            where, was, now = _first_difference(old.get(key, _UNSET), new.get(key, _UNSET))
+            reasons.append(f"option {key}{where} changed ({_show(was)} -> {_show(now)})")
     before = record.get("inputs", {})
     for name, digest in inputs.items():
         if name not in before:
@@ -242,22 +207,36 @@ def _decide(
         if name not in inputs:
             reasons.append(f"input {name} is no longer read")
     for out in record.get("outputs", []):
-        digest = hashes.digest(recipe.root / out["file"])
-        if digest is None:
-            reasons.append(f"output {out['file']} is missing")
-        elif digest != out["sha256"]:
-            reasons.append(
-                f"output {out['file']} differs from what was baked and re-read "
-                "(edited or corrupted)"
-            )
+        change = output_change(recipe, out, hashes)
+        if change is not None:
+            reasons.append(change)
     if not record.get("outputs"):
         reasons.append("no outputs recorded")
     return Decision(step.name, "build" if reasons else "skip", reasons), inputs
 
 
+#: an option a record or a recipe does not hold.
+_UNSET = object()
+
+
+def _first_difference(old: object, new: object, where: str = "") -> tuple[str, object, object]:
+    """Where two option values first differ (``.key`` and ``[i]`` steps into tables and lists
+    of one length) and the two values there."""
+    if isinstance(old, dict) and isinstance(new, dict):
+        for key in sorted(set(old) | set(new), key=str):
+            if old.get(key, _UNSET) != new.get(key, _UNSET):
+                return _first_difference(
+                    old.get(key, _UNSET), new.get(key, _UNSET), f"{where}.{key}"
+                )
+    if isinstance(old, list) and isinstance(new, list) and len(old) == len(new):
+        for i, (a, b) in enumerate(zip(old, new, strict=True)):
+            if a != b:
+                return _first_difference(a, b, f"{where}[{i}]")
+    return where, old, new
+
+
 def _show(value: object) -> str:
-    text = json.dumps(value)
-    return text if len(text) <= 40 else text[:37] + "..."
+    return "unset" if value is _UNSET else json.dumps(value)
 
 
 def plan(recipe: Recipe, *, force: Iterable[str] = ()) -> list[Decision]:
@@ -374,7 +353,7 @@ def run(
         caller decides how to report the errors (the command line exits 2 with the first).
         ``decisions`` are in the recipe's order, ``built`` in the order the steps finished.
     """
-    from bakeshop.io import write_json
+    from bakeshop.io import record_writes, write_json
 
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise BakeshopError(f"jobs must be a whole number of at least 1, got {jobs!r}")
@@ -386,6 +365,7 @@ def run(
         records, note = _load_manifest(recipe)
         records = {s.name: records[s.name] for s in recipe.steps if s.name in records}
         hashes = FileHashes(recipe.cache / "hashes.json")
+        reads = {path for s in recipe.steps for path in s.inputs}
         decided: dict[str, Decision] = {}
         built: list[str] = []
         failed: dict[str, BakeshopError] = {}
@@ -424,21 +404,25 @@ def run(
                 if decision.action == "skip":
                     return
                 previous = records.pop(step.name, None)
+            written: list[Path] = []
             try:
-                record = _build(step, recipe, inputs, hashes, previous)
-            except BakeshopError as e:
-                if not e.reason.startswith(step.name):
+                with record_writes(this_thread=True) as written:
+                    record = _build(step, recipe, inputs, hashes, previous, written, reads)
+            except BaseException as e:
+                if isinstance(e, BakeshopError) and not e.reason.startswith(step.name):
                     e.reason = f"{step.name}: {e.reason}"
                     e.args = (e.reason, *e.args[1:])
+                why = (
+                    str(e) if isinstance(e, BakeshopError) else f"interrupted ({type(e).__name__})"
+                )
+                kept = _outputs(recipe, written, hashes, previous)
                 with lock:
+                    records[step.name] = {"failed": why, "inputs": inputs, "outputs": kept}
+                    save()
+                    if not isinstance(e, BakeshopError):
+                        raise
                     failed[step.name] = e
-                    records[step.name] = {"failed": str(e), "inputs": inputs}
-                    save()
                 return
-            except BaseException:
-                with lock:
-                    save()
-                raise
             with lock:
                 records[step.name] = record
                 built.append(step.name)
@@ -453,8 +437,10 @@ def run(
 
             graph = {s.name: (functools.partial(bake_step, s), *s.after) for s in recipe.steps}
             dask.threaded.get(graph, list(graph), num_workers=jobs)
-        if not recipe.manifest.is_file() or hashes.dirty:
+        if not recipe.manifest.is_file() or hashes.dirty or journal_path(recipe).exists():
             save()
+        with contextlib.suppress(FileNotFoundError):
+            journal_path(recipe).unlink()  # every file it names is in the manifest now
     decisions = [decided[s.name] for s in recipe.steps]
     return BakeResult(
         decisions, built, failed, time.perf_counter() - started, hashes.hashed, recipe.manifest
@@ -462,21 +448,30 @@ def run(
 
 
 def _build(
-    step: Step, recipe: Recipe, inputs: dict, hashes: FileHashes, previous: dict | None
+    step: Step,
+    recipe: Recipe,
+    inputs: dict,
+    hashes: FileHashes,
+    previous: dict | None,
+    written: list[Path],
+    reads: set[Path],
 ) -> dict:
-    """Run one step with every write re-read and checked; its manifest record. Then tidy: the
-    outputs of its previous bake that it no longer writes are removed when they are still as
-    that bake left them (water frames beyond a new, shorter loop; a probe's faces in the old
-    format), and so are temporaries of its outputs left by a killed bake."""
-    from bakeshop.io import record_writes, verify_writes
+    """Run one step with every write re-read and checked (``written`` collects the files, as
+    :func:`bakeshop.io.record_writes` does) and guarded (:func:`_guard`); its manifest record.
+    Then tidy: the outputs of its previous bake that it no longer writes are removed when they
+    are still as that bake left them (water frames beyond a new, shorter loop; a probe's faces
+    in the old format) and no step reads them, and so are temporaries of its outputs left by a
+    killed bake."""
+    from bakeshop.io import verify_writes
 
     op = OPERATIONS[step.operation]
     step.output.parent.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
     with (
         progress.step(f"{step.name}"),
-        record_writes(this_thread=True) as written,
-        verify_writes(this_thread=True) as checks,
+        verify_writes(
+            this_thread=True, guard=guard_writes(step, recipe, hashes, previous)
+        ) as checks,
     ):
         facts = op.run(dict(step.options))
     seconds = time.perf_counter() - started
@@ -487,18 +482,11 @@ def _build(
             step.output,
         )
     proofs = {os.path.abspath(c["file"]): c for c in checks}
-    outputs = []
-    for path in dict.fromkeys(Path(os.path.abspath(p)) for p in written):
-        proof = {k: v for k, v in proofs[os.fspath(path)].items() if k != "file"}
-        outputs.append(
-            {
-                "file": recipe.relative(path),
-                "bytes": path.stat().st_size,
-                "sha256": hashes.digest(path),
-                "reload": proof,
-            }
-        )
-    removed = _tidy(recipe, {o["file"] for o in outputs}, previous, hashes)
+    outputs = _outputs(recipe, written, hashes, None)
+    for out in outputs:
+        proof = proofs[os.fspath(output_file(recipe, out["file"]))]
+        out["reload"] = {k: v for k, v in proof.items() if k != "file"}
+    removed = _tidy(recipe, {o["file"] for o in outputs}, previous, hashes, reads)
     return {
         "operation": op.name,
         "operation_version": op.version,
@@ -515,19 +503,39 @@ def _build(
     }
 
 
-def _tidy(recipe: Recipe, written: set, previous: dict | None, hashes: FileHashes) -> list:
-    """Remove a step's stale outputs (unchanged since its previous bake wrote them) and the
-    temporaries of its outputs (``.STEM.<12 hex>.EXT``, what :func:`bakeshop.io.atomic_path`
-    leaves only when killed); return the stale outputs removed."""
+def _outputs(
+    recipe: Recipe, written: list[Path], hashes: FileHashes, previous: dict | None
+) -> list[dict]:
+    """Manifest entries (file, bytes, sha256) of the files ``written``, after those of the
+    ``previous`` record that were not rewritten (what a failed step leaves)."""
+    fresh = [Path(p).parent.resolve() / Path(p).name for p in dict.fromkeys(written)]
+    names = [recipe.relative(p) for p in fresh]
+    kept = [o for o in (previous or {}).get("outputs", []) if o["file"] not in names]
+    made = [
+        {"file": name, "bytes": path.stat().st_size, "sha256": hashes.digest(path)}
+        for name, path in zip(names, fresh, strict=True)
+    ]
+    return kept + made
+
+
+def _tidy(
+    recipe: Recipe, written: set, previous: dict | None, hashes: FileHashes, reads: set[Path]
+) -> list:
+    """Remove a step's stale outputs (unchanged since its previous bake wrote them, read by no
+    step) and the temporaries of its outputs (``.STEM.<12 hex>.EXT``, what
+    :func:`bakeshop.io.atomic_path` leaves only when killed); return the stale outputs
+    removed."""
     removed = []
     for out in (previous or {}).get("outputs", []):
-        path = recipe.root / out["file"]
-        if out["file"] not in written and hashes.digest(path) == out["sha256"]:
+        path = output_file(recipe, out["file"])
+        if out["file"] in written or path in reads:
+            continue
+        if output_change(recipe, out, hashes) is None:
             with contextlib.suppress(OSError):
                 path.unlink()
                 removed.append(out["file"])
     for name in written:
-        _remove_temporaries(recipe.root / name)
+        _remove_temporaries(output_file(recipe, name))
     return removed
 
 

@@ -480,6 +480,9 @@ NORMALS = Operation(
 def _water_check(o: dict, resolve: Resolve, fail: Fail) -> dict:
     if o["resolution"] & (o["resolution"] - 1):
         fail(f"resolution must be a power of two, got {o['resolution']}")
+    name = o["name"]
+    if not name or name in (".", "..") or any(c in name for c in "/\\\0"):
+        fail(f"name must be a file name prefix (no folders, no NUL), got {name!r}")
     return {}
 
 

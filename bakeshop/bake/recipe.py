@@ -16,10 +16,17 @@ whose input is another step's output (that file, or a file in that output folder
 it. Unknown tables, keys and operations are
 errors that name the valid ones; so is a bad value (with its range), a missing input file that
 no step makes, a circle of steps, and two steps writing the same path.
+
+A bake writes and deletes only inside the folder the recipe governs: its own folder, or the
+folder ``[bake] folder`` names (one outside the recipe's folder must be confirmed by the caller,
+``--allow-folder`` on the command line). Every output, the manifest and the digest cache lie
+there; no output is or holds the recipe, the manifest or the cache, and the manifest and the
+cache are never an input.
 """
 
 from __future__ import annotations
 
+import functools
 import os
 import sys
 from dataclasses import dataclass, field
@@ -27,7 +34,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from bakeshop.bake.operations import OPERATIONS, Fail, Operation
-from bakeshop.errors import ArgumentError, BakeshopError, FormatError
+from bakeshop.errors import ArgumentError, FormatError
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -37,8 +44,11 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 __all__ = ["Recipe", "Step", "load_recipe", "parse_recipe", "starter_recipe"]
 
 #: keys of the ``[bake]`` table and their defaults (``{stem}``: the recipe's name without
-#: ``.toml``, so that two recipes in one folder keep apart manifests).
-BAKE_KEYS = {"manifest": "{stem}.bake.json", "cache": ".bakeshop"}
+#: ``.toml``, so that two recipes in one folder keep apart manifests; ``folder``: the one the
+#: bake writes and deletes in).
+BAKE_KEYS = {"manifest": "{stem}.bake.json", "cache": ".bakeshop", "folder": "."}
+#: a recipe larger than this is not a level's (a 3000-step recipe is about 200 KiB).
+MAX_RECIPE_BYTES = 4 << 20
 
 
 @dataclass(frozen=True)
@@ -71,20 +81,26 @@ class Step:
 
 @dataclass(frozen=True)
 class Recipe:
-    """A validated recipe: its steps in an order where every step follows those it reads."""
+    """A validated recipe: its steps in an order where every step follows those it reads;
+    ``root`` is its folder (paths are relative to it), ``folder`` the one its bake may write
+    and delete in."""
 
     path: Path
     root: Path
     steps: tuple[Step, ...]
     manifest: Path
     cache: Path
+    folder: Path
     settings: dict = field(default_factory=dict)
+
+    @functools.cached_property
+    def _by_name(self) -> dict[str, Step]:
+        return {s.name: s for s in self.steps}
 
     def step(self, name: str) -> Step:
         """The step called ``name`` (an error lists the steps when there is none)."""
-        for s in self.steps:
-            if s.name == name:
-                return s
+        if name in self._by_name:
+            return self._by_name[name]
         raise ArgumentError(
             f"no step {name!r} in the recipe; its steps are: "
             + ", ".join(s.name for s in self.steps),
@@ -99,30 +115,43 @@ class Recipe:
             return os.fspath(path)
 
 
-def load_recipe(path: str | os.PathLike) -> Recipe:
+def load_recipe(
+    path: str | os.PathLike, *, allow_folder: str | os.PathLike | None = None
+) -> Recipe:
     """Read and validate a recipe file (see the module notes); raises
-    :class:`~bakeshop.errors.BakeshopError` naming the file and what is wrong."""
+    :class:`~bakeshop.errors.BakeshopError` naming the file and what is wrong. ``allow_folder``
+    confirms a ``[bake] folder`` outside the recipe's own folder."""
+    from bakeshop.io import check_input, open_input
+
+    if "\0" in os.fspath(path):
+        raise ArgumentError(
+            "a path cannot hold a NUL character", os.fspath(path).replace("\0", "\\0")
+        )
     path = Path(path)
+    if check_input(path).st_size > MAX_RECIPE_BYTES:
+        raise FormatError(f"a recipe is at most {MAX_RECIPE_BYTES >> 20} MiB of text", path)
+    with open_input(path) as f:
+        data = f.read(MAX_RECIPE_BYTES + 1)
+    if len(data) > MAX_RECIPE_BYTES:  # it grew since the check
+        raise FormatError(f"a recipe is at most {MAX_RECIPE_BYTES >> 20} MiB of text", path)
     try:
-        text = path.read_bytes().decode("utf-8")
-    except FileNotFoundError:
-        raise BakeshopError("recipe file not found", path) from None
-    except IsADirectoryError:
-        raise BakeshopError("is a folder, not a recipe file", path) from None
+        document = tomllib.loads(data.decode("utf-8"))
     except UnicodeDecodeError:
         raise FormatError("a recipe is UTF-8 text", path) from None
-    except OSError as e:
-        raise BakeshopError(f"cannot read the recipe: {e.strerror}", path) from None
-    try:
-        document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         raise FormatError(f"not valid TOML: {e}", path) from None
-    return parse_recipe(document, path)
+    except RecursionError:
+        raise FormatError("not valid TOML: arrays or tables nested too deeply", path) from None
+    except ValueError as e:  # an integer beyond Python's digit limit
+        raise FormatError(f"not valid TOML: {e}", path) from None
+    return parse_recipe(document, path, allow_folder=allow_folder)
 
 
-def parse_recipe(document: dict, path: str | os.PathLike) -> Recipe:
+def parse_recipe(
+    document: dict, path: str | os.PathLike, *, allow_folder: str | os.PathLike | None = None
+) -> Recipe:
     """Validate a recipe already parsed from TOML (``path`` gives its folder and its name in
-    messages)."""
+    messages; ``allow_folder`` as for :func:`load_recipe`)."""
     path = Path(path).resolve()
     root = path.parent
 
@@ -167,13 +196,27 @@ def parse_recipe(document: dict, path: str | os.PathLike) -> Recipe:
             steps.append(_step(op, f"{op_name}.{name}", merged, root, where, fail))
     if not steps:
         fail("the recipe has no steps; add one, e.g. [probe.NAME] with input and output")
-    ordered = _order(steps, fail)
+    folder = _resolve(settings["folder"], root, "[bake] folder", fail)
+    if not _inside(folder, root):
+        if allow_folder is None or Path(allow_folder).resolve() != folder:
+            fail(
+                f"[bake] folder is {folder}, outside the recipe's folder: the bake writes and "
+                f"deletes there only when you confirm it (--allow-folder {folder})"
+            )
+        if not folder.is_dir():
+            fail(f"[bake] folder {folder} is not a folder")
+    manifest = _resolve(
+        settings["manifest"].replace("{stem}", path.stem), root, "[bake] manifest", fail
+    )
+    cache = _resolve(settings["cache"], root, "[bake] cache", fail)
+    _confine(steps, path, folder, manifest, cache, fail)
     return Recipe(
         path=path,
         root=root,
-        steps=tuple(ordered),
-        manifest=(root / settings["manifest"].replace("{stem}", path.stem)).resolve(),
-        cache=(root / settings["cache"]).resolve(),
+        steps=tuple(_order(steps, fail)),
+        manifest=manifest,
+        cache=cache,
+        folder=folder,
         settings=settings,
     )
 
@@ -216,49 +259,96 @@ def _step(op: Operation, name: str, table: dict, root: Path, where: str, fail: F
 def _resolve(value: object, root: Path, what: str, fail: Fail) -> Path:
     if not isinstance(value, str) or not value:
         fail(f"{what} must be a path (a string)")
+    if "\0" in value:
+        fail(f"{what}: a path cannot hold a NUL character")
     return (root / value).resolve()
 
 
-def _inside(path: Path, output: Path) -> bool:
-    return path == output or output in path.parents
+def _inside(path: Path, folder: Path) -> bool:
+    """``path`` is ``folder`` or lies in it (both resolved)."""
+    return path == folder or os.fspath(path).startswith(os.path.join(folder, ""))
+
+
+def _confine(
+    steps: list[Step], recipe: Path, folder: Path, manifest: Path, cache: Path, fail: Fail
+) -> None:
+    """Refuse a recipe whose bake could write or delete outside ``folder``, or replace the
+    recipe, its manifest or cache, or an input with its own bookkeeping."""
+    for what, path in (("[bake] manifest", manifest), ("[bake] cache", cache)):
+        if path == folder or not _inside(path, folder):
+            fail(f"{what} {path} must lie inside {folder}, the folder the bake writes in")
+    if manifest.suffix != ".json" or _inside(recipe, cache) or _inside(manifest, cache):
+        fail(
+            "[bake] manifest must be a .json file apart from the recipe, and [bake] cache a "
+            "folder holding neither"
+        )
+    for s in steps:
+        if s.output == folder or not _inside(s.output, folder):
+            fail(
+                f"{s.name} writes {s.output}, outside {folder}: a bake writes only inside the "
+                "folder it governs (its recipe's, or [bake] folder)"
+            )
+        for what, path in (("the recipe", recipe), ("its manifest", manifest)):
+            if _inside(path, s.output):
+                fail(f"{s.name} would write over {what} {path}")
+        if _inside(s.output, cache) or _inside(cache, s.output):
+            fail(f"{s.name} writes {s.output}, which overlaps the digest cache {cache}")
+        for path in s.inputs:
+            if path == manifest or _inside(path, cache):
+                fail(f"{s.name} reads {path}, which the bake writes as its own bookkeeping")
 
 
 def _order(steps: list[Step], fail: Fail) -> list[Step]:
     """Link each step to the steps whose outputs it reads; order them; refuse circles, two
-    steps writing one path and inputs that neither exist nor are made."""
-    for i, a in enumerate(steps):
-        for b in steps[i + 1 :]:
-            if _inside(a.output, b.output) or _inside(b.output, a.output):
-                both = a.output if _inside(a.output, b.output) else b.output
-                fail(f"{a.name} and {b.name} both write {both}")
+    steps writing one path and inputs that neither exist nor are made. Linear in the steps:
+    each path is looked up with its folders in a table of the outputs."""
+    makers: dict[Path, Step] = {}
+    for s in steps:
+        if s.output in makers:
+            fail(f"{makers[s.output].name} and {s.name} both write {s.output}")
+        makers[s.output] = s
+    for s in steps:
+        for folder in s.output.parents:
+            if folder in makers:
+                fail(f"{makers[folder].name} and {s.name} both write {s.output}")
     linked = []
     for s in steps:
-        after = []
+        after: list[str] = []
         for path in s.inputs:
-            makers = [o.name for o in steps if _inside(path, o.output)]
-            if s.name in makers:
+            maker = next((makers[p] for p in (path, *path.parents) if p in makers), None)
+            if maker is None:
+                if not path.is_file():
+                    fail(f"{s.name}: input {path} does not exist and no step makes it")
+                continue
+            if maker.name == s.name:
                 fail(f"{s.name} reads its own output {path}")
-            if not makers and not path.is_file():
-                fail(f"{s.name}: input {path} does not exist and no step makes it")
-            after += [m for m in makers if m not in after]
+            if maker.name not in after:
+                after.append(maker.name)
         linked.append(Step(s.name, s.operation, s.options, s.inputs, s.output, tuple(after)))
     by_name = {s.name: s for s in linked}
     done: list[Step] = []
-    state: dict[str, int] = {}
-
-    def visit(step: Step, chain: list[str]) -> None:
-        if state.get(step.name) == 2:
-            return
-        if state.get(step.name) == 1:
-            fail("steps read each other's outputs in a circle: " + " -> ".join(chain + [step.name]))
-        state[step.name] = 1
-        for dep in step.after:
-            visit(by_name[dep], chain + [step.name])
-        state[step.name] = 2
-        done.append(step)
-
-    for s in linked:
-        visit(s, [])
+    state: dict[str, int] = {}  # 1: on the path being walked, 2: placed
+    for first in linked:  # depth first, without recursion (a chain can be thousands long)
+        if first.name in state:
+            continue
+        state[first.name] = 1
+        path = [(first, iter(first.after))]
+        while path:
+            step, deps = path[-1]
+            dep = next(deps, None)
+            if dep is None:
+                path.pop()
+                state[step.name] = 2
+                done.append(step)
+            elif state.get(dep) == 1:
+                chain = [p.name for p, _ in path]
+                fail(
+                    "steps read each other's outputs in a circle: "
+                    + " -> ".join(chain[chain.index(dep) :] + [dep])
+                )
+            elif dep not in state:
+                state[dep] = 1
+                path.append((by_name[dep], iter(by_name[dep].after)))
     return done
 
 

@@ -69,6 +69,13 @@ def _operations_text() -> str:
     "outputs are the same as one at a time.",
 )
 @click.option(
+    "--allow-folder",
+    type=click.Path(file_okay=False, path_type=Path),
+    metavar="DIR",
+    help="Let the bake write and delete in DIR, the [bake] folder of a recipe that names one "
+    "outside its own folder (by default a bake touches only its recipe's folder).",
+)
+@click.option(
     "--init",
     is_flag=True,
     help="Write a commented starter RECIPE for the files in its folder (a probe step per "
@@ -85,6 +92,7 @@ def bake(
     dry_run: bool,
     force: tuple[str, ...],
     jobs: int,
+    allow_folder: Path | None,
     init: bool,
     operations: bool,
 ) -> None:
@@ -132,7 +140,7 @@ def bake(
     if init:
         _init(recipe, starter_recipe(recipe.parent if str(recipe.parent) else Path(".")))
         return
-    loaded = load_recipe(recipe)
+    loaded = load_recipe(recipe, allow_folder=allow_folder)
     manifest = loaded.relative(loaded.manifest)
     if dry_run:
         decisions = plan(loaded, force=force)

@@ -32,14 +32,19 @@ def verifying() -> bool:
 
 @contextlib.contextmanager
 def session(
-    check: Callable[..., dict], log: str | os.PathLike | None = None, *, this_thread: bool = False
+    check: Callable[..., dict],
+    log: str | os.PathLike | None = None,
+    *,
+    this_thread: bool = False,
+    guard: Callable[[Path, Path], object] | None = None,
 ) -> Iterator[list[dict]]:
     """Within the block, every completed :func:`~bakeshop.io.atomic_path` write (with
-    ``this_thread``, of the calling thread only) is passed to ``check(tmp, kind, data,
-    **context)`` (which returns a record with ``ok`` and ``reason``) before it is renamed;
-    yields the list of records."""
+    ``this_thread``, of the calling thread only) is passed to ``guard(target, tmp)`` (which
+    raises to refuse the target) and then to ``check(tmp, kind, data, **context)`` (which returns a
+    record with ``ok`` and ``reason``) before it is renamed; yields the list of records."""
     state: dict[str, Any] = {
         "check": check,
+        "guard": guard,
         "records": [],
         "log": None if log is None else os.fspath(log),
         "thread": threading.get_ident() if this_thread else None,
@@ -86,6 +91,9 @@ def check_written(tmp: Path, target: Path) -> None:
         sessions = [s for s in _sessions if s["thread"] in (None, me)]
     if not sessions:
         return
+    for state in sessions:
+        if state["guard"] is not None:
+            state["guard"](target, tmp)
     kind, data, context = _intents().get(os.path.abspath(os.fspath(target)), (None, None, {}))
     record = sessions[-1]["check"](tmp, kind, data, **context)
     record["file"] = os.fspath(target)

@@ -11,7 +11,7 @@ import numpy as np
 
 from bakeshop.errors import BakeshopError, FormatError
 from bakeshop.io import _intent
-from bakeshop.io._files import atomic_path
+from bakeshop.io._files import atomic_path, open_input
 
 __all__ = ["read_json", "write_json", "write_text"]
 
@@ -53,16 +53,21 @@ def write_json(path: str | os.PathLike, document: dict) -> None:
 
 def read_json(path: str | os.PathLike) -> dict:
     """Read a JSON object from ``path``; :class:`~bakeshop.errors.FormatError` naming the file
-    when it is not one (or is larger than :data:`MAX_BYTES`)."""
-    try:
-        size = os.path.getsize(path)
+    when it is not one (or is larger than :data:`MAX_BYTES`, nested too deeply for Python's
+    parser, or holds an integer beyond its digit limit). Only a regular file is read."""
+    with open_input(path) as f:
+        size = os.fstat(f.fileno()).st_size
         if size > MAX_BYTES:
             raise FormatError(f"{size} bytes is too large for a JSON document", path)
-        with open(path, encoding="utf-8") as f:
-            doc = json.load(f)
-    except OSError as e:
-        raise BakeshopError(e.strerror or str(e), path) from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as e:
+        try:
+            data = f.read(MAX_BYTES + 1)
+        except OSError as e:
+            raise BakeshopError(e.strerror or str(e), path) from None
+    try:
+        doc = json.loads(data.decode("utf-8"))
+    except RecursionError:
+        raise FormatError("not a JSON document: nested too deeply", path) from None
+    except ValueError as e:  # bad UTF-8, bad JSON, an integer beyond the digit limit
         raise FormatError(f"not a JSON document: {e}", path) from None
     if not isinstance(doc, dict):
         raise FormatError("the JSON document is not an object", path)

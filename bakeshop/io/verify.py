@@ -77,7 +77,10 @@ def verifying() -> bool:
 
 @contextlib.contextmanager
 def verify_writes(
-    log: str | os.PathLike | None = None, *, this_thread: bool = False
+    log: str | os.PathLike | None = None,
+    *,
+    this_thread: bool = False,
+    guard: Callable[[Path, Path], object] | None = None,
 ) -> Iterator[list[dict]]:
     """Check every file written within the block (see the module notes).
 
@@ -88,13 +91,18 @@ def verify_writes(
     this_thread : bool
         Check (and record) only the files the calling thread writes: one session per task
         when tasks run at once.
+    guard : callable, optional
+        Called with each target and its complete temporary file before the check and the
+        rename; it raises a :class:`~bakeshop.errors.BakeshopError` to refuse the write (a
+        bake refuses a file outside its step's output, or one it did not write itself, and
+        journals the others).
 
     Yields
     ------
     list of dict
         The records, in the order the files were written.
     """
-    with _intent.session(check_file, log, this_thread=this_thread) as records:
+    with _intent.session(check_file, log, this_thread=this_thread, guard=guard) as records:
         yield records
 
 

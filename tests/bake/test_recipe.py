@@ -136,7 +136,7 @@ def test_mistakes_are_refused_before_any_work(folder, text, message):
 
 
 def test_a_missing_recipe_is_named(tmp_path):
-    with pytest.raises(BakeshopError, match="recipe file not found"):
+    with pytest.raises(BakeshopError, match="no such file"):
         load_recipe(tmp_path / "nope.toml")
 
 

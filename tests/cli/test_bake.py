@@ -1,5 +1,9 @@
 """``bakeshop bake``: what a user sees (through bakeshop.cli.main.main)."""
 
+import hashlib
+import json
+import os
+
 import numpy as np
 import pytest
 
@@ -7,6 +11,7 @@ import bakeshop.io as bio
 from bakeshop.bake import OPERATIONS, Operation, Option
 from bakeshop.cli.main import main
 from bakeshop.io import pfm
+from tests.io.test_files import no_hang
 
 RECIPE = """
 [copy.a]
@@ -124,3 +129,63 @@ def test_init_writes_a_starter_recipe_and_never_replaces_one(capsys, tmp_path):
         status == 2
         and err == f"bakeshop: error: {recipe}: already exists; --init never replaces a recipe\n"
     )
+
+
+def one_line(capsys, *args) -> str:
+    """The one error line of ``bakeshop bake ARGS``: exit 2, nothing on stdout."""
+    status, out, err = run(capsys, "bake", *args)
+    assert status == 2 and out == "" and err.count("\n") == 1, (status, out, err)
+    assert err.startswith("bakeshop: error: ")
+    return err.removeprefix("bakeshop: error: ").rstrip("\n")
+
+
+def test_a_forged_manifest_never_deletes_a_file_outside_the_level(capsys, level):
+    victim = level.parent.parent / f"{level.parent.name}-victim.txt"
+    victim.write_text("precious")
+    run(capsys, "bake", level)
+    manifest = level.parent / "level.bake.json"
+    document = json.loads(manifest.read_text())
+    sha = hashlib.sha256(b"precious").hexdigest()
+    forged = {"file": f"../{victim.name}", "bytes": 8, "sha256": sha}
+    document["steps"]["copy.b"]["outputs"].append(forged)
+    manifest.write_text(json.dumps(document))
+    level.write_text(RECIPE.replace("gain = 2.0", "gain = 3.0"))
+    line = one_line(capsys, level)
+    assert line.startswith(f"{manifest}: steps.copy.b.outputs[1].file '../{victim.name}'")
+    assert victim.read_text() == "precious"
+    victim.unlink()
+
+
+@pytest.mark.parametrize("kind", ["fifo", "/dev/zero", "nested", "outside"])
+def test_a_hostile_recipe_is_one_error_line(capsys, tmp_path, kind):
+    path = tmp_path / "level.toml"
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "/dev/zero":
+        path = "/dev/zero"
+    elif kind == "nested":
+        path.write_text("a = " + "[" * 10_000 + "]" * 10_000 + "\n")
+    else:
+        path.write_text('[water.w]\noutput = "../w"\n')
+    with no_hang():
+        line = one_line(capsys, path)
+    reason = {
+        "fifo": "named pipe",
+        "/dev/zero": "character device",
+        "nested": "nested too deeply",
+        "outside": "water.w writes",
+    }[kind]
+    assert reason in line and os.listdir(tmp_path) == (
+        [] if kind == "/dev/zero" else ["level.toml"]
+    )
+
+
+def test_a_folder_outside_the_recipes_needs_allow_folder(capsys, level):
+    sub = level.parent / "recipes"
+    sub.mkdir()
+    text = '[bake]\nfolder = ".."\n' + RECIPE.replace('"a.pfm"', '"../a.pfm"')
+    (sub / "level.toml").write_text(text.replace('"out/', '"../out/'))
+    line = one_line(capsys, sub / "level.toml")
+    assert f"confirm it (--allow-folder {level.parent})" in line
+    status, out, _ = run(capsys, "bake", sub / "level.toml", "--allow-folder", level.parent)
+    assert status == 0 and out.splitlines()[-1].startswith("baked 2 of 2 steps")
