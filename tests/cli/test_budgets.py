@@ -28,8 +28,8 @@ REFUSAL_BYTES = 200 << 20
 
 @pytest.fixture()
 def probe(tmp_path, monkeypatch):
-    """A small latlong probe, under a 2 GB memory budget (the same on every machine)."""
-    monkeypatch.setenv("BAKESHOP_MEMORY", "2GB")
+    """A small latlong probe, under a 64 MB memory budget (below what any machine has free)."""
+    monkeypatch.setenv("BAKESHOP_MEMORY", "64MB")
     path = tmp_path / "probe.hdr"
     write_image(path, np.random.default_rng(3).lognormal(0, 1, (16, 32, 3)).astype(np.float32))
     return path
@@ -53,7 +53,7 @@ def refused(args: list[str], capfd) -> str:
         # a 13-level chain of 65536 samples: about 2e12 lookups
         (["--size", "4096", "--mips", "13", "--samples", "65536"], ["(estimated)", "--samples"]),
         # one level: the 6x4096^2 cube and its pyramid, 18 GB
-        (["--size", "4096", "--mips", "1"], ["18.1 GB of memory", "2 GB is the budget", "--size"]),
+        (["--size", "4096", "--mips", "1"], ["18.1 GB of memory", "64 MB is the budget", "--size"]),
     ],
 )
 def test_prefilter_at_documented_sizes_is_refused(probe, tmp_path, capfd, args, words):
@@ -66,7 +66,7 @@ def test_prefilter_at_documented_sizes_is_refused(probe, tmp_path, capfd, args, 
 def test_remap_to_a_9000_cube_is_refused(probe, tmp_path, capfd):
     target = tmp_path / "c.dds"
     err = refused(["remap", str(probe), str(target), "--to", "cube", "--size", "9000"], capfd)
-    assert "GB of memory; 2 GB is the budget (BAKESHOP_MEMORY); lower --size" in err, err
+    assert "GB of memory; 64 MB is the budget (BAKESHOP_MEMORY); lower --size" in err, err
     assert not target.exists()
 
 
@@ -97,11 +97,11 @@ def test_an_ocean_of_4096_frames_at_4096_is_refused(tmp_path, capfd):
 
 def test_irradiance_at_sh_order_64_is_refused(probe, tmp_path, capfd):
     """The minimal window's search at order 64 once tried to allocate 136 GiB (its basis at
-    1024 * 65^2 directions); it goes by chunks now and needs 7.1 GB, refused under 2 GB."""
+    1024 * 65^2 directions); it goes by chunks now and needs 7.2 GB, refused under 64 MB."""
     target = tmp_path / "dim.hdr"
     args = ["irradiance", str(probe), str(target), "--method", "sh", "--order", "64"]
     err = refused(args, capfd)
-    assert "search at SH order 64 needs about 7.09 GB of memory; 2 GB is the budget" in err
+    assert "search at SH order 64 needs about 7.23 GB of memory; 64 MB is the budget" in err
     assert "lower --order" in err
     assert not target.exists()
 

@@ -28,8 +28,10 @@ WINDOWS = ("none", "hanning", "lanczos", "laplacian", "minimal")
 #: Directions per unit of (L + 1)**2 in the search for a function's minimum on the sphere (a
 #: Fibonacci set, then local refinement of the lowest candidates).
 _MIN_SEARCH_POINTS = 1024
-#: SH basis values per second per core: measured, docs/hostile-input.md.
-BASIS_PER_SECOND = 1e8
+#: degree-part values per second per core of the minimal window's search (each read at every
+#: lambda tried, with the local refinements): measured at 4.4-5e5 at orders 16 and 24 on a
+#: loaded machine, docs/hostile-input.md.
+PARTS_PER_SECOND = 5e5
 #: Relative precision of the minimal window's lambda (bisection in log lambda).
 _LAMBDA_RTOL = 1e-4
 #: Latlong height of the grid on which :func:`negative_fraction` integrates.
@@ -151,13 +153,15 @@ def _degree_parts(coeffs: np.ndarray, dirs: np.ndarray) -> np.ndarray:
 def search_cost(order: int, channels: int) -> Cost:
     """What :func:`minimal_window` of an expansion to ``order`` of ``channels`` channels holds
     at its peak: the degree parts at its ``1024 (L + 1)^2`` directions (float64), the
-    directions, and one chunk of the basis (:func:`_degree_parts`); its work is the basis
-    values, at :data:`BASIS_PER_SECOND`."""
+    directions, and two chunks of the basis (:func:`_degree_parts`, then :func:`minimum`'s
+    evaluation); its work is the degree parts' values (read once per lambda tried), at
+    :data:`PARTS_PER_SECOND`."""
     n = _MIN_SEARCH_POINTS * (order + 1) ** 2
-    memory = 8 * n * ((order + 1) * channels + 3 + channels) + 8 * _chunk(order) * (order + 1) ** 2
-    work = n * (order + 1) ** 2
+    chunk = 8 * _chunk(order) * (order + 1) ** 2
+    memory = 8 * n * ((order + 1) * channels + 3 + channels) + 2 * chunk
+    work = n * (order + 1) * channels
     what = f"the minimal window's search at SH order {order}"
-    return Cost(memory, work, what, seconds_of(work, BASIS_PER_SECOND))
+    return Cost(memory, work, what, seconds_of(work, PARTS_PER_SECOND))
 
 
 def _refine_minimum(coeffs: np.ndarray, start: np.ndarray, step: float) -> tuple[float, np.ndarray]:
