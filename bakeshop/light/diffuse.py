@@ -93,8 +93,9 @@ OUTPUT_BYTES = 96
 #: (48 bytes each; measured at one bin per ~180 texels of a real probe, counted at one per 64).
 SOURCE_BYTES = 1
 #: terms per second per core: ``exact`` sums one cosine term per (DIM texel, environment texel),
-#: ``sh`` one basis value per (environment texel, coefficient); measured, docs/hostile-input.md.
-TERMS_PER_SECOND = {"exact": 5e8, "sh": 1e8}
+#: ``sh`` one basis value per (environment texel, coefficient); measured at 1.4e7 and 5e6 on a
+#: loaded machine (the sh run with its report), docs/hostile-input.md.
+TERMS_PER_SECOND = {"exact": 1.4e7, "sh": 5e6}
 
 
 def irradiance_cost(

@@ -25,8 +25,8 @@ from bakeshop.errors import ArgumentError
 from bakeshop.resources import Cost, require, seconds_of
 
 #: output texels per second per core of a whole run (synthesis, encoding, writing), per output:
-#: measured, docs/hostile-input.md.
-TEXELS_PER_SECOND = 1e6
+#: measured at 4e5 (512^2 normal maps, a loaded machine), docs/hostile-input.md.
+TEXELS_PER_SECOND = 5e5
 
 if TYPE_CHECKING:
     from bakeshop.water.ocean import FieldName, Ocean
