@@ -20,8 +20,9 @@ from bakeshop.io import write_image
 from bakeshop.resources import Cost
 from tests.cli.test_process import one_error_line
 
-#: seconds a refusal may take (it comes before anything is allocated or computed).
-REFUSAL_SECONDS = 5.0
+#: seconds a refusal may take: it comes before anything is allocated or computed, but the
+#: command's modules load first (seconds on a loaded machine).
+REFUSAL_SECONDS = 20.0
 #: growth of the process's peak resident size a refusal may cause, bytes.
 REFUSAL_BYTES = 200 << 20
 
@@ -114,3 +115,10 @@ def test_a_long_estimate_is_said_before_the_job_starts(capfd):
     finally:
         progress.disable()
     assert capfd.readouterr().err == "bakeshop: a long job: about 2.08 min (estimated)\n"
+
+
+def test_bake_probe_with_a_4096_chain_is_refused(probe, tmp_path, capfd):
+    args = ["bake-probe", str(probe), "-o", str(tmp_path / "baked"), "--specular-size", "4096"]
+    err = refused([*args, "--mips", "13"], capfd)
+    assert "a 13-level 6x4096x4096 chain) needs about" in err, err
+    assert "64 MB is the budget (BAKESHOP_MEMORY); lower --cube-size or --specular-size" in err
