@@ -2,8 +2,9 @@
 
 A heavy function of bakeshop comes with a ``*_cost`` function beside it that states, from the
 sizes alone and before anything is allocated, the :class:`Cost` of a call: the memory it will
-hold at its peak (beyond its inputs), the work it will do and, where that is long, its seconds. The heavy function calls
-:func:`require` first, so a call that cannot fit is refused at once with the number it needs,
+hold at its peak (beyond its inputs), the work it will do and, where that is long, its
+seconds. The heavy function calls :func:`require` first, so a call that cannot fit is refused
+at once with the number it needs,
 
     bakeshop.resources.MemoryLimitError: remapping latlong 1024x512 to cube 6x9000x9000 (bilinear)
     needs about 4.96 GB of memory; 3.1 GB is left under the address-space limit (ulimit -v)
