@@ -2,8 +2,9 @@
 
 A heavy function of bakeshop comes with a ``*_cost`` function beside it that states, from the
 sizes alone and before anything is allocated, the :class:`Cost` of a call: the memory it will
-hold at its peak (beyond its inputs) and the work it will do. The heavy function calls
-:func:`require` first, so a call that cannot fit is refused at once with the number it needs,
+hold at its peak (beyond its inputs), the work it will do and, where that is long, its
+seconds. The heavy function calls :func:`require` first, so a call that cannot fit is refused
+at once with the number it needs,
 
     bakeshop.resources.MemoryLimitError: remapping latlong 1024x512 to cube 6x9000x9000 (bilinear)
     needs about 4.96 GB of memory; 3.1 GB is left under the address-space limit (ulimit -v)
@@ -24,6 +25,7 @@ and checks that each heavy function under a small budget is refused before it al
 
 from __future__ import annotations
 
+import math
 import os
 import resource
 from typing import NamedTuple
@@ -33,8 +35,10 @@ from bakeshop.errors import BakeshopError
 __all__ = [
     "Cost",
     "MemoryLimitError",
+    "TimeLimitError",
     "available_memory",
     "format_bytes",
+    "format_seconds",
     "memory_limits",
     "require",
 ]
@@ -53,6 +57,8 @@ class Cost(NamedTuple):
     work: int
     #: what the call does, for messages: "GGX prefilter of 6x4096^2 faces, 13 levels".
     what: str
+    #: the time it will take on this machine, seconds (``work`` at a measured rate per core).
+    seconds: float = 0.0
 
 
 class MemoryLimitError(BakeshopError, MemoryError):
@@ -65,6 +71,32 @@ class MemoryLimitError(BakeshopError, MemoryError):
         super().__init__(reason, path)
         self.needed = needed
         self.available = available
+
+
+class TimeLimitError(BakeshopError):
+    """A computation is estimated to take longer than allowed; ``needed`` and ``allowed`` say
+    how long (seconds)."""
+
+    def __init__(
+        self, reason: str, needed: float, allowed: float, path: str | os.PathLike | None = None
+    ) -> None:
+        super().__init__(reason, path)
+        self.needed = needed
+        self.allowed = allowed
+
+
+def seconds_of(work: float, rate: float) -> float:
+    """Seconds of ``work`` units at ``rate`` units per second per core, on this machine's
+    cores (the kernels run on all of them)."""
+    return work / (rate * (os.cpu_count() or 1))
+
+
+def format_seconds(s: float) -> str:
+    """``42 s``, ``3.5 min``, ``2.1 h`` or ``3.2 days``."""
+    for unit, size in (("days", 86400), ("h", 3600), ("min", 60)):
+        if s >= size:
+            return f"{s / size:.3g} {unit}"
+    return f"{s:.2g} s" if s < 10 else f"{s:.0f} s"
 
 
 def format_bytes(n: float) -> str:
@@ -171,27 +203,53 @@ def available_memory() -> int:
     return min(memory_limits().values())
 
 
-def require(cost: Cost, path: str | os.PathLike | None = None) -> Cost:
-    """Refuse ``cost`` when its memory exceeds :func:`available_memory`; return it otherwise.
-    ``path`` is the file the computation works on, named in the error.
+def require(
+    cost: Cost,
+    path: str | os.PathLike | None = None,
+    *,
+    budget: tuple[int, str] | None = None,
+    lower: str = "",
+    max_seconds: float = math.inf,
+    shorten: str = "",
+) -> Cost:
+    """Refuse ``cost`` when its memory exceeds :func:`available_memory` (or ``budget``, bytes
+    and where that bound comes from, when it is less), or its time exceeds ``max_seconds``;
+    return it otherwise. ``path`` is the file the computation works on, named in the error;
+    ``lower`` and ``shorten`` name what lowers its memory and its time ("--size or
+    --samples"), said in the error.
 
     Raises
     ------
     MemoryLimitError
         ``"<what> needs about 15.7 GB of memory; 11 GB is available"``, naming the limit that
         binds when it is not the machine's memory.
+    TimeLimitError
+        ``"<what> would take about 5.2 h (estimated), more than the limit of 1 h"``.
     """
+    if cost.seconds > max_seconds:
+        raise TimeLimitError(
+            f"{cost.what} would take about {format_seconds(cost.seconds)} (estimated), more "
+            f"than the limit of {format_seconds(max_seconds)}"
+            + (f"; lower {shorten}" if shorten else ""),
+            cost.seconds,
+            max_seconds,
+            path,
+        )
     if cost.memory <= SMALL:
         return cost
     limits = memory_limits()
+    if budget is not None:
+        limits[budget[1]] = budget[0]
     binding = min(limits, key=lambda name: limits[name])
     available = limits[binding]
     if cost.memory <= available:
         return cost
     where = "is available" if binding == "memory available" else f"is left under the {binding}"
+    if budget is not None and binding == budget[1]:
+        where = f"is the budget ({binding})"
     raise MemoryLimitError(
         f"{cost.what} needs about {format_bytes(cost.memory)} of memory; "
-        f"{format_bytes(available)} {where}",
+        f"{format_bytes(available)} {where}" + (f"; lower {lower}" if lower else ""),
         cost.memory,
         available,
         path,

@@ -17,7 +17,6 @@ import re
 from typing import Any
 
 import click
-import numpy as np
 
 from bakeshop.errors import ArgumentError
 
@@ -208,6 +207,8 @@ class Direction(Numbers):
             axis = [0.0, 0.0, 0.0]
             axis[self._AXES[m[2]]] = -1.0 if m[1] == "-" else 1.0
             return tuple(axis)
+        import numpy as np  # not at the top: --version and --help load no numpy
+
         v = np.array(super().convert(value, param, ctx))
         length = float(np.linalg.norm(v))
         if length == 0:

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import click
 
+from bakeshop.cli._budget import check
 from bakeshop.cli._common import float_format_option, linearise, out_dir_option, srgb_decode_option
 from bakeshop.cli._numbers import Integer
 from bakeshop.cli._paths import ENVIRONMENT, refuse_overwriting_inputs
@@ -104,7 +105,7 @@ def bake_probe(
     """
     from bakeshop.io import ALPHA_EXTENSIONS, write_image, write_json
     from bakeshop.light import bake_probe as bake
-    from bakeshop.light import contact_sheet, sh, sheet_exposure, sun_document
+    from bakeshop.light import bake_probe_cost, contact_sheet, sh, sheet_exposure, sun_document
 
     paths = {
         "cube": out_dir / f"env_{{face}}.{fmt}",
@@ -142,6 +143,11 @@ def bake_probe(
     dropped = image.shape[-1] == 4 and f".{fmt}" not in ALPHA_EXTENSIONS
     if dropped:  # alpha is carried by every step, but .hdr and .pfm store none
         image = image[..., :3].copy()  # the RGBA probe is not kept
+    cost = bake_probe_cost(
+        image.shape, layout, cube_size=cube_size, specular_size=specular_size, mips=mips,
+        itemsize=image.itemsize,
+    )  # fmt: skip
+    check(cost, source, "--cube-size or --specular-size", "--specular-size")
     _require_space(
         out_dir, image.shape, layout, cube_size, specular_size, mips, bool(compress or engine)
     )

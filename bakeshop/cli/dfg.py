@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 
+from bakeshop.cli._budget import check
 from bakeshop.cli._numbers import Integer
 from bakeshop.cli._paths import OUTPUT
 from bakeshop.io.environment import write_table
@@ -45,8 +46,9 @@ def dfg(target: Path, size: int, samples: int, visibility: str, float32: bool) -
       bakeshop dfg dfg.dds
       bakeshop dfg dfg_lut.exr --size 256 --visibility schlick
     """
-    from bakeshop.light.dfg import dfg_table
+    from bakeshop.light.dfg import dfg_table, dfg_table_cost
 
+    check(dfg_table_cost(size, samples=samples), target, "--size", "--samples or --size")
     started = time.perf_counter()
     table = dfg_table(size, samples=samples, visibility=visibility)
     elapsed = time.perf_counter() - started

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import click
 import numpy as np
 
+from bakeshop.cli._budget import check
 from bakeshop.cli._common import float_format_option, linearise, out_dir_option, srgb_decode_option
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 from bakeshop.cli._paths import ENVIRONMENT_SOURCE, refuse_overwriting_inputs
@@ -17,6 +18,7 @@ from bakeshop.cli._probe import (
     from_option,
     method_option,
     order_option,
+    output_size,
     picture_layout,
     read_probe,
     size_option,
@@ -81,7 +83,7 @@ def dims(
     """
     from bakeshop import progress
     from bakeshop.io import write_environment, write_json
-    from bakeshop.light import dim_pair, sun_document
+    from bakeshop.light import dim_pair, dim_pair_cost, sun_document
 
     names = {key: out_dir / f"{key}.{fmt}" for key in ("sun_dim", "shadow_dim", "shadow_probe")}
     for path in (*names.values(), out_dir / "sun.json"):  # before any work
@@ -98,6 +100,9 @@ def dims(
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     check_picture_format(layout, fmt, source)
     image, _ = linearise(image, source, meta, srgb_decode)
+    cost = dim_pair_cost(image.shape, layout, to=dst_layout, size=output_size(dst_layout, size),
+                         method=method)  # fmt: skip
+    check(cost, source, "--size", "--size or --method")
     # the decoded probe is this command's own: the shadow probe is painted into it, not a copy
     paint_in_place = functools.partial(dim_pair, copy=False)
     pair, elapsed = timed(paint_in_place, image, layout, dst_layout, size, method, order, window)

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from bakeshop.cli._budget import check
 from bakeshop.cli._common import (
     convention_option,
     environment_weights,
@@ -224,6 +225,10 @@ def fresnel(
     _check_output(target, dst, ldr)
     if dst != src or size is not None:
         wanted = parse_size(size) if size else None
+        shape = image.shape[: 3 if src == "cube" else 2]
+        cost = sphere.remap_cost(src, shape, dst, wanted, filter="auto",
+                                 channels=image.shape[-1], itemsize=image.itemsize)  # fmt: skip
+        check(cost, source, "--size", "--size")
         image = sphere.remap(image, src, dst, wanted, filter="auto")
     baked = bake_fresnel(image, dst, ior=ior, up=up, below=below)
     # metered over the texels above the water plane: the lower half holds no reflection

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from bakeshop.cli._budget import check
 from bakeshop.cli._common import (
     PictureRule,
     environment_weights,
@@ -22,6 +23,7 @@ from bakeshop.cli._probe import (
     from_option,
     method_option,
     order_option,
+    output_size,
     read_probe,
     size_option,
     timed,
@@ -94,7 +96,7 @@ def irradiance(
     """
     from bakeshop.io import write_environment, write_image, write_json, write_text
     from bakeshop.light import irradiance as compute_dim
-    from bakeshop.light import sh, sh_coefficients
+    from bakeshop.light import irradiance_cost, sh, sh_coefficients
 
     extras = [p for p in (sh_json, shader) if p is not None]
     for out in (target, *extras):
@@ -107,6 +109,15 @@ def irradiance(
         refuse_unused_picture_rule(picture, target)
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     image, linear = linearise(image, source, meta, srgb_decode)
+    cost = irradiance_cost(
+        image.shape, layout, to=dst_layout, size=output_size(dst_layout, size), method=method,
+        order=order,
+    )  # fmt: skip
+    if window == "minimal" and (method == "sh" or sh_json is not None):
+        search = sh.search_cost(order, 3)  # after the DIM: the larger one's memory
+        larger = search if search.memory > cost.memory else cost
+        cost = larger._replace(seconds=cost.seconds + search.seconds)
+    check(cost, source, "--order or --size", "--order, --size or --method")
     dim, elapsed = timed(compute_dim, image, layout, dst_layout, size, method, order, window)
     made = None
     if picture_out:

@@ -18,6 +18,7 @@ from typing import NoReturn
 import click
 
 from bakeshop import __version__, progress
+from bakeshop.cli._budget import max_time_option
 from bakeshop.cli._process import ByteSize, record_command_writes, run
 
 #: command name -> (its module, the start of its help as ``--help`` lists it), in the order
@@ -172,6 +173,7 @@ class _Lazy(click.Group):
 
 @click.group(cls=_Lazy, context_settings=CONTEXT)
 @click.version_option(__version__, "--version", prog_name="bakeshop")
+@max_time_option
 @click.option(
     "--quiet",
     "-q",

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 
+from bakeshop.cli._budget import check
 from bakeshop.cli._common import (
     PictureRule,
     convention_option,
@@ -118,6 +119,10 @@ def prefilter(
         refuse_unused_picture_rule(picture, target)
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     image, linear = linearise(image, source, meta, srgb_decode)
+    cost = specular.prefilter_cost(
+        image.shape, layout, size=size, mips=mips, samples=samples, itemsize=image.itemsize
+    )
+    check(cost, source, "--size", "--samples or --size")
     started = time.perf_counter()
     if brdf == "ggx":
         chain = specular.prefilter_ggx(image, layout, size=size, mips=mips, samples=samples)

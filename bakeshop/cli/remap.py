@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from bakeshop.cli._budget import check
 from bakeshop.cli._common import (
     PictureRule,
     convention_option,
@@ -189,6 +190,10 @@ def remap(
         src_shape = image.shape[: 3 if src == "cube" else 2]
         dst_shape = sphere.remap_shape(src, src_shape, dst_name, size)
         filter_name = sphere.auto_filter(src, src_shape, dst_name, dst_shape)
+    cost = sphere.remap_cost(src, image.shape[: 3 if src == "cube" else 2], dst_name, size,
+                             filter=filter_name, channels=image.shape[-1],
+                             itemsize=image.itemsize)  # fmt: skip
+    check(cost, source, "--size", "--size", memory=memory)
     with progress.step(f"remapping {src} -> {dst_name} ({filter_name})"):
         out = sphere.remap(image, src, dst_name, size, filter=filter_name, rotation=rotation)
     made = None

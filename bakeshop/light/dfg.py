@@ -47,7 +47,7 @@ from numpy.typing import ArrayLike
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.light.specular import BLOCK_LOOKUPS, ggx_half_vector, hammersley
-from bakeshop.resources import Cost, require
+from bakeshop.resources import Cost, require, seconds_of
 
 VISIBILITIES = ("height-correlated", "schlick")
 
@@ -57,6 +57,9 @@ MAX_SIZE = 4096
 #: Peak bytes per texel of a table: the n.v and roughness grids, the float64 terms and the
 #: float32 table.
 TABLE_BYTES = 56
+#: Importance samples per second per core: measured at 6.4e7 (a loaded machine),
+#: docs/hostile-input.md.
+SAMPLES_PER_SECOND = 6e7
 
 __all__ = ["VISIBILITIES", "dfg_terms", "dfg_table", "dfg_table_cost", "dfg_approximation"]
 
@@ -190,11 +193,12 @@ def dfg_terms(
 
 def dfg_table_cost(size: int = 128, *, samples: int = 4096) -> Cost:
     """What :func:`dfg_table` holds at its peak (:data:`TABLE_BYTES` per texel) and the work
-    it does (``size^2 samples`` importance samples)."""
+    it does (``size^2 samples`` importance samples, at :data:`SAMPLES_PER_SECOND`)."""
     return Cost(
         TABLE_BYTES * size * size,
         size * size * samples,
         f"a {size}x{size} DFG table of {samples} samples per texel",
+        seconds_of(size * size * samples, SAMPLES_PER_SECOND),
     )
 
 

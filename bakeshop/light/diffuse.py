@@ -56,7 +56,7 @@ from numpy.typing import ArrayLike
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.light import sh
-from bakeshop.resources import Cost, require
+from bakeshop.resources import Cost, require, seconds_of
 from bakeshop.sphere import STRIP_TEXELS, Environment, Layout, check_environment, texel_strips
 from bakeshop.sphere import layout as get_layout
 
@@ -92,6 +92,10 @@ OUTPUT_BYTES = 96
 #: bytes per texel of the environment that ``auto`` keeps from every strip: its bins' sources
 #: (48 bytes each; measured at one bin per ~180 texels of a real probe, counted at one per 64).
 SOURCE_BYTES = 1
+#: terms per second per core: ``exact`` sums one cosine term per (DIM texel, environment texel),
+#: ``sh`` one basis value per (environment texel, coefficient); measured at 1.4e7 and 5e6 on a
+#: loaded machine (the sh run with its report), docs/hostile-input.md.
+TERMS_PER_SECOND = {"exact": 1.4e7, "sh": 5e6}
 
 
 def irradiance_cost(
@@ -101,13 +105,15 @@ def irradiance_cost(
     to: str = "latlong",
     size: int | tuple[int, int] = (360, 180),
     method: str = "auto",
+    order: int = 2,
     extra: int = 0,
 ) -> Cost:
     """What :func:`irradiance` of an environment of ``shape`` in ``layout`` holds at its peak:
     :data:`INPUT_BYTES` per texel of one strip (:data:`bakeshop.sphere.STRIP_TEXELS` at most),
     ``extra`` per texel of the environment (and :data:`SOURCE_BYTES` for ``auto``),
     :data:`OUTPUT_BYTES` per texel of the DIM. ``work`` is in DIM texels (the unit of the
-    progress shown)."""
+    progress shown); ``seconds`` counts :data:`TERMS_PER_SECOND` (``auto`` opens only the
+    cones a normal's horizon crosses: not estimated)."""
     validate_choice(method, METHODS, "irradiance method")
     lay = get_layout(layout)
     n = math.prod(shape[: 3 if lay.cubic else 2])
@@ -115,7 +121,10 @@ def irradiance_cost(
     strip = min(n, STRIP_TEXELS)
     kept = (extra + SOURCE_BYTES * (method == "auto")) * n
     memory = INPUT_BYTES[method] * strip + kept + OUTPUT_BYTES * m + (128 << 20) * (method == "sh")
-    return Cost(memory, m, f"the {to} DIM of a {lay.name} environment of {n} texels ({method})")
+    terms = {"exact": n * m, "sh": n * (order + 1) ** 2}.get(method, 0)
+    seconds = seconds_of(terms, TERMS_PER_SECOND[method]) if terms else 0.0
+    what = f"the {to} DIM of a {lay.name} environment of {n} texels ({method})"
+    return Cost(memory, m, what, seconds)
 
 
 @numba.njit(parallel=True, fastmath=True, cache=True)

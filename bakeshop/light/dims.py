@@ -70,7 +70,8 @@ def dim_pair_cost(
     search = find_sun_cost(shape, layout)
     search_memory = search.memory - COPY_BYTES * search.work
     what = "the DIM pair" + one.what.removeprefix(f"the {to} DIM")
-    return Cost(one.memory + search_memory + OUTPUT_BYTES * one.work, one.work, what)
+    memory = one.memory + search_memory + OUTPUT_BYTES * one.work
+    return Cost(memory, one.work, what, 2 * one.seconds)  # two DIMs
 
 
 def dim_pair(

@@ -93,7 +93,7 @@ def bake_probe_cost(
     chain, the chain's cached area filter) plus the largest of its steps
     (:func:`~bakeshop.sphere.remap_cost`, :func:`~bakeshop.light.dims.dim_pair_cost`,
     :func:`~bakeshop.light.specular.prefilter_cost`, :func:`~bakeshop.light.dfg.dfg_table_cost`).
-    ``work`` is the chain's (the longest step)."""
+    ``work`` is the chain's (the longest step); ``seconds`` the steps' together."""
     from bakeshop.sphere import layout as get_layout
 
     lay = get_layout(layout)
@@ -119,6 +119,7 @@ def bake_probe_cost(
         steps[2].work,
         f"the bake of a {lay.name} probe of {math.prod(spatial)} texels (a 6x{size}x{size} "
         f"cube, a {mips}-level 6x{specular_size}x{specular_size} chain)",
+        sum(c.seconds for c in steps),
     )
 
 

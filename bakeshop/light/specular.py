@@ -72,7 +72,7 @@ from numpy.typing import ArrayLike
 from bakeshop import progress
 from bakeshop.errors import ArgumentError
 from bakeshop.light._specular_kernels import _filter_kernel, _lobe_kernel
-from bakeshop.resources import Cost, require
+from bakeshop.resources import Cost, require, seconds_of
 from bakeshop.sphere import Layout, check_environment, remap, remap_cost, sample, valid_texels
 from bakeshop.sphere import layout as get_layout
 
@@ -94,6 +94,9 @@ MAX_BRIGHT = 1024
 #: bright and rest, its padded 4-channel pyramid, directions and solid angles, the output
 #: chain): measured at 162-167, tests/test_resources.py.
 CHAIN_BYTES = 180
+#: Lookups per second per core (trilinear importance samples, with the exact sums of the wide
+#: lobes): measured at 3.4e6 on a machine loaded 4x over its cores, docs/hostile-input.md.
+LOOKUPS_PER_SECOND = 1e7
 #: Lookups per call of the sampling kernel: progress (and a signal) are seen between calls.
 BLOCK_LOOKUPS = 1 << 26
 #: Mip level bias of filtered importance sampling. Colbert and Krivanek add 1 (each sample reads
@@ -457,7 +460,8 @@ def prefilter_cost(
     The larger of: the remap of the input to the level-0 cube (:func:`bakeshop.sphere.
     remap_cost`), and :data:`CHAIN_BYTES` per level-0 texel (6 ``size``^2) for the chain.
     ``work`` counts lookups: ``samples`` per output texel of levels 1 and up (the unit of the
-    progress shown; wide lobes are convolved exactly at a bounded cost instead).
+    progress shown; wide lobes are convolved exactly at a bounded cost instead), ``seconds``
+    at :data:`LOOKUPS_PER_SECOND`.
     """
     lay = get_layout(layout)
     spatial = tuple(shape[: 3 if lay.cubic else 2])
@@ -466,14 +470,15 @@ def prefilter_cost(
     work = sum(6 * s * s * samples for s in levels[1:]) + 6 * size * size
     chain = CHAIN_BYTES * 6 * size * size
     what = f"a {mips}-level prefiltered chain of 6x{size}x{size} faces"
+    seconds = seconds_of(work, LOOKUPS_PER_SECOND)
     if lay.name == "cube" and spatial[1] == size:
-        return Cost(chain, work, what)
+        return Cost(chain, work, what, seconds)
     texels = valid_texels(lay, spatial)
     area = "area" if texels >= 6 * size * size else "bilinear"
     to_cube = remap_cost(
         lay, spatial, "cube", size, filter=area, channels=channels, itemsize=itemsize
     )
-    return Cost(max(chain, to_cube.memory), work, what)
+    return Cost(max(chain, to_cube.memory), work, what, seconds)
 
 
 def _source(image: ArrayLike, layout: str, size: int, samples: int) -> _Source:

@@ -207,3 +207,32 @@ def test_shader_snippet_is_windowed_by_default():
     want = sh.evaluate(irr.coefficients, n)  # R&H's constants have six digits
     np.testing.assert_allclose(quad, want, atol=1e-5 * np.abs(want).max())
     assert quad.min() > -1e-6
+
+
+# --- the search's memory (issue 28) ---------------------------------------------------------
+
+
+def test_the_degree_parts_by_chunks_are_those_of_the_whole_basis(monkeypatch):
+    from bakeshop.light.sh import window
+
+    rng = np.random.default_rng(8)
+    coeffs = rng.normal(size=(25, 3))
+    dirs = window._fibonacci_sphere(100)
+    y = sh.basis(dirs, 4)
+    whole = np.stack(
+        [y[:, l * l : (l + 1) ** 2] @ coeffs[l * l : (l + 1) ** 2] for l in range(5)], 1
+    )
+    monkeypatch.setattr(window, "_chunk", lambda order: 7)  # 15 chunks, the last one short
+    np.testing.assert_allclose(window._degree_parts(coeffs, dirs), whole, rtol=0, atol=1e-12)
+
+
+def test_the_minimal_window_at_order_64_is_refused_before_it_allocates(monkeypatch):
+    """Order 64 once made its whole basis at 1024 * 65^2 directions (136 GiB) and failed deep
+    in numpy; it is estimated first now (7.2 GB by chunks) and refused with the number."""
+    from bakeshop import resources
+
+    monkeypatch.setattr(resources, "memory_limits", lambda: {"memory available": 1 << 30})
+    coeffs = np.zeros((65**2, 3))
+    coeffs[0] = 1
+    with pytest.raises(resources.MemoryLimitError, match="order 64 needs about 7.23 GB"):
+        sh.minimal_window(coeffs)

@@ -11,6 +11,7 @@ import click
 import numpy as np
 
 from bakeshop import progress
+from bakeshop.cli._budget import check
 from bakeshop.cli._numbers import Integer, Number
 from bakeshop.cli._paths import OUT_DIR
 from bakeshop.cli.water._group import CONTEXT, GATHER_LIMIT, water
@@ -21,7 +22,11 @@ from bakeshop.cli.water._sets import (
     _write_previews,
 )
 from bakeshop.errors import ArgumentError
-from bakeshop.resources import Cost, require
+from bakeshop.resources import Cost, require, seconds_of
+
+#: output texels per second per core of a whole run (synthesis, encoding, writing), per output:
+#: measured at 4e5 (512^2 normal maps, a loaded machine), docs/hostile-input.md.
+TEXELS_PER_SECOND = 5e5
 
 if TYPE_CHECKING:
     from bakeshop.water.ocean import FieldName, Ocean
@@ -229,6 +234,8 @@ def ocean(out_dir: Path, **o: Any) -> None:
         cutoff=o["cutoff"],
         amplitude=o["phillips_amplitude"],
     )
+    if o["frames"]:
+        _check_time(o["frames"], resolution, o["cascades"], outputs, out_dir)
     with progress.step("seeding the wave lattice"):
         if o["cascades"] > 1:
             sizes = cascade_sizes(o["size"], o["cascades"], ratio=o["ratio"])
@@ -245,15 +252,26 @@ def ocean(out_dir: Path, **o: Any) -> None:
             f"{o['size']:g} m down to {2 * o['size'] / resolution:.3g} m and a {o['wind']:g} m/s "
             "wind puts no energy there; raise --wind, or lower --size or raise --resolution"
         )
+    frames = o["frames"] or 8 * math.ceil(max(x.minimum_frames() for x in oceans) / 8)
+    if not o["frames"]:  # the default: known once the lattice is seeded
+        _check_time(frames, resolution, o["cascades"], outputs, out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    needed = max(x.minimum_frames() for x in oceans)
-    frames = o["frames"] or 8 * math.ceil(needed / 8)
     documents = []
     for oc, name in zip(oceans, names, strict=True):
         documents.append(_ocean_set(oc, name, out_dir, outputs, frames, spectrum, o))
     for doc, name in zip(documents, names, strict=True):
         write_json(out_dir / f"{name}.json", doc)
         click.echo(_ocean_summary(doc, name))
+
+
+def _check_time(
+    frames: int, resolution: int, cascades: int, outputs: Sequence[str], out_dir: Path
+) -> None:
+    """Refuse a run estimated to take longer than bakeshop --max-time, before it starts."""
+    texels = cascades * frames * resolution**2
+    what = f"{cascades * frames} ocean frames of {resolution}x{resolution}"
+    work = Cost(0, texels, what, seconds_of(texels * len(outputs), TEXELS_PER_SECOND))
+    check(work, out_dir, "--resolution", "--frames or --resolution")
 
 
 def _ocean_set(

@@ -63,6 +63,7 @@ from bakeshop.light.sh.window import (
     minimal_window,
     minimum,
     negative_fraction,
+    search_cost,
     window_factors,
     windowed_irradiance,
 )
@@ -96,6 +97,7 @@ __all__ = [
     "order_of",
     "phong_kernel",
     "project",
+    "search_cost",
     "shader_snippet",
     "to_document",
     "window_factors",

@@ -12,6 +12,7 @@ from numpy.typing import ArrayLike
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.light.sh.harmonics import (
     _check_order,
+    _chunk,
     basis,
     clamped_cosine,
     convolve,
@@ -19,6 +20,7 @@ from bakeshop.light.sh.harmonics import (
     irradiance_coefficients,
     order_of,
 )
+from bakeshop.resources import Cost, require, seconds_of
 
 #: a function non-negative) depends on the function: see :func:`minimal_window`.
 WINDOWS = ("none", "hanning", "lanczos", "laplacian", "minimal")
@@ -26,6 +28,10 @@ WINDOWS = ("none", "hanning", "lanczos", "laplacian", "minimal")
 #: Directions per unit of (L + 1)**2 in the search for a function's minimum on the sphere (a
 #: Fibonacci set, then local refinement of the lowest candidates).
 _MIN_SEARCH_POINTS = 1024
+#: degree-part values per second per core of the minimal window's search (each read at every
+#: lambda tried, with the local refinements): measured at 4.4-5e5 at orders 16 and 24 on a
+#: loaded machine, docs/hostile-input.md.
+PARTS_PER_SECOND = 5e5
 #: Relative precision of the minimal window's lambda (bisection in log lambda).
 _LAMBDA_RTOL = 1e-4
 #: Latlong height of the grid on which :func:`negative_fraction` integrates.
@@ -131,14 +137,31 @@ def _fibonacci_sphere(n: int) -> np.ndarray:
 
 def _degree_parts(coeffs: np.ndarray, dirs: np.ndarray) -> np.ndarray:
     """``g[i, l, c] = sum_m coeffs[l, m, c] Y(l, m)(dirs[i])``: each degree's part at each
-    direction, so that any window's reconstruction is ``einsum("nlc,l->nc", g, factors)``."""
+    direction, so that any window's reconstruction is ``einsum("nlc,l->nc", g, factors)``.
+    The basis goes by chunks of directions (:func:`search_cost`)."""
     order = order_of(coeffs.shape[0])
-    y = basis(dirs, order)
     parts = np.empty((dirs.shape[0], order + 1, coeffs.shape[1]))
-    for l in range(order + 1):
-        s = slice(l * l, (l + 1) ** 2)
-        parts[:, l] = y[:, s] @ coeffs[s]
+    step = _chunk(order)
+    for start in range(0, dirs.shape[0], step):
+        y = basis(dirs[start : start + step], order)
+        for l in range(order + 1):
+            s = slice(l * l, (l + 1) ** 2)
+            parts[start : start + step, l] = y[:, s] @ coeffs[s]
     return parts
+
+
+def search_cost(order: int, channels: int) -> Cost:
+    """What :func:`minimal_window` of an expansion to ``order`` of ``channels`` channels holds
+    at its peak: the degree parts at its ``1024 (L + 1)^2`` directions (float64), the
+    directions, and two chunks of the basis (:func:`_degree_parts`, then :func:`minimum`'s
+    evaluation); its work is the degree parts' values (read once per lambda tried), at
+    :data:`PARTS_PER_SECOND`."""
+    n = _MIN_SEARCH_POINTS * (order + 1) ** 2
+    chunk = 8 * _chunk(order) * (order + 1) ** 2
+    memory = 8 * n * ((order + 1) * channels + 3 + channels) + 2 * chunk
+    work = n * (order + 1) * channels
+    what = f"the minimal window's search at SH order {order}"
+    return Cost(memory, work, what, seconds_of(work, PARTS_PER_SECOND))
 
 
 def _refine_minimum(coeffs: np.ndarray, start: np.ndarray, step: float) -> tuple[float, np.ndarray]:
@@ -259,6 +282,7 @@ def minimal_window(coeffs: ArrayLike, *, kernel: ArrayLike | None = None) -> Win
         raise ArgumentError("SH coefficients must be finite")
     if (f[0] < 0).any():
         raise ArgumentError("the function's mean is negative: no window can make it non-negative")
+    require(search_cost(order, f.shape[1]))
     dirs = _fibonacci_sphere(_MIN_SEARCH_POINTS * (order + 1) ** 2)
     parts = _degree_parts(f, dirs)
 
