@@ -62,7 +62,7 @@ def read_json(path: str | os.PathLike) -> dict:
             doc = json.load(f)
     except OSError as e:
         raise BakeshopError(e.strerror or str(e), path) from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as e:
+    except ValueError as e:  # not JSON, not UTF-8, or an integer longer than int() takes
         raise FormatError(f"not a JSON document: {e}", path) from None
     if not isinstance(doc, dict):
         raise FormatError("the JSON document is not an object", path)
