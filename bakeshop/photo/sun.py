@@ -28,6 +28,14 @@ relative to the radiance ``L0`` of the disk's centre. :func:`recover_sun`:
 5. measures the result with :func:`bakeshop.light.sun.find_sun`, the same disk-and-excess
    measurement ``bake-probe`` makes, so what the merge reports is what the bake will see.
 
+A fitted sun is believed only within a physical bound (:func:`disk_ceiling`): the darkest frame
+clipped the rim of the region at its clipping level, and the disk's centre can be brighter
+than the aureole there by at most the ratio that the sunshape of the clearest sky allowed
+(``chi`` = :data:`CLEAREST_CSR`) gives at that angle. A fit beyond (an aureole flattened by a
+horizon, a cloud or noise reads as a very clear sky, and ``L0 = A / exp(kappa)`` grows
+without bound as ``chi`` falls: 1.5e13 times the clipped light was seen) is refused: the clipped
+values stay, as lower bounds, and :attr:`SunRecovery.reason` says why.
+
 With ``irradiance=`` (a light meter's reading of the direct sun, in the merge's units: lux for
 an absolute stack), the disk's energy is set so that the modelled sun (disk plus the aureole
 inside the clipped region) has that irradiance at normal incidence, its colour taken from the
@@ -48,7 +56,7 @@ from bakeshop.errors import ArgumentError
 if TYPE_CHECKING:
     from bakeshop.sphere.layouts import Layout
 
-__all__ = ["SUN_DISK_MRAD", "SunRecovery", "buie_sunshape", "recover_sun"]
+__all__ = ["SUN_DISK_MRAD", "SunRecovery", "buie_sunshape", "disk_ceiling", "recover_sun"]
 
 #: the solar disk's angular radius in Buie's model (mrad).
 SUN_DISK_MRAD = 4.65
@@ -64,6 +72,9 @@ RING_DEG = 8.0
 MIN_RING = 12
 #: sub-samples per texel edge when the model is averaged over texel footprints.
 SUBSAMPLES = 8
+#: the clearest sky a fitted sun may imply: typical clear skies have circumsolar ratios of
+#: 0.01-0.05, and the disk's part of the sunshape grows without bound as the ratio falls.
+CLEAREST_CSR = 0.005
 
 
 def _gamma(chi: np.ndarray | float) -> np.ndarray | float:
@@ -99,6 +110,15 @@ def _disk_integral() -> float:
     return float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(t)))  # trapezoid rule
 
 
+def disk_ceiling(level: float, rim_mrad: float) -> float:
+    """The most light a sun's disk can hold, at normal incidence, when ``level`` is the
+    radiance of its aureole ``rim_mrad`` from its centre: ``level / phi(rim) * integral of the
+    disk's profile``, with the sunshape ``phi`` of the clearest sky allowed
+    (:data:`CLEAREST_CSR`). Units: ``level``'s times sr."""
+    rim = max(rim_mrad, SUN_DISK_MRAD)
+    return level / float(buie_sunshape(rim, CLEAREST_CSR)) * _disk_integral()
+
+
 def _chi_from_gamma(gamma: float) -> float:
     chis = np.geomspace(*CSR_RANGE, 2000)
     gammas = _gamma(chis)  # decreasing on this branch
@@ -116,7 +136,8 @@ class SunRecovery:
     clipped_radius_deg : float
         Angular radius of the region every frame clipped.
     source : str
-        ``"aureole"`` (fitted) or ``"given"`` (from ``irradiance=``).
+        ``"aureole"`` (fitted), ``"given"`` (from ``irradiance=``) or ``"clipped"`` (the fit
+        was refused and the clipped lower bounds kept: see ``reason``).
     aureole_slope : float or None
         The fitted power ``gamma`` (None when no aureole could be fitted).
     circumsolar_ratio : float or None
@@ -130,9 +151,11 @@ class SunRecovery:
         The sun's (modelled region plus measured aureole) part of the whole probe's luminance
         irradiance on a surface facing it.
     texels : int
-        Texels modelled.
+        Texels modelled (0 when the fit was refused).
     measured : bakeshop.light.sun.Sun or None
         :func:`bakeshop.light.sun.find_sun` on the result.
+    reason : str or None
+        Why a fit was refused (``source == "clipped"``).
     """
 
     direction: np.ndarray
@@ -145,6 +168,7 @@ class SunRecovery:
     share: float
     texels: int
     measured: object = None
+    reason: str | None = None
 
 
 def _luminance(values: np.ndarray) -> np.ndarray:
@@ -254,7 +278,9 @@ def recover_sun(
     status : (H, W) uint8
         A copy with the modelled texels marked ``MODELLED``.
     recovery : SunRecovery or None
-        None when the environment has no sun or its sun is not clipped.
+        None when the environment has no sun or its sun is not clipped or has no aureole to
+        fit; its ``source`` is ``"clipped"`` when a fit beyond :func:`disk_ceiling` was
+        refused (the radiance and status are then returned unchanged).
     """
     from bakeshop.light.sun import find_sun
     from bakeshop.photo.merge import CLIPPED, MEASURED, MODELLED
@@ -328,18 +354,31 @@ def recover_sun(
         source = "aureole"
     else:
         return radiance, status, None
-    weight = coverage * omega[region]
-    if weight.sum() <= 0:  # the disk falls between sub-samples: the nearest texel takes it
-        coverage = np.zeros_like(coverage)
-        coverage[np.argmin(ang[region])] = 1.0
+    out, new_status, reason = radiance, status, None
+    if source == "aureole":
+        level = float(_luminance(values[near]).max())  # the darkest frame's clipping level
+        ceiling = disk_ceiling(level, clip_radius * 1e3)
+        fitted = float(_luminance(disk_irr[None])[0])
+        if not fitted <= ceiling:  # NaN and infinity too
+            source, model = "clipped", values[region].astype(np.float64)
+            reason = (
+                f"the aureole's fit (slope {slope:.2f}) puts {fitted:.4g} in the disk, more "
+                f"than the {ceiling:.4g} that the clearest sky's sunshape allows above the "
+                "clipping level"
+            )
+    if reason is None:
         weight = coverage * omega[region]
-    model += disk_irr[None, :] * coverage[:, None] / weight.sum()
-    model = np.maximum(model, values[region])  # a clipped value is a lower bound
-    out = radiance.copy()
+        if weight.sum() <= 0:  # the disk falls between sub-samples: the nearest texel takes it
+            coverage = np.zeros_like(coverage)
+            coverage[np.argmin(ang[region])] = 1.0
+            weight = coverage * omega[region]
+        model += disk_irr[None, :] * coverage[:, None] / weight.sum()
+        model = np.maximum(model, values[region])  # a clipped value is a lower bound
+        out = radiance.copy()
+        out.reshape(-1, out.shape[-1])[region] = model.astype(np.float32)
+        new_status = status.copy()
+        new_status.reshape(-1)[region] = MODELLED
     flat = out.reshape(-1, out.shape[-1])
-    flat[region] = model.astype(np.float32)
-    new_status = status.copy()
-    new_status.reshape(-1)[region] = MODELLED
     total_irr = (model - sky) * (omega[region] * cos)[:, None]
     sun_irr = total_irr.sum(0)
     facing = np.clip(dirs @ centre, 0, None) * omega
@@ -356,7 +395,8 @@ def recover_sun(
         irradiance=sun_irr,
         merged_irradiance=merged_irr,
         share=sun_total / everything if everything > 0 else 0.0,
-        texels=int(region.size),
+        texels=0 if reason else int(region.size),
         measured=find_sun(out, layout),
+        reason=reason,
     )
     return out, new_status, recovery

@@ -91,3 +91,33 @@ def test_bad_arguments(sunny):
         recover_sun(merged.radiance, merged.status, "latlong", irradiance=-1.0)
     with pytest.raises(ArgumentError, match="status"):
         recover_sun(merged.radiance, merged.status[:10], "latlong")
+
+
+@pytest.mark.parametrize("sun", [(), pytest.param((1e6, 0.02), marks=pytest.mark.slow)])
+def test_five_brackets_through_a_non_srgb_camera_keep_the_suns_energy(sun):
+    """The issue's brackets, 1/4000-1/15 s, through the test camera's curve (none of bakeshop's
+    known ones), recovered from the stack: the sun's energy within 10 % (the fixture's sun,
+    and a brighter sun of a clearer sky)."""
+    times = TIMES[:5]
+    probe, sky, truth = synthetic.sunny_probe(*sun)
+    stack = make_stack(synthetic.shoot(probe, times, gain=GAIN), times)
+    merged = merge_stack(stack, recover_response(stack.codes, stack.exposures))
+    recovered, _, found = recover_sun(merged.radiance, merged.status, "latlong")
+    scale = relative_scale(merged.radiance, probe, merged.votes > 0)
+    ours = synthetic.sun_irradiance(recovered / scale, sky)
+    assert found.source == "aureole"
+    assert np.all(np.abs(ours / truth - 1) < SUN_IRRADIANCE), ours / truth
+
+
+def test_a_fit_beyond_any_clear_sky_is_refused_and_the_clipped_values_kept():
+    """A sun of the clearest sky (circumsolar ratio 0.005) leaves almost no aureole: the fit
+    reads the sky's slope as the aureole's, and its disk would hold 1e37 times the light (the
+    issue's 1.5e13x): refused, the merge returned as it was, the reason said."""
+    probe, _, _ = synthetic.sunny_probe(2e5, 0.005)
+    stack = make_stack(synthetic.shoot(probe, TIMES[:5], gain=GAIN), TIMES[:5])
+    merged = merge_stack(stack, recover_response(stack.codes, stack.exposures))
+    out, status, found = recover_sun(merged.radiance, merged.status, "latlong")
+    assert found.source == "clipped" and found.texels == 0
+    assert "clearest sky" in found.reason and "more than" in found.reason
+    assert out is merged.radiance and status is merged.status
+    np.testing.assert_array_equal(found.irradiance, found.merged_irradiance)
