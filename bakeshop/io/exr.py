@@ -411,14 +411,17 @@ def _samples(header: dict) -> int:
 
 def finite_peak(image: np.ndarray) -> float:
     """The largest finite magnitude in ``image`` (0 when it holds none): two passes without a
-    temporary array, unless it holds NaN or infinities."""
+    temporary array, and when it holds NaN or infinities, a third by blocks of rows (at most
+    :data:`_BLOCK_BYTES` of values at a time)."""
     a = np.asarray(image)
     if a.size == 0:
         return 0.0
     peak = max(abs(float(np.max(a))), abs(float(np.min(a))))
     if np.isfinite(peak):
         return peak
-    return float(np.max(np.abs(a), where=np.isfinite(a), initial=0.0))
+    rows = max(1, _BLOCK_BYTES // max(1, a[0].nbytes))
+    blocks = (a[top : top + rows] for top in range(0, a.shape[0], rows))
+    return max(float(np.max(np.abs(b), where=np.isfinite(b), initial=0.0)) for b in blocks)
 
 
 def check_half(image: np.ndarray, wider: str) -> np.ndarray:

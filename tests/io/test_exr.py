@@ -174,6 +174,15 @@ def test_half_overflow_is_written_as_float_by_default_and_refused_as_half(tmp_pa
     assert meta["stored"] == "half" and same_bits(back, image)
 
 
+def test_the_finite_peak_is_found_by_blocks_past_nan_and_infinities(monkeypatch):
+    monkeypatch.setattr(exr, "_BLOCK_BYTES", 64)  # a block of rows at a time
+    image = np.ones((40, 5, 3), np.float32)
+    image[0, 0, 0], image[3, 1, 2] = np.nan, -np.inf
+    image[39, 4, 1] = -7e4  # in the last block
+    assert exr.finite_peak(image) == 7e4
+    assert exr.finite_peak(np.full((2, 2, 1), np.nan)) == 0.0
+
+
 @pytest.mark.parametrize("kernel", [True, False])
 def test_half_rounding_of_every_kind_of_float32_is_numpys(tmp_path, monkeypatch, kernel):
     """The writer's float32 -> half conversions (the one-pass numba kernel of large images, and
