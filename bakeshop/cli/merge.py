@@ -218,7 +218,7 @@ def merge(
       bakeshop merge IMG_*.jpg -o hdr.exr -O pixel_type=float -O compression=piz
     """
     from bakeshop import progress
-    from bakeshop.io import codec_for, write_image, write_json
+    from bakeshop.io import check_write_options, write_image, write_json
     from bakeshop.photo import (
         CLIPPED,
         DARK,
@@ -230,7 +230,8 @@ def merge(
     from bakeshop.photo.align import align_stack
     from bakeshop.photo.sun import recover_sun
 
-    codec_for(output)  # an unknown extension fails before any work
+    writer_options = parse_options(options)
+    check_write_options(output, writer_options)  # before any work
     confidence = confidence or output.with_name(output.stem + "_confidence.exr")
     refuse_overwriting_inputs(output, *images)
     refuse_overwriting_inputs(confidence, *images, output)
@@ -238,7 +239,6 @@ def merge(
         refuse_overwriting_inputs(save_response, *images, output)
     if clip_high - clip_low < 0.25:
         raise ArgumentError("--clip-high must exceed --clip-low by at least 0.25")
-    writer_options = parse_options(options)
     for option, values in (("--times", times), ("--f-numbers", f_numbers), ("--isos", isos)):
         if values is not None and len(values) != len(images):
             raise ArgumentError(f"{len(images)} images need {len(images)} values for {option}")

@@ -94,7 +94,7 @@ def test_errors_are_one_line_with_exit_two(brackets, tmp_path, capsys):
             "need 2 values for --times",
         ),
         (
-            ["merge", *paths[:2], "-o", str(tmp_path / "x.exr"), "-O", "pixel_type=half"],
+            ["-q", "merge", *paths[:2], "-o", str(tmp_path / "x.exr"), "-O", "pixel_type=half"],
             "beyond the 65504 that half floats hold; pixel_type=float keeps them",
         ),
         (
@@ -121,6 +121,10 @@ def test_errors_are_one_line_with_exit_two(brackets, tmp_path, capsys):
     write_image(no_exif, np.zeros((4, 4, 3), np.uint8))
     assert main(["merge", str(no_exif), str(no_exif), "-o", str(tmp_path / "x.exr")]) == 2
     assert "no exposure time" in capsys.readouterr().err
+    # a writer option the format does not take is refused before the frames are read
+    argv = ["merge", str(no_exif), str(no_exif), "-o", str(tmp_path / "x.exr"), "-O", "bits=16"]
+    assert main(argv) == 2
+    assert "OpenEXR takes no option 'bits'" in capsys.readouterr().err
 
 
 def test_ball_photos_to_a_probe(tmp_path, capsys):
