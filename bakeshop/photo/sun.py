@@ -417,9 +417,21 @@ def _model_candidate(
     ang = np.arccos(np.clip(dirs @ centre, -1, 1))
     pitch = math.sqrt(float(np.median(omega[near])))
     clip_radius = float(ang[near].max()) + 0.5 * pitch
+    outer = max(RING_SCALE * clip_radius, clip_radius + math.radians(RING_DEG))
+    light = float(np.sum(_luminance(values[near]) * omega[near]))
+    fill = float(omega[near].sum()) / (2 * math.pi * (1 - math.cos(clip_radius)))
+    if fill < MIN_FILL:  # before the model's work, which grows with the region
+        none = np.zeros(values.shape[1])
+        reason = (
+            f"the region clipped in every frame is not round ({fill:.0%} of the circle around "
+            f"it, less than {MIN_FILL:.0%}): a cloud or a glint, not a sun"
+        )
+        return _Candidate(
+            near, centre, clip_radius, outer, np.zeros(0, np.int64), light, none, None, None,
+            none, np.zeros((0, none.size)), 0.0, "none", reason,
+        )  # fmt: skip
     region = np.flatnonzero(ang <= clip_radius + 0.5 * pitch)
     region = region[omega[region] > 0]
-    outer = max(RING_SCALE * clip_radius, clip_radius + math.radians(RING_DEG))
     ring = (ang > clip_radius + pitch) & (ang < outer) & measured & (omega > 0)
     theta_mrad = ang * 1e3
     slope = chi = amplitude = None
@@ -443,7 +455,6 @@ def _model_candidate(
     before = lower - sky
     cos = np.clip(dirs[region] @ centre, 0, None)
     merged_irr = (before * (omega[region] * cos)[:, None]).sum(0)
-    light = float(np.sum(_luminance(values[near]) * omega[near]))
     # the model's aureole averaged over each texel (the disk's own part left to the deposit)
     sub = _subsample_directions(lay, shape, region)
     sub_t = np.arccos(np.clip(sub @ centre, -1, 1)) * 1e3
@@ -476,7 +487,6 @@ def _model_candidate(
         coverage[np.argmin(ang[region])] = 1.0
         weight = coverage * omega[region]
     model += disk_irr[None, :] * coverage[:, None] / weight.sum()
-    fill = float(omega[near].sum()) / (2 * math.pi * (1 - math.cos(clip_radius)))
     level = float(_luminance(values[near]).max())  # the darkest frame's clipping level
     ceiling = disk_ceiling(level, clip_radius * 1e3)
     fitted = float(_luminance(disk_irr[None])[0])
@@ -484,12 +494,7 @@ def _model_candidate(
     short = 1 - float(np.sum(_luminance(model[inside]) * omega[region][inside])) / float(
         np.sum(_luminance(lower[inside]) * omega[region][inside])
     )
-    if fill < MIN_FILL:
-        reason = (
-            f"the region clipped in every frame is not round ({fill:.0%} of the circle around "
-            f"it, less than {MIN_FILL:.0%}): a cloud or a glint, not a sun"
-        )
-    elif source == "aureole" and residual > FIT_RESIDUAL:
+    if source == "aureole" and residual > FIT_RESIDUAL:
         reason = (
             f"the aureole's fit misses the measured ring around the sun by {residual:.0%} RMS, "
             f"more than {FIT_RESIDUAL:.0%} (a horizon, a cloud or the ground in it)"

@@ -12,6 +12,7 @@ import pytest
 from bakeshop.errors import ArgumentError
 from bakeshop.photo import (
     CLIPPED,
+    MEASURED,
     MODELLED,
     make_stack,
     merge_stack,
@@ -107,6 +108,19 @@ def test_five_brackets_through_a_non_srgb_camera_keep_the_suns_energy(sun):
     ours = synthetic.sun_irradiance(recovered / scale, sky)
     assert found.source == "aureole"
     assert np.all(np.abs(ours / truth - 1) < SUN_IRRADIANCE), ours / truth
+
+
+def test_a_clipped_streak_is_not_a_sun(sunny):
+    """A long clipped streak (a glint along a roof edge) and no other clipped region: not
+    round, so no sun is modelled from it, said in one line."""
+    _, _, _, _, merged = sunny
+    radiance, status = merged.radiance.copy(), merged.status.copy()
+    status[status == CLIPPED] = MEASURED  # the sun measured
+    status[300, 100:160] = CLIPPED
+    radiance[300, 100:160] = radiance.max()
+    out, new_status, found = recover_sun(radiance, status, "latlong")
+    assert found.source == "clipped" and "not round" in found.reason
+    assert out is radiance and new_status is status
 
 
 def _merged(probe, gain=GAIN):
