@@ -96,7 +96,7 @@ LOW_SUN = (0.7, 0.1, -0.7)
 
 @lru_cache(maxsize=2)
 def sunny_probe(
-    l0: float = 2e5, chi: float = 0.05, reach_deg: float = 15.0, direction: tuple = None
+    l0: float = 2e5, chi: float = 0.05, reach_deg: float = 15.0, direction: tuple | None = None
 ):
     """The default probe with its sun painted out and a Buie sun of centre radiance ``l0``
     (colour SUN_COLOUR) at ``direction`` (SUN_DIRECTION by default). Returns ``(probe, sky,
