@@ -20,6 +20,12 @@ from bakeshop.cli._paths import OUTPUT, SOURCE, refuse_overwriting_inputs
 from bakeshop.errors import ArgumentError
 from bakeshop.io import stored_bits
 
+#: the codecs' options, ``-O KEY=VALUE``, of every command that writes any image format.
+codec_options = writer_option(
+    "A writer option, repeatable: EXR pixel_type=half|float, compression=zip|piz|...; "
+    "PNG bits=8|16; JPEG quality=1..100; TGA rle=true; PFM byteorder=<|>."
+)
+
 
 @click.command(context_settings={"max_content_width": 100})
 @click.argument("source", type=SOURCE)
@@ -29,10 +35,7 @@ from bakeshop.io import stored_bits
     is_flag=True,
     help="Reading an 8/16-bit format into a float one: decode sRGB to linear values.",
 )
-@writer_option(
-    "A writer option, repeatable: EXR pixel_type=half|float, compression=zip|piz|...; "
-    "PNG bits=8|16; JPEG quality=1..100; TGA rle=true; PFM byteorder=<|>."
-)
+@codec_options
 @picture_options()
 def convert(
     source: Path,

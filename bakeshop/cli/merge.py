@@ -8,8 +8,10 @@ from typing import TYPE_CHECKING
 import click
 import numpy as np
 
+from bakeshop.cli._common import parse_options
 from bakeshop.cli._numbers import Integer, Number, Numbers
 from bakeshop.cli._paths import INPUT, OUTPUT, refuse_overwriting_inputs
+from bakeshop.cli.convert import codec_options
 from bakeshop.errors import ArgumentError
 
 if TYPE_CHECKING:
@@ -186,12 +188,14 @@ def _layout_for(shape: tuple[int, ...], given: str | None) -> str | None:
     show_default="2/255",
     help="Codes at or below this fraction are clipped.",
 )
+@codec_options
 def merge(
     images: tuple[Path, ...], output: Path, times: tuple[float, ...] | None,
     f_numbers: tuple[float, ...] | None, isos: tuple[float, ...] | None, response_spec: str,
     gamma: float, save_response: Path | None, smoothness: float, samples: int, align: bool,
     max_shift: int, ghost: float | None, sun_mode: str, sun_illuminance: float | None,
     layout: str | None, confidence: Path | None, clip_high: float, clip_low: float,
+    options: tuple[str, ...],
 ) -> None:  # fmt: skip
     """Merge bracketed exposures IMAGES (JPEG, PNG or TIFF, 8 or 16 bits) into one HDR image.
 
@@ -201,7 +205,8 @@ def merge(
     that every frame clipped is modelled from its unclipped aureole (Buie's sunshape) when the
     frames are a panorama. Beside the HDR, a confidence map: R the frames that voted, G their
     weight, B the status (0 measured, 1 clipped in every frame, 2 dark in every frame, 3
-    modelled). See docs/photographs.md.
+    modelled). An .exr holds half floats unless a value exceeds 65504 (a sun): then 32-bit
+    floats, said in a warning (-O pixel_type=float asks for them). See docs/photographs.md.
 
     \b
     Example:
@@ -210,9 +215,10 @@ def merge(
       bakeshop merge a.png b.png c.png --times 1/1000,1/125,1/15 -o sky.hdr --align --ghost 0.25
       bakeshop merge IMG_*.jpg -o hdr.exr --save-response camera.json
       bakeshop merge IMG_*.jpg -o hdr.exr --response camera.json --sun off
+      bakeshop merge IMG_*.jpg -o hdr.exr -O pixel_type=float -O compression=piz
     """
     from bakeshop import progress
-    from bakeshop.io import codec_for, write_image, write_json
+    from bakeshop.io import check_write_options, write_image, write_json
     from bakeshop.photo import (
         CLIPPED,
         DARK,
@@ -224,7 +230,8 @@ def merge(
     from bakeshop.photo.align import align_stack
     from bakeshop.photo.sun import recover_sun
 
-    codec_for(output)  # an unknown extension fails before any work
+    writer_options = parse_options(options)
+    check_write_options(output, writer_options)  # before any work
     confidence = confidence or output.with_name(output.stem + "_confidence.exr")
     refuse_overwriting_inputs(output, *images)
     refuse_overwriting_inputs(confidence, *images, output)
@@ -232,18 +239,11 @@ def merge(
         refuse_overwriting_inputs(save_response, *images, output)
     if clip_high - clip_low < 0.25:
         raise ArgumentError("--clip-high must exceed --clip-low by at least 0.25")
-    given = {
-        "exposure_times": None if times is None else list(times),
-        "f_numbers": None if f_numbers is None else list(f_numbers),
-        "isos": None if isos is None else list(isos),
-    }
-    for key, values in given.items():
+    for option, values in (("--times", times), ("--f-numbers", f_numbers), ("--isos", isos)):
         if values is not None and len(values) != len(images):
-            raise ArgumentError(
-                f"{len(images)} images need {len(images)} values for --{key.replace('_', '-')}"
-            )
+            raise ArgumentError(f"{len(images)} images need {len(images)} values for {option}")
     with progress.step(f"reading {len(images)} frames"):
-        stack = read_stack(images, **given)
+        stack = read_stack(images, exposure_times=times, f_numbers=f_numbers, isos=isos)
     p, h, w, c = stack.codes.shape
     click.echo(
         f"frames: {p} of {w}x{h}, {stack.bits}-bit, exposures spanning {stack.span_stops:.1f} stops"
@@ -306,12 +306,13 @@ def merge(
             radiance, status, found = recover_sun(
                 radiance, status, where, irradiance=sun_illuminance
             )
-        if found is None:
+        if found is None or found.source == "clipped":
+            why = found.reason if found else "the clipped texels hold no measurable aureole"
             if sun_mode == "model":
-                raise ArgumentError("no clipped sun with a measurable aureole to model")
+                raise ArgumentError(f"{why}; give the sun's --sun-illuminance")
             click.echo(
-                "sun: the clipped texels hold no sun with a measurable aureole; left as "
-                "lower bounds"
+                f"sun: not modelled: {why}; the clipped values are kept as lower bounds "
+                "(--sun-illuminance sets the sun's light)"
             )
         else:
             from bakeshop.image import luminance
@@ -333,7 +334,7 @@ def merge(
             )
     merged.radiance, merged.status = radiance, status
     with progress.step(f"writing {output}"):
-        write_image(output, radiance)
+        write_image(output, radiance, **writer_options)
         write_image(confidence, confidence_image(merged))
     if save_response is not None:
         write_json(save_response, response.to_dict())

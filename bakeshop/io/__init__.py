@@ -83,6 +83,7 @@ __all__ = [
     "EnvironmentFile",
     "atomic_path",
     "check_input",
+    "check_write_options",
     "codec_for",
     "decode_budget",
     "describe_os_error",
@@ -262,6 +263,13 @@ def write_image(path: str | os.PathLike, image: ArrayLike, **options: Any) -> No
             if e.path is None:
                 e.path = os.fspath(path)
             raise
+
+
+def check_write_options(path: str | os.PathLike, options: dict) -> None:
+    """Refuse, before any work, a format ``path``'s extension does not name, or ``options``
+    its codec's writer does not take (what :func:`write_image` would refuse at the end)."""
+    codec = _module(codec_for(path))
+    _check_options(codec.write, options, codec.NAME, path)
 
 
 def _check_options(

@@ -5,9 +5,10 @@ writing a ZIP-compressed 4096x2048 OpenEXR (0.26 of 1.34 s; the deflate itself i
 three passes over the image plus a strided split into channel planes. This kernel reads each
 texel once and writes the half planes that OpenEXR takes, with integer arithmetic only.
 
-Rounding is IEEE round-to-nearest-even (as numpy's and OpenEXR's own conversions); finite values
-beyond +-65504 are clamped to it (not rounded to infinity); infinities stay infinite and NaN
-stays NaN (the quiet NaN 0x7E00 with the sign kept). Imported by the writer only, so that
+Rounding is IEEE round-to-nearest-even (as numpy's and OpenEXR's own conversions); the writer
+refuses or widens finite values beyond +-65504 before it calls the kernel (which would clamp
+them to it); infinities stay infinite and NaN stays NaN (the quiet NaN 0x7E00 with the sign
+kept). Imported by the writer only, so that
 reading an OpenEXR file does not load numba.
 """
 

@@ -129,8 +129,9 @@ def check_levels(
 
 
 def encode(level: np.ndarray, dtype: np.dtype) -> np.ndarray:
-    """``level`` as little-endian ``dtype`` samples; half clamps finite values to +-65504;
-    unorm8 stores uint8 input as it is and quantises floats in [0, 1] to round(v * 255)."""
+    """``level`` as little-endian ``dtype`` samples; half refuses finite values beyond
+    +-65504 (:func:`bakeshop.io.exr.to_half`, naming ``dtype="float32"``); unorm8 stores uint8
+    input as it is and quantises floats in [0, 1] to round(v * 255)."""
     if dtype == UNORM_DTYPES["unorm8"]:
         from bakeshop.io._quantize import float_to_unsigned
 
@@ -138,7 +139,8 @@ def encode(level: np.ndarray, dtype: np.dtype) -> np.ndarray:
     if dtype == DTYPES["float16"]:
         from bakeshop.io.exr import to_half
 
-        return to_half(level.astype(np.float32, copy=False)).astype("<f2", copy=False)
+        level = level.astype(np.float32, copy=False)
+        return to_half(level, 'dtype="float32"').astype("<f2", copy=False)
     return level.astype(dtype, copy=False)
 
 

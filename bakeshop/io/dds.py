@@ -19,11 +19,11 @@ Sample types: ``float16`` (the default: half the memory, what engines sample env
 in) and ``float32``; 1, 2 and 4 channels are stored as R, RG and RGBA (DXGI_FORMAT_R16_FLOAT,
 R16G16_FLOAT, R16G16B16A16_FLOAT or the 32-bit ones). Three channels are padded to RGBA with
 alpha 1: DXGI has no 16-bit RGB format, and filtering 32-bit RGB is optional in Direct3D. Half
-clamps finite values beyond +-65504 (a sun is brighter than that in some probes: use float32 to
-keep it). ``unorm8`` stores 8-bit unsigned normalised samples (DXGI_FORMAT_R8_UNORM,
-R8G8_UNORM, R8G8B8A8_UNORM; a stored c reads as c / 255), for data such as two-channel normal
-maps. ``array=True`` writes a 2-D texture array: the DX10 header's arraySize is the number of
-layers.
+refuses finite values beyond +-65504, naming float32 (a sun is brighter than that in some
+probes; :func:`bakeshop.io.write_container` picks float32 for it). ``unorm8`` stores 8-bit
+unsigned normalised samples (DXGI_FORMAT_R8_UNORM, R8G8_UNORM, R8G8B8A8_UNORM; a stored c
+reads as c / 255), for data such as two-channel normal maps. ``array=True`` writes a 2-D
+texture array: the DX10 header's arraySize is the number of layers.
 
 Cube faces are stored in OpenGL's order and orientation (bakeshop's internal cube), which is
 also Direct3D's face order and addressing rule; a Direct3D engine whose world is left-handed

@@ -23,11 +23,13 @@ bindings that no longer offer ``InputFile`` (deprecated in OpenEXR 3.3+); the de
 (:mod:`bakeshop.io.budget`) counts every channel from the header before anything is decoded.
 Luminance-chroma (``RY``, ``BY``) and sub-sampled channels are refused rather than read wrongly.
 
-Writing stores half floats by default (``pixel_type="float"`` for 32-bit), as scanlines with
-the named compression. Half holds magnitudes up to 65504: finite values beyond are *clamped* to
-+-65504 (OpenEXR's own conversion would make them infinite, and one infinite texel poisons every
-integral over a light probe); NaN and +-Inf are stored as they are. Write ``pixel_type="float"``
-to keep a sun brighter than 65504.
+Writing stores half floats by default, as scanlines with the named compression. Half holds
+magnitudes up to 65504, and a sun is often brighter: an image with a finite value beyond that is
+written as 32-bit floats instead, said in one warning (a clamp would lose the sun's energy
+silently, OpenEXR's own conversion would make it infinite). ``pixel_type="half"`` asked for
+explicitly refuses such an image, naming ``pixel_type=float``; NaN and +-Inf are stored as they
+are. :func:`to_half` is the one float-to-half conversion of every half writer (EXR strips,
+DDS/KTX/KTX2 levels, TIFF and zarr strips), and refuses overflow the same way.
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ import io
 import os
 import sys
 import tempfile
+import warnings
 from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
@@ -406,27 +409,48 @@ def _samples(header: dict) -> int:
     return sum(-(-width // xs) * -(-height // ys) for _, xs, ys in header["channels"])
 
 
-def to_half(image: np.ndarray) -> np.ndarray:
-    """Convert to float16, clamping finite values beyond +-65504 (NaN and +-Inf kept).
+def finite_peak(image: np.ndarray) -> float:
+    """The largest finite magnitude in ``image`` (0 when it holds none): two passes without a
+    temporary array, and when it holds NaN or infinities, a third by blocks of rows (at most
+    :data:`_BLOCK_BYTES` of values at a time)."""
+    a = np.asarray(image)
+    if a.size == 0:
+        return 0.0
+    peak = max(abs(float(np.max(a))), abs(float(np.min(a))))
+    if np.isfinite(peak):
+        return peak
+    rows = max(1, _BLOCK_BYTES // max(1, a[0].nbytes))
+    blocks = (a[top : top + rows] for top in range(0, a.shape[0], rows))
+    return max(float(np.max(np.abs(b), where=np.isfinite(b), initial=0.0)) for b in blocks)
+
+
+def check_half(image: np.ndarray, wider: str) -> np.ndarray:
+    """``image``, refused for half floats when a finite value exceeds +-65504; ``wider`` names
+    the option that keeps it (``"pixel_type=float"``)."""
+    peak = finite_peak(image)
+    if peak > HALF_MAX:
+        raise ArgumentError(
+            f"values reach {peak:.4g}, beyond the 65504 that half floats hold; {wider} keeps them"
+        )
+    return image
+
+
+def to_half(image: np.ndarray, wider: str) -> np.ndarray:
+    """Convert to float16 (NaN and +-Inf kept), refusing finite values beyond +-65504 with the
+    option ``wider`` that keeps them (:func:`check_half`).
 
     Rounding is IEEE round-to-nearest-even, as OpenEXR's own float-to-half conversion. (The
-    writer converts float32 images with the equivalent one-pass kernel of
+    writer converts large float32 images with the equivalent one-pass kernel of
     :mod:`bakeshop.io._half`; tests/io/test_exr.py holds the two to the same bits.)
     """
-    a = np.asarray(image)
-    with np.errstate(over="ignore"):
-        half = a.astype(np.float16)
-    overflow = np.isinf(half) & np.isfinite(a)
-    if overflow.any():
-        half[overflow] = np.copysign(np.float16(HALF_MAX), a[overflow])
-    return half
+    return check_half(np.asarray(image), wider).astype(np.float16)
 
 
 def write(
     path: str | os.PathLike,
     image: ArrayLike,
     *,
-    pixel_type: str = "half",
+    pixel_type: str | None = None,
     compression: str = "zip",
     envmap: str | None = None,
 ) -> None:
@@ -438,8 +462,9 @@ def write(
     image : (H, W, C) array, C in {1, 3, 4}
         Values as they are (integers become floats of the same value). C = 1 is written as
         channel ``Y``, C = 3 as ``R, G, B``, C = 4 as ``R, G, B, A``.
-    pixel_type : {"half", "float"}
-        Sample type in the file. Half clamps finite values beyond +-65504 (see the module notes).
+    pixel_type : {"half", "float"}, optional
+        Sample type in the file. Default: half, or float when a finite value exceeds 65504
+        (said in a warning); ``"half"`` refuses such values (see the module notes).
     compression : str
         One of :data:`COMPRESSIONS`: ``"zip"`` (default), ``"none"``, ``"rle"``, ``"zips"``,
         ``"piz"``, ``"zstd"``, ``"htj2k256"``, ``"htj2k32"`` are lossless; ``"pxr24"`` is
@@ -451,7 +476,8 @@ def write(
         ``openexr-latlong`` and ``openexr-cube``, which :func:`bakeshop.io.write_environment`
         writes with it).
     """
-    validate_choice(pixel_type, tuple(PIXEL_TYPES), "EXR pixel type")
+    if pixel_type is not None:
+        validate_choice(pixel_type, tuple(PIXEL_TYPES), "EXR pixel type")
     validate_choice(compression, tuple(COMPRESSIONS), "EXR compression")
     if envmap is not None:
         validate_choice(envmap, tuple(ENVMAPS), "EXR envmap")
@@ -459,12 +485,23 @@ def write(
     if a.dtype.kind not in "fiu":
         raise ArgumentError(f"cannot write {a.dtype} samples to OpenEXR")
     names = {1: "Y", 3: "RGB", 4: "RGBA"}[a.shape[2]]
+    if pixel_type == "half":
+        check_half(a, "pixel_type=float")
+    elif pixel_type is None:
+        peak = finite_peak(a)
+        pixel_type = "half" if peak <= HALF_MAX else "float"
+        if pixel_type == "float":
+            warnings.warn(
+                f"OpenEXR: values reach {peak:.4g}, beyond the 65504 that half floats hold: "
+                "written as 32-bit floats",
+                stacklevel=2,
+            )
     if pixel_type == "half" and a.dtype == np.float32 and a.shape[0] * a.shape[1] > _KERNEL_PIXELS:
         from bakeshop.io._half import half_planes  # numba: large images only
 
         planes = list(half_planes(a))  # converted and split in one pass
     else:
-        a = to_half(a) if pixel_type == "half" else a.astype(np.float32, copy=False)
+        a = a.astype(PIXEL_TYPES[pixel_type], copy=False)
         planes = [np.ascontiguousarray(a[:, :, i]) for i in range(a.shape[2])]
     channels = dict(zip(names, planes, strict=True))
     header = {"compression": COMPRESSIONS[compression], "type": OpenEXR.scanlineimage}

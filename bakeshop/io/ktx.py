@@ -17,7 +17,7 @@ Specification" version 1.1; little-endian uint32 fields)::
 
 Rows are stored in the order OpenGL uploads them (row 0 at t = 0), which is bakeshop's row 0, so
 cube faces are exactly bakeshop's internal (OpenGL) cube. Sample types ``float16`` (default)
-and ``float32``, 1 to 4 channels; half clamps finite values beyond +-65504.
+and ``float32``, 1 to 4 channels; half refuses finite values beyond +-65504, naming float32.
 
 Block-compressed textures (:class:`bakeshop.io.compress.BlockTexture`) are written by
 :func:`write_ktx_blocks` for engines and loaders that still take KTX 1 (three.js' KTXLoader,

@@ -20,8 +20,9 @@ little-endian)::
 
 Row 0 is bakeshop's row 0 (t = 0, shown at the top: "rd"), so cube faces are exactly bakeshop's
 internal (OpenGL) cube, which is also what Vulkan samples. Sample types ``float16`` (default)
-and ``float32``, 1 to 4 channels; half clamps finite values beyond +-65504; ``unorm8``
-(VK_FORMAT_R8..._UNORM, a stored c reads as c / 255) for data such as two-channel normal maps.
+and ``float32``, 1 to 4 channels; half refuses finite values beyond +-65504, naming float32;
+``unorm8`` (VK_FORMAT_R8..._UNORM, a stored c reads as c / 255) for data such as two-channel
+normal maps.
 
 Texture arrays (``array=True``): layerCount L, and each level holds its L layers in order
 (the specification's order within a level: layers, then faces, then rows).

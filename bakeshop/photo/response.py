@@ -60,6 +60,8 @@ KNOTS_16 = 256
 SMOOTHNESS = 50.0
 #: sample pixels per channel selected for recovery.
 SAMPLES = 1500
+#: most sample pixels per channel.
+MAX_SAMPLES = 100000
 #: candidates examined (a jittered grid over the frame).
 CANDIDATES = 1 << 15
 #: version of the saved JSON document.
@@ -162,14 +164,20 @@ class CameraResponse:
                     doc["method"], gamma=float(doc.get("gamma", 2.2)),
                     channels=int(doc.get("channels", 3)),
                 )  # fmt: skip
-            except (ArgumentError, TypeError, ValueError) as e:
+            except (ArgumentError, TypeError, ValueError, OverflowError) as e:
                 raise FormatError(f"damaged camera response: {e}", path) from None
-        try:
+        try:  # JSON holds integers of any size and Infinity: float() and int() overflow
             linear = np.asarray(doc["linear"], dtype=np.float64)
             fit = np.asarray(doc.get("fit_error_stops", []), dtype=np.float64)
             samples = int(doc.get("samples", 0))
-        except (KeyError, TypeError, ValueError) as e:
+        except (KeyError, TypeError, ValueError, OverflowError) as e:
             raise FormatError(f"damaged camera response: {e}", path) from None
+        if not (np.isfinite(fit).all() and (fit >= 0).all() and 0 <= samples <= MAX_SAMPLES):
+            raise FormatError(
+                f"damaged camera response: its fit errors must be finite and non-negative and "
+                f"its sample count within 0-{MAX_SAMPLES}",
+                path,
+            )
         try:
             return cls(linear, "file", fit, samples)
         except ArgumentError as e:
@@ -247,8 +255,8 @@ def select_samples(
         ``(row, column)`` positions in the first frame's grid.
     """
     codes = np.asarray(codes)
-    if not 16 <= count <= 100000:
-        raise ArgumentError(f"sample count must be within 16-100000, not {count}")
+    if not 16 <= count <= MAX_SAMPLES:
+        raise ArgumentError(f"sample count must be within 16-{MAX_SAMPLES}, not {count}")
     p, h, w, channels = codes.shape
     offsets = _integer_shifts(shifts, p)
     margin_y = int(np.abs(offsets[:, 0]).max()) + 1
@@ -580,6 +588,11 @@ def recover_response(
     positions = select_samples(codes, count=samples, shifts=shifts, seed=seed)
     values = _gather(codes, positions, shifts)  # (N, P, C)
     valid = np.logical_not(_clipped_any(values, low, high))  # (N, P)
+    if np.count_nonzero(valid.sum(axis=1) >= 2) < 2:
+        raise ArgumentError(
+            "too few samples unclipped in two frames to recover a response: the frames are "
+            "black or white almost everywhere; use a known curve (srgb, gamma, linear)"
+        )
     zf = values.astype(np.float64) * ((knots - 1) / ((1 << bits) - 1))  # in knot units
     z = np.rint(zf).astype(np.int64)  # Robertson averages per knot
     gs, fits = [], []

@@ -14,19 +14,35 @@ disk plus aureole), for angles ``theta`` in mrad:
 
 relative to the radiance ``L0`` of the disk's centre. :func:`recover_sun`:
 
-1. finds the region every frame clipped that holds the most light (the sun, not a glint), and
-   every clipped texel within ``search_deg`` of it (a region cut by a seam of the layout);
-2. fits ``L(theta) = sky + A theta^gamma`` to the measured ring outside them (to six times
-   their radius, at least 8 degrees beyond: the aureole reaches far, so the sky level is fitted
-   with it), ``gamma`` on luminance, ``sky`` and ``A`` per channel;
+1. takes each region every frame clipped (the :data:`MAX_CANDIDATES` holding the most light),
+   with every clipped texel within ``search_deg`` of it (a region cut by a seam of the layout);
+2. fits ``L(theta) = sky + g . t + A theta^gamma`` to the measured ring outside it (to six
+   times its radius, at least 8 degrees beyond: the aureole reaches far, so the sky is fitted
+   with it, as a local plane in the offsets ``t`` from the sun, tilted by a horizon or a
+   gradient of the sky), ``gamma`` on luminance, the rest per channel;
 3. reads ``chi`` from ``gamma`` (the branch ``chi <= 0.2`` on which ``gamma`` is monotonic:
    clear to hazy skies), hence ``kappa`` and ``L0 = A / exp(kappa)``;
 4. writes the model into the clipped texels: sky plus the aureole averaged over each texel's
    footprint, plus the disk's energy spread over the texels it covers in proportion to their
    covered area (so its integral is exact even when the disk is smaller than a texel), and
    marks them ``MODELLED`` in the status;
-5. measures the result with :func:`bakeshop.light.sun.find_sun`, the same disk-and-excess
+5. models the region whose believable fit has the brightest disk centre ``L0`` (the sun is
+   the brightest thing in the sky: a bright cloud clipped in every frame can hold more clipped
+   light, and its fit a dimmer disk), and
+6. measures the result with :func:`bakeshop.light.sun.find_sun`, the same disk-and-excess
    measurement ``bake-probe`` makes, so what the merge reports is what the bake will see.
+
+A fitted sun is believed only within a physical bound (:func:`disk_ceiling`): the darkest frame
+clipped the rim of the region at its clipping level, and the disk's centre can be brighter
+than the aureole there by at most the ratio that the sunshape of the clearest sky allowed
+(``chi`` = :data:`CLEAREST_CSR`) gives at that angle. A fit beyond (an aureole flattened by a
+horizon, a cloud or noise reads as a very clear sky, and ``L0 = A / exp(kappa)`` grows
+without bound as ``chi`` falls: 1.5e13 times the clipped light was seen) is refused: the clipped
+values stay, as lower bounds, and :attr:`SunRecovery.reason` says why. So is a region that is
+not round (it fills less than :data:`MIN_FILL` of the circle around it), a fit that misses its
+ring by more than :data:`FIT_RESIDUAL` RMS (relative: a horizon, the ground or a cloud in it,
+which a sky plane cannot follow), and a model that holds :data:`FIT_RESIDUAL` less light than
+the clipped lower bounds it replaces (it does not explain the clipping).
 
 With ``irradiance=`` (a light meter's reading of the direct sun, in the merge's units: lux for
 an absolute stack), the disk's energy is set so that the modelled sun (disk plus the aureole
@@ -48,7 +64,7 @@ from bakeshop.errors import ArgumentError
 if TYPE_CHECKING:
     from bakeshop.sphere.layouts import Layout
 
-__all__ = ["SUN_DISK_MRAD", "SunRecovery", "buie_sunshape", "recover_sun"]
+__all__ = ["SUN_DISK_MRAD", "SunRecovery", "buie_sunshape", "disk_ceiling", "recover_sun"]
 
 #: the solar disk's angular radius in Buie's model (mrad).
 SUN_DISK_MRAD = 4.65
@@ -64,6 +80,16 @@ RING_DEG = 8.0
 MIN_RING = 12
 #: sub-samples per texel edge when the model is averaged over texel footprints.
 SUBSAMPLES = 8
+#: the clearest sky a fitted sun may imply: typical clear skies have circumsolar ratios of
+#: 0.01-0.05, and the disk's part of the sunshape grows without bound as the ratio falls.
+CLEAREST_CSR = 0.005
+#: clipped regions examined as suns, the ones holding the most light first.
+MAX_CANDIDATES = 8
+#: least part of the circle around a clipped region that it fills to be a sun (round).
+MIN_FILL = 0.4
+#: most RMS relative error of the aureole's fit on its ring, and most shortfall of the model
+#: below the clipped lower bounds, for a fit to be believed.
+FIT_RESIDUAL = 0.1
 
 
 def _gamma(chi: np.ndarray | float) -> np.ndarray | float:
@@ -99,6 +125,15 @@ def _disk_integral() -> float:
     return float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(t)))  # trapezoid rule
 
 
+def disk_ceiling(level: float, rim_mrad: float) -> float:
+    """The most light a sun's disk can hold, at normal incidence, when ``level`` is the
+    radiance of its aureole ``rim_mrad`` from its centre: ``level / phi(rim) * integral of the
+    disk's profile``, with the sunshape ``phi`` of the clearest sky allowed
+    (:data:`CLEAREST_CSR`). Units: ``level``'s times sr."""
+    rim = max(rim_mrad, SUN_DISK_MRAD)
+    return level / float(buie_sunshape(rim, CLEAREST_CSR)) * _disk_integral()
+
+
 def _chi_from_gamma(gamma: float) -> float:
     chis = np.geomspace(*CSR_RANGE, 2000)
     gammas = _gamma(chis)  # decreasing on this branch
@@ -116,7 +151,8 @@ class SunRecovery:
     clipped_radius_deg : float
         Angular radius of the region every frame clipped.
     source : str
-        ``"aureole"`` (fitted) or ``"given"`` (from ``irradiance=``).
+        ``"aureole"`` (fitted), ``"given"`` (from ``irradiance=``) or ``"clipped"`` (the fit
+        was refused and the clipped lower bounds kept: see ``reason``).
     aureole_slope : float or None
         The fitted power ``gamma`` (None when no aureole could be fitted).
     circumsolar_ratio : float or None
@@ -130,9 +166,11 @@ class SunRecovery:
         The sun's (modelled region plus measured aureole) part of the whole probe's luminance
         irradiance on a surface facing it.
     texels : int
-        Texels modelled.
+        Texels modelled (0 when the fit was refused).
     measured : bakeshop.light.sun.Sun or None
         :func:`bakeshop.light.sun.find_sun` on the result.
+    reason : str or None
+        Why a fit was refused (``source == "clipped"``).
     """
 
     direction: np.ndarray
@@ -145,6 +183,7 @@ class SunRecovery:
     share: float
     texels: int
     measured: object = None
+    reason: str | None = None
 
 
 def _luminance(values: np.ndarray) -> np.ndarray:
@@ -166,22 +205,28 @@ def _subsample_directions(lay: Layout, shape: tuple[int, ...], index: np.ndarray
 
 
 def _fit_aureole(
-    theta: np.ndarray, values: np.ndarray, omega: np.ndarray
-) -> tuple[float, np.ndarray, np.ndarray] | None:
-    """Fit ``L = sky + A theta^gamma`` to ring texels: gamma on luminance by variable
-    projection (for each gamma on a grid, sky and A are linear least squares with relative
-    weights), then sky and A per channel. None when no decaying aureole fits."""
+    theta: np.ndarray, tangent: np.ndarray, values: np.ndarray, omega: np.ndarray
+) -> tuple[float, np.ndarray, np.ndarray, float] | None:
+    """Fit ``L = sky + g . t + A theta^gamma`` to ring texels (``t``: their offsets from the
+    sun in its tangent plane, so that the sky is a local plane, tilted by a horizon, not a
+    constant): gamma on luminance by variable projection (for each gamma on a grid, the other
+    terms are linear least squares with relative weights), then per channel. Returns gamma,
+    the sky at the sun, A and the fit's RMS relative residual on luminance (weighted by solid
+    angle); None when no decaying aureole fits."""
     lum = _luminance(values)
     keep = lum > 0
-    theta, values, omega, lum = theta[keep], values[keep], omega[keep], lum[keep]
+    theta, tangent, values, omega, lum = (
+        theta[keep], tangent[keep], values[keep], omega[keep], lum[keep]
+    )  # fmt: skip
     if lum.size < MIN_RING:
         return None
     w = omega / lum**2  # relative errors
+    plane = np.column_stack([np.ones_like(theta), tangent])
     best = None
     for gamma in np.arange(-4.0, -0.5, 0.01):
-        basis = np.stack([np.ones_like(theta), theta**gamma], axis=1)
+        basis = np.column_stack([plane, theta**gamma])
         coef = _weighted_lstsq(basis, lum, w)
-        if coef is None or coef[1] <= 0:
+        if coef is None or coef[-1] <= 0:
             continue
         err = float(np.sum(w * (basis @ coef - lum) ** 2))
         if best is None or err < best[0]:
@@ -189,7 +234,7 @@ def _fit_aureole(
     if best is None:
         return None
     gamma = best[1]
-    basis = np.stack([np.ones_like(theta), theta**gamma], axis=1)
+    basis = np.column_stack([plane, theta**gamma])
     columns = []
     for c in range(values.shape[1]):
         column = _weighted_lstsq(basis, values[:, c], w)
@@ -199,7 +244,9 @@ def _fit_aureole(
     coef = np.stack(columns)
     if not np.isfinite(coef).all():
         return None
-    return gamma, coef[:, 0], np.maximum(coef[:, 1], 0)
+    relative = _luminance(basis @ coef.T) / lum - 1
+    residual = math.sqrt(float(np.sum(omega * relative**2) / omega.sum()))
+    return gamma, coef[:, 0], np.maximum(coef[:, -1], 0), residual
 
 
 def _weighted_lstsq(basis: np.ndarray, y: np.ndarray, w: np.ndarray) -> np.ndarray | None:
@@ -209,17 +256,20 @@ def _weighted_lstsq(basis: np.ndarray, y: np.ndarray, w: np.ndarray) -> np.ndarr
     return np.linalg.solve(a, basis.T @ (w * y))
 
 
-def _brightest_clipped(clipped: np.ndarray, values: np.ndarray, omega: np.ndarray) -> int:
-    """Flat index of the centre texel of the clipped region holding the most light (the sum of
-    its lower bounds times solid angle): the sun, rather than a glint."""
+def _clipped_seeds(clipped: np.ndarray, values: np.ndarray, omega: np.ndarray) -> list[int]:
+    """Flat indices of the brightest texel of each clipped region, the regions holding the most
+    light (the sum of their lower bounds times solid angle) first, at most MAX_CANDIDATES."""
     from scipy import ndimage
 
     labels, count = ndimage.label(clipped, structure=np.ones((3, 3)))
     flat = labels.reshape(-1)
-    energy = np.bincount(flat, _luminance(values) * omega, minlength=count + 1)
-    energy[0] = -1
-    best = np.flatnonzero(flat == int(np.argmax(energy)))
-    return int(best[np.argmax(omega[best] * _luminance(values[best]))])
+    weight = _luminance(values) * omega
+    energy = np.bincount(flat, weight, minlength=count + 1)[1:]
+    seeds = []
+    for label in np.argsort(-energy, kind="stable")[:MAX_CANDIDATES] + 1:
+        members = np.flatnonzero(flat == label)
+        seeds.append(int(members[np.argmax(weight[members])]))
+    return seeds
 
 
 def recover_sun(
@@ -254,7 +304,9 @@ def recover_sun(
     status : (H, W) uint8
         A copy with the modelled texels marked ``MODELLED``.
     recovery : SunRecovery or None
-        None when the environment has no sun or its sun is not clipped.
+        None when the environment has no sun or its sun is not clipped or has no aureole to
+        fit; its ``source`` is ``"clipped"`` when no clipped region's model was believed
+        (the radiance and status are then returned unchanged, ``reason`` says why).
     """
     from bakeshop.light.sun import find_sun
     from bakeshop.photo.merge import CLIPPED, MEASURED, MODELLED
@@ -276,33 +328,131 @@ def recover_sun(
     if not clipped_all.any():
         return radiance, status, None
     values, dirs, omega, _ = texels(radiance, layout)
-    shape = radiance.shape[:-1]  # (H, W), checked above
-    seed = _brightest_clipped(status == CLIPPED, values, omega)
+    measured = status.reshape(-1) == MEASURED
+    candidates: list[_Candidate] = []
+    for seed in _clipped_seeds(status == CLIPPED, values, omega):
+        if not any(c.near[seed] for c in candidates):  # a region cut by a seam is one sun
+            candidates.append(
+                _model_candidate(
+                    lay, radiance.shape[:-1], values, dirs, omega, clipped_all, measured, seed,
+                    irradiance=irradiance, search_deg=search_deg,
+                )
+            )  # fmt: skip
+    accepted = [c for c in candidates if c.reason is None and c.source != "none"]
+    if accepted:  # the sun is the brightest: the highest fitted peak, else the most light
+        best = max(accepted, key=lambda c: (c.peak, c.light))
+    else:  # why the region holding the most light is not a sun
+        best = max(candidates, key=lambda c: (c.reason is not None, c.light))
+    if best.source == "none" and best.reason is None:
+        return radiance, status, None
+    out, new_status, model = radiance, status, values[best.region].astype(np.float64)
+    if best.reason is None:
+        out = radiance.copy()
+        out.reshape(-1, out.shape[-1])[best.region] = best.model.astype(np.float32)
+        new_status = status.copy()
+        new_status.reshape(-1)[best.region] = MODELLED
+        model = best.model
+    flat = out.reshape(-1, out.shape[-1])
+    cos = np.clip(dirs[best.region] @ best.centre, 0, None)
+    sun_irr = ((model - best.sky) * (omega[best.region] * cos)[:, None]).sum(0)
+    facing = np.clip(dirs @ best.centre, 0, None) * omega
+    everything = float(_luminance((flat.astype(np.float64) * facing[:, None]).sum(0)[None])[0])
+    halo = (np.arccos(np.clip(dirs @ best.centre, -1, 1)) < best.outer) & (omega > 0)
+    halo_excess = np.clip(flat[halo].astype(np.float64) - best.sky, 0, None) * facing[halo, None]
+    sun_total = float(_luminance(halo_excess.sum(0)[None])[0])
+    recovery = SunRecovery(
+        direction=best.centre,
+        clipped_radius_deg=math.degrees(best.clip_radius),
+        source=best.source if best.reason is None else "clipped",
+        aureole_slope=best.slope,
+        circumsolar_ratio=best.chi,
+        irradiance=sun_irr,
+        merged_irradiance=best.merged_irr,
+        share=sun_total / everything if everything > 0 else 0.0,
+        texels=0 if best.reason else int(best.region.size),
+        measured=find_sun(out, layout),
+        reason=best.reason,
+    )
+    return out, new_status, recovery
+
+
+@dataclass(frozen=True)
+class _Candidate:
+    """One clipped region modelled as a sun (see :func:`_model_candidate`)."""
+
+    near: np.ndarray  # (N,) bool: its clipped texels
+    centre: np.ndarray
+    clip_radius: float  # radians
+    outer: float  # radians: the ring's outer edge
+    region: np.ndarray  # flat indices of the modelled texels
+    light: float  # luminance of its lower bounds times solid angle
+    sky: np.ndarray
+    slope: float | None
+    chi: float | None
+    merged_irr: np.ndarray
+    model: np.ndarray  # (len(region), C) the modelled values
+    peak: float  # the model's disk centre luminance (0 when not fitted)
+    source: str  # "aureole", "given" or "none" (nothing to model)
+    reason: str | None  # why it is not a sun, or its fit is refused
+
+
+def _model_candidate(
+    lay: Layout,
+    shape: tuple[int, ...],
+    values: np.ndarray,
+    dirs: np.ndarray,
+    omega: np.ndarray,
+    clipped_all: np.ndarray,
+    measured: np.ndarray,
+    seed: int,
+    *,
+    irradiance: float | None,
+    search_deg: float,
+) -> _Candidate:
+    """Model the clipped region around texel ``seed`` as a sun (steps 1-4 of the module's
+    description), and say why not when it is not compact or its fit is not believable."""
     near = clipped_all & (dirs @ dirs[seed] > math.cos(math.radians(search_deg)))
     centre = (omega[near, None] * dirs[near]).sum(0)
     centre /= np.linalg.norm(centre)
     ang = np.arccos(np.clip(dirs @ centre, -1, 1))
     pitch = math.sqrt(float(np.median(omega[near])))
     clip_radius = float(ang[near].max()) + 0.5 * pitch
+    outer = max(RING_SCALE * clip_radius, clip_radius + math.radians(RING_DEG))
+    light = float(np.sum(_luminance(values[near]) * omega[near]))
+    fill = float(omega[near].sum()) / (2 * math.pi * (1 - math.cos(clip_radius)))
+    if fill < MIN_FILL:  # before the model's work, which grows with the region
+        none = np.zeros(values.shape[1])
+        reason = (
+            f"the region clipped in every frame is not round ({fill:.0%} of the circle around "
+            f"it, less than {MIN_FILL:.0%}): a cloud or a glint, not a sun"
+        )
+        return _Candidate(
+            near, centre, clip_radius, outer, np.zeros(0, np.int64), light, none, None, None,
+            none, np.zeros((0, none.size)), 0.0, "none", reason,
+        )  # fmt: skip
     region = np.flatnonzero(ang <= clip_radius + 0.5 * pitch)
     region = region[omega[region] > 0]
-    outer = max(RING_SCALE * clip_radius, clip_radius + math.radians(RING_DEG))
-    measured = status.reshape(-1) == MEASURED
     ring = (ang > clip_radius + pitch) & (ang < outer) & measured & (omega > 0)
     theta_mrad = ang * 1e3
     slope = chi = amplitude = None
+    residual = 0.0
     sky = np.zeros(values.shape[1])
     if np.count_nonzero(ring) >= MIN_RING:
-        fit = _fit_aureole(theta_mrad[ring], values[ring].astype(np.float64), omega[ring])
+        offsets = dirs[ring] - centre * (dirs[ring] @ centre)[:, None]
+        axes = np.linalg.svd(np.eye(3) - np.outer(centre, centre))[0][:, :2]
+        fit = _fit_aureole(
+            theta_mrad[ring], offsets @ axes, values[ring].astype(np.float64), omega[ring]
+        )
         if fit is not None:
-            slope, sky, amplitude = fit
+            slope, sky, amplitude, residual = fit
             slope = float(slope)
             chi = _chi_from_gamma(slope)
     if amplitude is None:  # no aureole to fit: the sky is the median of the ring
         near_sky = (ang > clip_radius + pitch) & (ang < outer) & (omega > 0)
         if near_sky.any():
             sky = np.median(values[near_sky], axis=0).astype(np.float64)
-    before = values[region].astype(np.float64) - sky
+    lower = values[region].astype(np.float64)
+    before = lower - sky
     cos = np.clip(dirs[region] @ centre, 0, None)
     merged_irr = (before * (omega[region] * cos)[:, None]).sum(0)
     # the model's aureole averaged over each texel (the disk's own part left to the deposit)
@@ -315,6 +465,10 @@ def recover_sun(
         aureole = np.where(in_disk, 0.0, np.maximum(sub_t, SUN_DISK_MRAD) ** slope).mean(axis=1)
         model += aureole[:, None] * amplitude[None, :]
     aureole_irr = ((model - sky) * (omega[region] * cos)[:, None]).sum(0)
+    peak, reason = 0.0, None
+    if amplitude is not None and chi is not None:  # the fitted disk's centre
+        l0 = amplitude / math.exp(float(_kappa(chi)))
+        peak = float(_luminance(l0[None])[0])
     if irradiance is not None:
         colour = amplitude if amplitude is not None and amplitude.sum() > 0 else before.mean(0)
         colour = np.maximum(np.asarray(colour, np.float64), 0)
@@ -322,41 +476,42 @@ def recover_sun(
         colour = colour / colour_lum if colour_lum > 0 else np.ones_like(colour)
         disk_irr = np.maximum(irradiance * colour - aureole_irr, 0)
         source = "given"
-    elif amplitude is not None and chi is not None:  # fitted together
-        l0 = amplitude / math.exp(float(_kappa(chi)))
+    elif peak > 0:  # fitted together
         disk_irr = l0 * _disk_integral()
         source = "aureole"
     else:
-        return radiance, status, None
+        disk_irr, source = np.zeros(values.shape[1]), "none"
     weight = coverage * omega[region]
     if weight.sum() <= 0:  # the disk falls between sub-samples: the nearest texel takes it
         coverage = np.zeros_like(coverage)
         coverage[np.argmin(ang[region])] = 1.0
         weight = coverage * omega[region]
     model += disk_irr[None, :] * coverage[:, None] / weight.sum()
-    model = np.maximum(model, values[region])  # a clipped value is a lower bound
-    out = radiance.copy()
-    flat = out.reshape(-1, out.shape[-1])
-    flat[region] = model.astype(np.float32)
-    new_status = status.copy()
-    new_status.reshape(-1)[region] = MODELLED
-    total_irr = (model - sky) * (omega[region] * cos)[:, None]
-    sun_irr = total_irr.sum(0)
-    facing = np.clip(dirs @ centre, 0, None) * omega
-    everything = float(_luminance((flat.astype(np.float64) * facing[:, None]).sum(0)[None])[0])
-    halo = (ang < outer) & (omega > 0)
-    halo_excess = np.clip(flat[halo].astype(np.float64) - sky, 0, None) * facing[halo, None]
-    sun_total = float(_luminance(halo_excess.sum(0)[None])[0])
-    recovery = SunRecovery(
-        direction=centre,
-        clipped_radius_deg=math.degrees(clip_radius),
-        source=source,
-        aureole_slope=slope,
-        circumsolar_ratio=chi,
-        irradiance=sun_irr,
-        merged_irradiance=merged_irr,
-        share=sun_total / everything if everything > 0 else 0.0,
-        texels=int(region.size),
-        measured=find_sun(out, layout),
+    level = float(_luminance(values[near]).max())  # the darkest frame's clipping level
+    ceiling = disk_ceiling(level, clip_radius * 1e3)
+    fitted = float(_luminance(disk_irr[None])[0])
+    inside = clipped_all[region]
+    short = 1 - float(np.sum(_luminance(model[inside]) * omega[region][inside])) / float(
+        np.sum(_luminance(lower[inside]) * omega[region][inside])
     )
-    return out, new_status, recovery
+    if source == "aureole" and residual > FIT_RESIDUAL:
+        reason = (
+            f"the aureole's fit misses the measured ring around the sun by {residual:.0%} RMS, "
+            f"more than {FIT_RESIDUAL:.0%} (a horizon, a cloud or the ground in it)"
+        )
+    elif source == "aureole" and not fitted <= ceiling:  # NaN and infinity too
+        reason = (
+            f"the aureole's fit (slope {slope:.2f}) puts {fitted:.4g} in the disk, more "
+            f"than the {ceiling:.4g} that the clearest sky's sunshape allows above the "
+            "clipping level"
+        )
+    elif source == "aureole" and short > FIT_RESIDUAL:
+        reason = (
+            f"the aureole's fit holds {short:.0%} less light than the clipped lower bounds "
+            f"around the sun, more than {FIT_RESIDUAL:.0%}: it does not explain the clipping"
+        )
+    model = np.maximum(model, lower)  # a clipped value is a lower bound
+    return _Candidate(
+        near, centre, clip_radius, outer, region, light, sky, slope, chi, merged_irr, model,
+        peak, source, reason,
+    )  # fmt: skip

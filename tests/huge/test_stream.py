@@ -77,3 +77,15 @@ def test_a_pickled_radiance_reader_carries_its_scanline_index(tmp_path):
     copy = pickle.loads(pickle.dumps(reader))
     assert len(copy.__dict__["starts"]) == 25
     np.testing.assert_array_equal(copy.read((3, 9)), reader.read((3, 9)))
+
+
+@pytest.mark.parametrize("ext", ["exr", "tif", "zarr"])
+def test_half_strips_refuse_a_value_beyond_65504(tmp_path, ext):
+    """A sun in the last strip: half floats would clamp it (EXR) or make it infinite (TIFF,
+    zarr); refused, naming the option that keeps it, and nothing is left behind."""
+    a = _image(h=64, w=32)
+    a[-1, -1] = 1e5
+    path = tmp_path / f"x.{ext}"
+    with pytest.raises(BakeshopError, match="reach 1e\\+05, beyond .* pixel_type=float keeps"):
+        write_strips(path, a.shape, (a[y : y + 16] for y in range(0, 64, 16)), pixel_type="half")
+    assert not path.exists() and list(tmp_path.iterdir()) == []

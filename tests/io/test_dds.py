@@ -9,6 +9,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
+from bakeshop.io import write_container
 from bakeshop.io.dds import read_dds, write_dds
 from tests.io import fuzzing
 from tests.tolerances import EXACT
@@ -81,12 +82,14 @@ def test_channels(tmp_path, channels, fmt, stored):
         np.testing.assert_array_equal(got[1][..., 3], 1.0)
 
 
-def test_half_clamps_a_bright_sun(tmp_path):
+def test_half_refuses_a_bright_sun_that_float32_keeps(tmp_path):
     mips = [np.full((6, 2, 2, 4), 1e5, np.float32), np.full((6, 1, 1, 4), -1e6, np.float32)]
-    write_dds(tmp_path / "t.dds", mips)
-    got, _ = read_dds(tmp_path / "t.dds")
-    np.testing.assert_array_equal(got[0], 65504.0)
-    np.testing.assert_array_equal(got[1], -65504.0)
+    with pytest.raises(ArgumentError, match='reach 1e\\+05, beyond the 65504 .*dtype="float32"'):
+        write_dds(tmp_path / "t.dds", mips)
+    assert not (tmp_path / "t.dds").exists()
+    write_container(tmp_path / "t.dds", mips)  # the containers' writer widens it
+    got, meta = read_dds(tmp_path / "t.dds")
+    assert meta["stored"] == "float32" and got[1].min() == -1e6
 
 
 def test_legacy_fourcc_float_files_are_read(tmp_path):

@@ -10,6 +10,8 @@ Odd channel layouts are built with the OpenEXR bindings directly.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import OpenEXR
 import OpenImageIO as oiio
@@ -150,25 +152,44 @@ def test_lossy_compressions_stay_close(tmp_path, compression):
     assert not same_bits(back, image.astype(np.float16 if pixel_type == "half" else np.float32))
 
 
-def test_half_overflow_clamps_finite_values_and_keeps_nan_and_inf(tmp_path):
+def test_half_overflow_is_written_as_float_by_default_and_refused_as_half(tmp_path):
+    """A value beyond 65504 (a sun) makes the default file float32, said in one warning, with
+    every value kept; half asked for explicitly refuses, naming the option that keeps it."""
     image = np.array(
         [[[1e5, -1e5, 65504.0], [65519.0, 65520.0, 3.4e38], [np.inf, -np.inf, np.nan]]], np.float32
     )
-    write_image(tmp_path / "o.exr", image)
-    back = read_image(tmp_path / "o.exr")
-    expected = [[65504, -65504, 65504], [65504, 65504, 65504], [np.inf, -np.inf, np.nan]]
-    np.testing.assert_array_equal(back[0], np.array(expected, np.float32))
-    # float keeps them
-    write_image(tmp_path / "f.exr", image, pixel_type="float")
-    assert same_bits(read_image(tmp_path / "f.exr"), image)
+    with pytest.warns(UserWarning, match="values reach 3.4e\\+38.*32-bit floats"):
+        write_image(tmp_path / "o.exr", image)
+    back, meta = read_image(tmp_path / "o.exr", with_metadata=True)
+    assert meta["stored"] == "float" and same_bits(back, image)
+    with pytest.raises(ArgumentError, match="beyond the 65504 .* pixel_type=float keeps them"):
+        write_image(tmp_path / "h.exr", image, pixel_type="half")
+    assert not (tmp_path / "h.exr").exists()
+    # within half's range (infinities and NaN included), the default is half, without a word
+    image[np.isfinite(image) & (np.abs(image) > 65504)] = 1.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        write_image(tmp_path / "s.exr", image)
+    back, meta = read_image(tmp_path / "s.exr", with_metadata=True)
+    assert meta["stored"] == "half" and same_bits(back, image)
+
+
+def test_the_finite_peak_is_found_by_blocks_past_nan_and_infinities(monkeypatch):
+    monkeypatch.setattr(exr, "_BLOCK_BYTES", 64)  # a block of rows at a time
+    image = np.ones((40, 5, 3), np.float32)
+    image[0, 0, 0], image[3, 1, 2] = np.nan, -np.inf
+    image[39, 4, 1] = -7e4  # in the last block
+    assert exr.finite_peak(image) == 7e4
+    assert exr.finite_peak(np.full((2, 2, 1), np.nan)) == 0.0
 
 
 @pytest.mark.parametrize("kernel", [True, False])
 def test_half_rounding_of_every_kind_of_float32_is_numpys(tmp_path, monkeypatch, kernel):
     """The writer's float32 -> half conversions (the one-pass numba kernel of large images, and
-    numpy's for small ones) against numpy's IEEE conversion (round to nearest even) plus the
-    clamp rule: random bit patterns of every exponent, and every pattern around the subnormal,
-    normal and overflow boundaries of half, both signs."""
+    numpy's for small ones) against numpy's IEEE conversion (round to nearest even): random bit
+    patterns of every exponent, and every pattern around the subnormal, normal and overflow
+    boundaries of half, both signs (finite values beyond 65504 made infinite: half refuses
+    them)."""
     monkeypatch.setattr(exr, "_KERNEL_PIXELS", 0 if kernel else 1 << 40)
     rng = np.random.default_rng(7)
     edges = [0x33000000, 0x33800000, 0x38000000, 0x38800000, 0x477FE000, 0x47800000]
@@ -177,11 +198,11 @@ def test_half_rounding_of_every_kind_of_float32_is_numpys(tmp_path, monkeypatch,
         [rng.integers(0, 2**32, 300_000, dtype=np.uint64).astype(np.uint32), near, near | 1 << 31]
     )
     image = bits[: bits.size // 900 * 900].view(np.float32).reshape(-1, 300, 3)
-    write_image(tmp_path / "h.exr", image)
-    with np.errstate(over="ignore", invalid="ignore"):
+    beyond = np.isfinite(image) & (np.abs(image) > 65504)
+    image[beyond] = np.copysign(np.inf, image[beyond])
+    write_image(tmp_path / "h.exr", image, pixel_type="half")
+    with np.errstate(invalid="ignore"):
         expected = image.astype(np.float16).astype(np.float32)
-        clamp = np.isinf(expected) & np.isfinite(image)
-    expected[clamp] = np.copysign(65504.0, image[clamp])
     back = read_image(tmp_path / "h.exr")
     nan = np.isnan(expected)
     assert np.array_equal(np.isnan(back), nan)

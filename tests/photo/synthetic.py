@@ -90,17 +90,25 @@ SUN_DIRECTION = np.array([0.5, 0.6, -0.6]) / np.linalg.norm([0.5, 0.6, -0.6])
 SUN_COLOUR = np.array([1.0, 0.95, 0.85])
 
 
+#: a sun low over the horizon, its aureole's ring cut by the ground.
+LOW_SUN = (0.7, 0.1, -0.7)
+
+
 @lru_cache(maxsize=2)
-def sunny_probe(l0: float = 2e5, chi: float = 0.05, reach_deg: float = 15.0):
+def sunny_probe(
+    l0: float = 2e5, chi: float = 0.05, reach_deg: float = 15.0, direction: tuple | None = None
+):
     """The default probe with its sun painted out and a Buie sun of centre radiance ``l0``
-    (colour SUN_COLOUR) at SUN_DIRECTION. Returns ``(probe, sky, irradiance (3,))``: the sky
-    alone and the sun's exact irradiance at normal incidence out to ``reach_deg``."""
+    (colour SUN_COLOUR) at ``direction`` (SUN_DIRECTION by default). Returns ``(probe, sky,
+    irradiance (3,))``: the sky alone and the sun's exact irradiance at normal incidence out
+    to ``reach_deg``."""
     from bakeshop.light.sun import remove_sun
 
+    sun = SUN_DIRECTION if direction is None else np.asarray(direction) / np.linalg.norm(direction)
     sky, _ = remove_sun(default_probe(), "latlong")
     h, w = sky.shape[:2]
     centre = latlong_dirs(h, w)
-    near = centre @ SUN_DIRECTION > math.cos(math.radians(reach_deg + 1))
+    near = centre @ sun > math.cos(math.radians(reach_deg + 1))
     ys, xs = np.nonzero(near)
     n = 24
     acc = np.zeros(ys.size)
@@ -111,7 +119,7 @@ def sunny_probe(l0: float = 2e5, chi: float = 0.05, reach_deg: float = 15.0):
             d = np.stack(
                 [np.sin(theta) * np.sin(phi), np.cos(theta), -np.sin(theta) * np.cos(phi)], -1
             )
-            ang = np.arccos(np.clip(d @ SUN_DIRECTION, -1, 1))
+            ang = np.arccos(np.clip(d @ sun, -1, 1))
             acc += np.where(ang <= math.radians(reach_deg), buie(ang * 1e3, chi), 0.0)
     acc /= n * n
     probe = sky.astype(np.float64)
@@ -122,11 +130,11 @@ def sunny_probe(l0: float = 2e5, chi: float = 0.05, reach_deg: float = 15.0):
     return probe.astype(np.float32), sky, irradiance
 
 
-def sun_irradiance(image, sky, reach_deg: float = 15.0) -> np.ndarray:
-    """The light above ``sky`` within ``reach_deg`` of SUN_DIRECTION, at normal incidence."""
+def sun_irradiance(image, sky, reach_deg: float = 15.0, direction=SUN_DIRECTION) -> np.ndarray:
+    """The light above ``sky`` within ``reach_deg`` of ``direction``, at normal incidence."""
     h, w = image.shape[:2]
     d = latlong_dirs(h, w)
-    cos = d @ SUN_DIRECTION
+    cos = d @ (np.asarray(direction) / np.linalg.norm(direction))
     cap = cos > math.cos(math.radians(reach_deg))
     excess = image[cap].astype(np.float64) - sky[cap]
     return (excess * (latlong_omega(h, w)[cap] * cos[cap])[:, None]).sum(0)

@@ -4,6 +4,8 @@ saved response reads back exactly."""
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -104,3 +106,42 @@ def test_recovery_refuses_what_it_cannot_use(stack):
         recover_response(stack.codes, stack.exposures, smoothness=float("nan"))
     with pytest.raises(ArgumentError, match="response method"):
         recover_response(stack.codes, stack.exposures, method="mitsunaga")
+
+
+@pytest.mark.parametrize("method", ["debevec", "robertson"])
+@pytest.mark.parametrize("code", [0, 255])
+def test_black_or_white_frames_are_refused_in_words(method, code):
+    codes = np.full((3, 64, 64, 3), code, np.uint8)
+    with pytest.raises(ArgumentError, match="too few samples unclipped in two frames"):
+        recover_response(codes, [1.0, 2.0, 4.0], method=method)
+
+
+@pytest.mark.parametrize(
+    "key, value",
+    [
+        ("linear", [[10**400]] * 256),  # float() overflows
+        ("linear", [[float("inf")]] * 256),
+        ("samples", float("inf")),  # int() overflows
+        ("samples", 10**30),
+        ("fit_error_stops", [float("nan")]),
+        ("gamma", 10**400),  # a known curve's number
+    ],
+    ids=["huge-linear", "infinite-linear", "infinite-samples", "huge-samples", "nan-fit", "gamma"],
+)
+def test_huge_and_infinite_numbers_in_a_response_are_refused(tmp_path, key, value):
+    curve = "gamma" if key == "gamma" else "debevec"
+    doc = (
+        known_response("gamma").to_dict()
+        if curve == "gamma"
+        else CameraResponse(np.linspace(0, 1, 256)[:, None] ** 2, curve).to_dict()
+    )
+    doc[key] = value
+    (tmp_path / "r.json").write_text(json.dumps(doc))
+    with pytest.raises(FormatError, match="damaged camera response|must be finite"):
+        CameraResponse.from_dict(read_json(tmp_path / "r.json"), tmp_path / "r.json")
+
+
+def test_an_integer_longer_than_python_converts_is_not_json(tmp_path):
+    (tmp_path / "r.json").write_text('{"samples": ' + "9" * 5000 + "}")
+    with pytest.raises(FormatError, match="not a JSON document"):
+        read_json(tmp_path / "r.json")

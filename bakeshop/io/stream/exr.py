@@ -103,7 +103,7 @@ def write_strips(
     compression: str = "zip",
 ) -> None:
     """Write a scanline OpenEXR file strip by strip (options as :func:`bakeshop.io.exr.write`:
-    half clamps finite values beyond +-65504)."""
+    half refuses finite values beyond +-65504, naming ``pixel_type=float``)."""
     validate_choice(pixel_type, tuple(exr.PIXEL_TYPES), "EXR pixel type")
     validate_choice(compression, tuple(exr.COMPRESSIONS), "EXR compression")
     imath = _imath()
@@ -121,7 +121,7 @@ def write_strips(
         out = OpenEXR.OutputFile(os.fspath(tmp), header)
         try:
             for strip in strips:
-                a = exr.to_half(strip) if pixel_type == "half" else strip
+                a = exr.to_half(strip, "pixel_type=float") if pixel_type == "half" else strip
                 out.writePixels(
                     {n: np.ascontiguousarray(a[:, :, i]).tobytes() for i, n in enumerate(names)},
                     strip.shape[0],

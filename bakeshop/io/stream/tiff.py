@@ -93,10 +93,15 @@ def write_strips(
     pixel_type: str = "float",
 ) -> None:
     """Write a tiled BigTIFF of float samples from strips (``tile`` x ``tile`` tiles;
-    ``compression`` as tifffile names it: None, ``"zlib"``, ``"zstd"`` ...)."""
+    ``compression`` as tifffile names it: None, ``"zlib"``, ``"zstd"`` ...). Half refuses
+    finite values beyond +-65504, naming ``pixel_type=float``."""
     tifffile = _tifffile()
     h, w, c = shape
     dtype = np.float16 if pixel_type == "half" else np.float32
+    if pixel_type == "half":
+        from bakeshop.io.exr import check_half
+
+        strips = (check_half(s, "pixel_type=float") for s in strips)
 
     def row_of_tiles(rows: np.ndarray) -> Iterator[np.ndarray]:
         for x in range(0, w, tile):

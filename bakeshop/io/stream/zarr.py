@@ -144,7 +144,12 @@ def write_strips(
     attributes: dict | None = None,
 ) -> None:
     """Write a zarr store from strips top to bottom (chunks of ``chunks`` = (rows, columns),
-    default 256 x 256); strips are buffered into whole rows of chunks before writing."""
+    default 256 x 256); strips are buffered into whole rows of chunks before writing. Half
+    refuses finite values beyond +-65504, naming ``pixel_type=float``."""
+    if pixel_type == "half":
+        from bakeshop.io.exr import check_half
+
+        strips = (check_half(s, "pixel_type=float") for s in strips)
     with atomic_directory(path) as tmp:
         a = create(tmp, shape, chunks=chunks, pixel_type=pixel_type, attributes=attributes)
         rows = a.chunks[0]
