@@ -294,7 +294,8 @@ def serve(
     try:
         server = _BoundedServer((LOCALHOST, port), _handler(routes, timeout), connections)
     except OSError as e:
-        raise ArgumentError(f"cannot serve on {LOCALHOST}:{port}: {e.strerror or e}") from None
+        reason = f"cannot serve on it: {e.strerror or e}" + (" (port 0 picks a free one)" if port else "")
+        raise ArgumentError(reason, f"{LOCALHOST}:{port}") from None
     thread = threading.Thread(target=server.serve_forever, name="bakeshop-view", daemon=True)
     thread.start()
     return Viewer(server, thread, f"http://{LOCALHOST}:{server.server_address[1]}/")
