@@ -294,7 +294,8 @@ def serve(
     try:
         server = _BoundedServer((LOCALHOST, port), _handler(routes, timeout), connections)
     except OSError as e:
-        reason = f"cannot serve on it: {e.strerror or e}" + (" (port 0 picks a free one)" if port else "")
+        hint = " (port 0 picks a free one)" if port else ""
+        reason = f"cannot serve on it: {e.strerror or e}{hint}"
         raise ArgumentError(reason, f"{LOCALHOST}:{port}") from None
     thread = threading.Thread(target=server.serve_forever, name="bakeshop-view", daemon=True)
     thread.start()

@@ -98,7 +98,8 @@ def test_view_of_a_file_names_it(tmp_path, capsys):
     (tmp_path / "a.hdr").write_bytes(b"")
     assert main(["-q", "view", str(tmp_path / "a.hdr"), "--no-browser"]) == 2
     err = capsys.readouterr().err
-    assert err == f"bakeshop: error: {tmp_path / 'a.hdr'}: not a folder (give the folder bake-probe wrote)\n"
+    assert err.startswith(f"bakeshop: error: {tmp_path / 'a.hdr'}: not a folder ")
+    assert err.count("\n") == 1
 
 
 def test_view_on_a_port_in_use_names_it(bake_dir, capsys, no_serving):

@@ -313,7 +313,7 @@ def test_a_signal_at_any_moment_of_writing_leaves_no_temporary(tmp_path):
 )
 def test_a_json_number_no_float64_holds_is_refused(tmp_path, number):
     path = tmp_path / "sun.json"
-    path.write_text('{"direction": [%s, 0, 1], "seed": 123456789012345678901}' % number)
+    path.write_text(f'{{"direction": [{number}, 0, 1], "seed": 123456789012345678901}}')
     with pytest.raises(FormatError, match="not a finite float64") as e:
         read_json(path)
     assert e.value.path == str(path) and len(str(e.value)) < 200
