@@ -147,8 +147,8 @@ def _closed(
     if not body.is_watertight:
         hint = "" if repair else " (repair=True / --repair tries to close it)"
         raise FormatError(
-            f"the mesh is not watertight: {_open_edges(body)} open edges, so it has no "
-            f"inside to float{hint}",
+            f"the mesh is not watertight: {_edge_defects(body)}, so it has no inside to "
+            f"float{hint}",
             path,
         )
     trimesh.repair.fix_normals(body)
@@ -157,9 +157,19 @@ def _closed(
     return body
 
 
-def _open_edges(mesh: trimesh.Trimesh) -> int:
-    counts = np.bincount(trimesh.grouping.group_rows(mesh.edges_sorted, require_count=1))
-    return int(len(counts)) if counts.size else 0
+def _edge_defects(mesh: trimesh.Trimesh) -> str:
+    """What keeps a welded mesh from being closed: edges of one triangle (holes) and edges of
+    three or more (non-manifold: fins, T-junctions, meshes touching along an edge)."""
+    _, uses = np.unique(mesh.edges_sorted, axis=0, return_counts=True)
+    defects = [
+        f"{n:,} {what}"
+        for n, what in (
+            (int((uses == 1).sum()), "open edges (of one triangle)"),
+            (int((uses > 2).sum()), "non-manifold edges (shared by 3 or more triangles)"),
+        )
+        if n
+    ]
+    return " and ".join(defects)
 
 
 def _rotation_to_x() -> np.ndarray:
