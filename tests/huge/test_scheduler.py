@@ -64,3 +64,12 @@ def test_a_listener_that_never_answers_is_refused_after_the_timeout(monkeypatch)
         with pytest.raises(BakeshopError, match="no answer within 1 s"):
             Engine(f"tcp://127.0.0.1:{s.getsockname()[1]}")
     assert time.monotonic() - start < 30
+
+
+def test_a_scheduler_at_its_address_is_reached():
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  protocol="tcp", dashboard_address=None) as cluster:  # fmt: skip
+        with Engine(cluster.scheduler_address, memory="64MB") as eng:
+            assert eng.distributed and eng.workers == 1
+            assert eng.client.submit(sum, [1, 2]).result(timeout=30) == 3
