@@ -12,7 +12,7 @@ from bakeshop.buoyancy.forces import ForceModel
 from bakeshop.buoyancy.hydrostatics import waterplane_area
 from bakeshop.buoyancy.mass import make_body, pack
 from bakeshop.buoyancy.metrics import clearance, summarize
-from bakeshop.buoyancy.shapes import FACE_BYTES, closed_mesh, make_shape, resize
+from bakeshop.buoyancy.shapes import FACE_BYTES, FACE_SECONDS, closed_mesh, make_shape, resize
 from bakeshop.buoyancy.state import axis_angle_quaternion, quaternion_to_matrix
 from bakeshop.buoyancy.stepping import release, simulate
 from bakeshop.buoyancy.water import Water
@@ -29,13 +29,8 @@ if TYPE_CHECKING:
     from bakeshop.io.mesh import Mesh
 
 
-#: Seconds per triangle to close a mesh and voxelise its body (measured: 4.5 s for a
-#: 327,680-triangle icosphere on two busy cores, rounded up).
-FACE_SECONDS = 15e-6
 #: Bytes per cell of the voxel grid (volume, moment, area; the rays' crossings).
 CELL_BYTES = 64
-#: A mesh whose closing and sampling is estimated longer than this says so in its progress.
-SLOW_SECONDS = 10.0
 
 
 def float_mesh_cost(faces: int, resolution: int) -> Cost:
@@ -96,10 +91,8 @@ def float_body(
     if shape is not None and mesh is None:
         mesh = make_shape(shape, size=size)
     elif mesh is not None and shape is None:
-        cost = require(float_mesh_cost(len(mesh.faces), resolution), path)
-        slow = f" (about {cost.work} s with the sampling)" if cost.work > SLOW_SECONDS else ""
-        with progress.step(f"closing {len(mesh.faces):,} triangles{slow}"):
-            mesh = resize(closed_mesh(mesh, repair=repair, path=path), size)
+        require(float_mesh_cost(len(mesh.faces), resolution), path)
+        mesh = resize(closed_mesh(mesh, repair=repair, path=path), size)
     else:
         raise ArgumentError("give either a mesh or a built-in shape, not both or neither")
     if not np.isfinite(tilt):

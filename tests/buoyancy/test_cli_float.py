@@ -155,3 +155,20 @@ def test_a_mesh_past_the_memory_bound_is_refused_naming_the_option(monkeypatch):
     with pytest.raises(BakeshopError, match="--resolution lowers") as e:
         bench.float_body(box, density=500, resolution=100, path="box.obj")
     assert e.value.path == "box.obj" and "needs about 64" in e.value.reason
+
+
+def test_a_slow_mesh_says_how_long_in_its_progress(monkeypatch):
+    import trimesh
+
+    from bakeshop import progress
+    from bakeshop.buoyancy import shapes
+
+    seen, step = [], progress.step
+    monkeypatch.setattr(progress, "step", lambda text: seen.append(text) or step(text))
+    shapes.closed_mesh(trimesh.creation.box())
+    monkeypatch.setattr(shapes, "FACE_SECONDS", 1.0)
+    shapes.closed_mesh(trimesh.creation.box())
+    assert seen == [
+        "closing the mesh (12 triangles)",
+        "closing the mesh (12 triangles, about 12 s with its sampling)",
+    ]
