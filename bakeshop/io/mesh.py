@@ -103,10 +103,11 @@ def angle_weighted_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarr
 def _gltf_count(item: dict, key: str, what: str, path: Path, limit: int | None = None) -> int:
     """``item[key]``, a byte count or index (below ``limit``) read from a glTF file."""
     value = item.get(key, 0 if key == "byteOffset" else None)
-    if isinstance(value, int) and not isinstance(value, bool) and 0 <= value < (limit or 1 << 62):
+    bound = 1 << 62 if limit is None else limit
+    if isinstance(value, int) and not isinstance(value, bool) and 0 <= value < bound:
         return value
-    bound = f"an index below {limit}" if limit is not None else "a count"
-    raise FormatError(f"{what}'s {key} is {value!r}, not {bound}", path)
+    wanted = "a count" if limit is None else f"an index below {limit}"
+    raise FormatError(f"{what}'s {key} is {value!r}, not {wanted}", path)
 
 
 def _gltf_buffers(header: dict, binary: bytes | None, path: Path) -> list[bytes]:

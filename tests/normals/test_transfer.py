@@ -375,6 +375,7 @@ LYING_GLTF = {
     "a bufferView of a buffer that is not there": (
         lambda doc: doc["bufferViews"][0].update(buffer=1), "buffer is 1, not an index below 1"
     ),
+    "a glTF without buffers": (lambda doc: doc.pop("buffers"), "buffer is 0, not an index below 0"),
     "a byteLength that is not a number": (
         lambda doc: doc["bufferViews"][0].update(byteLength="12"), "byteLength is '12'"
     ),
