@@ -36,6 +36,7 @@ baked chain, DFG table and DIM pair, as ``bakeshop preview`` does.
 from __future__ import annotations
 
 import json
+import sys
 import threading
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
@@ -238,6 +239,7 @@ class _BoundedServer(ThreadingHTTPServer):
     """A thread per connection, at most ``connections`` at once; one more is answered 503."""
 
     daemon_threads = True
+    request_queue_size = 128  # a burst of connections waits in the kernel, not in SYN retries
 
     def __init__(self, address: tuple[str, int], handler: type, connections: int) -> None:
         super().__init__(address, handler)
@@ -258,6 +260,12 @@ class _BoundedServer(ThreadingHTTPServer):
             super().process_request_thread(request, client_address)
         finally:
             self._slots.release()
+
+    def handle_error(self, request: socket, client_address: tuple) -> None:
+        """A client gone mid-answer (a reset, a closed tab) is not the viewer's error: no
+        traceback on the terminal for it; anything else is reported as before."""
+        if not isinstance(sys.exc_info()[1], OSError):
+            super().handle_error(request, client_address)
 
 
 def serve(
