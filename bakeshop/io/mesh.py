@@ -178,7 +178,9 @@ def _gltf_check(header: dict, buffers: list[bytes], path: Path) -> None:
     for i, accessor in enumerate(accessors):
         what = f"accessor {i}"
         if "bufferView" not in accessor or "sparse" in accessor:
-            raise UnsupportedError(f"{what} has no bufferView (sparse data is not read)", path)
+            raise UnsupportedError(
+                f"{what} has no bufferView (sparse or compressed data is not read)", path
+            )
         view = views[_gltf_count(accessor, "bufferView", what, path, len(views))]
         kind, components = accessor.get("componentType"), accessor.get("type")
         if kind not in GLTF_COMPONENT_TYPES or components not in GLTF_COMPONENTS:
