@@ -12,11 +12,12 @@ from bakeshop.buoyancy.forces import ForceModel
 from bakeshop.buoyancy.hydrostatics import waterplane_area
 from bakeshop.buoyancy.mass import make_body, pack
 from bakeshop.buoyancy.metrics import clearance, summarize
-from bakeshop.buoyancy.shapes import closed_mesh, make_shape, resize
+from bakeshop.buoyancy.shapes import FACE_BYTES, FACE_SECONDS, closed_mesh, make_shape, resize
 from bakeshop.buoyancy.state import axis_angle_quaternion, quaternion_to_matrix
 from bakeshop.buoyancy.stepping import release, simulate
 from bakeshop.buoyancy.water import Water
 from bakeshop.errors import ArgumentError
+from bakeshop.resources import Cost, require
 
 if TYPE_CHECKING:
     import os
@@ -26,6 +27,22 @@ if TYPE_CHECKING:
     from bakeshop.buoyancy.mass import Fleet
     from bakeshop.buoyancy.stepping import Trace
     from bakeshop.io.mesh import Mesh
+
+
+#: Bytes per cell of the voxel grid (volume, moment, area; the rays' crossings).
+CELL_BYTES = 64
+
+
+def float_mesh_cost(faces: int, resolution: int) -> Cost:
+    """What closing and sampling a mesh of ``faces`` triangles with ``resolution`` cells along
+    its longest side (at most ``resolution**3`` cells) hold at their peak; ``work`` is the
+    estimated time in seconds."""
+    memory = FACE_BYTES * faces + CELL_BYTES * resolution**3
+    what = (
+        f"floating a mesh of {faces:,} triangles at {resolution} cells along its longest side "
+        "(--resolution lowers the cells; a mesh of fewer triangles the rest)"
+    )
+    return Cost(memory, int(FACE_SECONDS * faces + 0.5), what)
 
 
 @dataclass
@@ -74,6 +91,7 @@ def float_body(
     if shape is not None and mesh is None:
         mesh = make_shape(shape, size=size)
     elif mesh is not None and shape is None:
+        require(float_mesh_cost(len(mesh.faces), resolution), path)
         mesh = resize(closed_mesh(mesh, repair=repair, path=path), size)
     else:
         raise ArgumentError("give either a mesh or a built-in shape, not both or neither")

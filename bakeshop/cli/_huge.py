@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import click
 
 from bakeshop.cli._numbers import MemorySize
+from bakeshop.huge.scheduler import CONNECT_TIMEOUT, LOCAL_SCHEDULERS, scheduler_address
 
 if TYPE_CHECKING:
     from bakeshop.huge import Engine
@@ -21,12 +22,23 @@ memory_option = click.option(
     "job is cut into blocks that fit, or refused before it starts with the size it needs. "
     "Default: half of the memory available now (or BAKESHOP_MEMORY); 4 MiB to 1 PB.",
 )
+
+
+def _check_scheduler(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
+    """Refuse a malformed address before the command reads anything."""
+    if value is not None and value not in LOCAL_SCHEDULERS:
+        scheduler_address(value)
+    return value
+
+
 scheduler_option = click.option(
     "--scheduler",
     metavar="ADDRESS",
-    help="Run the blocks on a dask.distributed cluster, tcp://HOST:PORT (its workers must see "
-    "the input file: a shared disk; .zarr is best). Default: BAKESHOP_SCHEDULER, else threads "
-    "on this machine.",
+    callback=_check_scheduler,
+    help="Run the blocks on a dask.distributed cluster, tcp://HOST:PORT or tls://HOST:PORT (its "
+    "workers must see the input file: a shared disk; .zarr is best); a scheduler not reached "
+    f"within {CONNECT_TIMEOUT} s is an error. Default: BAKESHOP_SCHEDULER, else threads on "
+    "this machine.",
 )
 
 

@@ -12,7 +12,7 @@ from bakeshop.cli._numbers import Integer
 
 
 @click.command(context_settings={"max_content_width": 100})
-@click.argument("bake_dir", metavar="BAKE_DIR", type=click.Path(file_okay=False, path_type=Path))
+@click.argument("bake_dir", metavar="BAKE_DIR", type=click.Path(path_type=Path))
 @click.option(
     "--port",
     type=Integer(0, 65535),

@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import os
 import pickle
+import socket
+import threading
 from collections.abc import Callable, Sequence
 from typing import Any, TypeVar
 
@@ -23,16 +25,12 @@ import numba
 import numpy as np
 
 from bakeshop import progress
-from bakeshop.errors import ArgumentError, BakeshopError, UnsupportedError
+from bakeshop.errors import BakeshopError, UnsupportedError
 from bakeshop.huge.memory import refuse, resolve_memory
+from bakeshop.huge.scheduler import CONNECT_TIMEOUT, LOCAL_SCHEDULERS, scheduler_address
 from bakeshop.io.stream import ArrayReader, Reader
 
 T = TypeVar("T")
-
-#: schedulers that run in this process.
-LOCAL_SCHEDULERS = ("threads", "synchronous")
-#: address prefixes of a dask.distributed scheduler.
-ADDRESS_PREFIXES = ("tcp://", "tls://", "ucx://", "inproc://", "ws://", "wss://")
 
 
 class InTask:
@@ -66,8 +64,10 @@ class Engine:
     scheduler : str or distributed.Client, optional
         ``"threads"`` (default: dask's local threaded scheduler, one thread per core),
         ``"synchronous"`` (one task at a time, in this thread), the address of a dask.distributed
-        scheduler (``tcp://HOST:PORT``), or a connected ``distributed.Client``. None reads the
-        BAKESHOP_SCHEDULER environment variable, then uses ``"threads"``.
+        scheduler (``tcp://HOST:PORT`` or ``tls://HOST:PORT``, checked by
+        :func:`scheduler_address` and reached within :data:`CONNECT_TIMEOUT` seconds), or a
+        connected ``distributed.Client``. None reads the BAKESHOP_SCHEDULER environment
+        variable, then uses ``"threads"``.
     memory : int or str, optional
         The bound of each process (this one, and each worker's tasks): ``"2GB"``, bytes, or
         None for the default (:func:`bakeshop.huge.memory.resolve_memory`).
@@ -81,15 +81,10 @@ class Engine:
         if scheduler is None:
             scheduler = os.environ.get("BAKESHOP_SCHEDULER") or "threads"
         if isinstance(scheduler, str):
-            if scheduler.startswith(ADDRESS_PREFIXES):
+            if scheduler not in LOCAL_SCHEDULERS:
                 self.client = _connect(scheduler)
                 self._own_client = True
                 scheduler = "distributed"
-            elif scheduler not in LOCAL_SCHEDULERS:
-                raise ArgumentError(
-                    f"unknown scheduler {scheduler!r}: 'threads', 'synchronous', or the address "
-                    "of a dask.distributed scheduler (tcp://HOST:PORT)"
-                )
         else:
             self.client = scheduler
             scheduler = "distributed"
@@ -296,13 +291,40 @@ def _add(a: Any, b: Any) -> Any:
 
 
 def _connect(address: str) -> Any:
+    """A client of the scheduler at ``address``, reached within :data:`CONNECT_TIMEOUT`
+    seconds. distributed bounds the connection but not the handshake that follows (a peer that
+    accepts and never answers holds ``Client()`` until it closes), so the client is made in a
+    daemon thread that is waited for that long."""
+    host, port = scheduler_address(address)
     try:
+        import dask
         from distributed import Client
     except ImportError:
         raise UnsupportedError(
             "a dask.distributed scheduler needs the distributed package: install bakeshop[huge]"
         ) from None
+    timeout = f"{CONNECT_TIMEOUT}s"
+    outcome: list[Any] = []
+
+    def connect() -> None:
+        try:
+            with dask.config.set({"distributed.comm.timeouts.connect": timeout}):
+                outcome.append(Client(address, timeout=timeout))
+        except Exception as e:  # whatever distributed raises is the reason it could not
+            outcome.append(e)
+
     try:
-        return Client(address, timeout="10s")
-    except (OSError, TimeoutError) as e:
-        raise BakeshopError(f"cannot reach the dask scheduler at {address}: {e}") from None
+        socket.create_connection((host, port), timeout=CONNECT_TIMEOUT).close()
+    except OSError as e:
+        reason = e.strerror or str(e) or type(e).__name__
+        raise BakeshopError(f"cannot reach the dask scheduler: {reason}", address) from None
+    thread = threading.Thread(target=connect, name="bakeshop-connect", daemon=True)
+    thread.start()
+    thread.join(CONNECT_TIMEOUT)
+    if not outcome:
+        reason = f"no answer within {CONNECT_TIMEOUT} s (is a dask scheduler listening there?)"
+    elif isinstance(outcome[0], Exception):
+        reason = str(outcome[0]) or type(outcome[0]).__name__
+    else:
+        return outcome[0]
+    raise BakeshopError(f"cannot reach the dask scheduler: {reason}", address)

@@ -51,10 +51,28 @@ def write_json(path: str | os.PathLike, document: dict) -> None:
         write_text(path, json.dumps(_plain(document), indent=1, allow_nan=False))
 
 
+def _finite_float(text: str) -> float:
+    """A JSON number as a float64, refused where none holds it (``1e999``, a 400-digit
+    integer, ``NaN``, ``Infinity``): no document of bakeshop holds one, and its readers would
+    turn it into an infinity or fail on it."""
+    if len(text) <= 400:  # a longer one is refused before Python parses 5000 digits
+        value = float(text)
+        if math.isfinite(value):
+            return value
+    shown = text if len(text) <= 20 else f"{text[:12]}... ({len(text)} characters)"
+    raise ValueError(f"the number {shown} is not a finite float64")
+
+
+def _json_int(text: str) -> int:
+    """A JSON integer, refused where no float64 holds it (as :func:`_finite_float`)."""
+    _finite_float(text)
+    return int(text)
+
+
 def read_json(path: str | os.PathLike) -> dict:
     """Read a JSON object from ``path``; :class:`~bakeshop.errors.FormatError` naming the file
     when it is not one (or is larger than :data:`MAX_BYTES`, nested too deeply for Python's
-    parser, or holds an integer beyond its digit limit). Only a regular file is read."""
+    parser, or holds a number that no float64 holds). Only a regular file is read."""
     with open_input(path) as f:
         size = os.fstat(f.fileno()).st_size
         if size > MAX_BYTES:
@@ -64,10 +82,15 @@ def read_json(path: str | os.PathLike) -> dict:
         except OSError as e:
             raise BakeshopError(e.strerror or str(e), path) from None
     try:
-        doc = json.loads(data.decode("utf-8"))
+        doc = json.loads(
+            data.decode("utf-8"),
+            parse_float=_finite_float,
+            parse_int=_json_int,
+            parse_constant=_finite_float,
+        )
     except RecursionError:
         raise FormatError("not a JSON document: nested too deeply", path) from None
-    except ValueError as e:  # bad UTF-8, bad JSON, an integer beyond the digit limit
+    except ValueError as e:  # bad UTF-8, bad JSON, a number no float64 holds
         raise FormatError(f"not a JSON document: {e}", path) from None
     if not isinstance(doc, dict):
         raise FormatError("the JSON document is not an object", path)

@@ -8,20 +8,27 @@ column u W and row (1 - v) H of a W x H map; glTF's v-down coordinates are conve
 
 from __future__ import annotations
 
+import base64
+import binascii
 import io
 import json
 import os
 import struct
 from dataclasses import dataclass
 from pathlib import Path
+from urllib.parse import unquote
 
 import numpy as np
 
-from bakeshop.errors import ArgumentError, FormatError
+from bakeshop.errors import ArgumentError, BakeshopError, FormatError, UnsupportedError
 from bakeshop.io._files import check_input
+from bakeshop.resources import Cost, require
 
 #: extensions :func:`load_mesh` reads.
 MESH_EXTENSIONS = (".obj", ".stl", ".ply", ".off", ".gltf", ".glb")
+#: glTF accessor component types (numpy dtypes) and components per element of each type.
+GLTF_COMPONENT_TYPES = {5120: "i1", 5121: "u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
+GLTF_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 
 
 @dataclass
@@ -93,10 +100,127 @@ def angle_weighted_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarr
     return np.where(length > 0, normals / np.where(length > 0, length, 1), (0.0, 0.0, 1.0))
 
 
-def _gltf_with_named_texcoords(path: Path) -> tuple[bytes, str]:
-    """The glTF's JSON (and GLB binary chunk) with TEXCOORD_n renamed to _TEXCOORD_n, which
-    trimesh keeps as plain vertex attributes (its own UV handling keeps only TEXCOORD_0 and
-    only on primitives with a material)."""
+def _gltf_count(item: dict, key: str, what: str, path: Path, limit: int | None = None) -> int:
+    """``item[key]``, a byte count or index (below ``limit``) read from a glTF file."""
+    value = item.get(key, 0 if key == "byteOffset" else None)
+    bound = 1 << 62 if limit is None else limit
+    if isinstance(value, int) and not isinstance(value, bool) and 0 <= value < bound:
+        return value
+    wanted = "a count" if limit is None else f"an index below {limit}"
+    raise FormatError(f"{what}'s {key} is {value!r}, not {wanted}", path)
+
+
+def _gltf_buffers(header: dict, binary: bytes | None, path: Path) -> list[bytes]:
+    """Each buffer's bytes, exactly ``byteLength`` of them: from the GLB's binary chunk, a data
+    URI, or a regular file beside ``path`` (checked, and bounded by memory, before it is read)."""
+    buffers = []
+    for i, spec in enumerate(header.get("buffers", [])):
+        what = f"buffer {i}"
+        length = _gltf_count(spec, "byteLength", what, path)
+        uri = spec.get("uri")
+        if uri is None:
+            if i != 0 or binary is None:
+                raise FormatError(f"{what} has no uri and the file no binary chunk", path)
+            blob = binary
+        elif not isinstance(uri, str):
+            raise FormatError(f"{what}'s uri is not a string", path)
+        elif uri.startswith("data:"):
+            try:
+                blob = base64.b64decode(uri.partition(",")[2], validate=True)
+            except binascii.Error as e:
+                raise FormatError(f"{what}'s data URI is not base64 ({e})", path) from None
+        else:
+            file = path.parent / unquote(uri)
+            if check_input(file).st_size < length:
+                raise FormatError(f"{what} ({uri}) is shorter than its {length} bytes", path)
+            require(Cost(length, length, f"{what} ({uri}) of {length:,} bytes"), path)
+            with open(file, "rb") as f:
+                blob = f.read(length)
+        if len(blob) < length:
+            raise FormatError(f"{what} holds {len(blob)} bytes, not its {length}", path)
+        buffers.append(blob[:length])
+    return buffers
+
+
+def _gltf_accessor(header: dict, buffers: list[bytes], index: int) -> np.ndarray:
+    """The (count,) values of a SCALAR accessor whose layout :func:`_gltf_check` checked."""
+    accessor = header["accessors"][index]
+    view = header["bufferViews"][accessor["bufferView"]]
+    dtype = np.dtype(GLTF_COMPONENT_TYPES[accessor["componentType"]])
+    return np.ndarray(
+        (accessor["count"],),
+        dtype,
+        buffers[view["buffer"]],
+        view.get("byteOffset", 0) + accessor.get("byteOffset", 0),
+        (view.get("byteStride") or dtype.itemsize,),
+    )
+
+
+def _gltf_check(header: dict, buffers: list[bytes], path: Path) -> None:
+    """Refuse a glTF whose numbers point outside its data: each bufferView within its buffer,
+    each accessor's ``count`` elements (at their stride) within its bufferView, each
+    primitive's accessors existing and its indices below its POSITION count."""
+    views = header.get("bufferViews", [])
+    for i, view in enumerate(views):
+        what = f"bufferView {i}"
+        b = _gltf_count(view, "buffer", what, path, len(buffers))
+        end = _gltf_count(view, "byteOffset", what, path) + _gltf_count(
+            view, "byteLength", what, path
+        )
+        if end > len(buffers[b]):
+            raise FormatError(
+                f"{what} ends at byte {end}, past the {len(buffers[b])} of buffer {b}", path
+            )
+        stride = view.get("byteStride")
+        if stride is not None and (_gltf_count(view, "byteStride", what, path) % 4 or stride > 252):
+            raise FormatError(f"{what}'s byteStride {stride} is not 4, 8 ... 252", path)
+    accessors = header.get("accessors", [])
+    for i, accessor in enumerate(accessors):
+        what = f"accessor {i}"
+        if "bufferView" not in accessor or "sparse" in accessor:
+            raise UnsupportedError(
+                f"{what} has no bufferView (sparse or compressed data is not read)", path
+            )
+        view = views[_gltf_count(accessor, "bufferView", what, path, len(views))]
+        kind, components = accessor.get("componentType"), accessor.get("type")
+        if kind not in GLTF_COMPONENT_TYPES or components not in GLTF_COMPONENTS:
+            raise FormatError(f"{what} has componentType {kind!r} and type {components!r}", path)
+        element = np.dtype(GLTF_COMPONENT_TYPES[kind]).itemsize * GLTF_COMPONENTS[components]
+        count = _gltf_count(accessor, "count", what, path)
+        stride = view.get("byteStride") or element
+        end = _gltf_count(accessor, "byteOffset", what, path) + (count - 1) * stride + element
+        if count and end > view["byteLength"]:
+            raise FormatError(
+                f"{what}'s {count} elements end at byte {end}, past the {view['byteLength']} of "
+                f"bufferView {accessor['bufferView']}",
+                path,
+            )
+    for m, mesh in enumerate(header.get("meshes", [])):
+        for p, primitive in enumerate(mesh.get("primitives", [])):
+            what = f"mesh {m} primitive {p}"
+            attributes = primitive.get("attributes", {})
+            for key in attributes:
+                _gltf_count(attributes, key, what, path, len(accessors))
+            vertices = accessors[_gltf_count(attributes, "POSITION", what, path, len(accessors))]
+            if "indices" in primitive:
+                index = _gltf_count(primitive, "indices", what, path, len(accessors))
+                if accessors[index]["componentType"] not in (5121, 5123, 5125):
+                    raise FormatError(f"{what}'s indices are not unsigned integers", path)
+                values = _gltf_accessor(header, buffers, index)
+                if values.size and int(values.max()) >= vertices["count"]:
+                    raise FormatError(
+                        f"{what} indexes vertex {int(values.max())}, past its "
+                        f"{vertices['count']} vertices",
+                        path,
+                    )
+
+
+def _gltf_geometry(path: Path) -> tuple[bytes, dict[str, bytes]]:
+    """The glTF's JSON reduced to its geometry, checked by :func:`_gltf_check`, with each
+    buffer named by its index and TEXCOORD_n renamed to _TEXCOORD_n (trimesh keeps those as
+    plain vertex attributes; its own UV handling keeps only TEXCOORD_0 and only on primitives
+    with a material); and the buffers by name. Materials and images are dropped, so nothing but
+    the checked buffers is ever read."""
     data = path.read_bytes()
     binary = None
     try:
@@ -111,21 +235,25 @@ def _gltf_with_named_texcoords(path: Path) -> tuple[bytes, str]:
                 binary = rest[8 : 8 + size]
         else:
             header = json.loads(data)
-    except (ValueError, struct.error) as e:
+        buffers = _gltf_buffers(header, binary, path)
+        _gltf_check(header, buffers, path)
+    except (ValueError, struct.error, AttributeError, TypeError, KeyError) as e:
+        if isinstance(e, BakeshopError):
+            raise
         raise FormatError(f"not a glTF file ({e})", path) from None
+    for key in ("images", "textures", "samplers", "materials"):
+        header.pop(key, None)
     for mesh in header.get("meshes", []):
         for prim in mesh.get("primitives", []):
-            attrs = prim.get("attributes", {})
+            prim.pop("material", None)
+            attrs = prim["attributes"]
             for key in [k for k in attrs if k.startswith("TEXCOORD_")]:
                 attrs["_" + key] = attrs.pop(key)
-    payload = json.dumps(header).encode()
-    if binary is not None:
-        payload += b" " * (-len(payload) % 4)
-        binary += b"\0" * (-len(binary) % 4)
-        chunks = struct.pack("<I4s", len(payload), b"JSON") + payload
-        chunks += struct.pack("<I4s", len(binary), b"BIN\0") + binary
-        return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks, "glb"
-    return payload, "gltf"
+    named = {}
+    for i, spec in enumerate(header.get("buffers", [])):
+        spec["uri"] = f"buffer{i}.bin"
+        named[spec["uri"]] = buffers[i]
+    return json.dumps(header).encode(), named
 
 
 def load_mesh(path: str | os.PathLike) -> Mesh:
@@ -162,10 +290,10 @@ def load_mesh(path: str | os.PathLike) -> Mesh:
     gltf = ext in (".gltf", ".glb")
     try:
         if gltf:
-            data, kind = _gltf_with_named_texcoords(path)
-            resolver = trimesh.resolvers.FilePathResolver(str(path))
+            header, buffers = _gltf_geometry(path)
+            resolver = trimesh.resolvers.ZipResolver(buffers)
             mesh = trimesh.load(
-                io.BytesIO(data), file_type=kind, force="mesh", process=False, resolver=resolver
+                io.BytesIO(header), file_type="gltf", force="mesh", process=False, resolver=resolver
             )
         else:
             mesh = trimesh.load(path, force="mesh", process=False, maintain_order=True)
@@ -175,6 +303,9 @@ def load_mesh(path: str | os.PathLike) -> Mesh:
         raise FormatError(f"cannot read the mesh: {e}", path) from None
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
         raise FormatError("the file holds no triangles", path)
+    faces = np.asarray(mesh.faces)
+    if faces.min() < 0 or faces.max() >= len(mesh.vertices):  # before trimesh indexes with them
+        raise FormatError(f"a face indexes vertex {faces.max()} of {len(mesh.vertices)}", path)
     if gltf:
         attrs = mesh.vertex_attributes
         uv, uv2 = (attrs.get(f"_TEXCOORD_{k}") for k in (0, 1))

@@ -20,6 +20,14 @@ route                        what
                              course's vertices (``golf``: V rows of 15 floats)
 ============================ =====================================================================
 
+It answers only requests addressed to itself: a ``Host`` other than ``127.0.0.1:PORT``,
+``localhost:PORT`` or ``[::1]:PORT`` is 421 Misdirected Request, and an ``Origin`` other than
+``http://`` one of those is 403 (a page elsewhere, even one whose name a DNS rebinding points at
+127.0.0.1, reads nothing). A request line that is not ``METHOD PATH HTTP/1.x`` is 400 (505 for
+another major version), with a status line and no file. At most ``connections`` connections
+are served at once (each by a thread; one more is answered 503 and closed), and a connection
+silent for ``timeout`` seconds is closed.
+
 The texels are the bake's values as read by :func:`bakeshop.preview.read_bake` (a half-float
 file gives the same numbers in float32): nothing is re-filtered, so the page shows exactly the
 baked chain, DFG table and DIM pair, as ``bakeshop preview`` does.
@@ -28,10 +36,12 @@ baked chain, DFG table and DIM pair, as ``bakeshop preview`` does.
 from __future__ import annotations
 
 import json
+import sys
 import threading
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import resources
+from socket import socket
 from typing import TYPE_CHECKING, NamedTuple
 from urllib.parse import urlsplit
 
@@ -51,6 +61,12 @@ __all__ = ["LOCALHOST", "Viewer", "serve", "viewer_payload"]
 
 #: The only address the viewer binds to.
 LOCALHOST = "127.0.0.1"
+#: The names the viewer answers to, besides LOCALHOST (the port follows each in ``Host``).
+LOOPBACK_NAMES = (LOCALHOST, "localhost", "[::1]")
+#: Seconds a connection may stay silent before the server closes it.
+IDLE_TIMEOUT = 15.0
+#: Connections served at once (a browser opens about six per server).
+CONNECTIONS = 32
 #: The programs the page compiles.
 WEB_PROGRAMS = ("balls", "scene", "shadow", "compose")
 #: The scenes the page draws.
@@ -172,11 +188,34 @@ class Viewer(NamedTuple):
         self.thread.join()
 
 
-def _handler(routes: dict[str, tuple[str, bytes]]) -> type[BaseHTTPRequestHandler]:
+def _handler(routes: dict[str, tuple[str, bytes]], idle: float) -> type[BaseHTTPRequestHandler]:
     class Handler(BaseHTTPRequestHandler):
         server_version = "bakeshop-view"
+        timeout = idle  # of each read and write (StreamRequestHandler)
+        # An error answered before the version is known still gets a status line (the standard
+        # library's default, HTTP/0.9, sends an error page without one).
+        default_request_version = "HTTP/1.0"
+
+        def parse_request(self) -> bool:
+            if len(self.raw_requestline.split()) != 3:  # HTTP/0.9 ("GET /") or no request at all
+                self.command, self.requestline, self.close_connection = None, "", True
+                self.request_version = self.default_request_version
+                self.send_error(HTTPStatus.BAD_REQUEST, "Bad request line")
+                return False
+            return super().parse_request()
 
         def do_GET(self) -> None:  # noqa: N802 - the standard library's name
+            port = self.server.server_address[1]
+            hosts = {f"{name}:{port}" for name in LOOPBACK_NAMES}
+            if port == 80:
+                hosts.update(LOOPBACK_NAMES)
+            if self.headers.get("Host", "").lower() not in hosts:
+                self.send_error(HTTPStatus.MISDIRECTED_REQUEST)
+                return
+            origin = self.headers.get("Origin")
+            if origin is not None and origin.lower() not in {f"http://{h}" for h in hosts}:
+                self.send_error(HTTPStatus.FORBIDDEN, "Cross-origin request")
+                return
             path = urlsplit(self.path).path
             found = routes.get(path)
             if found is None:
@@ -196,7 +235,42 @@ def _handler(routes: dict[str, tuple[str, bytes]]) -> type[BaseHTTPRequestHandle
     return Handler
 
 
-def serve(bake: Bake, *, port: int = 0) -> Viewer:
+class _BoundedServer(ThreadingHTTPServer):
+    """A thread per connection, at most ``connections`` at once; one more is answered 503."""
+
+    daemon_threads = True
+    request_queue_size = 128  # a burst of connections waits in the kernel, not in SYN retries
+
+    def __init__(self, address: tuple[str, int], handler: type, connections: int) -> None:
+        super().__init__(address, handler)
+        self._slots = threading.BoundedSemaphore(connections)
+
+    def process_request(self, request: socket, client_address: tuple) -> None:
+        if self._slots.acquire(blocking=False):
+            super().process_request(request, client_address)
+            return
+        try:
+            request.sendall(b"HTTP/1.0 503 Service Unavailable\r\nConnection: close\r\n\r\n")
+        except OSError:
+            pass
+        self.shutdown_request(request)
+
+    def process_request_thread(self, request: socket, client_address: tuple) -> None:
+        try:
+            super().process_request_thread(request, client_address)
+        finally:
+            self._slots.release()
+
+    def handle_error(self, request: socket, client_address: tuple) -> None:
+        """A client gone mid-answer (a reset, a closed tab) is not the viewer's error: no
+        traceback on the terminal for it; anything else is reported as before."""
+        if not isinstance(sys.exc_info()[1], OSError):
+            super().handle_error(request, client_address)
+
+
+def serve(
+    bake: Bake, *, port: int = 0, timeout: float = IDLE_TIMEOUT, connections: int = CONNECTIONS
+) -> Viewer:
     """Serve the viewer of ``bake`` on 127.0.0.1 in a background thread.
 
     Parameters
@@ -204,6 +278,11 @@ def serve(bake: Bake, *, port: int = 0) -> Viewer:
     bake : Bake
     port : int
         0..65535; 0 picks a free port.
+    timeout : float
+        Seconds a connection may stay silent (waiting for a request, or not reading a response)
+        before it is closed.
+    connections : int
+        Connections served at once; one more is answered 503 Service Unavailable.
 
     Returns
     -------
@@ -221,10 +300,11 @@ def serve(bake: Bake, *, port: int = 0) -> Viewer:
     for name, body in blobs.items():
         routes[f"/data/{name}.f32"] = ("application/octet-stream", body)
     try:
-        server = ThreadingHTTPServer((LOCALHOST, port), _handler(routes))
+        server = _BoundedServer((LOCALHOST, port), _handler(routes, timeout), connections)
     except OSError as e:
-        raise ArgumentError(f"cannot serve on {LOCALHOST}:{port}: {e.strerror or e}") from None
-    server.daemon_threads = True
+        hint = " (port 0 picks a free one)" if port else ""
+        reason = f"cannot serve on it: {e.strerror or e}{hint}"
+        raise ArgumentError(reason, f"{LOCALHOST}:{port}") from None
     thread = threading.Thread(target=server.serve_forever, name="bakeshop-view", daemon=True)
     thread.start()
     return Viewer(server, thread, f"http://{LOCALHOST}:{server.server_address[1]}/")

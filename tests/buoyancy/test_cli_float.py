@@ -118,3 +118,57 @@ def test_float_text_explains_every_number(capsys):
     assert all(len(line) <= 100 and len(line.split()) > 3 for line in lines)
     assert main([*args, "--json"]) == 0
     assert list(json.loads(capsys.readouterr().out)) == list(SUMMARY)
+
+
+def test_a_non_manifold_mesh_says_what_is_wrong(tmp_path, capsys):
+    """Two cubes sharing one edge: no hole, but that edge has four triangles."""
+    import numpy as np
+    import trimesh
+
+    a = trimesh.creation.box()
+    b = trimesh.creation.box()
+    b.apply_translation((1, 1, 0))
+    trimesh.util.concatenate([a, b]).export(tmp_path / "touching.obj")
+    assert main(["float", str(tmp_path / "touching.obj")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "open edges" not in err
+    assert "1 non-manifold edges (shared by 3 or more triangles)" in err
+    # a hole and a fin together: both are counted
+    fin = trimesh.Trimesh(np.r_[a.vertices, [[0.5, 0.5, 2]]], np.r_[a.faces[1:], [[6, 7, 8]]])
+    fin.export(tmp_path / "fin.obj")
+    assert main(["float", str(tmp_path / "fin.obj")]) == 2
+    err = capsys.readouterr().err
+    assert "open edges (of one triangle) and 1 non-manifold edges" in err
+
+
+def test_a_mesh_past_the_memory_bound_is_refused_naming_the_option(monkeypatch):
+    import trimesh
+
+    from bakeshop import resources
+    from bakeshop.buoyancy import bench
+    from bakeshop.errors import BakeshopError
+
+    cost = bench.float_mesh_cost(5_000_000, 10)
+    assert cost.work >= 60 and cost.memory >= 4e9  # 5 million triangles: a minute and more
+    monkeypatch.setattr(resources, "memory_limits", lambda: {"memory available": 40 << 20})
+    box = trimesh.creation.box()
+    with pytest.raises(BakeshopError, match="--resolution lowers") as e:
+        bench.float_body(box, density=500, resolution=100, path="box.obj")
+    assert e.value.path == "box.obj" and "needs about 64" in e.value.reason
+
+
+def test_a_slow_mesh_says_how_long_in_its_progress(monkeypatch):
+    import trimesh
+
+    from bakeshop import progress
+    from bakeshop.buoyancy import shapes
+
+    seen, step = [], progress.step
+    monkeypatch.setattr(progress, "step", lambda text: seen.append(text) or step(text))
+    shapes.closed_mesh(trimesh.creation.box())
+    monkeypatch.setattr(shapes, "FACE_SECONDS", 1.0)
+    shapes.closed_mesh(trimesh.creation.box())
+    assert seen == [
+        "closing the mesh (12 triangles)",
+        "closing the mesh (12 triangles, about 12 s with its sampling)",
+    ]

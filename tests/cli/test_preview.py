@@ -1,6 +1,10 @@
 """``bakeshop preview`` as a user runs it: bake-probe's folder in, PNGs out, one error line for
 bad input."""
 
+import re
+import shutil
+import socket
+
 import numpy as np
 import pytest
 
@@ -78,3 +82,47 @@ def test_view_of_a_folder_that_is_not_a_bake_is_one_line(tmp_path, capsys):
     assert main(["-q", "view", str(tmp_path), "--no-browser"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "env_posx" in err
+
+
+@pytest.fixture
+def no_serving(monkeypatch):
+    """A view that starts serving stops at once (Ctrl-C) instead of serving until killed."""
+
+    def interrupt(seconds):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("bakeshop.cli.view.time.sleep", interrupt)
+
+
+def test_view_of_a_file_names_it(tmp_path, capsys):
+    (tmp_path / "a.hdr").write_bytes(b"")
+    assert main(["-q", "view", str(tmp_path / "a.hdr"), "--no-browser"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"bakeshop: error: {tmp_path / 'a.hdr'}: not a folder ")
+    assert err.count("\n") == 1
+
+
+def test_view_on_a_port_in_use_names_it(bake_dir, capsys, no_serving):
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        assert main(["-q", "view", str(bake_dir), "--port", str(port), "--no-browser"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"bakeshop: error: 127.0.0.1:{port}: cannot serve on it: ")
+    assert err.count("\n") == 1
+
+
+@pytest.mark.parametrize("name", ["sun.json", "sh.json"])
+@pytest.mark.parametrize("number", ["1" + "0" * 400, "1" + "0" * 5000, "1e999"])
+def test_view_of_a_sidecar_with_a_huge_number_is_one_line(
+    bake_dir, tmp_path, capsys, no_serving, name, number
+):
+    folder = tmp_path / "bake"
+    shutil.copytree(bake_dir, folder)
+    text = (folder / name).read_text()
+    (folder / name).write_text(re.sub(r"-?\d+\.\d+", number, text, count=1))
+    assert main(["-q", "view", str(folder), "--no-browser"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"bakeshop: error: {folder / name}: ") and err.count("\n") == 1
+    assert "not a finite float64" in err

@@ -17,9 +17,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bakeshop.errors import BakeshopError
+from bakeshop.errors import BakeshopError, FormatError
 from bakeshop.io import _files as files
-from bakeshop.io import check_input, read_image, record_writes, write_image
+from bakeshop.io import check_input, read_image, read_json, record_writes, write_image
 from bakeshop.io.dds import read_dds, write_dds
 from bakeshop.io.ktx import read_ktx
 from bakeshop.io.ktx2 import read_ktx2
@@ -306,3 +306,20 @@ def test_a_signal_at_any_moment_of_writing_leaves_no_temporary(tmp_path):
     finally:
         child.kill()
         child.wait()
+
+
+@pytest.mark.parametrize(
+    "number", ["1e999", "-1e999", "1" + "0" * 400, "1" + "0" * 5000, "NaN", "-Infinity"]
+)
+def test_a_json_number_no_float64_holds_is_refused(tmp_path, number):
+    path = tmp_path / "sun.json"
+    path.write_text(f'{{"direction": [{number}, 0, 1], "seed": 123456789012345678901}}')
+    with pytest.raises(FormatError, match="not a finite float64") as e:
+        read_json(path)
+    assert e.value.path == str(path) and len(str(e.value)) < 200
+
+
+def test_json_numbers_in_range_are_read_as_written(tmp_path):
+    path = tmp_path / "doc.json"
+    path.write_text('{"a": [1e308, -2, 123456789012345678901, 0.1]}')
+    assert read_json(path) == {"a": [1e308, -2, 123456789012345678901, 0.1]}

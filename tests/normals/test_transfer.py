@@ -2,13 +2,16 @@
 
 import base64
 import json
+import os
+import re
 
 import numpy as np
 import pytest
 from matplotlib.path import Path as PolyPath
 
-from bakeshop.errors import ArgumentError, FormatError
-from bakeshop.io import load_mesh
+from bakeshop.cli.main import main
+from bakeshop.errors import ArgumentError, BakeshopError, FormatError
+from bakeshop.io import load_mesh, write_image
 from bakeshop.io.mesh import Mesh
 from bakeshop.normals.tiling import place_detail
 from bakeshop.normals.transfer import (
@@ -347,3 +350,80 @@ def test_load_glb_written_by_trimesh_keeps_uvs_up(tmp_path):
     assert all(
         tuple(np.round(np.r_[p, t], 5)) in key for p, t in zip(got.positions, got.uv, strict=True)
     )
+
+
+def _lying(doc):
+    """The glTF document of write_gltf with its first index (accessor 4) set to 10**6."""
+    blob = bytearray(base64.b64decode(doc["buffers"][0]["uri"].partition(",")[2]))
+    start = doc["bufferViews"][4]["byteOffset"]
+    blob[start : start + 4] = np.uint32(10**6).tobytes()
+    doc["buffers"][0]["uri"] = "data:;base64," + base64.b64encode(bytes(blob)).decode()
+
+
+LYING_GLTF = {
+    "an index past the vertices": (_lying, "indexes vertex 1000000, past its"),
+    "an accessor past its bufferView": (
+        lambda doc: doc["accessors"][4].update(count=10**6),
+        "accessor 4's 1000000 elements end at byte 4000000, past the",
+    ),
+    "an accessor offset past its bufferView": (
+        lambda doc: doc["accessors"][0].update(byteOffset=10**9), "past the"
+    ),
+    "a bufferView past its buffer": (
+        lambda doc: doc["bufferViews"][2].update(byteLength=10**6), "bufferView 2 ends at byte"
+    ),
+    "a bufferView of a buffer that is not there": (
+        lambda doc: doc["bufferViews"][0].update(buffer=1), "buffer is 1, not an index below 1"
+    ),
+    "a glTF without buffers": (lambda doc: doc.pop("buffers"), "buffer is 0, not an index below 0"),
+    "a byteLength that is not a number": (
+        lambda doc: doc["bufferViews"][0].update(byteLength="12"), "byteLength is '12'"
+    ),
+    "an accessor that is not there": (
+        lambda doc: doc["meshes"][0]["primitives"][0].update(indices=9), "not an index below 5"
+    ),
+    "a buffer shorter than its byteLength": (
+        lambda doc: doc["buffers"][0].update(byteLength=10**6), "bytes, not its 1000000"
+    ),
+    "a buffer that is a FIFO": (
+        lambda doc: doc["buffers"][0].update(uri="fifo.bin"), "named pipe"
+    ),
+}  # fmt: skip
+
+
+@pytest.fixture
+def gltf_with(tmp_path):
+    """A glTF file written by write_gltf and changed by ``edit`` (beside it, a FIFO)."""
+
+    def make(edit):
+        path = tmp_path / "lying.gltf"
+        write_gltf(path, cylinder(segments=16, uv2_scale=(3, 2)))
+        doc = json.loads(path.read_text())
+        edit(doc)
+        path.write_text(json.dumps(doc))
+        os.mkfifo(tmp_path / "fifo.bin")
+        return path
+
+    return make
+
+
+@pytest.mark.parametrize("case", LYING_GLTF)
+def test_a_gltf_whose_numbers_point_outside_its_data_is_refused(gltf_with, case):
+    edit, message = LYING_GLTF[case]
+    path = gltf_with(edit)
+    with pytest.raises(BakeshopError, match=re.escape(message)) as e:
+        load_mesh(path)
+    assert e.value.path in (str(path), str(path.parent / "fifo.bin"))
+
+
+@pytest.mark.parametrize("command", [["float"], ["normals", "transfer"]])
+def test_the_commands_that_read_a_mesh_refuse_it_in_one_line(gltf_with, capsys, command):
+    path = gltf_with(_lying)
+    extra = [str(path.parent / "d.png"), str(path.parent / "o.png"), "--size", "8"]
+    if command == ["normals", "transfer"]:
+        write_image(path.parent / "d.png", np.full((8, 8, 3), 0.5, np.float32))
+    args = [*command, str(path), *(extra if command != ["float"] else [])]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"bakeshop: error: {path}: ") and err.count("\n") == 1
+    assert "indexes vertex 1000000" in err

@@ -2,6 +2,8 @@
 
 import http.client
 import json
+import socket
+import time
 
 import numpy as np
 import pytest
@@ -65,3 +67,70 @@ def test_the_page_gets_the_bakes_own_texels(viewer):
 def test_a_bad_port_is_refused():
     with pytest.raises(ArgumentError, match="0..65535"):
         serve(synthetic_bake(), port=70000)
+
+
+def raw(port, request, *, timeout=10):
+    """What the server answers to ``request`` sent as bytes, until it closes the connection."""
+    with socket.create_connection((LOCALHOST, port), timeout=timeout) as s:
+        s.sendall(request)
+        answer = b""
+        while chunk := s.recv(1 << 16):
+            answer += chunk
+    return answer
+
+
+@pytest.mark.parametrize(
+    "host", ["evil.example:{port}", "127.0.0.1:1", "localhost", "127.0.0.1:{port}.evil.example", ""]
+)
+def test_a_request_for_another_host_is_misdirected(viewer, host):
+    port = viewer[1].server.server_address[1]
+    header = f"Host: {host.format(port=port)}\r\n" if host else ""
+    answer = raw(port, f"GET /bake.json HTTP/1.1\r\n{header}\r\n".encode())
+    assert answer.startswith(b"HTTP/1.0 421 ") and b'"specular"' not in answer
+
+
+@pytest.mark.parametrize("name", ["127.0.0.1", "localhost", "LOCALHOST", "[::1]"])
+def test_each_loopback_name_is_served(viewer, name):
+    port = viewer[1].server.server_address[1]
+    origin = f"Origin: http://{name}:{port}\r\n"
+    answer = raw(port, f"GET /bake.json HTTP/1.0\r\nHost: {name}:{port}\r\n{origin}\r\n".encode())
+    assert answer.startswith(b"HTTP/1.0 200 ") and b'"specular"' in answer
+
+
+@pytest.mark.parametrize("origin", ["http://evil.example", "null", "https://127.0.0.1:{port}"])
+def test_a_cross_origin_request_is_forbidden(viewer, origin):
+    port = viewer[1].server.server_address[1]
+    request = f"GET /data/cube.f32 HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nOrigin: {origin}\r\n\r\n"
+    answer = raw(port, request.format(port=port).encode())
+    assert answer.startswith(b"HTTP/1.0 403 ") and len(answer) < 2000
+
+
+@pytest.mark.parametrize(
+    ("line", "status"),
+    [(b"GET /bake.json", b"400"), (b"GET", b"400"), (b"", b"400"), (b"GET / HTTP/x", b"400"),
+     (b"GET /bake.json HTTP/9.9", b"505"), (b"GET /bake.json HTTP/2.0", b"505"),
+     (b"GET /bake.json HTTP/1.1 x", b"400")],
+)  # fmt: skip
+def test_a_malformed_request_line_gets_a_status_and_no_file(viewer, line, status):
+    port = viewer[1].server.server_address[1]
+    answer = raw(port, line + f"\r\nHost: 127.0.0.1:{port}\r\n\r\n".encode())
+    assert answer.startswith(b"HTTP/1.0 " + status + b" ") and b'"specular"' not in answer
+
+
+def test_connections_are_bounded_and_idle_ones_closed():
+    v = serve(synthetic_bake(), timeout=0.5, connections=3)
+    port = v.server.server_address[1]
+    try:
+        idle = [socket.create_connection((LOCALHOST, port), timeout=10) for _ in range(3)]
+        time.sleep(0.1)
+        assert raw(port, b"").startswith(b"HTTP/1.0 503 ")
+        start = time.monotonic()
+        assert all(s.recv(1) == b"" for s in idle)  # closed by the server, not by us
+        assert time.monotonic() - start < 5
+        for s in idle:
+            s.close()
+        time.sleep(0.2)  # the threads release their slots just after closing
+        request = f"GET / HTTP/1.0\r\nHost: 127.0.0.1:{port}\r\n\r\n".encode()
+        assert raw(port, request).startswith(b"HTTP/1.0 200 ")
+    finally:
+        v.close()
