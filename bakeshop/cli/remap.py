@@ -21,7 +21,7 @@ from bakeshop.cli._common import (
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 from bakeshop.cli._numbers import Numbers, Size
 from bakeshop.cli._paths import ENVIRONMENT, OUTPUT_FACES, parse_size, refuse_overwriting_inputs
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.io import stored_bits
 from bakeshop.io.environment import (
     FACES,
@@ -237,7 +237,8 @@ def _remap_chunked(
         guesses = sphere.guess_layout(h, w)
         if len(guesses) != 1:
             raise ArgumentError(
-                f"cannot tell the layout of a {w}x{h} image; name it with --from", source
+                f"cannot tell the layout of {with_article(w)}x{h} image; name it with --from",
+                source,
             )
         src, how = guesses[0], f"guessed from its {w}x{h} shape"
     dst_name = "cube" if dst == FACES else dst

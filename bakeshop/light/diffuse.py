@@ -54,7 +54,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop import progress
-from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.errors import ArgumentError, validate_choice, with_article
 from bakeshop.light import sh
 from bakeshop.resources import Cost, require
 from bakeshop.sphere import STRIP_TEXELS, Environment, Layout, check_environment, texel_strips
@@ -115,7 +115,9 @@ def irradiance_cost(
     strip = min(n, STRIP_TEXELS)
     kept = (extra + SOURCE_BYTES * (method == "auto")) * n
     memory = INPUT_BYTES[method] * strip + kept + OUTPUT_BYTES * m + (128 << 20) * (method == "sh")
-    return Cost(memory, m, f"the {to} DIM of a {lay.name} environment of {n} texels ({method})")
+    return Cost(
+        memory, m, f"the {to} DIM of {with_article(lay.name)} environment of {n} texels ({method})"
+    )
 
 
 @numba.njit(parallel=True, fastmath=True, cache=True)
@@ -481,7 +483,8 @@ def dim_normals(to: str, size: int | tuple[int, int]) -> tuple[tuple, np.ndarray
     shape = lay.shape(size)
     if math.prod(shape) > MAX_OUTPUT_TEXELS:
         raise ArgumentError(
-            f"a {to} DIM of shape {shape} has more than {MAX_OUTPUT_TEXELS} texels; a DIM is "
+            f"{with_article(to)} DIM of shape {shape} has more than {MAX_OUTPUT_TEXELS} texels; "
+            "a DIM is "
             "smooth: 360x180 is plenty"
         )
     dirs, valid = lay.directions(shape)

@@ -34,7 +34,7 @@ from typing import Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.errors import ArgumentError, validate_choice, with_article
 
 CONVENTIONS = ("gl", "dx")
 ENCODINGS = ("packed", "signed")
@@ -168,7 +168,7 @@ def _raw(image: ArrayLike, encoding: str, channels: str) -> np.ndarray:
     a = _float(image)
     if a.ndim != 3 or a.shape[2] < (2 if channels == "xy" else 3):
         raise ArgumentError(
-            f"a {channels} normal map needs an (H, W, C) image with at least "
+            f"{with_article(channels)} normal map needs an (H, W, C) image with at least "
             f"{len(channels)} channels; got shape {a.shape}"
         )
     k = len(channels)
