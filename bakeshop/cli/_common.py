@@ -23,29 +23,25 @@ from bakeshop.io import stored_bits
 F = TypeVar("F", bound=Callable[..., Any])
 
 
-def _parse_value(text: str) -> bool | int | float | str:
-    lowered = text.lower()
-    if lowered in ("true", "yes", "on"):
-        return True
-    if lowered in ("false", "no", "off"):
-        return False
-    for kind in (int, float):
-        try:
-            return kind(text)
-        except ValueError:
-            pass
-    return text
-
-
-def parse_options(pairs: tuple[str, ...]) -> dict:
-    """``('compression=piz', 'bits=16')`` -> ``{'compression': 'piz', 'bits': 16}``."""
-    options: dict[str, Any] = {}
+def parse_options(pairs: tuple[str, ...]) -> dict[str, str]:
+    """``('compression=piz', 'bits=16')`` -> ``{'compression': 'piz', 'bits': '16'}``: the
+    values stay text, converted and checked by the codec's signature
+    (:func:`bakeshop.io.write_image`), so ``rle=maybe`` is refused, never taken as true."""
+    options: dict[str, str] = {}
     for pair in pairs:
         key, sep, value = pair.partition("=")
         if not sep or not key:
             raise ArgumentError(f"invalid option {pair!r}: expected KEY=VALUE")
-        options[key.strip().replace("-", "_")] = _parse_value(value.strip())
+        options[key.strip().replace("-", "_")] = value.strip()
     return options
+
+
+def picture_bits(value: object, path: str | os.PathLike | None = None) -> int:
+    """8 or 16, from ``--bits`` or ``-O bits=`` (text or a number)."""
+    bits = {"8": 8, "16": 16}.get(str(value).strip())
+    if bits is None:
+        raise ArgumentError(f"a picture has 8 or 16 bits per sample, not {value!r}", path)
+    return bits
 
 
 def writer_option(help: str) -> Callable[[F], F]:
@@ -410,10 +406,11 @@ def write_any(
     options = dict(options or {})
     if is_picture(target):
         requested = options.pop("bits", None)
-        if requested is not None and rule.bits is not None and requested != rule.bits:
-            raise ArgumentError("--bits and -O bits= disagree", target)
         if requested is not None:
-            rule = rule._replace(bits=int(requested))
+            requested = picture_bits(requested, target)
+            if rule.bits is not None and requested != rule.bits:
+                raise ArgumentError("--bits and -O bits= disagree", target)
+            rule = rule._replace(bits=requested)
         made = make_picture(image, rule, target, inputs=inputs, linear_input=linear)
         write_image(target, made.pixels, description=made.description, **options)
         if made.note:

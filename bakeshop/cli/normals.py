@@ -9,7 +9,14 @@ from typing import Any
 import click
 import numpy as np
 
-from bakeshop.cli._common import is_picture, output_bits, parse_options, warn, writer_option
+from bakeshop.cli._common import (
+    is_picture,
+    output_bits,
+    parse_options,
+    picture_bits,
+    warn,
+    writer_option,
+)
 from bakeshop.cli._normal_layers import build_layers, parse_layer, placement_options
 from bakeshop.cli._numbers import Integer, Number, Size
 from bakeshop.cli._paths import INPUT, OUTPUT, parse_size, refuse_overwriting_inputs
@@ -68,7 +75,9 @@ def write_normal_map(
     if is_picture(path):
         requested = options.pop("bits", None)
         bits, note = output_bits(
-            path, requested=None if requested is None else int(requested), inputs=inputs
+            path,
+            requested=None if requested is None else picture_bits(requested, path),
+            inputs=inputs,
         )
         if Path(path).suffix.lower() == ".png":
             options["bits"] = bits
@@ -568,7 +577,7 @@ def convert(
         requested = writer_options.pop("bits", None)
         bits, note = output_bits(
             target,
-            requested=None if requested is None else int(requested),
+            requested=None if requested is None else picture_bits(requested, target),
             inputs=[stored_bits(meta)],
         )
         if target.suffix.lower() == ".png":
