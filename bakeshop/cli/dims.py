@@ -9,7 +9,14 @@ from typing import TYPE_CHECKING
 import click
 import numpy as np
 
-from bakeshop.cli._common import float_format_option, linearise, out_dir_option, srgb_decode_option
+from bakeshop.cli._common import (
+    alpha_option,
+    fit_alpha,
+    float_format_option,
+    linearise,
+    out_dir_option,
+    srgb_decode_option,
+)
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 from bakeshop.cli._paths import ENVIRONMENT, refuse_overwriting_inputs
 from bakeshop.cli._probe import (
@@ -44,6 +51,7 @@ if TYPE_CHECKING:
 @size_option
 @window_option
 @srgb_decode_option
+@alpha_option
 @memory_option
 @scheduler_option
 def dims(
@@ -57,6 +65,7 @@ def dims(
     size: int | tuple[int, int] | None,
     window: str,
     srgb_decode: bool,
+    alpha: str | None,
     memory: int | str | None,
     scheduler: str | None,
 ) -> None:
@@ -98,6 +107,7 @@ def dims(
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     check_picture_format(layout, fmt, source)
     image, _ = linearise(image, source, meta, srgb_decode)
+    image = fit_alpha(image, alpha, source, *names.values())
     # the decoded probe is this command's own: the shadow probe is painted into it, not a copy
     paint_in_place = functools.partial(dim_pair, copy=False)
     pair, elapsed = timed(paint_in_place, image, layout, dst_layout, size, method, order, window)

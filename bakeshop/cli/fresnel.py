@@ -7,8 +7,10 @@ from pathlib import Path
 import click
 
 from bakeshop.cli._common import (
+    alpha_option,
     convention_option,
     environment_weights,
+    fit_alpha,
     is_ldr,
     linearise,
     parse_exposure_mode,
@@ -157,6 +159,7 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
     "fresnel error on normal-mapped water for RMS slopes 0.02 to 0.3.",
 )
 @srgb_decode_option
+@alpha_option
 def fresnel(
     source: Path,
     target: Path,
@@ -173,6 +176,7 @@ def fresnel(
     convention: str,
     report: bool,
     srgb_decode: bool,
+    alpha: str | None,
 ) -> None:
     """Bake the fresnel reflectance of flat water into an environment map.
 
@@ -220,6 +224,7 @@ def fresnel(
         source, src_layout, convention=convention, with_metadata=True
     )
     image, _ = linearise(image, source, meta, srgb_decode)
+    image = fit_alpha(image, alpha, source, target)
     dst = dst_layout or src
     _check_output(target, dst, ldr)
     if dst != src or size is not None:

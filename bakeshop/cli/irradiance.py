@@ -8,7 +8,9 @@ import click
 
 from bakeshop.cli._common import (
     PictureRule,
+    alpha_option,
     environment_weights,
+    fit_alpha,
     is_picture,
     linearise,
     make_picture,
@@ -54,6 +56,7 @@ from bakeshop.io.environment import check_openexr_target, describe
 )
 @window_option
 @srgb_decode_option
+@alpha_option
 @picture_options()
 def irradiance(
     source: Path,
@@ -67,6 +70,7 @@ def irradiance(
     shader: Path | None,
     window: str,
     srgb_decode: bool,
+    alpha: str | None,
     picture: PictureRule,
 ) -> None:
     """Compute the diffuse irradiance map (DIM) of the probe IN and write it to OUT.
@@ -107,6 +111,7 @@ def irradiance(
         refuse_unused_picture_rule(picture, target)
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     image, linear = linearise(image, source, meta, srgb_decode)
+    image = fit_alpha(image, alpha, source, target)
     dim, elapsed = timed(compute_dim, image, layout, dst_layout, size, method, order, window)
     made = None
     if picture_out:

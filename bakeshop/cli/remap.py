@@ -8,8 +8,10 @@ import click
 
 from bakeshop.cli._common import (
     PictureRule,
+    alpha_option,
     convention_option,
     environment_weights,
+    fit_alpha,
     is_picture,
     linearise,
     make_picture,
@@ -102,6 +104,7 @@ def _check_target(target: Path, layout: str) -> None:
     help="{face} is px, nx, py, ny, pz, nz instead of posx, negx, posy, negy, posz, negz.",
 )
 @srgb_decode_option
+@alpha_option
 @picture_options()
 @memory_option
 @scheduler_option
@@ -116,6 +119,7 @@ def remap(
     convention: str,
     short_face_names: bool,
     srgb_decode: bool,
+    alpha: str | None,
     picture: PictureRule,
     memory: int | str | None,
     scheduler: str | None,
@@ -178,6 +182,7 @@ def remap(
             source, src, convention=convention, short=short_face_names, with_metadata=True
         )
     image, linear = linearise(image, source, meta, srgb_decode)
+    image = fit_alpha(image, alpha, source, target)
     dst_name = "cube" if dst == FACES else dst
     size = None if size_text is None else parse_size(size_text)
     if filter_name == "auto":

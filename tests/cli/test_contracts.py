@@ -106,3 +106,60 @@ def test_a_pattern_output_including_another_output_is_refused(tmp_path, probe, c
     with pytest.raises(ArgumentError, match="two outputs name this file"):
         refuse_shared_outputs([str(faces), str(tmp_path / "cube_posx.hdr")])
     refuse_shared_outputs([str(faces), str(tmp_path / "cube_posx.json")])
+
+
+# -- alpha into formats that store RGB only ------------------------------------------------------
+
+
+def _rgba(tmp_path, alpha):
+    """A latlong RGBA .exr of colour 0.5 and the given alpha."""
+    image = np.full((8, 16, 4), 0.5, np.float32)
+    image[..., 3] = alpha
+    path = tmp_path / "rgba.exr"
+    write_image(path, image, pixel_type="float")
+    return path
+
+
+#: commands that may write .hdr/.pfm/.jpg from an RGBA input: (arguments after IN, output)
+RGB_ONLY_WRITERS = [
+    (["convert"], ["{out}.hdr"]),
+    (["convert"], ["{out}.jpg"]),
+    (["resize"], ["{out}.pfm", "--size", "8x4"]),
+    (["remap"], ["{out}.hdr", "--to", "mirrorball", "--size", "8"]),
+    (["irradiance"], ["{out}.hdr", "--size", "8x4", "--method", "sh"]),
+    (["fresnel"], ["{out}.hdr"]),
+    (["prefilter"], ["{out}_{{face}}.pfm", "--size", "4", "--mips", "1"]),
+    (["tonemap"], ["{out}.jpg"]),
+    (["dims"], ["-o", "{out}", "--method", "sh", "--size", "8x4"]),
+]
+
+
+@pytest.mark.parametrize(
+    "words, rest", RGB_ONLY_WRITERS, ids=[" ".join(w) for w, _ in RGB_ONLY_WRITERS]
+)
+def test_an_alpha_of_one_is_dropped_with_a_note_any_other_needs_the_option(
+    tmp_path, capfd, words, rest
+):
+    out = str(tmp_path / "out")
+    args = [a.format(out=out) for a in rest]
+    opaque = _rgba(tmp_path, 1.0)
+    assert main(["-q", *words, str(opaque), *args]) == 0, capfd.readouterr().err
+    captured = capfd.readouterr()
+    assert "alpha (1 everywhere) dropped" in captured.out and captured.err == ""
+    for made in tmp_path.glob("out*"):
+        made.unlink() if made.is_file() else None
+
+    ramp = _rgba(tmp_path, np.linspace(0, 1, 16, dtype=np.float32))
+    assert main(["-q", *words, str(ramp), *args]) == 2
+    assert "--alpha drop or --alpha premultiply" in one_error_line(capfd)
+    assert main(["-q", *words, str(ramp), *args, "--alpha", "premultiply"]) == 0
+
+
+def test_premultiply_multiplies_the_colour_by_alpha(tmp_path, capfd):
+    ramp = np.linspace(0, 1, 16, dtype=np.float32)
+    source = _rgba(tmp_path, ramp)
+    out = tmp_path / "out.pfm"
+    assert main(["-q", "convert", str(source), str(out), "--alpha", "premultiply"]) == 0
+    np.testing.assert_allclose(
+        read_image(out), np.broadcast_to(0.5 * ramp[None, :, None], (8, 16, 3))
+    )
