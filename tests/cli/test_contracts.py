@@ -128,7 +128,7 @@ RGB_ONLY_WRITERS = [
     (["remap"], ["{out}.hdr", "--to", "mirrorball", "--size", "8"]),
     (["irradiance"], ["{out}.hdr", "--size", "8x4", "--method", "sh"]),
     (["fresnel"], ["{out}.hdr"]),
-    (["prefilter"], ["{out}_{{face}}.pfm", "--size", "4", "--mips", "1"]),
+    (["prefilter"], ["{out}_{{mip}}_{{face}}.pfm", "--size", "4", "--mips", "1"]),
     (["tonemap"], ["{out}.jpg"]),
     (["dims"], ["-o", "{out}", "--method", "sh", "--size", "8x4"]),
 ]
