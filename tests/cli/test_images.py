@@ -159,4 +159,3 @@ def test_convert_drops_alpha_where_the_target_stores_none(tmp_path, capfd):
     np.testing.assert_array_equal(read_image(tmp_path / "rgb.pfm"), rgba[:, :, :3])
     assert main(["convert", str(src), str(tmp_path / "rgba.tga")]) == 0
     assert read_image(tmp_path / "rgba.tga").shape == (8, 16, 4)
-
