@@ -126,11 +126,11 @@ RGB_ONLY_WRITERS = [
     (["convert"], ["{out}.jpg"]),
     (["resize"], ["{out}.pfm", "--size", "8x4"]),
     (["remap"], ["{out}.hdr", "--to", "mirrorball", "--size", "8"]),
-    (["irradiance"], ["{out}.hdr", "--size", "8x4", "--method", "sh"]),
+    (["irradiance"], ["{out}.hdr", "--size", "8x4", "--method", "exact"]),
     (["fresnel"], ["{out}.hdr"]),
     (["prefilter"], ["{out}_{{mip}}_{{face}}.pfm", "--size", "4", "--mips", "1"]),
     (["tonemap"], ["{out}.jpg"]),
-    (["dims"], ["-o", "{out}", "--method", "sh", "--size", "8x4"]),
+    (["dims"], ["-o", "{out}", "--method", "exact", "--size", "8x4"]),
 ]
 
 
