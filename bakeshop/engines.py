@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError, BakeshopError, validate_choice
+from bakeshop.errors import ArgumentError, BakeshopError, validate_choice, with_article
 
 __all__ = [
     "ENGINES",
@@ -329,7 +329,9 @@ def panorama(latlong: ArrayLike, e: Engine | str) -> np.ndarray:
     a = np.asarray(latlong)
     shift = e.panorama_shift * a.shape[1]
     if shift != int(shift):
-        raise ArgumentError(f"a {a.shape[1]}-texel-wide panorama cannot be rolled by {shift}")
+        raise ArgumentError(
+            f"{with_article(a.shape[1])}-texel-wide panorama cannot be rolled by {shift}"
+        )
     return np.roll(a, -int(shift), axis=1) if shift else a
 
 

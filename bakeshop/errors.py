@@ -46,3 +46,30 @@ def validate_choice(value: str, choices: Collection[object], what: str) -> str:
             f"unknown {what} {value!r}; choose one of: {', '.join(map(str, choices))}"
         )
     return value
+
+
+#: letters whose spoken name starts with a vowel sound (an F, an HDR, an RG image).
+_VOWEL_LETTERS = frozenset("AEFHILMNORSX")
+#: vowel-spelled word starts that sound like a consonant (a unit, a one-level chain, a user).
+_CONSONANT_SOUNDS = ("uni", "use", "usu", "uti", "eu", "one", "once")
+
+
+def with_article(word: object) -> str:
+    """``word`` after the indefinite article it takes when spoken: ``'an OpenEXR'``,
+    ``'an angular'``, ``'a latlong'``, ``'an HDR'``, ``'a BC6H'``, ``'an 8x8'``,
+    ``'an 11-texel'``, ``'a 1024x512'``, ``'an 800'``.
+
+    >>> with_article("octahedral"), with_article("RG"), with_article(18)
+    ('an octahedral', 'an RG', 'an 18')
+    """
+    text = str(word)
+    head = text[:1]
+    if head.isdigit():
+        digits = len(text) - len(text.lstrip("0123456789"))
+        # eight..., eleven, eighteen (and their thousands and millions)
+        vowel = head == "8" or (text[:2] in ("11", "18") and digits % 3 == 2)
+    elif text[:2].isupper():  # an acronym, spelled letter by letter
+        vowel = head in _VOWEL_LETTERS
+    else:
+        vowel = head.lower() in "aeiou" and not text.lower().startswith(_CONSONANT_SOUNDS)
+    return f"{'an' if vowel else 'a'} {text}"

@@ -2,7 +2,13 @@
 
 import pytest
 
-from bakeshop.errors import ArgumentError, BakeshopError, FormatError, validate_choice
+from bakeshop.errors import (
+    ArgumentError,
+    BakeshopError,
+    FormatError,
+    validate_choice,
+    with_article,
+)
 
 
 def test_message_names_the_file():
@@ -20,3 +26,30 @@ def test_validate_choice_repeats_the_bad_value_and_the_choices():
         ArgumentError, match=r"unknown filter 'cubic'; choose one of: bilinear, area"
     ):
         validate_choice("cubic", ("bilinear", "area"), "filter")
+
+
+@pytest.mark.parametrize(
+    "word, spoken",
+    [
+        ("angular", "an angular"),
+        ("octahedral", "an octahedral"),
+        ("OpenEXR", "an OpenEXR"),
+        ("latlong", "a latlong"),
+        ("mirrorball", "a mirrorball"),
+        ("unit", "a unit"),
+        ("HDR", "an HDR"),
+        ("RG", "an RG"),
+        ("BC6H", "a BC6H"),
+        ("PFM", "a PFM"),
+        (8, "an 8"),
+        (11, "an 11"),
+        (18, "an 18"),
+        (110, "a 110"),
+        (18000, "an 18000"),
+        (800, "an 800"),
+        (1024, "a 1024"),
+        ("1.5", "a 1.5"),
+    ],
+)
+def test_with_article_says_a_or_an_as_spoken(word, spoken):
+    assert with_article(word) == spoken

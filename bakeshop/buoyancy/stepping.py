@@ -22,7 +22,13 @@ from numpy.typing import ArrayLike
 from bakeshop import progress
 from bakeshop.buoyancy.forces import ForceModel, evaluate
 from bakeshop.buoyancy.state import State, quaternion_to_matrix
-from bakeshop.errors import ArgumentError, BakeshopError, UnsupportedError, validate_choice
+from bakeshop.errors import (
+    ArgumentError,
+    BakeshopError,
+    UnsupportedError,
+    validate_choice,
+    with_article,
+)
 from bakeshop.resources import Cost, require
 
 if TYPE_CHECKING:
@@ -238,7 +244,8 @@ def simulate_cost(fleet: Fleet, *, seconds: float, fps: float, solver_hz: float)
     for count, what in ((seconds * fps, "frames"), (seconds * solver_hz, "solver steps")):
         if not count <= MAX_STEPS:  # NaN too
             raise ArgumentError(
-                f"{seconds:g} s at {fps:g} fps with a {solver_hz:g} Hz solver is {count:.3g} "
+                f"{seconds:g} s at {fps:g} fps with {with_article(format(solver_hz, 'g'))} Hz "
+                f"solver is {count:.3g} "
                 f"{what}: they exceed the limit of {MAX_STEPS:,}"
             )
     frames = max(int(round(seconds * fps)), 1)

@@ -23,29 +23,25 @@ from bakeshop.io import stored_bits
 F = TypeVar("F", bound=Callable[..., Any])
 
 
-def _parse_value(text: str) -> bool | int | float | str:
-    lowered = text.lower()
-    if lowered in ("true", "yes", "on"):
-        return True
-    if lowered in ("false", "no", "off"):
-        return False
-    for kind in (int, float):
-        try:
-            return kind(text)
-        except ValueError:
-            pass
-    return text
-
-
-def parse_options(pairs: tuple[str, ...]) -> dict:
-    """``('compression=piz', 'bits=16')`` -> ``{'compression': 'piz', 'bits': 16}``."""
-    options: dict[str, Any] = {}
+def parse_options(pairs: tuple[str, ...]) -> dict[str, str]:
+    """``('compression=piz', 'bits=16')`` -> ``{'compression': 'piz', 'bits': '16'}``: the
+    values stay text, converted and checked by the codec's signature
+    (:func:`bakeshop.io.write_image`), so ``rle=maybe`` is refused, never taken as true."""
+    options: dict[str, str] = {}
     for pair in pairs:
         key, sep, value = pair.partition("=")
         if not sep or not key:
             raise ArgumentError(f"invalid option {pair!r}: expected KEY=VALUE")
-        options[key.strip().replace("-", "_")] = _parse_value(value.strip())
+        options[key.strip().replace("-", "_")] = value.strip()
     return options
+
+
+def picture_bits(value: object, path: str | os.PathLike | None = None) -> int:
+    """8 or 16, from ``--bits`` or ``-O bits=`` (text or a number)."""
+    bits = {"8": 8, "16": 16}.get(str(value).strip())
+    if bits is None:
+        raise ArgumentError(f"a picture has 8 or 16 bits per sample, not {value!r}", path)
+    return bits
 
 
 def writer_option(help: str) -> Callable[[F], F]:
@@ -359,6 +355,57 @@ def linearise(
     return out, True
 
 
+#: formats that store colour without alpha (Radiance, PFM, JPEG).
+RGB_ONLY = (".hdr", ".pic", ".rgbe", ".pfm", ".jpg", ".jpeg")
+
+
+def alpha_option(command: F) -> F:
+    """The ``--alpha`` option of every command that may write an RGB-only format (.hdr, .pfm,
+    .jpg) from an input with alpha; the command passes it to :func:`fit_alpha`."""
+    return click.option(
+        "--alpha",
+        type=click.Choice(("drop", "premultiply")),
+        help="An input's alpha channel when an output stores RGB only (.hdr, .pfm, .jpg): drop "
+        "it, or multiply the colour by it first. An alpha of 1 everywhere (as OpenEXR files "
+        "often carry) is dropped with a note; any other alpha is refused without this option.",
+    )(command)
+
+
+def fit_alpha(
+    image: np.ndarray,
+    how: str | None,
+    source: str | os.PathLike,
+    *targets: str | os.PathLike | None,
+    note: bool = True,
+) -> np.ndarray:
+    """``image`` ((..., C) array) with its alpha made fit for ``targets``: unchanged when it has
+    no alpha or every target stores alpha; else an alpha of 1 everywhere is dropped (with a
+    ``note`` on stdout), and any other alpha is dropped or premultiplied as ``how`` says, or
+    refused.
+
+    Raises
+    ------
+    ArgumentError
+        A non-constant alpha, an RGB-only target and no ``how``: naming ``--alpha``.
+    """
+    rgb_only = [t for t in targets if t is not None and Path(t).suffix.lower() in RGB_ONLY]
+    if image.shape[-1] != 4 or not rgb_only:
+        return image
+    suffix = Path(rgb_only[0]).suffix
+    alpha = image[..., 3:]
+    if how == "premultiply":
+        return image[..., :3] * alpha
+    if how is None and not np.all(alpha == 1):
+        raise ArgumentError(
+            f"the input's alpha is not 1 everywhere and {suffix} stores RGB only: choose "
+            "--alpha drop or --alpha premultiply (or write .exr, .png or .tif)",
+            rgb_only[0],
+        )
+    if how is None and note:
+        click.echo(f"{source}: alpha (1 everywhere) dropped: {suffix} stores RGB only")
+    return np.ascontiguousarray(image[..., :3])
+
+
 def is_picture(path: str | os.PathLike) -> bool:
     """True when ``path`` (a ``{face}``/``{mip}`` pattern too) names picture files (PNG, TGA,
     JPEG); False for float formats and cube map containers."""
@@ -412,10 +459,11 @@ def write_any(
     options = dict(options or {})
     if is_picture(target):
         requested = options.pop("bits", None)
-        if requested is not None and rule.bits is not None and requested != rule.bits:
-            raise ArgumentError("--bits and -O bits= disagree", target)
         if requested is not None:
-            rule = rule._replace(bits=int(requested))
+            requested = picture_bits(requested, target)
+            if rule.bits is not None and requested != rule.bits:
+                raise ArgumentError("--bits and -O bits= disagree", target)
+            rule = rule._replace(bits=requested)
         made = make_picture(image, rule, target, inputs=inputs, linear_input=linear)
         write_image(target, made.pixels, description=made.description, **options)
         if made.note:

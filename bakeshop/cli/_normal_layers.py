@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
@@ -10,6 +11,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import click
 import numpy as np
 
+from bakeshop.cli._common import warn
 from bakeshop.cli._numbers import Number, Numbers
 from bakeshop.errors import ArgumentError
 from bakeshop.normals.encoding import CONVENTIONS, read_normal_map
@@ -127,6 +129,30 @@ def parse_layer(spec: str) -> dict:
     return layer
 
 
+#: degrees of relief below which a tiled detail counts as filtered away.
+MIN_RELIEF = 1.0
+
+
+def read_map(
+    path: str | os.PathLike, convention: str, encoding: str, option: str
+) -> tuple[np.ndarray, int | None]:
+    """A normal map's unit normals and sample depth (:func:`read_normal_map`), with a warning
+    when its content says its green channel is the other convention than ``option`` chose
+    (:func:`~bakeshop.normals.encoding.guess_convention`)."""
+    from bakeshop.normals.encoding import guess_convention
+
+    normals, bits = read_normal_map(path, convention=convention, encoding=encoding, with_bits=True)
+    guess, share = guess_convention(normals)
+    if guess == "dx":
+        other = "dx" if convention == "gl" else "gl"
+        warn(
+            f"read as {convention}, its slopes do not form a surface ({share:.0%} of their curl "
+            f"is explained by a flipped green channel): it looks {other}; check {option}",
+            path,
+        )
+    return normals, bits
+
+
 def build_layers(
     shape: tuple[int, int],
     settings: Sequence[dict[str, Any]],
@@ -137,16 +163,15 @@ def build_layers(
     """Read each layer's detail map and mask into DetailLayer objects; each detail map's
     :func:`~bakeshop.io.stored_bits` is appended to ``depths``."""
     from bakeshop.io import read_image
-    from bakeshop.normals.tiling import DetailLayer, mask_weights
+    from bakeshop.normals.tiling import DetailLayer, as_pair, filtered_relief, mask_weights
 
     layers = []
     for s in settings:
         convention = s.get("convention") or method_convention
         if convention not in CONVENTIONS:
             raise ArgumentError(f"unknown convention {convention!r} for layer", s["path"])
-        detail, bits = read_normal_map(
-            s["path"], convention=convention, encoding=encoding, with_bits=True
-        )
+        option = "convention= of the layer" if s.get("convention") else "--detail-convention"
+        detail, bits = read_map(s["path"], convention, encoding, option)
         if depths is not None:
             depths.append(bits)
         mask = None
@@ -158,6 +183,15 @@ def build_layers(
             key: _placement_value(key, s.get(key, default), s["path"])
             for key, default in (("tile", "1"), ("offset", "0"), ("rotate", 0.0), ("strength", 1))
         }
+        authored, left = filtered_relief(detail, shape, tile=place["tile"])
+        if left < MIN_RELIEF <= authored:
+            tiles = "x".join(f"{t:g}" for t in as_pair(place["tile"], "tile"))
+            warn(
+                f"tiled {tiles} times over {shape[1]}x{shape[0]} texels, "
+                f"filtering leaves {left:.1f} of its {authored:.1f} degrees of relief: lower "
+                "--tile (tile= of a layer) or combine onto a larger map",
+                s["path"],
+            )
         layers.append(
             DetailLayer(
                 detail,

@@ -67,12 +67,57 @@ def guard_outputs(group: click.Group) -> None:
 def _guarded(callback: Callable[..., Any]) -> Callable[..., Any]:
     @functools.wraps(callback)
     def run(*args: Any, **kwargs: Any) -> Any:
-        for output in recorded("outputs"):
+        outputs = recorded("outputs")
+        refuse_shared_outputs(outputs)
+        for output in outputs:
             refuse_overwriting_inputs(output)
         return callback(*args, **kwargs)
 
     setattr(run, "__guarded__", True)  # noqa: B010 (a marker click's wrapper type lacks)
     return run
+
+
+def refuse_shared_outputs(outputs: list[str]) -> None:
+    """Refuse, before any work, two outputs of one command that name the same file (the same
+    path, through a link or ``..``, or a name that a pattern output includes): the second write
+    would replace the first.
+
+    Raises
+    ------
+    ArgumentError
+        With the file and the two options' values that name it.
+    """
+    for i, first in enumerate(outputs):
+        for second in outputs[i + 1 :]:
+            if _same_output(first, second):
+                also = "" if first == second else f" ({first} and {second})"
+                raise ArgumentError(f"two outputs name this file{also}: give each its own", second)
+
+
+def _same_output(a: str, b: str) -> bool:
+    """True when the output names ``a`` and ``b`` may stand for one file."""
+    a_real, b_real = (os.path.normcase(os.path.realpath(t)) for t in (a, b))
+    a_regex, b_regex = _output_regex(a_real), _output_regex(b_real)
+    if a_regex is None and b_regex is None:
+        return a_real == b_real or _same_file(a, b)
+    if a_regex is None or b_regex is None:
+        pattern, name = (a_regex, b_real) if b_regex is None else (b_regex, a_real)
+        return pattern.fullmatch(name) is not None
+    return a_real == b_real
+
+
+def _output_regex(text: str) -> re.Pattern[str] | None:
+    """The regular expression of the files an output pattern stands for; None for a plain
+    name."""
+    parts = _pattern_parts(text)
+    if not any(name for _, name, _ in parts):
+        return None
+    return re.compile(
+        "".join(
+            re.escape(literal) + (_field_regex(name, spec) if name else "")
+            for literal, name, spec in parts
+        )
+    )
 
 
 def _same_file(a: str, b: str) -> bool:
@@ -97,15 +142,11 @@ def _existing_inputs(typed: str) -> list[str]:
 def _existing_outputs(text: str) -> list[str]:
     """The existing files an output name may stand for: itself, or every file its patterns
     (:data:`PATTERNS`) may expand to."""
-    parts = _pattern_parts(text)
-    if not any(name for _, name, _ in parts):
+    regex = _output_regex(text)
+    if regex is None:
         return [text] if os.path.exists(text) else []
-    wildcard = "".join(glob.escape(literal) + ("*" if name else "") for literal, name, _ in parts)
-    regex = re.compile(
-        "".join(
-            re.escape(literal) + (_field_regex(name, spec) if name else "")
-            for literal, name, spec in parts
-        )
+    wildcard = "".join(
+        glob.escape(literal) + ("*" if name else "") for literal, name, _ in _pattern_parts(text)
     )
     return [p for p in sorted(glob.glob(wildcard)) if regex.fullmatch(p)]
 

@@ -9,7 +9,14 @@ from typing import TYPE_CHECKING
 import click
 
 from bakeshop.cli._budget import check
-from bakeshop.cli._common import float_format_option, linearise, out_dir_option, srgb_decode_option
+from bakeshop.cli._common import (
+    alpha_option,
+    fit_alpha,
+    float_format_option,
+    linearise,
+    out_dir_option,
+    srgb_decode_option,
+)
 from bakeshop.cli._numbers import Integer
 from bakeshop.cli._paths import ENVIRONMENT, refuse_overwriting_inputs
 from bakeshop.cli._probe import check_picture_format, picture_layout, read_probe
@@ -55,6 +62,7 @@ _from = click.option(
 @click.option("--mips", type=Integer(1, 14), default=9, show_default=True,
               help="Levels of the GGX chain (roughness m / (mips - 1)).")  # fmt: skip
 @srgb_decode_option
+@alpha_option
 @click.option("--compress", is_flag=True, help="Also write block-compressed (BC6H) files with "
               "their quality sidecars into DIR/ENGINE/ (generic unless --engine).")  # fmt: skip
 @click.option("--engine", type=click.Choice(sorted(ENGINES)), help="Write the compressed files "
@@ -70,6 +78,7 @@ def bake_probe(
     specular_size: int,
     mips: int,
     srgb_decode: bool,
+    alpha: str | None,
     compress: bool,
     engine: str | None,
     quality_profile: str,
@@ -103,7 +112,7 @@ def bake_probe(
       bakeshop bake-probe probe.exr -o baked/ --format exr --container ktx
       bakeshop bake-probe -o baked/ --engine unity --compress
     """
-    from bakeshop.io import ALPHA_EXTENSIONS, write_image, write_json
+    from bakeshop.io import write_image, write_json
     from bakeshop.light import bake_probe as bake
     from bakeshop.light import bake_probe_cost, contact_sheet, sh, sheet_exposure, sun_document
 
@@ -140,9 +149,7 @@ def bake_probe(
     image, layout, source, meta = read_probe(source, src_layout, with_metadata=True)
     check_picture_format(layout, fmt, source)
     image, _ = linearise(image, source, meta, srgb_decode)
-    dropped = image.shape[-1] == 4 and f".{fmt}" not in ALPHA_EXTENSIONS
-    if dropped:  # alpha is carried by every step, but .hdr and .pfm store none
-        image = image[..., :3].copy()  # the RGBA probe is not kept
+    image = fit_alpha(image, alpha, source, *outputs)  # alpha is carried by every step
     cost = bake_probe_cost(
         image.shape, layout, cube_size=cube_size, specular_size=specular_size, mips=mips,
         itemsize=image.itemsize,
@@ -185,8 +192,6 @@ def bake_probe(
     click.echo(
         f"baked {source.name} ({describe(image, layout)}) into {out_dir}/ in {elapsed:.1f} s"
     )
-    if dropped:
-        click.echo(f"  alpha dropped: .{fmt} stores none (--format exr keeps it)")
     rows = [
         (f"{faces[0].name} ...", f"environment, 6 OpenGL faces of {s}x{s}", t["cube"]),
         (paths["sun_dim"].name, "DIM of the probe (E/pi), latlong 360x180", t["dims"]),

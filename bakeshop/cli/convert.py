@@ -10,7 +10,10 @@ import click
 import numpy as np
 
 from bakeshop.cli._common import (
+    RGB_ONLY,
     PictureRule,
+    alpha_option,
+    fit_alpha,
     parse_options,
     picture_options,
     write_any,
@@ -36,12 +39,14 @@ codec_options = writer_option(
     help="Reading an 8/16-bit format into a float one: decode sRGB to linear values.",
 )
 @codec_options
+@alpha_option
 @picture_options()
 def convert(
     source: Path,
     target: Path,
     srgb_decode: bool,
     options: tuple[str, ...],
+    alpha: str | None,
     picture: PictureRule,
 ) -> None:
     """Convert SOURCE to TARGET, any supported format to any other (by extension: .hdr .pfm
@@ -53,8 +58,9 @@ def convert(
     (--bits 16 for more; 16 by default for --linear), said in one line and recorded in the
     file. 8/16-bit files are read as their stored values scaled to [0, 1], never linearised
     unless --srgb-decode; between 8/16-bit formats the values are kept as stored and the depth
-    follows SOURCE (a 16-bit PNG stays 16-bit; TGA and JPEG hold 8, which is said). Alpha is
-    dropped, with a note, when the target format stores none (.hdr, .pfm, .jpg).
+    follows SOURCE (a 16-bit PNG stays 16-bit; TGA and JPEG hold 8, which is said). Where the
+    target stores no alpha (.hdr, .pfm, .jpg), an alpha of 1 everywhere is dropped with a
+    note, and any other needs --alpha drop or --alpha premultiply.
 
     \b
     Example:
@@ -69,19 +75,18 @@ def convert(
     form of huge images for bakeshop and its dask workers (docs/huge-images.md).
     """
     from bakeshop.image import srgb_decode as decode
-    from bakeshop.io import ALPHA_EXTENSIONS
 
     refuse_overwriting_inputs(target, source)
     writer_options = parse_options(options)
     if _streams(source, target):
-        _convert_strips(source, target, picture, srgb_decode, writer_options)
+        _convert_strips(source, target, picture, srgb_decode, writer_options, alpha)
         return
     image, meta = _read(source)
     bits = stored_bits(meta)
     steps = []
-    if image.shape[2] == 4 and target.suffix.lower() not in ALPHA_EXTENSIONS:
-        image = image[:, :, :3]
-        steps.append(f"alpha dropped: {target.suffix} stores none")
+    if image.shape[2] == 4 and alpha is not None:
+        steps.append(f"alpha: {alpha}")
+    image = fit_alpha(image, alpha, source, target)
     if srgb_decode:
         if bits is None:
             raise ArgumentError("--srgb-decode applies to 8/16-bit inputs only", source)
@@ -156,6 +161,7 @@ def _convert_strips(
     picture: PictureRule,
     srgb_decode: bool,
     options: dict[str, Any],
+    alpha: str | None,
 ) -> None:
     from bakeshop import progress
     from bakeshop.huge.memory import resolve_memory
@@ -171,7 +177,7 @@ def _convert_strips(
     exposure = picture.ev
     reader = open_image(source)
     h, w, c = reader.shape
-    if c == 4 and target.suffix.lower() in (".pfm", ".hdr"):
+    if c == 4 and target.suffix.lower() in RGB_ONLY:
         c = 3
     rows = max(1, min(h, resolve_memory(None) // 8 // (w * reader.shape[2] * 4)))
     rows = max(rows - rows % 256, min(rows, 256))  # whole rows of zarr and TIFF chunks
@@ -179,7 +185,9 @@ def _convert_strips(
 
     def strips() -> Iterator[np.ndarray]:
         for top in progress.track(range(0, h, rows), f"converting {source.name}"):
-            block = reader.read((top, min(top + rows, h)))[:, :, :c]
+            block = fit_alpha(
+                reader.read((top, min(top + rows, h))), alpha, source, target, note=top == 0
+            )
             yield block * scale if exposure else block
 
     write_strips(target, (h, w, c), strips(), **options)

@@ -10,7 +10,14 @@ import click
 import numpy as np
 
 from bakeshop.cli._budget import check
-from bakeshop.cli._common import float_format_option, linearise, out_dir_option, srgb_decode_option
+from bakeshop.cli._common import (
+    alpha_option,
+    fit_alpha,
+    float_format_option,
+    linearise,
+    out_dir_option,
+    srgb_decode_option,
+)
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 from bakeshop.cli._paths import ENVIRONMENT_SOURCE, refuse_overwriting_inputs
 from bakeshop.cli._probe import (
@@ -46,6 +53,7 @@ if TYPE_CHECKING:
 @size_option
 @window_option
 @srgb_decode_option
+@alpha_option
 @memory_option
 @scheduler_option
 def dims(
@@ -59,6 +67,7 @@ def dims(
     size: int | tuple[int, int] | None,
     window: str,
     srgb_decode: bool,
+    alpha: str | None,
     memory: int | str | None,
     scheduler: str | None,
 ) -> None:
@@ -100,6 +109,7 @@ def dims(
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     check_picture_format(layout, fmt, source)
     image, _ = linearise(image, source, meta, srgb_decode)
+    image = fit_alpha(image, alpha, source, *names.values())
     cost = dim_pair_cost(image.shape, layout, to=dst_layout, size=output_size(dst_layout, size),
                          method=method)  # fmt: skip
     check(cost, source, "--size", "--size or --method")

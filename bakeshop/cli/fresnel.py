@@ -8,8 +8,10 @@ import click
 
 from bakeshop.cli._budget import check
 from bakeshop.cli._common import (
+    alpha_option,
     convention_option,
     environment_weights,
+    fit_alpha,
     is_ldr,
     linearise,
     parse_exposure_mode,
@@ -158,6 +160,7 @@ def _report_lines(schlick: dict, flat: dict, rough: list[dict]) -> list[str]:
     "fresnel error on normal-mapped water for RMS slopes 0.02 to 0.3.",
 )
 @srgb_decode_option
+@alpha_option
 def fresnel(
     source: Path,
     target: Path,
@@ -174,6 +177,7 @@ def fresnel(
     convention: str,
     report: bool,
     srgb_decode: bool,
+    alpha: str | None,
 ) -> None:
     """Bake the fresnel reflectance of flat water into an environment map.
 
@@ -221,6 +225,7 @@ def fresnel(
         source, src_layout, convention=convention, with_metadata=True
     )
     image, _ = linearise(image, source, meta, srgb_decode)
+    image = fit_alpha(image, alpha, source, target)
     dst = dst_layout or src
     _check_output(target, dst, ldr)
     if dst != src or size is not None:

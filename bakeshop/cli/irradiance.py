@@ -9,7 +9,9 @@ import click
 from bakeshop.cli._budget import check
 from bakeshop.cli._common import (
     PictureRule,
+    alpha_option,
     environment_weights,
+    fit_alpha,
     is_picture,
     linearise,
     make_picture,
@@ -56,6 +58,7 @@ from bakeshop.io.environment import check_openexr_target, describe
 )
 @window_option
 @srgb_decode_option
+@alpha_option
 @picture_options()
 def irradiance(
     source: Path,
@@ -69,6 +72,7 @@ def irradiance(
     shader: Path | None,
     window: str,
     srgb_decode: bool,
+    alpha: str | None,
     picture: PictureRule,
 ) -> None:
     """Compute the diffuse irradiance map (DIM) of the probe IN and write it to OUT.
@@ -109,6 +113,7 @@ def irradiance(
         refuse_unused_picture_rule(picture, target)
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     image, linear = linearise(image, source, meta, srgb_decode)
+    image = fit_alpha(image, alpha, source, target)
     cost = irradiance_cost(
         image.shape, layout, to=dst_layout, size=output_size(dst_layout, size), method=method,
         order=order,

@@ -9,15 +9,22 @@ from typing import Any
 import click
 import numpy as np
 
-from bakeshop.cli._common import is_picture, output_bits, parse_options, warn, writer_option
-from bakeshop.cli._normal_layers import build_layers, parse_layer, placement_options
+from bakeshop.cli._common import (
+    is_picture,
+    output_bits,
+    parse_options,
+    picture_bits,
+    warn,
+    writer_option,
+)
+from bakeshop.cli._normal_layers import build_layers, parse_layer, placement_options, read_map
 from bakeshop.cli._numbers import Integer, Number, Size
 from bakeshop.cli._paths import INPUT, OUTPUT, parse_size, refuse_overwriting_inputs
 from bakeshop.engines import ENGINES
 from bakeshop.errors import ArgumentError
 from bakeshop.io import stored_bits
 from bakeshop.normals.blend import DEFAULT_METHOD, METHODS
-from bakeshop.normals.encoding import CONVENTIONS, ENCODINGS, read_normal_map
+from bakeshop.normals.encoding import CONVENTIONS, ENCODINGS
 
 CONTEXT = {"max_content_width": 100}
 
@@ -68,7 +75,9 @@ def write_normal_map(
     if is_picture(path):
         requested = options.pop("bits", None)
         bits, note = output_bits(
-            path, requested=None if requested is None else int(requested), inputs=inputs
+            path,
+            requested=None if requested is None else picture_bits(requested, path),
+            inputs=inputs,
         )
         if Path(path).suffix.lower() == ".png":
             options["bits"] = bits
@@ -193,9 +202,7 @@ def combine(
     refuse_overwriting_inputs(
         out, macro, *(s["path"] for s in settings), *(s["mask"] for s in settings if s.get("mask"))
     )
-    base, macro_bits = read_normal_map(
-        macro, convention=convention, encoding=encoding, with_bits=True
-    )
+    base, macro_bits = read_map(macro, convention, encoding, "--convention")
     depths = [macro_bits]
     built = build_layers(
         base.shape[:2], settings, detail_convention or convention, encoding, depths
@@ -339,9 +346,7 @@ def transfer(
         wanted = parse_size(size)
         shape = (wanted, wanted) if isinstance(wanted, int) else (wanted[1], wanted[0])
     if macro is not None:
-        base, macro_bits = read_normal_map(
-            macro, convention=convention, encoding=encoding, with_bits=True
-        )
+        base, macro_bits = read_map(macro, convention, encoding, "--convention")
         depths.append(macro_bits)
         if shape is not None and shape != base.shape[:2]:
             raise ArgumentError(
@@ -351,8 +356,8 @@ def transfer(
         shape = base.shape[:2]
     elif shape is None:
         raise ArgumentError("give --size (or --macro, whose size is used)")
-    d, detail_bits = read_normal_map(
-        detail, convention=detail_convention or convention, encoding=encoding, with_bits=True
+    d, detail_bits = read_map(
+        detail, detail_convention or convention, encoding, "--detail-convention"
     )
     depths.append(detail_bits)
     m = load_mesh(mesh)
@@ -568,7 +573,7 @@ def convert(
         requested = writer_options.pop("bits", None)
         bits, note = output_bits(
             target,
-            requested=None if requested is None else int(requested),
+            requested=None if requested is None else picture_bits(requested, target),
             inputs=[stored_bits(meta)],
         )
         if target.suffix.lower() == ".png":

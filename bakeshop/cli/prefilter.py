@@ -10,8 +10,10 @@ import click
 from bakeshop.cli._budget import check
 from bakeshop.cli._common import (
     PictureRule,
+    alpha_option,
     convention_option,
     environment_weights,
+    fit_alpha,
     is_picture,
     linearise,
     make_picture,
@@ -72,6 +74,7 @@ _float32 = click.option(
 @_convention
 @_float32
 @srgb_decode_option
+@alpha_option
 @picture_options()
 def prefilter(
     source: Path,
@@ -85,6 +88,7 @@ def prefilter(
     convention: str,
     float32: bool,
     srgb_decode: bool,
+    alpha: str | None,
     picture: PictureRule,
 ) -> None:
     """Prefilter the environment IN into a glossy-reflection cube mip chain OUT.
@@ -119,6 +123,7 @@ def prefilter(
         refuse_unused_picture_rule(picture, target)
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     image, linear = linearise(image, source, meta, srgb_decode)
+    image = fit_alpha(image, alpha, source, target)
     cost = specular.prefilter_cost(
         image.shape, layout, size=size, mips=mips, samples=samples, itemsize=image.itemsize
     )

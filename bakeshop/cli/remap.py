@@ -9,8 +9,10 @@ import click
 from bakeshop.cli._budget import check
 from bakeshop.cli._common import (
     PictureRule,
+    alpha_option,
     convention_option,
     environment_weights,
+    fit_alpha,
     is_picture,
     linearise,
     make_picture,
@@ -27,7 +29,7 @@ from bakeshop.cli._paths import (
     parse_size,
     refuse_overwriting_inputs,
 )
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.io import stored_bits
 from bakeshop.io.environment import (
     FACES,
@@ -108,6 +110,7 @@ def _check_target(target: Path, layout: str) -> None:
     help="{face} is px, nx, py, ny, pz, nz instead of posx, negx, posy, negy, posz, negz.",
 )
 @srgb_decode_option
+@alpha_option
 @picture_options()
 @memory_option
 @scheduler_option
@@ -122,6 +125,7 @@ def remap(
     convention: str,
     short_face_names: bool,
     srgb_decode: bool,
+    alpha: str | None,
     picture: PictureRule,
     memory: int | str | None,
     scheduler: str | None,
@@ -184,6 +188,7 @@ def remap(
             source, src, convention=convention, short=short_face_names, with_metadata=True
         )
     image, linear = linearise(image, source, meta, srgb_decode)
+    image = fit_alpha(image, alpha, source, target)
     dst_name = "cube" if dst == FACES else dst
     size = None if size_text is None else parse_size(size_text)
     if filter_name == "auto":
@@ -247,7 +252,8 @@ def _remap_chunked(
         guesses = sphere.guess_layout(h, w)
         if len(guesses) != 1:
             raise ArgumentError(
-                f"cannot tell the layout of a {w}x{h} image; name it with --from", source
+                f"cannot tell the layout of {with_article(w)}x{h} image; name it with --from",
+                source,
             )
         src, how = guesses[0], f"guessed from its {w}x{h} shape"
     dst_name = "cube" if dst == FACES else dst

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from bakeshop.cli._common import PictureRule, picture_options, write_any
+from bakeshop.cli._common import PictureRule, alpha_option, fit_alpha, picture_options, write_any
 from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
 from bakeshop.cli._numbers import Size
 from bakeshop.cli._paths import OUTPUT, SOURCE, parse_size, refuse_overwriting_inputs
@@ -23,6 +23,7 @@ from bakeshop.io import stored_bits
     metavar="WxH",
     help="Output size; a single W keeps the aspect ratio (height rounded).",
 )
+@alpha_option
 @picture_options()
 @memory_option
 @scheduler_option
@@ -30,6 +31,7 @@ def resize(
     source: Path,
     target: Path,
     size: int | tuple[int, int],
+    alpha: str | None,
     picture: PictureRule,
     memory: int | str | None,
     scheduler: str | None,
@@ -63,6 +65,7 @@ def resize(
         _resize_chunked(source, target, wanted, memory, scheduler)
         return
     image, meta = read_image(source, with_metadata=True)
+    image = fit_alpha(image, alpha, source, target)
     h, w = image.shape[:2]
     if isinstance(wanted, int):
         wanted = (wanted, max(1, round(h * wanted / w)))

@@ -12,7 +12,9 @@ from pathlib import Path
 import click
 
 from bakeshop.cli._common import (
+    alpha_option,
     environment_weights,
+    fit_alpha,
     is_picture,
     linearise,
     output_bits,
@@ -141,6 +143,7 @@ def frame_paths(target: str, count: int) -> list[Path]:
     help="Bits per sample of OUT (16: PNG only). Default 8, or 16 for 16-bit inputs.",
 )
 @srgb_decode_option
+@alpha_option
 def tonemap(
     inputs: tuple[Path, ...],
     target: Path,
@@ -156,6 +159,7 @@ def tonemap(
     layout: str | None,
     bits: str | None,
     srgb_decode: bool,
+    alpha: str | None,
 ) -> None:
     """Tone-map HDR images (one or a sequence of frames) to 8-bit sRGB pictures.
 
@@ -198,6 +202,7 @@ def tonemap(
     ):
         image, meta = read_image(path, with_metadata=True)
         image, _ = linearise(image, path, meta, srgb_decode)
+        image = fit_alpha(image, alpha, path, out)
         weights = None if layout is None else environment_weights(layout, image.shape[:2])
         if isinstance(ev_fixed, str):
             target_ev = choose_exposure(

@@ -18,7 +18,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import click
@@ -46,10 +46,12 @@ f 1/1/1 3/3/1 4/4/1
 class Job:
     """Command lines (without ``bakeshop``; ``{probe}`` stands for the default probe's path) run
     one after another in the tour's scratch folder, a later one reading what an earlier one
-    wrote; ``needs`` names the modules of the optional ``extra`` they use."""
+    wrote; ``cpu`` is each one's CPU seconds measured with nothing compiled (the weights of the
+    progress estimate); ``needs`` names the modules of the optional ``extra`` they use."""
 
     name: str
     commands: tuple[str, ...]
+    cpu: tuple[float, ...]
     needs: tuple[str, ...] = ()
     extra: str = ""
 
@@ -60,15 +62,17 @@ class Job:
 
 #: what the warm-up runs, the longest jobs first: every command, and the options that select
 #: kernels of their own (layouts, filters, methods, formats), on inputs made from the default
-#: probe (1024x512) and small outputs.
+#: probe (1024x512) and small outputs. The CPU seconds were measured one command at a time with
+#: an empty NUMBA_CACHE_DIR (672 s in all, on a machine at a load of 9).
 TOUR = (
-    Job("bake-probe", ("bake-probe {probe} -o bake",)),
+    Job("bake-probe", ("bake-probe {probe} -o bake",), (213.7,)),
     Job(
         "float",
         (
             "float --shape peep --density 300 --fps 10",
             "float --shape box --density 500 --waves 0.2:8:30",
         ),
+        (27.0, 2.5),
     ),
     Job(
         "light",
@@ -84,6 +88,7 @@ TOUR = (
             "prefilter {probe} ggx_{{face}}_{{mip}}.png --size 16 --mips 3",
             "dfg dfg.exr --size 16 --samples 64",
         ),
+        (1.8, 29.8, 24.7, 1.8, 2.4, 3.5, 14.8, 3.0, 2.8, 1.4),
     ),
     Job(
         "codecs",
@@ -99,6 +104,7 @@ TOUR = (
             "tonemap {probe} aces.png --operator aces",
             "tonemap {probe} reinhard.jpg --operator reinhard --white 8",
         ),
+        (1.1, 1.1, 1.1, 8.9, 3.1, 10.4, 5.9, 3.7, 1.5, 1.1),
     ),
     Job(
         "panoramas",
@@ -121,6 +127,7 @@ TOUR = (
             "remap {probe} chunked.exr --to cross-vertical --size 64 --memory 64M",
             "remap {probe} chunked.hdr --to latlong --size 512x256 --memory 64M",
         ),
+        (2.9, 1.2, 4.3, 1.9, 6.1, 2.3, 2.7, 1.4, 2.2, 10.1, 1.0, 23.6, 23.1, 7.6, 2.7),
     ),
     Job(
         "water and normals",
@@ -148,6 +155,7 @@ TOUR = (
             "normals convert combined.png combined_dx.png --from gl --to dx",
             "normals from-height fresnel.png from_height.png --strength 8",
         ),
+        (8.9, 3.4, 2.3, 3.5, 3.8, 5.0, 2.2, 5.9, 6.0, 1.6, 8.1, 18.5, 2.2, 6.2, 0.8, 0.8, 1.5),
     ),
     Job(
         "photographs",
@@ -158,6 +166,7 @@ TOUR = (
             "merge bracket_0.png bracket_1.png bracket_2.png --times 1/16,1,16 -o merged.exr"
             " --align --ghost 0.25",
         ),
+        (1.1, 1.3, 1.4, 32.1),
     ),
     Job(
         "compress",
@@ -172,14 +181,17 @@ TOUR = (
             "compress normals/ocean_normal_0000.png normal_bc5.dds --normal",
             "bake-probe {probe} -o bake_bc --compress --cube-size 64 --specular-size 32 --mips 6",
         ),
+        (14.6, 34.0, 1.4, 1.6, 18.6, 2.1, 7.3, 15.4),
         needs=("ispc_texcomp",),
         extra="compress",
     ),
 )
 
 
-#: seconds a command of the tour may take (the longest takes ~40 s with nothing compiled yet).
-COMMAND_SECONDS = 600
+#: seconds a child may go without using any CPU before it counts as hung. A busy machine slows
+#: a child but never stops it (the scheduler gives every runnable process CPU), so there is no
+#: limit on a command's wall-clock time: the install must not fail because the machine is busy.
+HUNG_SECONDS = 120.0
 #: seconds a stopped command is given to exit before it is killed: a child defers a signal
 #: until the kernel it is compiling is done, up to ~20 s, and a second Ctrl-C must not be
 #: needed (it would leave the scratch folder behind).
@@ -199,6 +211,66 @@ def _start(job: Job, k: int, probe: str, work: Path) -> subprocess.Popen:
         return subprocess.Popen(argv, cwd=work, env=env, stdout=subprocess.DEVNULL, stderr=log)
 
 
+def cpu_seconds(pid: int) -> float | None:
+    """User and system CPU seconds of a running process (Linux's /proc); None where they cannot
+    be read."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, IndexError, ValueError):
+        return None
+
+
+@dataclass
+class Watch:
+    """A running command of the tour: its CPU seconds, and when they last grew."""
+
+    process: subprocess.Popen
+    job: Job
+    k: int
+    cpu: float = 0.0
+    active: float = field(default_factory=time.monotonic)
+
+    def sample(self, now: float) -> None:
+        """Read the child's CPU time; where it cannot be read the child counts as working."""
+        cpu = cpu_seconds(self.process.pid)
+        if cpu is None or cpu > self.cpu:
+            self.cpu, self.active = self.cpu if cpu is None else cpu, now
+
+    def hung(self, now: float) -> bool:
+        """True when the child has used no CPU for :data:`HUNG_SECONDS`."""
+        return now - self.active > HUNG_SECONDS
+
+
+class Estimate:
+    """The tour's progress, in weights (CPU seconds measured with nothing compiled): a finished
+    command counts its weight; a running one its CPU seconds so far, divided by the ratio of the
+    finished commands' CPU seconds to their weights (a warm cache or a faster machine runs below
+    the weights), and below its own weight. The remaining time is the elapsed time scaled by the
+    remaining weight (:meth:`bakeshop.progress.Task.line`), so a busy machine's slowness counts
+    as it is measured."""
+
+    def __init__(self, total: float) -> None:
+        self.total = total
+        self.weight = 0.0  # of the finished commands
+        self.cpu = 0.0  # their CPU seconds
+
+    def finish(self, weight: float, cpu: float) -> None:
+        """Count a finished command of ``weight`` that used ``cpu`` seconds."""
+        self.weight += weight
+        self.cpu += cpu
+
+    def done(self, running: list[tuple[float, float]]) -> float:
+        """Weight done, with the ``(weight, cpu seconds so far)`` of the running commands."""
+        ratio = self.cpu / self.weight if self.weight > 0 and self.cpu > 0 else 1.0
+        partial = sum(min(cpu / ratio, 0.9 * weight) for weight, cpu in running)
+        return min(self.total, self.weight + partial)
+
+
+#: progress units per weight (CPU second): the bar counts whole units.
+UNITS = 10
+
+
 def run_tour(jobs: int) -> tuple[list[Job], list[Job]]:
     """Run :data:`TOUR`, ``jobs`` processes at once: (the jobs run, those skipped for a missing
     extra). A signal or a failure stops the processes still running.
@@ -206,18 +278,19 @@ def run_tour(jobs: int) -> tuple[list[Job], list[Job]]:
     Raises
     ------
     BakeshopError
-        A command of the tour failed: its error line.
+        A command of the tour failed, or used no CPU for :data:`HUNG_SECONDS`: its error line.
     """
     from bakeshop.data import default_probe_path
 
     probe = str(default_probe_path())
     todo = [job for job in TOUR if _available(job)]
     waiting = list(todo)
-    live: dict[Job, tuple[subprocess.Popen, int, float]] = {}
+    live: dict[Job, Watch] = {}
+    estimate = Estimate(sum(sum(job.cpu) for job in todo))
     with (
         tempfile.TemporaryDirectory(prefix="bakeshop-warm-up-") as tmp,
         progress.task(
-            "warm-up: compiling every command's kernels", sum(len(j.commands) for j in todo)
+            "warm-up: compiling every command's kernels", round(UNITS * estimate.total)
         ) as task,
     ):
         work = Path(tmp)
@@ -226,24 +299,30 @@ def run_tour(jobs: int) -> tuple[list[Job], list[Job]]:
             while waiting or live:
                 while waiting and len(live) < jobs:
                     job = waiting.pop(0)
-                    live[job] = (_start(job, 0, probe, work), 0, time.monotonic())
+                    live[job] = Watch(_start(job, 0, probe, work), job, 0)
                 time.sleep(0.05)
-                for job, (child, k, started) in list(live.items()):
-                    status = child.poll()
-                    if status is None and time.monotonic() - started <= COMMAND_SECONDS:
-                        continue
+                now = time.monotonic()
+                for job, watch in list(live.items()):
+                    status = watch.process.poll()
+                    if status is None:
+                        watch.sample(now)
+                        if not watch.hung(now):
+                            continue
                     if status != 0:
                         log = work / f"{job.name}.log"
                         why = "failed: " + _reason(log, status) if status is not None else (
-                            f"did not end in {COMMAND_SECONDS} s")  # fmt: skip
-                        command = shlex.join(job.argv(k, probe))
+                            f"used no CPU for {HUNG_SECONDS:.0f} s: hung")  # fmt: skip
+                        command = shlex.join(job.argv(watch.k, probe))
                         raise BakeshopError(f"warm-up: 'bakeshop {command}' {why}")
-                    task.advance()
+                    estimate.finish(job.cpu[watch.k], watch.cpu)
                     del live[job]
-                    if k + 1 < len(job.commands):
-                        live[job] = (_start(job, k + 1, probe, work), k + 1, time.monotonic())
+                    if watch.k + 1 < len(job.commands):
+                        k = watch.k + 1
+                        live[job] = Watch(_start(job, k, probe, work), job, k)
+                running = [(w.job.cpu[w.k], w.cpu) for w in live.values()]
+                task.advance(max(0, round(UNITS * estimate.done(running)) - task.completed))
         finally:
-            _stop([child for child, _, _ in live.values()])
+            _stop([watch.process for watch in live.values()])
     return todo, [job for job in TOUR if job not in todo]
 
 

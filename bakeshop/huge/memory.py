@@ -18,6 +18,8 @@ from bakeshop.resources import available_memory, format_bytes
 DEFAULT_FRACTION = 0.5
 #: the smallest bound accepted.
 MIN_MEMORY = 4 << 20
+#: the largest bound accepted (a petabyte).
+MAX_MEMORY = 10**15
 
 _UNITS = {
     "": 1,
@@ -34,6 +36,9 @@ _UNITS = {
     "t": 1e12,
     "tb": 1e12,
     "tib": 1 << 40,
+    "p": 1e15,
+    "pb": 1e15,
+    "pib": 1 << 50,
 }
 _MEMORY = re.compile(r"\s*([0-9]*\.?[0-9]+(?:e[+-]?[0-9]+)?)\s*([a-z]*)\s*", re.IGNORECASE)
 
@@ -47,8 +52,9 @@ class MemoryBoundError(BakeshopError, ValueError):
 
 
 def parse_memory(text: str | int | float) -> int:
-    """Bytes of a memory size: ``"2GB"`` (10^9), ``"1.5GiB"`` (2^30), ``"512M"``, or a number
-    of bytes; at least :data:`MIN_MEMORY`."""
+    """Bytes of a memory size: ``"2GB"`` or ``"2 GB"`` (10^9), ``"1.5GiB"`` (2^30), ``"512M"``,
+    or a number of bytes; from :data:`MIN_MEMORY` to :data:`MAX_MEMORY`. The one parser of
+    ``--memory`` and ``BAKESHOP_MEMORY``."""
     if isinstance(text, (int, float)):
         value = float(text)
     else:
@@ -57,11 +63,12 @@ def parse_memory(text: str | int | float) -> int:
         if m is None or unit not in _UNITS:
             raise ArgumentError(
                 f"invalid memory size {text!r}: a number with an optional unit "
-                "(B, KB, MB, GB, TB in powers of 1000; KiB, MiB, GiB, TiB in powers of 1024)"
+                "(B, KB, MB, GB, TB, PB in powers of 1000; KiB, MiB, GiB, TiB, PiB in powers "
+                "of 1024)"
             )
         value = float(m[1]) * _UNITS[unit]
-    if not math.isfinite(value) or value < MIN_MEMORY:
-        raise ArgumentError(f"a memory bound must be at least {format_bytes(MIN_MEMORY)}")
+    if not math.isfinite(value) or not MIN_MEMORY <= value <= MAX_MEMORY:
+        raise ArgumentError(f"a memory bound is 4 MiB to 1 PB, not {text!r}")
     return int(value)
 
 
@@ -73,9 +80,15 @@ def default_memory() -> int:
 def resolve_memory(memory: int | str | None) -> int:
     """``memory`` (None, bytes or a size string) as bytes; None gives :func:`default_memory`
     (or the BAKESHOP_MEMORY environment variable when set)."""
-    if memory is None:
-        memory = os.environ.get("BAKESHOP_MEMORY") or None
-    return default_memory() if memory is None else parse_memory(memory)
+    if memory is not None:
+        return parse_memory(memory)
+    variable = os.environ.get("BAKESHOP_MEMORY")
+    if not variable:
+        return default_memory()
+    try:
+        return parse_memory(variable)
+    except ArgumentError as e:
+        raise ArgumentError(f"BAKESHOP_MEMORY: {e.reason}") from None
 
 
 def refuse(what: str, needed: int, memory: int) -> MemoryBoundError:

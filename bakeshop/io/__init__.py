@@ -19,9 +19,7 @@ documents, and :func:`atomic_path`, the one way a file is written.
 from __future__ import annotations
 
 import importlib
-import inspect
 import os
-from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
 from typing import Any, Literal, overload
@@ -29,7 +27,7 @@ from typing import Any, Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import BakeshopError, FormatError, UnsupportedError
+from bakeshop.errors import BakeshopError, FormatError, UnsupportedError, with_article
 from bakeshop.io import _intent, verify
 from bakeshop.io._files import (
     atomic_path,
@@ -38,6 +36,7 @@ from bakeshop.io._files import (
     open_input,
     record_writes,
 )
+from bakeshop.io._options import checked_options
 from bakeshop.io.budget import DECODE_FLOOR, DECODE_RATIO, decode_budget
 from bakeshop.io.containers import CONTAINERS, read_container, write_container
 from bakeshop.io.documents import read_json, write_json, write_text
@@ -216,7 +215,7 @@ def read_image(
     except OSError as e:
         raise BakeshopError(e.strerror or str(e), path) from None
     codec = _module(name)
-    _check_options(codec.read, options, codec.NAME, path)
+    options = checked_options(codec.read, options, codec.NAME, path)
     if not codec.sniff(head):
         actual = sniff_format(head)
         if actual is not None and actual != name:
@@ -226,7 +225,7 @@ def read_image(
                 path,
             )
         if name != "tga":
-            raise FormatError(f"not a {codec.NAME} file (bad magic bytes)", path)
+            raise FormatError(f"not {with_article(codec.NAME)} file (bad magic bytes)", path)
     try:
         if max_decoded is None:
             image, meta = codec.read(Path(path), **options)
@@ -252,7 +251,7 @@ def write_image(path: str | os.PathLike, image: ArrayLike, **options: Any) -> No
     name = codec_for(path)
     image = as_image(image, path)
     codec = _module(name)
-    _check_options(codec.write, options, codec.NAME, path)
+    options = checked_options(codec.write, options, codec.NAME, path)
     with (
         _intent.intent(path, "image", image, codec=name, options=options),
         atomic_path(path) as tmp,
@@ -267,28 +266,10 @@ def write_image(path: str | os.PathLike, image: ArrayLike, **options: Any) -> No
 
 def check_write_options(path: str | os.PathLike, options: dict) -> None:
     """Refuse, before any work, a format ``path``'s extension does not name, or ``options``
-    its codec's writer does not take (what :func:`write_image` would refuse at the end)."""
+    its codec's writer does not take or whose values are of the wrong type (what
+    :func:`write_image` would refuse at the end)."""
     codec = _module(codec_for(path))
-    _check_options(codec.write, options, codec.NAME, path)
-
-
-def _check_options(
-    function: Callable[..., object], options: dict, format_name: str, path: str | os.PathLike
-) -> None:
-    """Refuse options that the codec function does not take, naming the ones it does."""
-    parameters = inspect.signature(function).parameters
-    if any(p.kind is p.VAR_KEYWORD for p in parameters.values()):
-        return
-    accepted = [n for n, p in parameters.items() if p.kind is p.KEYWORD_ONLY]
-    unknown = sorted(set(options) - set(accepted))
-    if unknown:
-        from bakeshop.errors import ArgumentError
-
-        raise ArgumentError(
-            f"{format_name} takes no option {', '.join(map(repr, unknown))}; "
-            f"its options are: {', '.join(accepted) or 'none'}",
-            path,
-        )
+    checked_options(codec.write, options, codec.NAME, path)
 
 
 def as_image(image: ArrayLike, path: str | os.PathLike | None = None) -> np.ndarray:

@@ -9,7 +9,7 @@ from typing import Concatenate, ParamSpec, TypeVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.io._files import MAX_SIDE
 from bakeshop.io.budget import check_decode
 
@@ -124,7 +124,9 @@ def check_levels(
             raise ArgumentError(f"mip {m} holds NaN values")
         levels.append(a)
     if max(height, width) >> (len(levels) - 1) == 0:
-        raise ArgumentError(f"{len(levels)} mip levels is more than a {width}x{height} texture has")
+        raise ArgumentError(
+            f"{len(levels)} mip levels is more than {with_article(width)}x{height} texture has"
+        )
     return levels, cube
 
 

@@ -53,7 +53,7 @@ from typing import TYPE_CHECKING, Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import FormatError, UnsupportedError, validate_choice
+from bakeshop.errors import FormatError, UnsupportedError, validate_choice, with_article
 from bakeshop.io import _intent
 from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
 from bakeshop.io._levels import (
@@ -384,7 +384,9 @@ def _read(
     levels = mip_count if flags & DDSD_MIPMAPCOUNT or mip_count > 1 else 1
     levels = max(levels, 1)
     if levels > MAX_LEVELS or max(width, height) >> (levels - 1) == 0:
-        raise FormatError(f"{levels} mip levels is more than a {width}x{height} texture has")
+        raise FormatError(
+            f"{levels} mip levels is more than {with_article(width)}x{height} texture has"
+        )
     faces = 6 if cube else 1
     metadata = {"format": NAME, "cube": cube, "layers": layers, "dxgi_format": fmt, "header": kind}
     if block is not None:

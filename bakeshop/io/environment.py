@@ -25,7 +25,7 @@ from typing import Literal, NamedTuple, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.io._files import check_input
 from bakeshop.io.containers import is_container, read_container, write_container
 
@@ -90,7 +90,7 @@ def guess_input_layout(image: np.ndarray, path: str | os.PathLike | None = None)
     if len(candidates) != 1:
         which = ", ".join(candidates) if candidates else "none"
         raise ArgumentError(
-            f"cannot tell the layout of a {w}x{h} image (candidates: {which}); name it "
+            f"cannot tell the layout of {with_article(w)}x{h} image (candidates: {which}); name it "
             "(--from LAYOUT, or layout=)",
             path,
         )

@@ -42,7 +42,7 @@ from typing import TYPE_CHECKING, Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import FormatError, UnsupportedError, validate_choice
+from bakeshop.errors import FormatError, UnsupportedError, validate_choice, with_article
 from bakeshop.io import _intent
 from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
 from bakeshop.io._levels import (
@@ -265,7 +265,9 @@ def _read(
         raise FormatError(f"a cube map's faces must be square; the header says {width}x{height}")
     levels = max(mip_count, 1)  # 0 asks the loader to generate mips: level 0 is stored
     if levels > MAX_LEVELS or max(width, height) >> (levels - 1) == 0:
-        raise FormatError(f"{levels} mip levels is more than a {width}x{height} texture has")
+        raise FormatError(
+            f"{levels} mip levels is more than {with_article(width)}x{height} texture has"
+        )
     check_payload(kv_bytes, len(data) - _HEADER_SIZE, "key/value data")
     key_values = _key_values(data[_HEADER_SIZE : _HEADER_SIZE + kv_bytes], order)
     offset = _HEADER_SIZE + kv_bytes

@@ -59,6 +59,7 @@ from bakeshop.errors import (
     FormatError,
     UnsupportedError,
     validate_choice,
+    with_article,
 )
 from bakeshop.io import _intent
 from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
@@ -452,7 +453,9 @@ def _read(
         raise FormatError(f"a cube map's faces must be square; the header says {width}x{height}")
     levels = max(level_count, 1)
     if levels > MAX_LEVELS or max(width, height) >> (levels - 1) == 0:
-        raise FormatError(f"{levels} mip levels is more than a {width}x{height} texture has")
+        raise FormatError(
+            f"{levels} mip levels is more than {with_article(width)}x{height} texture has"
+        )
     check_payload(_HEADER.size + _LEVEL.size * levels, len(data), "level index")
     for offset, length, what in ((dfd_offset, dfd_length, "format descriptor"),
                                  (kv_offset, kv_length, "key/value data")):  # fmt: skip

@@ -39,7 +39,13 @@ import struct
 import numba
 import numpy as np
 
-from bakeshop.errors import ArgumentError, FormatError, UnsupportedError, validate_choice
+from bakeshop.errors import (
+    ArgumentError,
+    FormatError,
+    UnsupportedError,
+    validate_choice,
+    with_article,
+)
 from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
 from bakeshop.io._quantize import float_to_unsigned, unsigned_to_float
 from bakeshop.io.budget import check_decode
@@ -85,7 +91,7 @@ def _parse(head: bytes) -> dict:
     if map_type == 1 and map_bits not in MAP_DEPTHS:
         raise FormatError(f"unsupported colour map entry size {map_bits} bits")
     if depth not in DEPTHS[kind]:
-        raise FormatError(f"{depth}-bit pixels are not valid in a {kind} TGA")
+        raise FormatError(f"{depth}-bit pixels are not valid in {with_article(kind)} TGA")
     if descriptor & 0xC0:
         raise UnsupportedError("interleaved TGA (descriptor bits 6-7) is not supported")
     return {

@@ -45,7 +45,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop import progress
-from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.errors import ArgumentError, validate_choice, with_article
 from bakeshop.light.specular import BLOCK_LOOKUPS, ggx_half_vector, hammersley
 from bakeshop.resources import Cost, require, seconds_of
 
@@ -197,7 +197,7 @@ def dfg_table_cost(size: int = 128, *, samples: int = 4096) -> Cost:
     return Cost(
         TABLE_BYTES * size * size,
         size * size * samples,
-        f"a {size}x{size} DFG table of {samples} samples per texel",
+        f"{with_article(size)}x{size} DFG table of {samples} samples per texel",
         seconds_of(size * size * samples, SAMPLES_PER_SECOND),
     )
 

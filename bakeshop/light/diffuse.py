@@ -54,7 +54,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop import progress
-from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.errors import ArgumentError, validate_choice, with_article
 from bakeshop.light import sh
 from bakeshop.resources import Cost, require, seconds_of
 from bakeshop.sphere import STRIP_TEXELS, Environment, Layout, check_environment, texel_strips
@@ -123,7 +123,7 @@ def irradiance_cost(
     memory = INPUT_BYTES[method] * strip + kept + OUTPUT_BYTES * m + (128 << 20) * (method == "sh")
     terms = {"exact": n * m, "sh": n * (order + 1) ** 2}.get(method, 0)
     seconds = seconds_of(terms, TERMS_PER_SECOND[method]) if terms else 0.0
-    what = f"the {to} DIM of a {lay.name} environment of {n} texels ({method})"
+    what = f"the {to} DIM of {with_article(lay.name)} environment of {n} texels ({method})"
     return Cost(memory, m, what, seconds)
 
 
@@ -490,7 +490,8 @@ def dim_normals(to: str, size: int | tuple[int, int]) -> tuple[tuple, np.ndarray
     shape = lay.shape(size)
     if math.prod(shape) > MAX_OUTPUT_TEXELS:
         raise ArgumentError(
-            f"a {to} DIM of shape {shape} has more than {MAX_OUTPUT_TEXELS} texels; a DIM is "
+            f"{with_article(to)} DIM of shape {shape} has more than {MAX_OUTPUT_TEXELS} texels; "
+            "a DIM is "
             "smooth: 360x180 is plenty"
         )
     dirs, valid = lay.directions(shape)

@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop import progress
+from bakeshop.errors import with_article
 from bakeshop.light import diffuse, sh, specular
 from bakeshop.light.dfg import dfg_table, dfg_table_cost
 from bakeshop.light.dims import dim_pair_cost, dim_pair_of
@@ -117,8 +118,9 @@ def bake_probe_cost(
     return Cost(
         kept + max(c.memory for c in steps),
         steps[2].work,
-        f"the bake of a {lay.name} probe of {math.prod(spatial)} texels (a 6x{size}x{size} "
-        f"cube, a {mips}-level 6x{specular_size}x{specular_size} chain)",
+        f"the bake of {with_article(lay.name)} probe of {math.prod(spatial)} texels "
+        f"(a 6x{size}x{size} "
+        f"cube, {with_article(mips)}-level 6x{specular_size}x{specular_size} chain)",
         sum(c.seconds for c in steps),
     )
 

@@ -70,7 +70,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop import progress
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.light._specular_kernels import _filter_kernel, _lobe_kernel
 from bakeshop.resources import Cost, require, seconds_of
 from bakeshop.sphere import Layout, check_environment, remap, remap_cost, sample, valid_texels
@@ -469,7 +469,7 @@ def prefilter_cost(
     levels = [max(1, size >> m) for m in range(mips)]
     work = sum(6 * s * s * samples for s in levels[1:]) + 6 * size * size
     chain = CHAIN_BYTES * 6 * size * size
-    what = f"a {mips}-level prefiltered chain of 6x{size}x{size} faces"
+    what = f"{with_article(mips)}-level prefiltered chain of 6x{size}x{size} faces"
     seconds = seconds_of(work, LOOKUPS_PER_SECOND)
     if lay.name == "cube" and spatial[1] == size:
         return Cost(chain, work, what, seconds)
@@ -491,7 +491,7 @@ def _source(image: ArrayLike, layout: str, size: int, samples: int) -> _Source:
 def _check_mips(mips: int, size: int) -> int:
     top = size.bit_length()
     if not 1 <= mips <= top:
-        raise ArgumentError(f"a {size}-texel cube has 1..{top} mip levels; got {mips}")
+        raise ArgumentError(f"{with_article(size)}-texel cube has 1..{top} mip levels; got {mips}")
     return mips
 
 

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.light.sun_texels import (
     ImageTexels,
     Piece,
@@ -478,7 +478,7 @@ def find_sun_cost(shape: Sequence[int], layout: str) -> Cost:
     lay = get_layout(layout)
     n = math.prod(shape[: 3 if lay.cubic else 2])
     memory = SEARCH_BYTES * min(n, 4 * STRIP_TEXELS) + COPY_BYTES * n
-    return Cost(memory, n, f"the sun's search in a {lay.name} probe of {n} texels")
+    return Cost(memory, n, f"the sun's search in {with_article(lay.name)} probe of {n} texels")
 
 
 def find_sun(image: ArrayLike, layout: str) -> Sun | None:

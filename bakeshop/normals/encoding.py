@@ -27,6 +27,7 @@ z = sqrt(1 - x^2 - y^2), as a shader does.
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass, field
 from typing import Literal, overload
@@ -34,7 +35,7 @@ from typing import Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.errors import ArgumentError, validate_choice, with_article
 
 CONVENTIONS = ("gl", "dx")
 ENCODINGS = ("packed", "signed")
@@ -43,6 +44,11 @@ CHANNELS = ("xyz", "xy")
 #: a decoded vector whose length differs from 1 by more than this is reported by the check.
 #: 8-bit quantisation alone moves the length by at most sqrt(3) / 255 ~ 0.007.
 LENGTH_TOLERANCE = 0.1
+#: a file is not read as a normal map when more than this fraction of its texels are far from
+#: unit length (or, packed, of its samples are outside [0, 1]): an HDR image, a height map.
+IMPLAUSIBLE_FRACTION = 0.5
+#: texels examined by :func:`implausible` and :func:`guess_convention` (a sample of the map).
+SAMPLE_TEXELS = 1 << 20
 
 __all__ = [
     "CONVENTIONS",
@@ -55,6 +61,8 @@ __all__ = [
     "convert_normal_map",
     "check_normals",
     "NormalCheck",
+    "implausible",
+    "guess_convention",
 ]
 
 
@@ -168,7 +176,7 @@ def _raw(image: ArrayLike, encoding: str, channels: str) -> np.ndarray:
     a = _float(image)
     if a.ndim != 3 or a.shape[2] < (2 if channels == "xy" else 3):
         raise ArgumentError(
-            f"a {channels} normal map needs an (H, W, C) image with at least "
+            f"{with_article(channels)} normal map needs an (H, W, C) image with at least "
             f"{len(channels)} channels; got shape {a.shape}"
         )
     k = len(channels)
@@ -338,6 +346,85 @@ def check_normals(
     )
 
 
+def implausible(image: ArrayLike, *, encoding: str = "packed", channels: str = "xyz") -> str | None:
+    """Why the stored values ``image`` cannot be a normal map in ``encoding``, or None.
+
+    Refused: packed samples outside [0, 1] (by more than 0.01) in more than 1% of the samples,
+    which no packed file stores, or vectors far from unit length (:func:`check_normals`) in more
+    than :data:`IMPLAUSIBLE_FRACTION` of the texels: an HDR image, a height map or the other
+    encoding. Judged on an evenly strided sample of at most :data:`SAMPLE_TEXELS` texels.
+    """
+    a = _float(image)
+    step = (
+        max(1, math.ceil(math.sqrt(a.shape[0] * a.shape[1] / SAMPLE_TEXELS))) if a.ndim == 3 else 1
+    )
+    sample = a[::step, ::step] if a.ndim == 3 else a
+    k = len(channels)
+    if encoding == "packed":
+        stored = sample[..., :k]
+        outside = float(np.mean((stored < -0.01) | (stored > 1.01)))
+        if outside > 0.01:
+            return (
+                f"{outside:.0%} of its values are outside [0, 1], where a packed normal map "
+                "stores them (an HDR image? --encoding signed reads [-1, 1])"
+            )
+    report = check_normals(sample, encoding=encoding, channels=channels)
+    if report.off_unit + report.invalid > IMPLAUSIBLE_FRACTION * report.texels:
+        other = "signed" if encoding == "packed" else "packed"
+        share = (report.off_unit + report.invalid) / report.texels
+        return (
+            f"{share:.0%} of its vectors are far from unit length (an image or a height map? "
+            f"or --encoding {other})"
+        )
+    return None
+
+
+def guess_convention(normals: ArrayLike) -> tuple[str | None, float]:
+    """Guess the green convention of decoded normals from the surface they describe.
+
+    The slopes g = (-x/z, -y/z) of a normal map are the gradient of its height field h, so
+    their curl dg_x/dv - dg_y/du vanishes. Read with the wrong green sign, g_y changes sign
+    and the curl becomes dg_x/dv + dg_y/du, which does not vanish unless h is separable. With
+    R+ and R- the two residuals (per texel, rows downward), the share
+    f = |R+|^2 / (|R+|^2 + |R-|^2) is ~0 for normals decoded with their own convention and ~1
+    for normals decoded with the other one.
+
+    Parameters
+    ----------
+    normals : (H, W, 3) float array
+        Unit normals as decoded (OpenGL frame), of a central crop of at most
+        :data:`SAMPLE_TEXELS` texels.
+
+    Returns
+    -------
+    (guess, share)
+        ``"gl"`` when the normals look decoded with their own convention, ``"dx"`` when their
+        green channel looks flipped, None when the map cannot tell (flat, separable, noise);
+        ``share`` is f above.
+    """
+    n = np.asarray(normals, dtype=np.float64)
+    side = int(math.sqrt(SAMPLE_TEXELS))
+    h, w = n.shape[:2]
+    top, left = max(0, (h - side) // 2), max(0, (w - side) // 2)
+    n = n[top : top + side, left : left + side]
+    if min(n.shape[:2]) < 3:
+        return None, 0.5
+    z = np.maximum(n[..., 2], 0.05)
+    gx, gy = -n[..., 0] / z, -n[..., 1] / z  # slopes along u (columns) and v (up the rows)
+    dgx_dr = np.diff(gx, axis=0)[:, :-1]
+    dgy_dc = np.diff(gy, axis=1)[:-1, :]
+    # dgx/dv = -dgx/dr: the GL residual dgx/dv - dgy/du is -(dgx_dr + dgy_dc)
+    same, flipped = np.mean((dgx_dr + dgy_dc) ** 2), np.mean((dgx_dr - dgy_dc) ** 2)
+    total = same + flipped
+    # 8-bit quantisation adds curl to both alike; a separable relief has none in either
+    if not total > 1e-8:
+        return None, 0.5
+    share = float(same / total)
+    if abs(share - 0.5) < 0.25:
+        return None, share
+    return ("gl" if share < 0.5 else "dx"), share
+
+
 @overload
 def read_normal_map(
     path: str | os.PathLike,
@@ -366,10 +453,14 @@ def read_normal_map(
 ) -> np.ndarray | tuple[np.ndarray, int | None]:
     """A normal-map file as ``(H, W, 3)`` float32 unit vectors in the OpenGL frame
     (:func:`decode_normals` of :func:`bakeshop.io.read_image`); with
-    ``with_bits`` also the file's sample depth (8, 16, or None for floats)."""
+    ``with_bits`` also the file's sample depth (8, 16, or None for floats). A file that cannot
+    be a normal map (:func:`implausible`: an HDR image, a height map) is refused."""
     from bakeshop.io import read_image, stored_bits
 
     image, meta = read_image(path, with_metadata=True)
+    problem = implausible(image, encoding=encoding, channels=channels)
+    if problem is not None:
+        raise ArgumentError(f"not a normal map: {problem}", path)
     try:
         normals = decode_normals(image, convention=convention, encoding=encoding, channels=channels)
     except ArgumentError as e:

@@ -43,6 +43,7 @@ __all__ = [
     "trilinear_add",
     "sample_wrapped",
     "place_detail",
+    "filtered_relief",
     "mask_weights",
     "DetailLayer",
     "apply_layers",
@@ -338,8 +339,7 @@ def place_detail(
     rot = np.array([[c, s, ou], [-s, c, ov], [0, 0, 1]])
     to_texel = np.array([[w0, 0, 0], [0, -h0, h0], [0, 0, 1]])
     affine = to_texel @ rot @ scale @ to_uv
-    footprint = max(abs(tu) * w0 / width, abs(tv) * h0 / height)
-    lod = math.log2(footprint) if footprint > 1 else 0.0
+    lod = _lod((h0, w0), (height, width), tu, tv)
     out = np.empty((height, width, 3), np.float32)
     # the gradient of h(R(-theta) diag(tu, tv) p) is diag(tu, tv) R(theta) grad h: rotated,
     # then mirrored where a tile count is negative (the slopes' scale is left as authored).
@@ -405,6 +405,37 @@ def mask_weights(
             )
         weights |= hit
     return weights.astype(np.float32)
+
+
+def _lod(detail: tuple[int, int], shape: tuple[int, int], tu: float, tv: float) -> float:
+    """The mip level a detail of (h, w) texels is sampled at, tiled (tu, tv) times over an
+    output of ``shape`` (H, W): log2 of the detail texels under one output texel."""
+    footprint = max(abs(tu) * detail[1] / shape[1], abs(tv) * detail[0] / shape[0])
+    return math.log2(footprint) if footprint > 1 else 0.0
+
+
+def _relief(normals: np.ndarray) -> float:
+    """RMS angle in degrees of (unnormalised) normals from their mean direction, over an even
+    sample of at most 2^20 texels."""
+    step = max(1, math.ceil(math.sqrt(normals.shape[0] * normals.shape[1] / (1 << 20))))
+    n = normalize(np.asarray(normals[::step, ::step], np.float64).reshape(-1, 3))
+    mean = normalize(n.mean(axis=0))
+    return float(np.degrees(np.sqrt(np.mean(np.arccos(np.clip(n @ mean, -1.0, 1.0)) ** 2))))
+
+
+def filtered_relief(
+    detail: ArrayLike, shape: tuple[int, int], *, tile: float | tuple[float, float] = 1.0
+) -> tuple[float, float]:
+    """How much of a detail's relief survives tiling: ``(authored, left)``, the RMS angle in
+    degrees of its normals from their mean direction, as authored and at the mip level that
+    :func:`place_detail` samples when it tiles the detail ``tile`` times over ``shape`` (the
+    box filter averages away slopes finer than an output texel).
+    """
+    d = np.asarray(detail)
+    tu, tv = as_pair(tile, "tile")
+    chain = mip_chain(d)
+    level = min(len(chain) - 1, round(_lod(d.shape[:2], tuple(shape), tu, tv)))
+    return _relief(d), _relief(chain.level(level))
 
 
 @dataclass

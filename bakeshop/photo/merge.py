@@ -43,7 +43,7 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.photo.response import KNOWN_CURVES, CameraResponse
 from bakeshop.photo.stack import CLIP_HIGH, CLIP_LOW, LUMINANCE_PER_UNIT, ExposureStack, clip_codes
 from bakeshop.resources import Cost, require
@@ -433,7 +433,8 @@ def merge_stack(
         raise ArgumentError(f"frames must have 1 or 3 channels, not {channels}")
     if response.channels not in (1, channels):
         raise ArgumentError(
-            f"a {response.channels}-channel response cannot merge {channels}-channel frames"
+            f"{with_article(response.channels)}-channel response cannot merge "
+            f"{channels}-channel frames"
         )
     low, high = clip_codes(stack.bits, clip_low, clip_high)
     table, weight, slope = _tables(response, stack.bits, channels, low, high)

@@ -44,7 +44,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.errors import ArgumentError, validate_choice, with_article
 
 __all__ = [
     "BALL_CONVENTIONS",
@@ -220,7 +220,7 @@ def _check_circle(circle: Circle, photo: np.ndarray) -> None:
     h, w = photo.shape[:2]
     ok = all(math.isfinite(v) for v in (circle.x, circle.y, circle.radius))
     if not ok or circle.radius < 4 or circle.radius > 2 * max(h, w):
-        raise ArgumentError(f"implausible ball circle {circle} for a {w}x{h} photo")
+        raise ArgumentError(f"implausible ball circle {circle} for {with_article(w)}x{h} photo")
 
 
 def crop_ball(photo: ArrayLike, circle: Circle, *, size: int | None = None) -> np.ndarray:
@@ -527,7 +527,7 @@ def find_ball(photo: ArrayLike, *, guess: Circle | None = None) -> Circle:
     grey = _grey_log(photo)
     h, w = grey.shape
     if min(h, w) < 16:
-        raise ArgumentError(f"a {w}x{h} photo is too small to find a ball in")
+        raise ArgumentError(f"{with_article(w)}x{h} photo is too small to find a ball in")
     if guess is not None:
         _check_circle(guess, photo)
         return _refine(grey, guess.x, guess.y, guess.radius, max(4.0, 0.05 * guess.radius))

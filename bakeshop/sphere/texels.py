@@ -32,7 +32,7 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.sphere import _maps
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere.cube import cube_to_view
@@ -84,7 +84,7 @@ def check_environment(image: ArrayLike, layout_name: str | Layout) -> Environmen
     spatial = 3 if lay.cubic else 2
     if a.ndim not in (spatial, spatial + 1):
         want = "(6, S, S) or (6, S, S, C)" if lay.cubic else "(H, W) or (H, W, C)"
-        raise ArgumentError(f"a {lay.name} image must be {want}; got shape {a.shape}")
+        raise ArgumentError(f"{with_article(lay.name)} image must be {want}; got shape {a.shape}")
     squeezed = a.ndim == spatial
     if squeezed:
         a = a[..., None]
@@ -289,7 +289,9 @@ def texels_at(
     n_rows, width = texel_rows(lay, shape)
     index = np.asarray(index, dtype=np.int64).reshape(-1)
     if index.size and (index.min() < 0 or index.max() >= n_rows * width):
-        raise ArgumentError(f"texel indices outside a {lay.name} image of shape {shape}")
+        raise ArgumentError(
+            f"texel indices outside {with_article(lay.name)} image of shape {shape}"
+        )
     return _RowGeometry(lay, shape).at(index)
 
 

@@ -60,7 +60,7 @@ import numpy as np
 import scipy.fft
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.errors import ArgumentError, validate_choice, with_article
 from bakeshop.resources import Cost, require
 from bakeshop.water._kernels import _flat_normals, _free_spectra, _loop_spectra, _normals
 from bakeshop.water.amplitudes import _check_seed, mode_normals
@@ -262,10 +262,12 @@ def ocean(
     needed = resolution * resolution * SEED_BYTES_PER_MODE
     if needed > SEED_BYTES_LIMIT:
         raise ArgumentError(
-            f"a {resolution}^2 lattice needs about {needed / 2**30:.1f} GiB to seed (limit "
+            f"{with_article(resolution)}^2 lattice needs about {needed / 2**30:.1f} GiB to seed "
+            "(limit "
             f"{SEED_BYTES_LIMIT / 2**30:.0f} GiB); use a lower resolution or cascades"
         )
-    require(Cost(needed, resolution * resolution, f"seeding a {resolution}^2 wave lattice"))
+    what = f"seeding {with_article(resolution)}^2 wave lattice"
+    require(Cost(needed, resolution * resolution, what))
     if loop_period is not None:
         loop_period = _positive(loop_period, "loop period (s)")
     validate_choice(frozen, FROZEN_MODES, "frozen-mode policy")

@@ -148,12 +148,14 @@ def test_resize_bad_size(hdr_image, tmp_path, capsys):
     assert "0 is not in the range 1<=x<=65536" in capsys.readouterr().err
 
 
-def test_convert_drops_alpha_where_the_target_stores_none(tmp_path, capsys):
+def test_convert_drops_alpha_where_the_target_stores_none(tmp_path, capfd):
     rgba = np.random.default_rng(3).random((8, 16, 4), dtype=np.float32)
     src = tmp_path / "rgba.exr"
     write_image(src, rgba, pixel_type="float")
-    assert main(["convert", str(src), str(tmp_path / "rgb.pfm")]) == 0
-    assert "alpha dropped" in capsys.readouterr().out
+    assert main(["convert", str(src), str(tmp_path / "rgb.pfm")]) == 2
+    assert "--alpha drop or --alpha premultiply" in capfd.readouterr().err
+    assert main(["convert", str(src), str(tmp_path / "rgb.pfm"), "--alpha", "drop"]) == 0
+    assert "alpha: drop" in capfd.readouterr().out
     np.testing.assert_array_equal(read_image(tmp_path / "rgb.pfm"), rgba[:, :, :3])
     assert main(["convert", str(src), str(tmp_path / "rgba.tga")]) == 0
     assert read_image(tmp_path / "rgba.tga").shape == (8, 16, 4)

@@ -307,7 +307,7 @@ def files(tmp_path):
     write_image(tmp_path / "nan.pfm", nan)
     write_image(tmp_path / "square.pfm", np.ones((16, 16, 3), np.float32))
     write_image(tmp_path / "ok.hdr", np.ones((16, 32, 3), np.float32))
-    write_image(tmp_path / "n.png", np.full((16, 16, 3), 0.5, np.float32))
+    write_image(tmp_path / "n.png", np.full((16, 16, 3), (0.5, 0.5, 1.0), np.float32))  # flat
     write_image(tmp_path / "grey.png", np.ones((16, 16, 1), np.float32))
     (tmp_path / "corrupt.exr").write_bytes(b"\x76\x2f\x31\x01" + bytes(40))
     (tmp_path / "bomb.hdr").write_bytes(bombs.radiance_old_rle(4096, 4096))

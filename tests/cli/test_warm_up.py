@@ -107,7 +107,10 @@ def scratch(tmp_path, monkeypatch) -> Path:
 
 def test_a_failing_command_stops_the_warm_up_in_one_line(scratch, monkeypatch, capfd):
     slow = "water ocean o --size 64 --resolution 512 --period 8"
-    tour = (warm_up.Job("slow", (slow,)), warm_up.Job("bad", ("info {probe}", "info nothing.exr")))
+    tour = (
+        warm_up.Job("slow", (slow,), (10.0,)),
+        warm_up.Job("bad", ("info {probe}", "info nothing.exr"), (1.0, 1.0)),
+    )
     monkeypatch.setattr(warm_up, "TOUR", tour)
     started = time.monotonic()
     assert main(["-q", "warm-up", "--jobs", "2"]) == 2
@@ -120,8 +123,10 @@ def test_a_failing_command_stops_the_warm_up_in_one_line(scratch, monkeypatch, c
 
 def test_a_missing_extra_is_skipped_and_named(scratch, monkeypatch, capfd):
     tour = (
-        warm_up.Job("info", ("info {probe}",)),
-        warm_up.Job("fast", ("info {probe}",), needs=("no_such_module_here",), extra="compress"),
+        warm_up.Job("info", ("info {probe}",), (1.0,)),
+        warm_up.Job(
+            "fast", ("info {probe}",), (1.0,), needs=("no_such_module_here",), extra="compress"
+        ),
     )
     monkeypatch.setattr(warm_up, "TOUR", tour)
     assert main(["-q", "warm-up"]) == 0
@@ -185,7 +190,10 @@ def test_a_child_that_does_not_stop_is_killed(scratch, monkeypatch, capfd):
         return stubborn[-1]
 
     monkeypatch.setattr(warm_up, "_start", starting)
-    tour = (warm_up.Job("stubborn", ("info {probe}",)), warm_up.Job("bad", ("info nothing.exr",)))
+    tour = (
+        warm_up.Job("stubborn", ("info {probe}",), (1.0,)),
+        warm_up.Job("bad", ("info nothing.exr",), (1.0,)),
+    )
     monkeypatch.setattr(warm_up, "TOUR", tour)
     started = time.monotonic()
     assert main(["-q", "warm-up", "--jobs", "2"]) == 2
@@ -202,3 +210,73 @@ def test_a_child_killed_by_a_signal_is_named(tmp_path):
     assert warm_up._reason(log, 3) == "exit status 3"
     log.write_text("Traceback...\nbakeshop: error: x.hdr: no such file\n")
     assert warm_up._reason(log, 2) == "x.hdr: no such file"
+
+
+def test_every_command_of_the_tour_has_its_weight():
+    for job in warm_up.TOUR:
+        assert len(job.cpu) == len(job.commands) and min(job.cpu) > 0, job.name
+
+
+def test_the_estimate_counts_weights_not_commands():
+    # the tour's first job is its longest: by commands, the first one done is 1/65 of the
+    # tour, and a busy machine's log said 54 minutes left when 9.5 remained
+    weights = [job.cpu for job in warm_up.TOUR]
+    estimate = warm_up.Estimate(sum(map(sum, weights)))
+    estimate.finish(weights[0][0], weights[0][0])
+    fraction = estimate.done([]) / estimate.total
+    assert fraction == pytest.approx(weights[0][0] / estimate.total)
+    assert fraction > 1.5 / sum(map(len, weights))  # more than one command in 65
+
+
+def test_a_running_command_counts_its_cpu_time_at_the_finished_ones_rate():
+    estimate = warm_up.Estimate(100.0)
+    assert estimate.done([(20.0, 5.0)]) == 5.0  # nothing finished: the weights' own rate
+    estimate.finish(30.0, 15.0)  # a warm cache: half the weights' CPU time
+    assert estimate.done([(20.0, 5.0)]) == pytest.approx(30.0 + 10.0)
+    assert estimate.done([(20.0, 50.0)]) == pytest.approx(30.0 + 18.0)  # below its weight
+
+
+def _spin(seconds: float, stop_using_cpu: bool) -> subprocess.Popen:
+    """A child that uses CPU for ``seconds``, then sleeps (or ends)."""
+    code = (
+        f"import time\nend = time.process_time() + {seconds}\n"
+        "while time.process_time() < end: pass\n"
+    )
+    if stop_using_cpu:
+        code += "time.sleep(60)\n"
+    return subprocess.Popen([sys.executable, "-c", code])
+
+
+def test_a_child_is_hung_when_it_uses_no_cpu_however_long_it_runs():
+    job = warm_up.Job("x", ("info {probe}",), (1.0,))
+    child = _spin(0.3, stop_using_cpu=True)
+    try:
+        watch = warm_up.Watch(child, job, 0, active=0.0)
+        watch.sample(1.0)  # its start-up's CPU time
+        while (cpu := warm_up.cpu_seconds(child.pid)) is not None and cpu < 0.3:
+            time.sleep(0.05)
+        time.sleep(0.2)
+        watch.sample(2.0)
+        assert not watch.hung(2.0 + warm_up.HUNG_SECONDS)  # it used CPU until 2.0
+        watch.sample(3.0 + warm_up.HUNG_SECONDS)  # asleep: no more CPU
+        assert watch.hung(3.0 + warm_up.HUNG_SECONDS)
+    finally:
+        child.kill()
+        child.wait()
+
+
+def test_a_slow_busy_command_is_not_stopped_and_a_hung_one_is(scratch, monkeypatch, capfd):
+    # a loaded machine slows a command far past any wall-clock limit; only a child that uses no
+    # CPU is stopped
+    monkeypatch.setattr(warm_up, "HUNG_SECONDS", 1.0)
+
+    def starting(job, k, probe, work):
+        return _spin(1.5, stop_using_cpu=job.name == "hung")
+
+    monkeypatch.setattr(warm_up, "_start", starting)
+    monkeypatch.setattr(warm_up, "TOUR", (warm_up.Job("busy", ("info {probe}",), (1.0,)),))
+    assert main(["-q", "warm-up"]) == 0
+    assert capfd.readouterr().err == ""
+    monkeypatch.setattr(warm_up, "TOUR", (warm_up.Job("hung", ("info x.hdr",), (1.0,)),))
+    assert main(["-q", "warm-up"]) == 2
+    assert one_error_line(capfd).endswith("'bakeshop info x.hdr' used no CPU for 1 s: hung")

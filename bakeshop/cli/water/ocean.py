@@ -21,7 +21,7 @@ from bakeshop.cli.water._sets import (
     _preview_indices,
     _write_previews,
 )
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.resources import Cost, require, seconds_of
 
 #: output texels per second per core of a whole run (synthesis, encoding, writing), per output:
@@ -249,7 +249,8 @@ def ocean(out_dir: Path, **o: Any) -> None:
     if not any(x.report["spectrum_variance"] > 0 for x in oceans):
         raise ArgumentError(
             f"no wave of this sea fits the tile: the lattice holds wavelengths from "
-            f"{o['size']:g} m down to {2 * o['size'] / resolution:.3g} m and a {o['wind']:g} m/s "
+            f"{o['size']:g} m down to {2 * o['size'] / resolution:.3g} m and "
+            f"{with_article(format(o['wind'], 'g'))} m/s "
             "wind puts no energy there; raise --wind, or lower --size or raise --resolution"
         )
     frames = o["frames"] or 8 * math.ceil(max(x.minimum_frames() for x in oceans) / 8)

@@ -20,7 +20,7 @@ from bakeshop.cli.water._sets import (
     _preview_indices,
     _write_previews,
 )
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.resources import Cost, require
 
 _RIPPLE_OUTPUTS = ("flipbook", "ring", "ring-texture", "rain")
@@ -224,7 +224,8 @@ def ripples(out_dir: Path, **o: Any) -> None:
                             energy=o["energy"], **water_kw)  # fmt: skip
     if crater.width * 4 > o["size"]:
         raise ArgumentError(
-            f"the crater ({crater.width * 1000:.3g} mm wide) does not fit a {o['size']:g} m "
+            f"the crater ({crater.width * 1000:.3g} mm wide) does not fit "
+            f"{with_article(format(o['size'], 'g'))} m "
             "texture: use a larger --size or a smaller drop"
         )
     out_dir.mkdir(parents=True, exist_ok=True)

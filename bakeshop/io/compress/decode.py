@@ -27,7 +27,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from bakeshop.errors import ArgumentError, FormatError
+from bakeshop.errors import ArgumentError, FormatError, with_article
 from bakeshop.io.compress import _bptc
 from bakeshop.io.compress.formats import BlockFormat, block_format, level_bytes
 
@@ -425,7 +425,8 @@ def decode_image(data: bytes, fmt: str | BlockFormat, width: int, height: int) -
     raw = np.frombuffer(data, np.uint8)
     if raw.size != expected:
         raise FormatError(
-            f"a {width}x{height} {fmt.name} image holds {expected} bytes, not {raw.size}"
+            f"{with_article(width)}x{height} {fmt.name} image holds {expected} bytes, "
+            f"not {raw.size}"
         )
     bx, by = -(-width // 4), -(-height // 4)
     texels = decode_blocks(raw.reshape(bx * by, fmt.block_bytes), fmt)

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError, BakeshopError, validate_choice
+from bakeshop.errors import ArgumentError, BakeshopError, validate_choice, with_article
 from bakeshop.io.compress import packing, quality
 from bakeshop.io.compress.encode import linear_to_srgb
 from bakeshop.io.compress.formats import FORMATS, block_format
@@ -105,7 +105,9 @@ def box_mips(
     full = max(h, w).bit_length()
     levels = full if levels is None else levels
     if not 1 <= levels <= full:
-        raise ArgumentError(f"a {w}x{h} texture has 1 to {full} mip levels, not {levels}")
+        raise ArgumentError(
+            f"{with_article(w)}x{h} texture has 1 to {full} mip levels, not {levels}"
+        )
     chain = [a]
     for m in range(1, levels):
         size = (max(1, w >> m), max(1, h >> m))

@@ -46,6 +46,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, BakeshopError, UnsupportedError
+from bakeshop.io._options import checked_options
 from bakeshop.io.stream._base import ArrayReader, Reader, window_of
 
 #: stream codec module -> the extensions it owns.
@@ -141,6 +142,7 @@ def write_strips(
     if min(h, w, c) < 1:
         raise ArgumentError(f"invalid image shape {shape}", path)
     try:
+        options = checked_options(module.write_strips, options, name, path)
         module.write_strips(Path(path), (h, w, c), _checked(strips, (h, w, c), path), **options)
     except BakeshopError as e:
         if e.path is None:

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.sphere import _kinds
 from bakeshop.sphere import cube as _cube
 from bakeshop.sphere.layouts.base import (
@@ -85,7 +85,8 @@ class CubeView(Layout):
             w, h = size
             if w * self.rows != h * self.cols:
                 raise ArgumentError(
-                    f"a {self.name} is {self.cols}:{self.rows} (width:height); got size {w}x{h}"
+                    f"{with_article(self.name)} is {self.cols}:{self.rows} (width:height); "
+                    f"got size {w}x{h}"
                 )
             size = w // self.cols
         n = int(size)
@@ -99,7 +100,7 @@ class CubeView(Layout):
             or shape[0] // self.rows != shape[1] // self.cols
         ):
             raise ArgumentError(
-                f"a {self.name} image is {self.rows} x {self.cols} square faces "
+                f"{with_article(self.name)} image is {self.rows} x {self.cols} square faces "
                 f"(H = {self.rows} S, W = {self.cols} S); got (H, W) = {shape}"
             )
 

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.sphere import _kinds
 from bakeshop.sphere.layouts.base import (
     _GAUSS_W,
@@ -44,7 +44,9 @@ class _Disk(Layout):
     def _check(self, shape: tuple[int, ...]) -> None:
         if len(shape) != 2 or shape[1] != self.disks * shape[0]:
             want = "square" if self.disks == 1 else f"{self.disks}:1 (width:height)"
-            raise ArgumentError(f"a {self.name} image must be {want}; got (H, W) = {shape}")
+            raise ArgumentError(
+                f"{with_article(self.name)} image must be {want}; got (H, W) = {shape}"
+            )
 
     def default_size(self, texels: int) -> int:
         return max(1, round(np.sqrt(texels / (self.disks * np.pi / 4))))
