@@ -149,8 +149,14 @@ def _probe(o: dict) -> dict:
         else:
             notes.append("integer input used as stored (display-encoded, not radiance)")
     if image.shape[-1] == 4 and fmt != "exr":
+        if not np.all(image[..., 3] == 1):  # never a silent loss
+            raise ArgumentError(
+                f'the probe\'s alpha is not 1 everywhere and .{fmt} stores none: format = "exr" '
+                "keeps it (or drop it with bakeshop convert --alpha drop)",
+                o["input"],
+            )
         image = image[..., :3]
-        notes.append(f"alpha dropped: .{fmt} stores none")
+        notes.append(f"alpha dropped: .{fmt} stores none (it was 1 everywhere)")
     baked = bake_probe(
         image, layout, cube_size=o["cube_size"], specular_size=o["specular_size"], mips=o["mips"]
     )

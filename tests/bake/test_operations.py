@@ -254,3 +254,16 @@ def test_parallel_bakes_write_the_same_bytes_as_serial_ones(tmp_path):
     serial, parallel = _files(tmp_path / "serial"), _files(tmp_path / "parallel")
     assert serial.keys() == parallel.keys() and len(serial) == 9
     assert serial == parallel
+
+
+def test_a_probe_step_refuses_to_drop_an_alpha_that_holds_something(tmp_path):
+    rgba = np.concatenate([sky(), np.full((16, 32, 1), 0.5, np.float32)], -1)
+    bio.write_image(tmp_path / "sky.exr", rgba)
+    (tmp_path / "r.toml").write_text(
+        '[probe.sky]\ninput = "sky.exr"\noutput = "baked"\nformat = "hdr"\ncube_size = 8\n'
+        "specular_size = 8\nmips = 3\n"
+    )
+    result = run(load_recipe(tmp_path / "r.toml"))
+    ((step, error),) = result.failed.items()
+    assert step == "probe.sky" and 'format = "exr"' in str(error), result.failed
+    assert not (tmp_path / "baked").exists()
