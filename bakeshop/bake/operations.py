@@ -18,7 +18,7 @@ from typing import NoReturn
 
 import numpy as np
 
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.sphere import FILE_LAYOUTS
 
 __all__ = ["OPERATIONS", "Operation", "Option"]
@@ -119,6 +119,14 @@ class Operation:
 # --- probe ---------------------------------------------------------------------------------------
 
 
+def _probe_check(o: dict, resolve: Resolve, fail: Fail) -> dict:
+    top = o["specular_size"].bit_length()
+    if o["mips"] > top:
+        size = with_article(o["specular_size"])
+        fail(f"mips = {o['mips']}: {size}-texel cube has 1..{top} mip levels")
+    return {}
+
+
 def _probe(o: dict) -> dict:
     from bakeshop.image import srgb_decode
     from bakeshop.io import read_environment, stored_bits, write_image, write_json
@@ -212,6 +220,7 @@ PROBE = Operation(
         "srgb_decode": Option(False, "bool", help="linearise an 8/16-bit input"),
     },
     run=_probe,
+    check=_probe_check,
 )
 
 

@@ -14,7 +14,7 @@ import click
 
 from bakeshop.cli._numbers import Integer, Size
 from bakeshop.cli._paths import parse_size
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, with_article
 from bakeshop.io.environment import LAYOUT_ENVMAPS, is_cube, read_environment
 from bakeshop.sphere import FILE_LAYOUTS
 
@@ -23,6 +23,25 @@ if TYPE_CHECKING:
 
     from bakeshop.io.stream import Reader
     from bakeshop.light import Sun
+
+#: GGX levels when no --mips is given (fewer where the level-0 cube has fewer).
+DEFAULT_MIPS = 9
+
+
+def chain_mips(mips: int | None, size: int, size_option: str, path: str | os.PathLike) -> int:
+    """--mips, by default ``min(DEFAULT_MIPS, size.bit_length())``: the levels a cube of
+    ``size`` texels has; more is refused, naming ``path``, before anything is read."""
+    top = size.bit_length()
+    if mips is None:
+        return min(DEFAULT_MIPS, top)
+    if mips > top:
+        raise ArgumentError(
+            f"--mips {mips}: {with_article(size)}-texel cube has 1..{top} mip levels; "
+            f"lower --mips or raise {size_option}",
+            path,
+        )
+    return mips
+
 
 #: output texels of a DIM when no --size is given (360x180, the pipeline's latlong).
 DEFAULT_TEXELS = 360 * 180

@@ -19,7 +19,7 @@ from bakeshop.cli._common import (
 )
 from bakeshop.cli._numbers import Integer
 from bakeshop.cli._paths import ENVIRONMENT, refuse_overwriting_inputs
-from bakeshop.cli._probe import check_picture_format, picture_layout, read_probe
+from bakeshop.cli._probe import chain_mips, check_picture_format, picture_layout, read_probe
 from bakeshop.cli.compress import bake_compressed, describe_quality, quality_options
 from bakeshop.engines import ENGINES
 from bakeshop.io.environment import (
@@ -59,8 +59,9 @@ _from = click.option(
               "cube (default: as many texels as the probe, a power of two).")  # fmt: skip
 @click.option("--specular-size", type=Integer(1, 4096), default=256, show_default=True,
               help="Face size of level 0 of the GGX chain.")  # fmt: skip
-@click.option("--mips", type=Integer(1, 14), default=9, show_default=True,
-              help="Levels of the GGX chain (roughness m / (mips - 1)).")  # fmt: skip
+@click.option("--mips", type=Integer(1, 14), help="Levels of the GGX chain (roughness "
+              "m / (mips - 1); default: 9, or down to 1x1; at most log2(--specular-size) "
+              "+ 1).")  # fmt: skip
 @srgb_decode_option
 @alpha_option
 @click.option("--compress", is_flag=True, help="Also write block-compressed (BC6H) files with "
@@ -76,7 +77,7 @@ def bake_probe(
     container: str,
     cube_size: int | None,
     specular_size: int,
-    mips: int,
+    mips: int | None,
     srgb_decode: bool,
     alpha: str | None,
     compress: bool,
@@ -139,6 +140,7 @@ def bake_probe(
                 outputs.append(sidecar_path(outputs[-1]))
     for path in outputs:  # before any work
         refuse_overwriting_inputs(path, source)
+    mips = chain_mips(mips, specular_size, "--specular-size", out_dir)
     if compress or engine:
         _require_extras(
             out_dir / preset.name / preset.files["environment"],

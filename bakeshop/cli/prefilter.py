@@ -25,7 +25,7 @@ from bakeshop.cli._common import (
 )
 from bakeshop.cli._numbers import Integer, Number
 from bakeshop.cli._paths import ENVIRONMENT, OUTPUT_CHAIN, refuse_overwriting_inputs
-from bakeshop.cli._probe import read_probe
+from bakeshop.cli._probe import chain_mips, read_probe
 from bakeshop.errors import ArgumentError
 from bakeshop.io.environment import (
     check_chain_path,
@@ -67,7 +67,11 @@ _float32 = click.option(
 )
 @click.option("--size", type=Integer(1, 4096), default=256, show_default=True,
               help="Face size of level 0.")  # fmt: skip
-@click.option("--mips", type=Integer(1, 14), help="Levels (default: 9, or down to 1x1).")
+@click.option(
+    "--mips",
+    type=Integer(1, 14),
+    help="Levels (default: 9, or down to 1x1; at most log2(--size) + 1).",
+)
 @_from
 @click.option("--samples", type=Integer(1, 65536), default=256, show_default=True,
               help="Importance samples per texel (narrow lobes; wide ones are exact).")  # fmt: skip
@@ -116,8 +120,7 @@ def prefilter(
         raise ArgumentError("--exponent is the exponent of a Phong lobe: add --brdf phong")
     if exponent is not None and mips not in (None, 1):
         raise ArgumentError("--exponent makes one level (one lobe); leave out --mips")
-    if mips is None:
-        mips = 1 if exponent is not None else min(9, size.bit_length())
+    mips = 1 if exponent is not None else chain_mips(mips, size, "--size", target)
     picture_out = is_picture(target)
     if not picture_out:
         refuse_unused_picture_rule(picture, target)

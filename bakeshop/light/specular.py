@@ -106,6 +106,7 @@ BLOCK_LOOKUPS = 1 << 26
 LOD_BIAS = 0.0
 
 __all__ = [
+    "check_mips",
     "hammersley",
     "ggx_half_vector",
     "mip_roughness",
@@ -466,7 +467,7 @@ def prefilter_cost(
     lay = get_layout(layout)
     spatial = tuple(shape[: 3 if lay.cubic else 2])
     channels = int(shape[len(spatial)]) if len(shape) > len(spatial) else 1
-    levels = [max(1, size >> m) for m in range(mips)]
+    levels = [size >> m for m in range(check_mips(mips, size))]
     work = sum(6 * s * s * samples for s in levels[1:]) + 6 * size * size
     chain = CHAIN_BYTES * 6 * size * size
     what = f"{with_article(mips)}-level prefiltered chain of 6x{size}x{size} faces"
@@ -488,7 +489,9 @@ def _source(image: ArrayLike, layout: str, size: int, samples: int) -> _Source:
         return _Source(source_cube(image, layout, size=size))
 
 
-def _check_mips(mips: int, size: int) -> int:
+def check_mips(mips: int, size: int) -> int:
+    """``mips`` if a cube of ``size`` texels has that many levels (1 to ``size.bit_length()``),
+    else :class:`ArgumentError`."""
     top = size.bit_length()
     if not 1 <= mips <= top:
         raise ArgumentError(f"{with_article(size)}-texel cube has 1..{top} mip levels; got {mips}")
@@ -547,7 +550,7 @@ def prefilter_ggx(
     (two for trilinear) per output texel of levels 1 and up, so about 1/3 of ``6 size^2
     samples`` lookups, plus one area remap of the input.
     """
-    mips = _check_mips(mips, size)
+    mips = check_mips(mips, size)
     rough = mip_roughness(mips) if roughness is None else np.asarray(roughness, float)
     if rough.shape != (mips,) or not np.all((rough >= 0) & (rough <= 1)):
         raise ArgumentError(f"roughness must be {mips} values in [0, 1]; got {roughness!r}")
@@ -585,7 +588,7 @@ def prefilter_phong(
         Level m holds ``integral L(l) (e_m + 1) / (2 pi) max(0, r.l)^e_m dl``: the lobe
         integrates to 1, so a uniform environment stays uniform.
     """
-    mips = _check_mips(mips, size)
+    mips = check_mips(mips, size)
     exps = phong_exponents(mips) if exponents is None else np.asarray(exponents, float)
     if exps.shape != (mips,) or not np.all(exps > 0) or np.any(np.isnan(exps)):
         raise ArgumentError(f"exponents must be {mips} positive values; got {exponents!r}")

@@ -82,6 +82,10 @@ def test_steps_run_after_the_steps_whose_outputs_they_read(folder):
             "[probe.a] mips must be in [1, 14], got 30",
         ),
         (
+            '[probe.a]\ninput = "probe.hdr"\noutput = "o"\nspecular_size = 8\n',
+            "[probe.a] mips = 9: an 8-texel cube has 1..4 mip levels",
+        ),
+        (
             '[probe.a]\ninput = "probe.hdr"\noutput = "o"\nmips = 3.5\n',
             "[probe.a] mips must be an integer, got 3.5",
         ),

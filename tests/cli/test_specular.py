@@ -12,6 +12,7 @@ from bakeshop.io.ktx import read_ktx
 from bakeshop.light.dfg import dfg_table
 from bakeshop.light.specular import prefilter_ggx
 from bakeshop.sphere import FACE_NAMES, cube_to_faces, layout
+from tests.cli.test_process import one_error_line
 from tests.tolerances import EXACT
 
 
@@ -101,6 +102,34 @@ def test_prefilter_phong_single_lobe(probe, tmp_path, capsys):
 def test_prefilter_bad_arguments(probe, tmp_path, capsys, extra, message):
     assert main(["prefilter", str(probe), str(tmp_path / "o.dds"), *extra]) == 2
     assert message in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command", ["bake-probe", "prefilter"])
+def test_more_levels_than_the_cube_has_are_refused_before_the_probe_is_read(
+    tmp_path, capfd, command
+):
+    junk = tmp_path / "probe.hdr"
+    junk.write_bytes(b"not a probe")
+    if command == "bake-probe":
+        out, size = tmp_path / "out", "--specular-size"
+        args = [command, str(junk), "-o", str(out)]
+    else:
+        out, size = tmp_path / "spec.dds", "--size"
+        args = [command, str(junk), str(out)]
+    assert main([*args, size, "8", "--mips", "9"]) == 2
+    assert one_error_line(capfd) == (
+        f"bakeshop: error: {out}: --mips 9: an 8-texel cube has 1..4 mip levels; "
+        f"lower --mips or raise {size}"
+    )
+    assert not out.exists()
+
+
+@pytest.mark.slow
+def test_bake_probe_default_levels_fit_the_specular_size(probe, tmp_path):
+    out = tmp_path / "baked"
+    assert main(["bake-probe", str(probe), "-o", str(out), "--specular-size", "4"]) == 0
+    chain, _ = read_dds(out / "specular.dds")
+    assert [level.shape[1] for level in chain] == [4, 2, 1]
 
 
 def test_prefilter_refuses_a_single_image_output(probe, tmp_path, capsys):
