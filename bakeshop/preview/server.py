@@ -23,10 +23,13 @@ route                        what
 It answers only requests addressed to itself: a ``Host`` other than ``127.0.0.1:PORT``,
 ``localhost:PORT`` or ``[::1]:PORT`` is 421 Misdirected Request, and an ``Origin`` other than
 ``http://`` one of those is 403 (a page elsewhere, even one whose name a DNS rebinding points at
-127.0.0.1, reads nothing). A request line that is not ``METHOD PATH HTTP/1.x`` is 400 (505 for
-another major version), with a status line and no file. At most ``connections`` connections
-are served at once (each by a thread; one more is answered 503 and closed), and a connection
-silent for ``timeout`` seconds is closed.
+127.0.0.1, reads nothing); more than one ``Host`` is 400. A request line that is not
+``METHOD /PATH HTTP/1.x`` is 400 (505 for another major version; a target that is not a path,
+such as ``http://evil.example/bake.json``, is 400 too), with a status line and no file. At most
+``connections`` connections are served at once (each by a thread; one more is answered 503 and
+closed), a connection silent for ``timeout`` seconds is closed, and a request whose line and
+headers have not all arrived ``headers_timeout`` seconds after its first byte is answered 408
+and closed (a client trickling a byte a second holds no slot for long).
 
 The texels are the bake's values as read by :func:`bakeshop.preview.read_bake` (a half-float
 file gives the same numbers in float32): nothing is re-filtered, so the page shows exactly the
@@ -41,9 +44,8 @@ import threading
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import resources
-from socket import socket
+from socket import SHUT_RDWR, socket
 from typing import TYPE_CHECKING, NamedTuple
-from urllib.parse import urlsplit
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -65,6 +67,8 @@ LOCALHOST = "127.0.0.1"
 LOOPBACK_NAMES = (LOCALHOST, "localhost", "[::1]")
 #: Seconds a connection may stay silent before the server closes it.
 IDLE_TIMEOUT = 15.0
+#: Seconds from a request's first byte to the end of its headers.
+HEADERS_TIMEOUT = 10.0
 #: Connections served at once (a browser opens about six per server).
 CONNECTIONS = 32
 #: The programs the page compiles.
@@ -188,7 +192,9 @@ class Viewer(NamedTuple):
         self.thread.join()
 
 
-def _handler(routes: dict[str, tuple[str, bytes]], idle: float) -> type[BaseHTTPRequestHandler]:
+def _handler(
+    routes: dict[str, tuple[str, bytes]], idle: float, headers_timeout: float
+) -> type[BaseHTTPRequestHandler]:
     class Handler(BaseHTTPRequestHandler):
         server_version = "bakeshop-view"
         timeout = idle  # of each read and write (StreamRequestHandler)
@@ -196,15 +202,54 @@ def _handler(routes: dict[str, tuple[str, bytes]], idle: float) -> type[BaseHTTP
         # library's default, HTTP/0.9, sends an error page without one).
         default_request_version = "HTTP/1.0"
 
+        def handle_one_request(self) -> None:
+            try:  # the next request's first byte, waited for `idle` seconds
+                if not self.rfile.peek(1):
+                    self.close_connection = True
+                    return
+            except OSError:
+                self.close_connection = True
+                return
+            # taken once: by the deadline (408) or by the end of the headers (the answer)
+            self._headers_pending = threading.Lock()
+            deadline = threading.Timer(headers_timeout, self._too_slow)
+            deadline.start()
+            try:
+                super().handle_one_request()
+            finally:
+                deadline.cancel()
+
+        def _too_slow(self) -> None:
+            if self._headers_pending.acquire(blocking=False):
+                try:
+                    self.connection.sendall(
+                        b"HTTP/1.0 408 Request Timeout\r\nConnection: close\r\n\r\n"
+                    )
+                    self.connection.shutdown(SHUT_RDWR)  # the handler's read ends at once
+                except OSError:
+                    pass
+
         def parse_request(self) -> bool:
             if len(self.raw_requestline.split()) != 3:  # HTTP/0.9 ("GET /") or no request at all
                 self.command, self.requestline, self.close_connection = None, "", True
                 self.request_version = self.default_request_version
-                self.send_error(HTTPStatus.BAD_REQUEST, "Bad request line")
-                return False
-            return super().parse_request()
+                ok = False
+                if self._headers_pending.acquire(blocking=False):
+                    self.send_error(HTTPStatus.BAD_REQUEST, "Bad request line")
+            else:
+                ok = super().parse_request()
+                if not self._headers_pending.acquire(blocking=False):  # answered 408
+                    self.close_connection = True
+                    ok = False
+            return ok
 
         def do_GET(self) -> None:  # noqa: N802 - the standard library's name
+            if not self.path.startswith("/"):  # absolute-form (a proxy's) or asterisk-form
+                self.send_error(HTTPStatus.BAD_REQUEST, "Only a path is served")
+                return
+            if len(self.headers.get_all("Host", ())) > 1:
+                self.send_error(HTTPStatus.BAD_REQUEST, "More than one Host")
+                return
             port = self.server.server_address[1]
             hosts = {f"{name}:{port}" for name in LOOPBACK_NAMES}
             if port == 80:
@@ -216,8 +261,7 @@ def _handler(routes: dict[str, tuple[str, bytes]], idle: float) -> type[BaseHTTP
             if origin is not None and origin.lower() not in {f"http://{h}" for h in hosts}:
                 self.send_error(HTTPStatus.FORBIDDEN, "Cross-origin request")
                 return
-            path = urlsplit(self.path).path
-            found = routes.get(path)
+            found = routes.get(self.path.partition("?")[0])
             if found is None:
                 self.send_error(HTTPStatus.NOT_FOUND)
                 return
@@ -269,7 +313,12 @@ class _BoundedServer(ThreadingHTTPServer):
 
 
 def serve(
-    bake: Bake, *, port: int = 0, timeout: float = IDLE_TIMEOUT, connections: int = CONNECTIONS
+    bake: Bake,
+    *,
+    port: int = 0,
+    timeout: float = IDLE_TIMEOUT,
+    headers_timeout: float = HEADERS_TIMEOUT,
+    connections: int = CONNECTIONS,
 ) -> Viewer:
     """Serve the viewer of ``bake`` on 127.0.0.1 in a background thread.
 
@@ -281,6 +330,9 @@ def serve(
     timeout : float
         Seconds a connection may stay silent (waiting for a request, or not reading a response)
         before it is closed.
+    headers_timeout : float
+        Seconds from a request's first byte to the end of its headers; a slower request is
+        answered 408 Request Timeout and closed.
     connections : int
         Connections served at once; one more is answered 503 Service Unavailable.
 
@@ -300,7 +352,9 @@ def serve(
     for name, body in blobs.items():
         routes[f"/data/{name}.f32"] = ("application/octet-stream", body)
     try:
-        server = _BoundedServer((LOCALHOST, port), _handler(routes, timeout), connections)
+        server = _BoundedServer(
+            (LOCALHOST, port), _handler(routes, timeout, headers_timeout), connections
+        )
     except OSError as e:
         hint = " (port 0 picks a free one)" if port else ""
         reason = f"cannot serve on it: {e.strerror or e}{hint}"

@@ -2,6 +2,7 @@
 
 import http.client
 import json
+import select
 import socket
 import time
 
@@ -134,3 +135,41 @@ def test_connections_are_bounded_and_idle_ones_closed():
         assert raw(port, request).startswith(b"HTTP/1.0 200 ")
     finally:
         v.close()
+
+
+def test_a_request_trickled_past_its_deadline_is_answered_408_and_closed():
+    v = serve(synthetic_bake(), timeout=0.5, headers_timeout=1.0, connections=1)
+    port = v.server.server_address[1]
+    request = f"GET /bake.json HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n\r\n".encode()
+    try:
+        with socket.create_connection((LOCALHOST, port), timeout=10) as s:
+            start = time.monotonic()
+            answer = b""
+            for byte in request[:-1]:  # each byte well inside the idle timeout
+                s.sendall(bytes([byte]))
+                if select.select([s], [], [], 0.1)[0]:  # answered
+                    break
+            while chunk := s.recv(1 << 16):
+                answer += chunk
+            assert answer.startswith(b"HTTP/1.0 408 ") and b'"specular"' not in answer
+            assert time.monotonic() - start < 3
+        time.sleep(0.2)  # the thread releases its slot just after closing
+        assert raw(port, request).startswith(b"HTTP/1.0 200 ")  # the slot is free again
+    finally:
+        v.close()
+
+
+@pytest.mark.parametrize(
+    ("target", "headers", "status"),
+    [("/bake.json", "Host: {host}\r\nHost: {host}\r\n", b"400"),
+     ("/bake.json", "Host: {host}\r\nHost: evil.example\r\n", b"400"),
+     ("http://evil.example/bake.json", "Host: {host}\r\n", b"400"),
+     ("http://{host}/bake.json", "Host: {host}\r\n", b"400"),
+     ("*", "Host: {host}\r\n", b"400")],
+)  # fmt: skip
+def test_only_one_host_and_only_a_path_are_served(viewer, target, headers, status):
+    port = viewer[1].server.server_address[1]
+    host = f"127.0.0.1:{port}"
+    request = f"GET {target} HTTP/1.1\r\n{headers}\r\n".format(host=host)
+    answer = raw(port, request.encode())
+    assert answer.startswith(b"HTTP/1.0 " + status + b" ") and b'"specular"' not in answer
