@@ -16,7 +16,7 @@ import os
 import struct
 from dataclasses import dataclass
 from pathlib import Path
-from urllib.parse import unquote
+from urllib.parse import unquote, urlsplit
 
 import numpy as np
 
@@ -110,9 +110,22 @@ def _gltf_count(item: dict, key: str, what: str, path: Path, limit: int | None =
     raise FormatError(f"{what}'s {key} is {value!r}, not {wanted}", path)
 
 
+def _beside(path: Path, uri: str, what: str) -> Path:
+    """The file a relative ``uri`` names in ``path``'s folder or below it; a scheme
+    (``file:``, ``http:``), an absolute path or one that leaves the folder is refused."""
+    folder = path.parent.resolve()
+    file = (folder / unquote(uri)).resolve()
+    if urlsplit(uri).scheme or not file.is_relative_to(folder):
+        raise FormatError(
+            f"{what}'s uri {uri!r} is not a file in the glTF's folder (nothing else is read)", path
+        )
+    return file
+
+
 def _gltf_buffers(header: dict, binary: bytes | None, path: Path) -> list[bytes]:
     """Each buffer's bytes, exactly ``byteLength`` of them: from the GLB's binary chunk, a data
-    URI, or a regular file beside ``path`` (checked, and bounded by memory, before it is read)."""
+    URI, or a regular file in ``path``'s folder or below it (checked, and bounded by memory,
+    before it is read)."""
     buffers = []
     for i, spec in enumerate(header.get("buffers", [])):
         what = f"buffer {i}"
@@ -130,7 +143,7 @@ def _gltf_buffers(header: dict, binary: bytes | None, path: Path) -> list[bytes]
             except binascii.Error as e:
                 raise FormatError(f"{what}'s data URI is not base64 ({e})", path) from None
         else:
-            file = path.parent / unquote(uri)
+            file = _beside(path, uri, what)
             if check_input(file).st_size < length:
                 raise FormatError(f"{what} ({uri}) is shorter than its {length} bytes", path)
             require(Cost(length, length, f"{what} ({uri}) of {length:,} bytes"), path)

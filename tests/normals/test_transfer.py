@@ -388,6 +388,14 @@ LYING_GLTF = {
     "a buffer that is a FIFO": (
         lambda doc: doc["buffers"][0].update(uri="fifo.bin"), "named pipe"
     ),
+    **{
+        f"a buffer at {uri}": (
+            lambda doc, uri=uri: doc["buffers"][0].update(uri=uri),
+            f"buffer 0's uri {uri!r} is not a file in the glTF's folder",
+        )
+        for uri in ("../../../../etc/passwd", "%2e%2e/%2e%2e/etc/passwd", "/etc/passwd",
+                    "file:///etc/passwd", "file:fifo.bin")
+    },
 }  # fmt: skip
 
 
