@@ -11,8 +11,8 @@ import os
 from collections.abc import Collection
 
 
-class BakeshopError(Exception):
-    """Base class: a plain ``reason`` and optionally the ``path`` it concerns."""
+class _Located:
+    """A plain ``reason`` and optionally the ``path`` it concerns."""
 
     def __init__(self, reason: str, path: str | os.PathLike | None = None):
         super().__init__(reason)
@@ -21,6 +21,16 @@ class BakeshopError(Exception):
 
     def __str__(self) -> str:
         return f"{self.path}: {self.reason}" if self.path else self.reason
+
+
+class BakeshopError(_Located, Exception):
+    """Base class: a plain ``reason`` and optionally the ``path`` it concerns."""
+
+
+class BakeshopWarning(_Located, UserWarning):
+    """Something done that the user should know of (a wider type written than asked, ...):
+    a plain ``reason`` and optionally the ``path`` it concerns. The command line prints it as
+    ``bakeshop: warning: <file>: <reason>``."""
 
 
 class FormatError(BakeshopError, ValueError):

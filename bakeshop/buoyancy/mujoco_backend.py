@@ -32,14 +32,14 @@ from numpy.typing import ArrayLike
 
 from bakeshop.buoyancy.state import State
 from bakeshop.buoyancy.state import quaternion_to_matrix as _rotations
-from bakeshop.errors import ArgumentError
+from bakeshop.errors import ArgumentError, BakeshopWarning
 
 if TYPE_CHECKING:
     from bakeshop.buoyancy.mass import Fleet
 
 
 def _warn(message: str) -> None:
-    warnings.warn(f"MuJoCo: {message}", RuntimeWarning, stacklevel=2)
+    warnings.warn(BakeshopWarning(f"MuJoCo: {message}"), stacklevel=2)
 
 
 class MujocoBackend:

@@ -16,7 +16,9 @@ One run of the command line (:func:`run`) promises:
 - **One line on stderr for a failure**, ``bakeshop: error: FILE: reason``, and nothing else:
   Python warnings (numpy's overflow warnings among them) and log records of the libraries
   (trimesh) raised during the run are collected, dropped when the run fails, and printed one
-  line each (``bakeshop: warning: ...``) after a run that succeeds.
+  line each after a run that succeeds: ``bakeshop: warning: FILE: reason`` for bakeshop's own
+  (:class:`bakeshop.errors.BakeshopWarning`), ``bakeshop: warning: PACKAGE: message`` for
+  another package's.
 - **The file is named.** An error raised below the command line (in the library) without a file
   concerns the data the command read: it is attributed to the command's inputs, the values of
   its arguments of type :data:`INPUT` and :data:`ENVIRONMENT`, as the user typed them.
@@ -170,8 +172,9 @@ def library_messages() -> Iterator[list[str]]:
             yield notes
         finally:
             root.removeHandler(handler)
-            for w in caught:
-                notes.append(f"{_package(w.filename)}: {w.message} ({w.category.__name__})")
+            for w in caught:  # bakeshop's own name their file; another package is named
+                package = _package(w.filename)
+                notes.append(f"{'' if package == 'bakeshop' else package + ': '}{w.message}")
 
 
 def _package(filename: str) -> str:

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import importlib
 import os
+import warnings
 from pathlib import Path
 from types import ModuleType
 from typing import Any, Literal, overload
@@ -27,7 +28,13 @@ from typing import Any, Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop.errors import BakeshopError, FormatError, UnsupportedError, with_article
+from bakeshop.errors import (
+    BakeshopError,
+    BakeshopWarning,
+    FormatError,
+    UnsupportedError,
+    with_article,
+)
 from bakeshop.io import _intent, verify
 from bakeshop.io._files import (
     atomic_path,
@@ -255,6 +262,7 @@ def write_image(path: str | os.PathLike, image: ArrayLike, **options: Any) -> No
     with (
         _intent.intent(path, "image", image, codec=name, options=options),
         atomic_path(path) as tmp,
+        warnings.catch_warnings(record=True) as said,
     ):
         try:
             codec.write(tmp, image, **options)
@@ -262,6 +270,10 @@ def write_image(path: str | os.PathLike, image: ArrayLike, **options: Any) -> No
             if e.path is None:
                 e.path = os.fspath(path)
             raise
+    for w in said:  # said again, of the file written rather than its temporary
+        if isinstance(w.message, BakeshopWarning) and w.message.path is None:
+            w.message.path = os.fspath(path)
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
 
 def check_write_options(path: str | os.PathLike, options: dict) -> None:

@@ -51,6 +51,7 @@ from numpy.typing import ArrayLike
 from bakeshop.errors import (
     ArgumentError,
     BakeshopError,
+    BakeshopWarning,
     FormatError,
     UnsupportedError,
     validate_choice,
@@ -492,8 +493,10 @@ def write(
         pixel_type = "half" if peak <= HALF_MAX else "float"
         if pixel_type == "float":
             warnings.warn(
-                f"OpenEXR: values reach {peak:.4g}, beyond the 65504 that half floats hold: "
-                "written as 32-bit floats",
+                BakeshopWarning(
+                    f"values reach {peak:.4g}, beyond the 65504 that half floats hold: "
+                    "written as 32-bit floats"
+                ),
                 stacklevel=2,
             )
     if pixel_type == "half" and a.dtype == np.float32 and a.shape[0] * a.shape[1] > _KERNEL_PIXELS:

@@ -395,6 +395,16 @@ def test_library_warnings_of_a_successful_run_are_one_line_each(files, capfd):
     assert len(lines) == len(set(lines))
 
 
+def test_bakeshops_own_warning_names_the_file_once(tmp_path, capfd):
+    write_image(tmp_path / "sun.pfm", np.full((4, 8, 3), 1e5, np.float32))
+    out = tmp_path / "sun.exr"
+    assert main(["-q", "convert", str(tmp_path / "sun.pfm"), str(out)]) == 0
+    assert capfd.readouterr().err == (
+        f"bakeshop: warning: {out}: values reach 1e+05, beyond the 65504 that half floats "
+        "hold: written as 32-bit floats\n"
+    )
+
+
 @pytest.mark.parametrize("size", ["0", "-1", "nan", "inf", "1e300", "lots", "8Q"])
 def test_a_bad_decode_budget_is_one_line(files, capfd, size):
     assert main(["--max-decoded", size, "info", str(files / "ok.hdr")]) == 2

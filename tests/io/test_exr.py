@@ -19,7 +19,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
+from bakeshop.errors import ArgumentError, BakeshopWarning, FormatError, UnsupportedError
 from bakeshop.io import exr, read_image, write_image
 from tests.files import DATA
 from tests.io import fuzzing
@@ -158,8 +158,9 @@ def test_half_overflow_is_written_as_float_by_default_and_refused_as_half(tmp_pa
     image = np.array(
         [[[1e5, -1e5, 65504.0], [65519.0, 65520.0, 3.4e38], [np.inf, -np.inf, np.nan]]], np.float32
     )
-    with pytest.warns(UserWarning, match="values reach 3.4e\\+38.*32-bit floats"):
+    with pytest.warns(BakeshopWarning, match="values reach 3.4e\\+38.*32-bit floats") as said:
         write_image(tmp_path / "o.exr", image)
+    assert [w.message.path for w in said] == [str(tmp_path / "o.exr")]  # not its temporary
     back, meta = read_image(tmp_path / "o.exr", with_metadata=True)
     assert meta["stored"] == "float" and same_bits(back, image)
     with pytest.raises(ArgumentError, match="beyond the 65504 .* pixel_type=float keeps them"):
