@@ -5,6 +5,7 @@ that cannot fit the bound is refused, from its shape, before it is read."""
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -43,7 +44,9 @@ def test_a_corrupt_zarr_chunk_is_one_line_naming_the_store(store, tmp_path, capf
     assert error.value.path == str(store)
     status = main(["-q", "resize", str(store), str(tmp_path / "o.zarr"), "--size", "64x32"])
     assert status == 2
-    assert one_error_line(capfd).startswith(f"bakeshop: error: {store}: corrupt or truncated")
+    line = one_error_line(capfd)
+    assert line.startswith(f"bakeshop: error: {store}: corrupt or truncated")
+    assert not re.search(r"\(\w+: ", line)  # the reason, not Python's class name
 
 
 def test_an_empty_chunk_shape_is_refused_when_opened(store):
@@ -72,7 +75,8 @@ def test_a_damaged_bigtiff_tile_is_one_line(tmp_path, capfd, damage):
     assert error.value.path == str(path)
     status = main(["-q", "resize", str(path), str(tmp_path / "o.zarr"), "--size", "64x32"])
     assert status == 2
-    assert one_error_line(capfd).startswith(f"bakeshop: error: {path}: ")
+    line = one_error_line(capfd)
+    assert line.startswith(f"bakeshop: error: {path}: ") and not re.search(r"\(\w+: ", line)
 
 
 def test_a_chunk_larger_than_the_bound_is_refused_from_its_shape(tmp_path, capfd):

@@ -79,8 +79,8 @@ class Reader:
             raise
         except Exception as e:  # codecs raise many kinds on damaged blocks
             raise FormatError(
-                f"corrupt or truncated data in rows {top}..{bottom}, columns {left}..{right} "
-                f"({type(e).__name__}: {e})",
+                f"corrupt or truncated data in rows {top}..{bottom}, columns {left}..{right}"
+                + (f" ({e})" if str(e) else ""),
                 self.path,
             ) from None
 

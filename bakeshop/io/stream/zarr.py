@@ -51,7 +51,7 @@ class ZarrReader(Reader):
         try:
             a = zarr.open_array(os.fspath(path), mode="r")
         except Exception as e:  # zarr raises many kinds for a directory that is not a store
-            raise FormatError(f"not a zarr array ({type(e).__name__}: {e})") from None
+            raise FormatError("not a zarr array" + (f" ({e})" if str(e) else "")) from None
         if a.ndim not in (2, 3) or (a.ndim == 3 and not 1 <= a.shape[2] <= 4):
             raise UnsupportedError(f"a zarr image is (H, W) or (H, W, C<=4); got {a.shape}")
         if a.dtype.kind != "f":
