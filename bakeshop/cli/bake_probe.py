@@ -141,11 +141,9 @@ def bake_probe(
     for path in outputs:  # before any work
         refuse_overwriting_inputs(path, source)
     mips = chain_mips(mips, specular_size, "--specular-size", out_dir)
+    _require_compressing(preset.container if compress or engine else None, zstd, out_dir)
     if compress or engine:
-        _require_extras(
-            out_dir / preset.name / preset.files["environment"],
-            zstd and preset.container == "ktx2",
-        )
+        _require_extras(out_dir / preset.name / preset.files["environment"], zstd)
     for folder in dict.fromkeys(path.parent for path in outputs):
         _require_writable(folder)
     image, layout, source, meta = read_probe(source, src_layout, with_metadata=True)
@@ -237,6 +235,26 @@ def bake_probe(
                 worst = max(ratios, key=lambda r: abs(r - 1))
                 q = f": {describe_quality(report['quality'])}; energy {worst:.1%} of the probe's"
             click.echo(f"    {path.relative_to(out_dir)}  {what}{q}")
+
+
+def _require_compressing(container: str | None, zstd: bool, out_dir: Path) -> None:
+    """Refuse an encoder option that would do nothing: given without --compress or --engine
+    (``container`` None), or --zstd for an engine whose container is not KTX2."""
+    from bakeshop.errors import ArgumentError
+
+    if container is not None:
+        if zstd and container != "ktx2":
+            reason = f"--zstd supercompresses KTX2 files only; this engine loads .{container}"
+            raise ArgumentError(reason, out_dir)
+        return
+    context = click.get_current_context()
+    for name in ("quality_profile", "overflow", "min_psnr", "zstd"):
+        if context.get_parameter_source(name) is not click.core.ParameterSource.DEFAULT:
+            option = "--quality" if name == "quality_profile" else "--" + name.replace("_", "-")
+            raise ArgumentError(
+                f"{option} is an option of the compressed files: add --compress or --engine",
+                out_dir,
+            )
 
 
 def _require_extras(target: Path, zstd: bool) -> None:

@@ -124,6 +124,23 @@ def test_more_levels_than_the_cube_has_are_refused_before_the_probe_is_read(
     assert not out.exists()
 
 
+@pytest.mark.parametrize(
+    ("extra", "reason"),
+    [(["--zstd"], "--zstd is an option of the compressed files: add --compress or --engine"),
+     (["--min-psnr", "40"], "--min-psnr is an option of the compressed files"),
+     (["--quality", "fast"], "--quality is an option of the compressed files"),
+     (["--engine", "unity", "--zstd"], "--zstd supercompresses KTX2 files only; this engine "
+      "loads .dds")],
+)  # fmt: skip
+def test_bake_probe_refuses_an_encoder_option_that_would_do_nothing(tmp_path, capfd, extra, reason):
+    junk = tmp_path / "probe.hdr"
+    junk.write_bytes(b"not a probe")
+    out = tmp_path / "out"
+    assert main(["bake-probe", str(junk), "-o", str(out), *extra]) == 2
+    assert one_error_line(capfd).startswith(f"bakeshop: error: {out}: {reason}")
+    assert not out.exists()
+
+
 @pytest.mark.slow
 def test_bake_probe_default_levels_fit_the_specular_size(probe, tmp_path):
     out = tmp_path / "baked"
