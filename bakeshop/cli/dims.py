@@ -18,7 +18,7 @@ from bakeshop.cli._common import (
     out_dir_option,
     srgb_decode_option,
 )
-from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
+from bakeshop.cli._huge import chunked, engine, memory_option, open_fitted, scheduler_option
 from bakeshop.cli._paths import ENVIRONMENT_SOURCE, refuse_overwriting_inputs
 from bakeshop.cli._probe import (
     check_picture_format,
@@ -103,7 +103,7 @@ def dims(
             raise ArgumentError("a panorama larger than memory is read as linear data", source)
         out_dir.mkdir(parents=True, exist_ok=True)
         _dims_chunked(source, names, src_layout, (dst_layout, size, method, order, window),
-                      memory, scheduler)  # fmt: skip
+                      alpha, memory, scheduler)  # fmt: skip
         return
     out_dir.mkdir(parents=True, exist_ok=True)
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
@@ -147,6 +147,7 @@ def _dims_chunked(
     names: dict[str, Path],
     src_layout: str | None,
     options: tuple[str, int | tuple[int, int] | None, str, int, str],
+    alpha: str | None,
     memory: int | str | None,
     scheduler: str | None,
 ) -> None:
@@ -157,11 +158,10 @@ def _dims_chunked(
     from bakeshop.huge import dim_pair as dim_pair_chunked
     from bakeshop.huge import write_shadow_probe
     from bakeshop.io import write_environment, write_json
-    from bakeshop.io.stream import open_image
     from bakeshop.light import sun_document
 
     dst_layout, size, method, order, window = options
-    reader = open_image(source)
+    reader = open_fitted(source, alpha, *names.values())
     h, w, _ = reader.shape
     with engine(memory, scheduler) as eng:
         compute = functools.partial(dim_pair_chunked, engine=eng)
