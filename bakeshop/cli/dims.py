@@ -101,11 +101,9 @@ def dims(
     if chunked(source, memory, scheduler):
         if srgb_decode:
             raise ArgumentError("a panorama larger than memory is read as linear data", source)
-        out_dir.mkdir(parents=True, exist_ok=True)
         _dims_chunked(source, names, src_layout, (dst_layout, size, method, order, window),
                       alpha, memory, scheduler)  # fmt: skip
         return
-    out_dir.mkdir(parents=True, exist_ok=True)
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     check_picture_format(layout, fmt, source)
     image, _ = linearise(image, source, meta, srgb_decode)
@@ -117,6 +115,7 @@ def dims(
     paint_in_place = functools.partial(dim_pair, copy=False)
     pair, elapsed = timed(paint_in_place, image, layout, dst_layout, size, method, order, window)
     with progress.step(f"writing {out_dir}"):
+        out_dir.mkdir(parents=True, exist_ok=True)  # after every check: a refusal creates nothing
         write_environment(names["sun_dim"], pair.sun_dim, dst_layout)
         write_environment(names["shadow_dim"], pair.shadow_dim, dst_layout)
         write_environment(
@@ -168,6 +167,7 @@ def _dims_chunked(
         pair, elapsed = timed(compute, reader, src_layout or "latlong", dst_layout, size, method,
                               order, window)  # fmt: skip
         with progress.step(f"writing {names['sun_dim'].parent}"):
+            names["sun_dim"].parent.mkdir(parents=True, exist_ok=True)
             write_environment(names["sun_dim"], pair.sun_dim, dst_layout)
             write_environment(names["shadow_dim"], pair.shadow_dim, dst_layout)
             write_shadow_probe(reader, names["shadow_probe"], pair, engine=eng)

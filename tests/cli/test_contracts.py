@@ -197,3 +197,18 @@ def test_premultiply_multiplies_the_colour_by_alpha(tmp_path, capfd):
     np.testing.assert_allclose(
         read_image(out), np.broadcast_to(0.5 * ramp[None, :, None], (8, 16, 3))
     )
+
+
+# -- a refused command creates nothing -----------------------------------------------------------
+
+
+def test_a_refused_dims_creates_no_output_folder(tmp_path, probe, capfd):
+    folder = tmp_path / "new" / "dims"
+    args = ["-q", "dims", str(probe), "-o", str(folder), "--method", "exact"]
+    assert main([*args, "--size", "8192x4096"]) == 2  # refused by the DIM's texel bound
+    assert "360x180 is plenty" in one_error_line(capfd)
+    ramp = _rgba(tmp_path, np.linspace(0, 1, 16, dtype=np.float32))
+    args[2] = str(ramp)
+    assert main([*args, "--size", "8x4", "--memory", "8MB"]) == 2  # refused while read by windows
+    assert "--alpha drop" in one_error_line(capfd)
+    assert not (tmp_path / "new").exists()
