@@ -83,18 +83,18 @@ def open_fitted(
     by the rule of :func:`bakeshop.cli._common.fit_alpha` (``--alpha``): a window whose alpha is
     not 1 is refused when ``how`` is None, so an alpha of 1 is dropped without a pass of its own
     (its note is said first)."""
-    from bakeshop.cli._common import RGB_ONLY
+    from bakeshop.cli._common import rgb_only
     from bakeshop.io.stream import open_image
 
     reader = open_image(source)
-    rgb_only = [t for t in targets if t is not None and Path(t).suffix.lower() in RGB_ONLY]
-    if reader.shape[2] != 4 or not rgb_only:
+    outputs = rgb_only(*targets)
+    if reader.shape[2] != 4 or not outputs:
         return reader
     if how is None:
-        suffix = Path(rgb_only[0]).suffix
+        suffix = Path(outputs[0]).suffix
         click.echo(f"{source}: alpha dropped as it is read ({suffix} stores RGB only; "
                    "an alpha other than 1 stops the command)")  # fmt: skip
-    return _AlphaFitted(reader, how, rgb_only[0])
+    return _AlphaFitted(reader, how, outputs[0])
 
 
 class _AlphaFitted(Reader):
@@ -104,7 +104,8 @@ class _AlphaFitted(Reader):
         self.reader, self.how, self.target = reader, how, target
         self.path, self.stored, self.format = reader.path, reader.stored, reader.format
         self.block, self.read_floor = reader.block, reader.read_floor
-        self.shape = (*reader.shape[:2], 3)
+        h, w, _ = reader.shape
+        self.shape = (h, w, 3)
 
     def _read(self, top: int, bottom: int, left: int, right: int) -> np.ndarray:
         from bakeshop.cli._common import fit_alpha
