@@ -41,8 +41,12 @@ without bound as ``chi`` falls: 1.5e13 times the clipped light was seen) is refu
 values stay, as lower bounds, and :attr:`SunRecovery.reason` says why. So is a region that is
 not round (it fills less than :data:`MIN_FILL` of the circle around it), a fit that misses its
 ring by more than :data:`FIT_RESIDUAL` RMS (relative: a horizon, the ground or a cloud in it,
-which a sky plane cannot follow), and a model that holds :data:`FIT_RESIDUAL` less light than
-the clipped lower bounds it replaces (it does not explain the clipping).
+which a sky plane cannot follow), a model that holds :data:`FIT_RESIDUAL` less light than
+the clipped lower bounds it replaces (it does not explain the clipping), and a ring that does
+not determine the disk: its inner and outer halves, fitted alone, imply disks more than
+:data:`RING_AGREEMENT` times apart (a sunshape gives both the same disk; an aureole that is not
+one, or a sky's gradient read as aureole, biases the slope, which moves the disk by tens of
+percent per 0.1).
 
 With ``irradiance=`` (a light meter's reading of the direct sun, in the merge's units: lux for
 an absolute stack), the disk's energy is set so that the modelled sun (disk plus the aureole
