@@ -199,3 +199,16 @@ def test_a_sun_its_aureole_does_not_determine_is_refused_not_modelled_at_half_it
     out, status, found = recover_sun(merged.radiance, merged.status, "latlong")
     _refused(merged, found, "does not determine the sun's energy")
     assert out is merged.radiance and status is merged.status
+
+
+@pytest.mark.slow
+def test_a_clear_skys_faint_aureole_that_does_not_determine_its_sun_is_refused():
+    """Buie's own sun of a clear sky (circumsolar ratio 0.01) at the fixture's radiance: its
+    faint aureole, near the sky's level in the outer ring, read a slope that modelled 0.75 of
+    the sun's energy, nothing said. The ring's halves put 3.1 and 0.16 times the fitted disk's
+    light in it: refused."""
+    probe, _, _ = synthetic.sunny_probe(2e5, 0.01)
+    merged = _merged(probe)
+    out, status, found = recover_sun(merged.radiance, merged.status, "latlong")
+    _refused(merged, found, "does not determine the sun's energy")
+    assert out is merged.radiance and status is merged.status
