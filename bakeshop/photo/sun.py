@@ -147,11 +147,10 @@ def _chi_from_gamma(gamma: float) -> float:
     return float(np.interp(-gamma, -gammas, chis))
 
 
-def _disk_centre(gamma: float, amplitude: np.ndarray) -> float:
-    """Luminance of the disk's centre ``L0 = A / exp(kappa)`` that an aureole
+def _disk_centre(gamma: float, amplitude: np.ndarray) -> np.ndarray:
+    """The disk's centre radiance ``L0 = A / exp(kappa)`` (per channel) that an aureole
     ``A theta^gamma`` implies through Buie's sunshape."""
-    l0 = amplitude / math.exp(float(_kappa(_chi_from_gamma(gamma))))
-    return float(_luminance(l0[None])[0])
+    return amplitude / math.exp(float(_kappa(_chi_from_gamma(gamma))))
 
 
 def _halves(
@@ -165,7 +164,8 @@ def _halves(
     peaks = []
     for part in (inner, ~inner):
         fit = _fit_aureole(theta[part], tangent[part], values[part], omega[part])
-        peaks.append(math.nan if fit is None else _disk_centre(fit[0], fit[2]))
+        centre = math.nan if fit is None else _luminance(_disk_centre(fit[0], fit[2])[None])[0]
+        peaks.append(float(centre))
     return peaks[0], peaks[1]
 
 
@@ -495,9 +495,9 @@ def _model_candidate(
         model += aureole[:, None] * amplitude[None, :]
     aureole_irr = ((model - sky) * (omega[region] * cos)[:, None]).sum(0)
     peak, reason = 0.0, None
-    if amplitude is not None and chi is not None:  # the fitted disk's centre
-        l0 = amplitude / math.exp(float(_kappa(chi)))
-        peak = _disk_centre(slope, amplitude)
+    if amplitude is not None and slope is not None:  # the fitted disk's centre
+        l0 = _disk_centre(slope, amplitude)
+        peak = float(_luminance(l0[None])[0])
     if irradiance is not None:
         colour = amplitude if amplitude is not None and amplitude.sum() > 0 else before.mean(0)
         colour = np.maximum(np.asarray(colour, np.float64), 0)
