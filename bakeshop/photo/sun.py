@@ -494,7 +494,8 @@ def _model_candidate(
         aureole = np.where(in_disk, 0.0, np.maximum(sub_t, SUN_DISK_MRAD) ** slope).mean(axis=1)
         model += aureole[:, None] * amplitude[None, :]
     aureole_irr = ((model - sky) * (omega[region] * cos)[:, None]).sum(0)
-    peak, reason = 0.0, None
+    peak = 0.0
+    reason: str | None = None
     if amplitude is not None and slope is not None:  # the fitted disk's centre
         l0 = _disk_centre(slope, amplitude)
         peak = float(_luminance(l0[None])[0])
