@@ -451,13 +451,13 @@ def _model_candidate(
     fill = float(omega[near].sum()) / (2 * math.pi * (1 - math.cos(clip_radius)))
     if fill < MIN_FILL:  # before the model's work, which grows with the region
         none = np.zeros(values.shape[1])
-        reason = (
+        not_round = (
             f"the region clipped in every frame is not round ({fill:.0%} of the circle around "
             f"it, less than {MIN_FILL:.0%}): a cloud or a glint, not a sun"
         )
         return _Candidate(
             near, centre, clip_radius, outer, np.zeros(0, np.int64), light, none, None, None,
-            none, np.zeros((0, none.size)), 0.0, "none", reason,
+            none, np.zeros((0, none.size)), 0.0, "none", not_round,
         )  # fmt: skip
     region = np.flatnonzero(ang <= clip_radius + 0.5 * pitch)
     region = region[omega[region] > 0]
@@ -494,8 +494,7 @@ def _model_candidate(
         aureole = np.where(in_disk, 0.0, np.maximum(sub_t, SUN_DISK_MRAD) ** slope).mean(axis=1)
         model += aureole[:, None] * amplitude[None, :]
     aureole_irr = ((model - sky) * (omega[region] * cos)[:, None]).sum(0)
-    peak = 0.0
-    reason: str | None = None
+    peak, reason = 0.0, None
     if amplitude is not None and slope is not None:  # the fitted disk's centre
         l0 = _disk_centre(slope, amplitude)
         peak = float(_luminance(l0[None])[0])
