@@ -124,6 +124,19 @@ def test_a_forged_output_naming_an_input_never_deletes_it(level):
     assert manifest(level)["steps"]["scale.a"]["removed"] == []
 
 
+def test_a_forged_output_naming_a_file_no_step_makes_is_left_in_place(level):
+    (level / "notes.txt").write_text("the artist's notes")
+    forged = entry(level / "notes.txt") | {"file": "notes.txt"}
+    forge(level, lambda m: m["steps"]["scale.a"]["outputs"].append(forged))
+    (level / "level.toml").write_text(RECIPE.replace('"in/a.pfm"', '"in/a.pfm"\nfactor = 3.0'))
+    result = bake(level)
+    assert result.built == ["scale.a"] and not result.failed
+    assert (level / "notes.txt").read_text() == "the artist's notes"
+    record = manifest(level)["steps"]["scale.a"]
+    assert record["removed"] == [] and record["left"] == ["notes.txt"]
+    assert "notes.txt" not in {o["file"] for o in record["outputs"]}
+
+
 def test_a_forged_output_naming_the_recipe_is_refused(level):
     forged = entry(level / "level.toml") | {"file": "level.toml"}
     forge(level, lambda m: m["steps"]["scale.a"]["outputs"].append(forged))
@@ -243,6 +256,7 @@ WRONG_TYPES = {
     "reload a list": lambda m: m["steps"]["scale.a"]["outputs"][0].update(reload=[]),
     "removed a string": lambda m: m["steps"]["scale.a"].update(removed="out/x"),
     "a removed file a number": lambda m: m["steps"]["scale.a"].update(removed=[1]),
+    "a file left a number": lambda m: m["steps"]["scale.a"].update(left=[1]),
     "operation_version a string": lambda m: m["steps"]["scale.a"].update(operation_version="1"),
     "bakeshop a number": lambda m: m["steps"]["scale.a"].update(bakeshop=1),
     "facts a list": lambda m: m["steps"]["scale.a"].update(facts=[]),
