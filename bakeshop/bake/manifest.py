@@ -143,14 +143,17 @@ def _is(value: object, kind: type | tuple[type, ...]) -> bool:
 def _json_type(value: object) -> str:
     if isinstance(value, bool):
         return "true or false"
-    names = {dict: "an object", list: "a list", str: "a string", int: "a number"}
-    return names.get(type(value), "a number" if isinstance(value, float) else "null")
+    names = {dict: "an object", list: "a list", str: "a string", int: "an integer"}
+    return names.get(
+        type(value),
+        "a number with a fraction or an exponent" if isinstance(value, float) else "null",
+    )
 
 
 def _typed(document: dict, types: dict, where: str, fail: Callable[[str], NoReturn]) -> None:
     for key, kind in types.items():
         if key in document and not _is(document[key], kind):
-            expected = _json_type(kind[0]() if isinstance(kind, tuple) else kind())
+            expected = "a number" if isinstance(kind, tuple) else _json_type(kind())
             fail(f"{where}{key} must be {expected}, not {_json_type(document[key])}")
 
 
@@ -284,8 +287,9 @@ def makes(step: Step, path: Path) -> bool:
 def guard_writes(
     step: Step, recipe: Recipe, hashes: FileHashes, previous: dict | None
 ) -> Callable[[Path, Path], None]:
-    """The check of each file ``step`` is about to write: a name it :func:`makes`; and where a file is already there, one that its previous bake wrote and left as
-    it was. Each file let through is noted in the journal before it takes its name."""
+    """The check of each file ``step`` is about to write: a name it :func:`makes`; and where a
+    file is already there, one that its previous bake wrote and left as it was. Each file let
+    through is noted in the journal before it takes its name."""
     recorded: dict[str, list[dict]] = {}
     for o in (previous or {}).get("outputs", []):
         recorded.setdefault(o["file"], []).append(o)

@@ -265,6 +265,14 @@ WRONG_TYPES = {
 }
 
 
+def test_a_wrong_number_in_the_manifest_says_what_is_expected(level):
+    forge(level, lambda m: m["steps"]["scale.a"].update(operation_version=1e308))
+    assert refused(level).startswith(
+        f"{level / 'level.bake.json'}: steps.scale.a.operation_version must be an integer, not a "
+        "number with a fraction or an exponent"
+    )
+
+
 @pytest.mark.parametrize("change", WRONG_TYPES.values(), ids=WRONG_TYPES)
 def test_a_manifest_of_the_wrong_shape_is_refused_in_one_line(level, change):
     forge(level, change)
@@ -302,7 +310,7 @@ def test_a_manifest_nested_too_deeply_is_one_error(level):
 @pytest.mark.parametrize(
     ("text", "message"),
     [
-        ("x = 1" + "0" * 5000 + "\n", "not valid TOML: Exceeds the limit"),
+        ("x = 1" + "0" * 5000 + "\n", "an integer of more than 4300 digits"),
         ("a = " + "[" * 10_000 + "]" * 10_000 + "\n", "nested too deeply"),
         ("a = " + "{b = " * 10_000 + "1" + "}" * 10_000 + "\n", "nested too deeply"),
         ("# " + "x" * MAX_RECIPE_BYTES + "\n", "a recipe is at most 4 MiB"),
