@@ -346,7 +346,9 @@ def test_a_recipe_that_is_no_file_is_refused_at_once(tmp_path, kind):
 
 
 def test_explain_names_the_first_differing_key_of_a_nested_option_with_both_values(tmp_path):
-    bio.write_image(tmp_path / "m.png", np.full((8, 8, 3), 0.5, np.float32), bits=16)
+    flat = np.full((8, 8, 3), 0.5, np.float32)
+    flat[..., 2] = 1.0  # a flat normal map: (0, 0, 1), which the normals step now checks
+    bio.write_image(tmp_path / "m.png", flat, bits=16)
     text = """
     [normals.n]
     macro = "m.png"
