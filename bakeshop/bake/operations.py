@@ -95,7 +95,7 @@ def number(
     """``value`` as a float in [low, high], or fail naming ``what`` and the range."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         fail(f"{what} must be a finite number, got {value!r}")
-    if isinstance(value, float) and not math.isfinite(value):
+    if isinstance(value, float) and not math.isfinite(value):  # an int is finite, however long
         fail(f"{what} must be a finite number, got {value!r}")
     if not low <= value <= high:  # exact for an integer of any length
         fail(f"{what} must be in [{low:g}, {high:g}], got {_shown(value)}")

@@ -301,9 +301,9 @@ def _confine(
 
 def _order(steps: list[Step], fail: Fail) -> list[Step]:
     """Link each step to the steps whose outputs it reads; order them; refuse circles, two
-    steps writing one path, inputs that neither exist nor are made, and special files (a FIFO)
-    given as inputs. Linear in the steps:
-    each path is looked up with its folders in a table of the outputs."""
+    steps writing one path, inputs that neither exist nor are made, and inputs that are no
+    regular file (a FIFO). Linear in the steps: each path is looked up with its folders in a
+    table of the outputs."""
     from bakeshop.io import check_input
 
     makers: dict[Path, Step] = {}
