@@ -340,23 +340,23 @@ def _order(steps: list[Step], fail: Fail) -> list[Step]:
         if first.name in state:
             continue
         state[first.name] = 1
-        path = [(first, iter(first.after))]
-        while path:
-            step, deps = path[-1]
+        walk = [(first, iter(first.after))]
+        while walk:
+            step, deps = walk[-1]
             dep = next(deps, None)
             if dep is None:
-                path.pop()
+                walk.pop()
                 state[step.name] = 2
                 done.append(step)
             elif state.get(dep) == 1:
-                chain = [p.name for p, _ in path]
+                chain = [p.name for p, _ in walk]
                 fail(
                     "steps read each other's outputs in a circle: "
                     + " -> ".join(chain[chain.index(dep) :] + [dep])
                 )
             elif dep not in state:
                 state[dep] = 1
-                path.append((by_name[dep], iter(by_name[dep].after)))
+                walk.append((by_name[dep], iter(by_name[dep].after)))
     return done
 
 
