@@ -16,7 +16,8 @@ rebuild that gives the same bytes rebuilds nothing downstream. Every file a step
 through :mod:`bakeshop.io` inside :func:`bakeshop.io.verify_writes`: it is read back and
 compared with what was meant to be written before it takes its name, and the check is recorded
 in the manifest. Outputs of a step's previous bake that it no longer writes are removed when
-they are unchanged since (an edited one is left alone). A failed step keeps the previous
+they are unchanged since (an edited one is left alone) and their names are still ones the step
+makes (a renamed output is left in place, and said so). A failed step keeps the previous
 outputs it did not replace, is recorded as failed (it runs again next time, saying so) and
 stops the steps that read it; the others still run. The manifest is rewritten after every
 step, so an interrupted bake resumes where it stopped.
@@ -51,6 +52,7 @@ from bakeshop.bake.manifest import (
     check_manifest,
     guard_writes,
     journal_path,
+    makes,
     output_change,
     output_file,
     resume,
@@ -486,7 +488,7 @@ def _build(
     for out in outputs:
         proof = proofs[os.fspath(output_file(recipe, out["file"]))]
         out["reload"] = {k: v for k, v in proof.items() if k != "file"}
-    removed = _tidy(recipe, {o["file"] for o in outputs}, previous, hashes, reads)
+    removed, left = _tidy(step, recipe, {o["file"] for o in outputs}, previous, hashes, reads)
     return {
         "operation": op.name,
         "operation_version": op.version,
@@ -498,6 +500,7 @@ def _build(
         "outputs": outputs,
         "facts": facts,
         "removed": removed,
+        "left": left,
         "seconds": round(seconds, 3),
         "built": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
     }
@@ -519,24 +522,33 @@ def _outputs(
 
 
 def _tidy(
-    recipe: Recipe, written: set, previous: dict | None, hashes: FileHashes, reads: set[Path]
-) -> list:
-    """Remove a step's stale outputs (unchanged since its previous bake wrote them, read by no
-    step) and the temporaries of its outputs (``.STEM.<12 hex>.EXT``, what
-    :func:`bakeshop.io.atomic_path` leaves only when killed); return the stale outputs
-    removed."""
-    removed = []
+    step: Step,
+    recipe: Recipe,
+    written: set,
+    previous: dict | None,
+    hashes: FileHashes,
+    reads: set[Path],
+) -> tuple[list, list]:
+    """Remove ``step``'s stale outputs (names it :func:`makes`, unchanged since its previous
+    bake wrote them, read by no step) and the temporaries of its outputs (``.STEM.<12 hex>.EXT``,
+    what :func:`bakeshop.io.atomic_path` leaves only when killed); return the stale outputs
+    removed, and those left in place because no step of the recipe makes their names (a renamed
+    output, or a forged entry: the manifest alone proves nothing)."""
+    removed, left = [], []
     for out in (previous or {}).get("outputs", []):
         path = output_file(recipe, out["file"])
         if out["file"] in written or path in reads:
             continue
-        if output_change(recipe, out, hashes) is None:
+        if not makes(step, path):
+            if not any(makes(s, path) for s in recipe.steps):
+                left.append(out["file"])
+        elif output_change(recipe, out, hashes) is None:
             with contextlib.suppress(OSError):
                 path.unlink()
                 removed.append(out["file"])
     for name in written:
         _remove_temporaries(output_file(recipe, name))
-    return removed
+    return removed, left
 
 
 def _remove_temporaries(path: Path) -> None:

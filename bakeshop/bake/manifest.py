@@ -127,6 +127,7 @@ _RECORD_TYPES = {
     "outputs": list,
     "facts": dict,
     "removed": list,
+    "left": list,
     "seconds": (int, float),
     "built": str,
 }
@@ -142,14 +143,17 @@ def _is(value: object, kind: type | tuple[type, ...]) -> bool:
 def _json_type(value: object) -> str:
     if isinstance(value, bool):
         return "true or false"
-    names = {dict: "an object", list: "a list", str: "a string", int: "a number"}
-    return names.get(type(value), "a number" if isinstance(value, float) else "null")
+    names = {dict: "an object", list: "a list", str: "a string", int: "an integer"}
+    return names.get(
+        type(value),
+        "a number with a fraction or an exponent" if isinstance(value, float) else "null",
+    )
 
 
 def _typed(document: dict, types: dict, where: str, fail: Callable[[str], NoReturn]) -> None:
     for key, kind in types.items():
         if key in document and not _is(document[key], kind):
-            expected = _json_type(kind[0]() if isinstance(kind, tuple) else kind())
+            expected = "a number" if isinstance(kind, tuple) else _json_type(kind())
             fail(f"{where}{key} must be {expected}, not {_json_type(document[key])}")
 
 
@@ -170,9 +174,10 @@ def check_manifest(document: dict, recipe: Recipe) -> dict[str, dict]:
         for key, digest in record.get("inputs", {}).items():
             if not isinstance(digest, str):
                 fail(f"{where}.inputs.{key} must be a string, not {_json_type(digest)}")
-        for i, removed in enumerate(record.get("removed", [])):
-            if not isinstance(removed, str):
-                fail(f"{where}.removed[{i}] must be a string, not {_json_type(removed)}")
+        for key in ("removed", "left"):
+            for i, name in enumerate(record.get(key, [])):
+                if not isinstance(name, str):
+                    fail(f"{where}.{key}[{i}] must be a string, not {_json_type(name)}")
         for i, out in enumerate(record.get("outputs", [])):
             _check_output(out, f"{where}.outputs[{i}]", recipe, fail)
     return dict(steps)
@@ -269,27 +274,32 @@ def output_change(recipe: Recipe, out: dict, hashes: FileHashes) -> str | None:
     return None
 
 
+def makes(step: Step, path: Path) -> bool:
+    """Whether ``path`` (resolved) is a name ``step`` can make: its output, a file in its output
+    folder, or one beside its output file named from it (``{face}`` files, ``OUT.json``
+    sidecars). The only files a bake replaces or deletes are such names."""
+    out = step.output
+    return out in path.parents or (
+        path.parent == out.parent and path.name.startswith(out.name.split("{")[0])
+    )
+
+
 def guard_writes(
     step: Step, recipe: Recipe, hashes: FileHashes, previous: dict | None
 ) -> Callable[[Path, Path], None]:
-    """The check of each file ``step`` is about to write: its output, a file in its output
-    folder, or one beside its output file named from it (``{face}`` files, ``OUT.json``
-    sidecars); and where a file is already there, one that its previous bake wrote and left as
-    it was. Each file let through is noted in the journal before it takes its name."""
+    """The check of each file ``step`` is about to write: a name it :func:`makes`; and where a
+    file is already there, one that its previous bake wrote and left as it was. Each file let
+    through is noted in the journal before it takes its name."""
     recorded: dict[str, list[dict]] = {}
     for o in (previous or {}).get("outputs", []):
         recorded.setdefault(o["file"], []).append(o)
     mine: set[Path] = set()
-    out = step.output
-    stem = out.name.split("{")[0]
 
     def guard(target: Path, tmp: Path) -> None:
         path = Path(target).parent.resolve() / Path(target).name
-        if out not in path.parents and not (
-            path.parent == out.parent and path.name.startswith(stem)
-        ):
+        if not makes(step, path):
             raise BakeshopError(
-                f"{step.name} writes only its output {recipe.relative(out)} and the files "
+                f"{step.name} writes only its output {recipe.relative(step.output)} and the files "
                 "named from it",
                 target,
             )

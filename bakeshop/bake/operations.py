@@ -11,6 +11,7 @@ inputs and options would give different outputs, and every step of the operation
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -72,19 +73,35 @@ class Option:
             if isinstance(value, bool) or not isinstance(value, int):
                 fail(f"{what} must be an integer, got {value!r}")
             if self.choices and value not in self.choices:
-                fail(f"{what} must be one of {', '.join(map(str, self.choices))}, got {value}")
-        v = number(value, what, fail, self.low, self.high)
-        return int(v) if self.kind == "int" else v
+                choices = ", ".join(map(str, self.choices))
+                fail(f"{what} must be one of {choices}, got {_shown(value)}")
+            if not self.low <= value <= self.high:  # exact, however long the integer
+                fail(f"{what} must be in [{self.low}, {self.high}], got {_shown(value)}")
+            return value
+        return number(value, what, fail, self.low, self.high)
+
+
+def _shown(value: object) -> str:
+    """``value`` as an error message shows it: an integer too long to read by its length."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**20:
+        digits = int(value.bit_length() * math.log10(2))  # the count, or one less
+        return f"an integer of {digits + (abs(value) >= 10**digits)} digits"
+    return repr(value)
 
 
 def number(
     value: object, what: str, fail: Fail, low: float = -math.inf, high: float = math.inf
 ) -> float:
     """``value`` as a float in [low, high], or fail naming ``what`` and the range."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
         fail(f"{what} must be a finite number, got {value!r}")
-    if not low <= value <= high:
-        fail(f"{what} must be in [{low:g}, {high:g}], got {value!r}")
+    if isinstance(value, float) and not math.isfinite(value):  # an int is finite, however long
+        fail(f"{what} must be a finite number, got {value!r}")
+    if not low <= value <= high:  # exact for an integer of any length
+        fail(f"{what} must be in [{low:g}, {high:g}], got {_shown(value)}")
+    if abs(value) > sys.float_info.max:
+        biggest = sys.float_info.max
+        fail(f"{what} must be a finite number (at most {biggest:g} in size), got {_shown(value)}")
     return float(value)
 
 

@@ -34,7 +34,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from bakeshop.bake.operations import OPERATIONS, Fail, Operation
-from bakeshop.errors import ArgumentError, FormatError
+from bakeshop.errors import ArgumentError, BakeshopError, FormatError
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -142,8 +142,9 @@ def load_recipe(
         raise FormatError(f"not valid TOML: {e}", path) from None
     except RecursionError:
         raise FormatError("not valid TOML: arrays or tables nested too deeply", path) from None
-    except ValueError as e:  # an integer beyond Python's digit limit
-        raise FormatError(f"not valid TOML: {e}", path) from None
+    except ValueError:  # an integer beyond Python's digit limit
+        digits = sys.get_int_max_str_digits()
+        raise FormatError(f"an integer of more than {digits} digits", path) from None
     return parse_recipe(document, path, allow_folder=allow_folder)
 
 
@@ -300,8 +301,11 @@ def _confine(
 
 def _order(steps: list[Step], fail: Fail) -> list[Step]:
     """Link each step to the steps whose outputs it reads; order them; refuse circles, two
-    steps writing one path and inputs that neither exist nor are made. Linear in the steps:
-    each path is looked up with its folders in a table of the outputs."""
+    steps writing one path, inputs that neither exist nor are made, and inputs that are no
+    regular file (a FIFO). Linear in the steps: each path is looked up with its folders in a
+    table of the outputs."""
+    from bakeshop.io import check_input
+
     makers: dict[Path, Step] = {}
     for s in steps:
         if s.output in makers:
@@ -317,8 +321,12 @@ def _order(steps: list[Step], fail: Fail) -> list[Step]:
         for path in s.inputs:
             maker = next((makers[p] for p in (path, *path.parents) if p in makers), None)
             if maker is None:
-                if not path.is_file():
+                if not path.exists():
                     fail(f"{s.name}: input {path} does not exist and no step makes it")
+                try:
+                    check_input(path)
+                except BakeshopError as e:
+                    fail(f"{s.name}: input {path} {e.reason}")
                 continue
             if maker.name == s.name:
                 fail(f"{s.name} reads its own output {path}")
@@ -332,23 +340,23 @@ def _order(steps: list[Step], fail: Fail) -> list[Step]:
         if first.name in state:
             continue
         state[first.name] = 1
-        path = [(first, iter(first.after))]
-        while path:
-            step, deps = path[-1]
+        walk = [(first, iter(first.after))]
+        while walk:
+            step, deps = walk[-1]
             dep = next(deps, None)
             if dep is None:
-                path.pop()
+                walk.pop()
                 state[step.name] = 2
                 done.append(step)
             elif state.get(dep) == 1:
-                chain = [p.name for p, _ in path]
+                chain = [p.name for p, _ in walk]
                 fail(
                     "steps read each other's outputs in a circle: "
                     + " -> ".join(chain[chain.index(dep) :] + [dep])
                 )
             elif dep not in state:
                 state[dep] = 1
-                path.append((by_name[dep], iter(by_name[dep].after)))
+                walk.append((by_name[dep], iter(by_name[dep].after)))
     return done
 
 

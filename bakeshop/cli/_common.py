@@ -359,6 +359,11 @@ def linearise(
 RGB_ONLY = (".hdr", ".pic", ".rgbe", ".pfm", ".jpg", ".jpeg")
 
 
+def rgb_only(*targets: str | os.PathLike | None) -> list[str | os.PathLike]:
+    """The ``targets`` whose format stores RGB only (:data:`RGB_ONLY`)."""
+    return [t for t in targets if t is not None and Path(t).suffix.lower() in RGB_ONLY]
+
+
 def alpha_option(command: F) -> F:
     """The ``--alpha`` option of every command that may write an RGB-only format (.hdr, .pfm,
     .jpg) from an input with alpha; the command passes it to :func:`fit_alpha`."""
@@ -388,10 +393,10 @@ def fit_alpha(
     ArgumentError
         A non-constant alpha, an RGB-only target and no ``how``: naming ``--alpha``.
     """
-    rgb_only = [t for t in targets if t is not None and Path(t).suffix.lower() in RGB_ONLY]
-    if image.shape[-1] != 4 or not rgb_only:
+    outputs = rgb_only(*targets)
+    if image.shape[-1] != 4 or not outputs:
         return image
-    suffix = Path(rgb_only[0]).suffix
+    suffix = Path(outputs[0]).suffix
     alpha = image[..., 3:]
     if how == "premultiply":
         return image[..., :3] * alpha
@@ -399,7 +404,7 @@ def fit_alpha(
         raise ArgumentError(
             f"the input's alpha is not 1 everywhere and {suffix} stores RGB only: choose "
             "--alpha drop or --alpha premultiply (or write .exr, .png or .tif)",
-            rgb_only[0],
+            outputs[0],
         )
     if how is None and note:
         click.echo(f"{source}: alpha (1 everywhere) dropped: {suffix} stores RGB only")

@@ -4,14 +4,18 @@
 from __future__ import annotations
 
 import os
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
 
 from bakeshop.cli._numbers import MemorySize
 from bakeshop.huge.scheduler import CONNECT_TIMEOUT, LOCAL_SCHEDULERS, scheduler_address
+from bakeshop.io.stream import Reader
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from bakeshop.huge import Engine
 
 memory_option = click.option(
@@ -70,3 +74,41 @@ def chunked(source: str | os.PathLike, memory: int | str | None, scheduler: str 
     except Exception:  # the in-memory reader says what is wrong with the file
         return False
     return reader.nbytes > resolve_memory(None) // 4
+
+
+def open_fitted(
+    source: str | os.PathLike, how: str | None, *targets: str | os.PathLike | None
+) -> Reader:
+    """The stream reader of ``source`` with its alpha made fit for ``targets`` window by window,
+    by the rule of :func:`bakeshop.cli._common.fit_alpha` (``--alpha``): a window whose alpha is
+    not 1 is refused when ``how`` is None, so an alpha of 1 is dropped without a pass of its own
+    (its note is said first)."""
+    from bakeshop.cli._common import rgb_only
+    from bakeshop.io.stream import open_image
+
+    reader = open_image(source)
+    outputs = rgb_only(*targets)
+    if reader.shape[2] != 4 or not outputs:
+        return reader
+    if how is None:
+        suffix = Path(outputs[0]).suffix
+        click.echo(f"{source}: alpha dropped as it is read ({suffix} stores RGB only; "
+                   "an alpha other than 1 stops the command)")  # fmt: skip
+    return _AlphaFitted(reader, how, outputs[0])
+
+
+class _AlphaFitted(Reader):
+    """``reader``'s colour, its alpha dropped or premultiplied as each window is read."""
+
+    def __init__(self, reader: Reader, how: str | None, target: str | os.PathLike) -> None:
+        self.reader, self.how, self.target = reader, how, target
+        self.path, self.stored, self.format = reader.path, reader.stored, reader.format
+        self.block, self.read_floor = reader.block, reader.read_floor
+        h, w, _ = reader.shape
+        self.shape = (h, w, 3)
+
+    def _read(self, top: int, bottom: int, left: int, right: int) -> np.ndarray:
+        from bakeshop.cli._common import fit_alpha
+
+        window = self.reader.read((top, bottom), (left, right))
+        return fit_alpha(window, self.how, self.path or "", self.target, note=False)

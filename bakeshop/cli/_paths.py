@@ -98,12 +98,13 @@ def _same_output(a: str, b: str) -> bool:
     """True when the output names ``a`` and ``b`` may stand for one file."""
     a_real, b_real = (os.path.normcase(os.path.realpath(t)) for t in (a, b))
     a_regex, b_regex = _output_regex(a_real), _output_regex(b_real)
-    if a_regex is None and b_regex is None:
-        return a_real == b_real or _same_file(a, b)
-    if a_regex is None or b_regex is None:
-        pattern, name = (a_regex, b_real) if b_regex is None else (b_regex, a_real)
-        return pattern.fullmatch(name) is not None
-    return a_real == b_real
+    if a_regex is not None and b_regex is not None:
+        return a_real == b_real
+    if a_regex is not None:
+        return a_regex.fullmatch(b_real) is not None
+    if b_regex is not None:
+        return b_regex.fullmatch(a_real) is not None
+    return a_real == b_real or _same_file(a, b)
 
 
 def _output_regex(text: str) -> re.Pattern[str] | None:

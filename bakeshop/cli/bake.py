@@ -165,6 +165,11 @@ def bake(
                 f"built      {decision.step} in {record['seconds']:.2f} s: {len(outs)} "
                 f"file(s), {checked} re-read and checked"
             )
+            for name in record["left"]:
+                click.echo(
+                    f"left in place: {name} (no step of the recipe makes it any more; "
+                    "delete it yourself)"
+                )
         elif decision.action == "blocked" or (explain and decision.action == "build"):
             click.echo(decision.describe())
 

@@ -18,7 +18,7 @@ from bakeshop.cli._common import (
     out_dir_option,
     srgb_decode_option,
 )
-from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
+from bakeshop.cli._huge import chunked, engine, memory_option, open_fitted, scheduler_option
 from bakeshop.cli._paths import ENVIRONMENT_SOURCE, refuse_overwriting_inputs
 from bakeshop.cli._probe import (
     check_picture_format,
@@ -101,11 +101,9 @@ def dims(
     if chunked(source, memory, scheduler):
         if srgb_decode:
             raise ArgumentError("a panorama larger than memory is read as linear data", source)
-        out_dir.mkdir(parents=True, exist_ok=True)
         _dims_chunked(source, names, src_layout, (dst_layout, size, method, order, window),
-                      memory, scheduler)  # fmt: skip
+                      alpha, memory, scheduler)  # fmt: skip
         return
-    out_dir.mkdir(parents=True, exist_ok=True)
     image, layout, _, meta = read_probe(source, src_layout, with_metadata=True)
     check_picture_format(layout, fmt, source)
     image, _ = linearise(image, source, meta, srgb_decode)
@@ -117,6 +115,7 @@ def dims(
     paint_in_place = functools.partial(dim_pair, copy=False)
     pair, elapsed = timed(paint_in_place, image, layout, dst_layout, size, method, order, window)
     with progress.step(f"writing {out_dir}"):
+        out_dir.mkdir(parents=True, exist_ok=True)  # after every check: a refusal creates nothing
         write_environment(names["sun_dim"], pair.sun_dim, dst_layout)
         write_environment(names["shadow_dim"], pair.shadow_dim, dst_layout)
         write_environment(
@@ -147,6 +146,7 @@ def _dims_chunked(
     names: dict[str, Path],
     src_layout: str | None,
     options: tuple[str, int | tuple[int, int] | None, str, int, str],
+    alpha: str | None,
     memory: int | str | None,
     scheduler: str | None,
 ) -> None:
@@ -157,17 +157,17 @@ def _dims_chunked(
     from bakeshop.huge import dim_pair as dim_pair_chunked
     from bakeshop.huge import write_shadow_probe
     from bakeshop.io import write_environment, write_json
-    from bakeshop.io.stream import open_image
     from bakeshop.light import sun_document
 
     dst_layout, size, method, order, window = options
-    reader = open_image(source)
+    reader = open_fitted(source, alpha, *names.values())
     h, w, _ = reader.shape
     with engine(memory, scheduler) as eng:
         compute = functools.partial(dim_pair_chunked, engine=eng)
         pair, elapsed = timed(compute, reader, src_layout or "latlong", dst_layout, size, method,
                               order, window)  # fmt: skip
         with progress.step(f"writing {names['sun_dim'].parent}"):
+            names["sun_dim"].parent.mkdir(parents=True, exist_ok=True)
             write_environment(names["sun_dim"], pair.sun_dim, dst_layout)
             write_environment(names["shadow_dim"], pair.shadow_dim, dst_layout)
             write_shadow_probe(reader, names["shadow_probe"], pair, engine=eng)

@@ -567,7 +567,7 @@ def convert(
         channels="xy" if xy else "xyz",
         renormalize=renormalize,
     )
-    writer_options = parse_options(options)
+    writer_options: dict[str, Any] = dict(parse_options(options))
     bits = None
     if is_picture(target):
         requested = writer_options.pop("bits", None)

@@ -21,7 +21,7 @@ from bakeshop.cli._common import (
     srgb_decode_option,
     warn,
 )
-from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
+from bakeshop.cli._huge import chunked, engine, memory_option, open_fitted, scheduler_option
 from bakeshop.cli._numbers import Numbers, Size
 from bakeshop.cli._paths import (
     ENVIRONMENT_SOURCE,
@@ -181,7 +181,7 @@ def remap(
                 target,
             )
         _remap_chunked(source, target, src, dst, size_text, filter_name, rotation, convention,
-                       short_face_names, memory, scheduler)  # fmt: skip
+                       short_face_names, alpha, memory, scheduler)  # fmt: skip
         return
     with progress.step(f"reading {source}"):
         (image, src, how), meta = read_environment(
@@ -238,14 +238,14 @@ def _remap_chunked(
     rotation: list[float] | None,
     convention: str,
     short: bool,
+    alpha: str | None,
     memory: int | str | None,
     scheduler: str | None,
 ) -> None:
     from bakeshop import sphere
     from bakeshop.huge import remap as remap_chunked
-    from bakeshop.io.stream import open_image
 
-    reader = open_image(source)
+    reader = open_fitted(source, alpha, target)
     h, w, _ = reader.shape
     how = "given"
     if src is None:

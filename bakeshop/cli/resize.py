@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from bakeshop.cli._common import PictureRule, alpha_option, fit_alpha, picture_options, write_any
-from bakeshop.cli._huge import chunked, engine, memory_option, scheduler_option
+from bakeshop.cli._huge import chunked, engine, memory_option, open_fitted, scheduler_option
 from bakeshop.cli._numbers import Size
 from bakeshop.cli._paths import OUTPUT, SOURCE, parse_size, refuse_overwriting_inputs
 from bakeshop.io import stored_bits
@@ -62,7 +62,7 @@ def resize(
     refuse_overwriting_inputs(target, source)
     wanted = parse_size(size)
     if chunked(source, memory, scheduler):
-        _resize_chunked(source, target, wanted, memory, scheduler)
+        _resize_chunked(source, target, wanted, alpha, memory, scheduler)
         return
     image, meta = read_image(source, with_metadata=True)
     image = fit_alpha(image, alpha, source, target)
@@ -76,7 +76,7 @@ def resize(
             e.reason += f" (a {', '.join(_STRIPS)} output is written by strips, past memory)"
             raise
         del image
-        _resize_chunked(source, target, wanted, memory, scheduler)
+        _resize_chunked(source, target, wanted, alpha, memory, scheduler)
         return
     bits = stored_bits(meta)
     line = write_any(target, out, picture, inputs=[bits], linear=bits is None)
@@ -94,13 +94,13 @@ def _resize_chunked(
     source: Path,
     target: Path,
     wanted: int | tuple[int, int],
+    alpha: str | None,
     memory: int | str | None,
     scheduler: str | None,
 ) -> None:
     from bakeshop.huge import resize_to_file
-    from bakeshop.io.stream import open_image
 
-    reader = open_image(source)
+    reader = open_fitted(source, alpha, target)
     h, w, _ = reader.shape
     if isinstance(wanted, int):
         wanted = (wanted, max(1, round(h * wanted / w)))

@@ -225,3 +225,12 @@ def check_payload(needed: int, available: int, what: str = "pixel data") -> None
             f"truncated file: the header promises {needed} bytes of {what}, "
             f"the file holds {available}"
         )
+
+
+def read_payload(f: BinaryIO, size: int, what: str) -> bytes:
+    """The next ``size`` bytes of the file ``f``, refused (:func:`check_payload`) before they
+    are read when fewer are left."""
+    check_payload(size, os.fstat(f.fileno()).st_size - f.tell(), what)
+    data = f.read(size)
+    check_payload(size, len(data), what)  # the file shrank while it was read
+    return data

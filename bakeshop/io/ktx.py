@@ -37,14 +37,20 @@ from __future__ import annotations
 import os
 import struct
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Literal, overload
+from typing import TYPE_CHECKING, BinaryIO, Literal, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import FormatError, UnsupportedError, validate_choice, with_article
 from bakeshop.io import _intent
-from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
+from bakeshop.io._files import (
+    MAX_PIXELS,
+    atomic_path,
+    check_payload,
+    open_input,
+    read_payload,
+)
 from bakeshop.io._levels import (
     DTYPES,
     MAX_LEVELS,
@@ -226,11 +232,19 @@ def _read(
 def _read(
     path: str | os.PathLike, max_pixels: int, decode: bool
 ) -> tuple[list[np.ndarray] | BlockTexture | None, dict]:
+    with open_input(path) as f:
+        return _read_levels(f, max_pixels, decode)
 
+
+def _read_levels(
+    f: BinaryIO, max_pixels: int, decode: bool
+) -> tuple[list[np.ndarray] | BlockTexture | None, dict]:
+    """The header and key/value data of the KTX file ``f``, checked against its size and the
+    decode budget; then its levels, each read (and checked) in turn: never the whole file."""
     from bakeshop.io.compress.formats import FORMATS, level_bytes
 
-    with open_input(path) as f:
-        data = f.read()
+    file_size = os.fstat(f.fileno()).st_size
+    data = f.read(_HEADER_SIZE)
     if len(data) < _HEADER_SIZE or not sniff(data):
         raise FormatError("not a KTX 1 file (bad identifier)")
     order = "<" if struct.unpack_from("<I", data, 12)[0] == ENDIANNESS else ">"
@@ -268,9 +282,8 @@ def _read(
         raise FormatError(
             f"{levels} mip levels is more than {with_article(width)}x{height} texture has"
         )
-    check_payload(kv_bytes, len(data) - _HEADER_SIZE, "key/value data")
-    key_values = _key_values(data[_HEADER_SIZE : _HEADER_SIZE + kv_bytes], order)
-    offset = _HEADER_SIZE + kv_bytes
+    check_payload(kv_bytes, file_size - _HEADER_SIZE, "key/value data")
+    key_values = _key_values(read_payload(f, kv_bytes, "key/value data"), order)
     metadata = {
         "format": NAME,
         "stored": block.name if block is not None else dtype,
@@ -285,22 +298,17 @@ def _read(
         texel = channels * DTYPES[dtype].itemsize
         decoded, sizes = channels, [_pad4(w * texel) * h for w, h in sides]
     check_chain_decode(
-        width, height, levels, faces, decoded, faces * sum(sizes), len(data), decode=decode
+        width, height, levels, faces, decoded, faces * sum(sizes), file_size, decode=decode
     )
     if block is not None:
         from bakeshop.io.compress.texture import BlockTexture
 
         raw = []
-        for m in range(levels):
-            size = level_bytes(block, mip_size(width, m), mip_size(height, m))
-            check_payload(4, len(data) - offset, "mip level size")
-            image_size = struct.unpack_from(order + "I", data, offset)[0]
+        for m, size in enumerate(sizes):
+            image_size = struct.unpack(order + "I", read_payload(f, 4, "mip level size"))[0]
             if image_size != size:
                 raise FormatError(f"mip {m}: imageSize {image_size}, expected {size}")
-            offset += 4
-            check_payload(faces * size, len(data) - offset, f"mip {m}")
-            raw.append(data[offset : offset + faces * size])
-            offset += faces * size
+            raw.append(read_payload(f, faces * size, f"mip {m}"))
         texture = BlockTexture(block, width, height, cube, tuple(raw))
         return (texture.decode() if decode else texture), metadata
     if not decode:
@@ -310,17 +318,14 @@ def _read(
     for m in range(levels):
         h, w = mip_size(height, m), mip_size(width, m)
         row = w * channels * stored.itemsize
-        check_payload(4, len(data) - offset, "mip level size")
-        image_size = struct.unpack_from(order + "I", data, offset)[0]
+        image_size = struct.unpack(order + "I", read_payload(f, 4, "mip level size"))[0]
         if image_size != _pad4(row) * h:
             raise FormatError(f"mip {m}: imageSize {image_size}, expected {_pad4(row) * h}")
-        offset += 4
-        check_payload(faces * image_size, len(data) - offset, f"mip {m}")
         level = np.empty((faces, h, w, channels), np.float32)
         for face in range(faces):
-            rows = np.frombuffer(data, np.uint8, image_size, offset).reshape(h, _pad4(row))
+            face_bytes = read_payload(f, image_size, f"mip {m}")
+            rows = np.frombuffer(face_bytes, np.uint8).reshape(h, _pad4(row))
             level[face] = rows[:, :row].copy().view(stored).reshape(h, w, channels)
-            offset += image_size
         mips.append(level if cube else level[0])
     return mips, metadata
 

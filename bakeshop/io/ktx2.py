@@ -47,7 +47,7 @@ import os
 import struct
 from collections.abc import Iterable, Sequence
 from types import ModuleType
-from typing import TYPE_CHECKING, Literal, overload
+from typing import TYPE_CHECKING, BinaryIO, Literal, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -62,7 +62,13 @@ from bakeshop.errors import (
     with_article,
 )
 from bakeshop.io import _intent
-from bakeshop.io._files import MAX_PIXELS, atomic_path, check_payload, open_input
+from bakeshop.io._files import (
+    MAX_PIXELS,
+    atomic_path,
+    check_payload,
+    open_input,
+    read_payload,
+)
 from bakeshop.io._levels import (
     DTYPES,
     MAX_LEVELS,
@@ -415,10 +421,25 @@ def _read(
 def _read(
     path: str | os.PathLike, max_pixels: int, decode: bool
 ) -> tuple[list[np.ndarray] | BlockTexture | None, dict]:
+    with open_input(path) as f:
+        return _read_levels(f, max_pixels, decode)
+
+
+def _read_at(f: BinaryIO, offset: int, size: int, what: str) -> bytes:
+    """``size`` bytes of ``f`` from ``offset`` (:func:`bakeshop.io._files.read_payload`)."""
+    f.seek(offset)
+    return read_payload(f, size, what)
+
+
+def _read_levels(
+    f: BinaryIO, max_pixels: int, decode: bool
+) -> tuple[list[np.ndarray] | BlockTexture | None, dict]:
+    """The header and level index of the KTX2 file ``f``, checked against its size and the
+    decode budget; then each level read (and inflated) in turn: never the whole file."""
     from bakeshop.io.compress.formats import FORMATS, level_bytes
 
-    with open_input(path) as f:
-        data = f.read()
+    file_size = os.fstat(f.fileno()).st_size
+    data = f.read(_HEADER.size)
     if len(data) < _HEADER.size or not sniff(data):
         raise FormatError("not a KTX2 file (bad identifier)")
     (_, vk_format, type_size, width, height, depth, layers, faces, level_count, scheme,
@@ -456,10 +477,10 @@ def _read(
         raise FormatError(
             f"{levels} mip levels is more than {with_article(width)}x{height} texture has"
         )
-    check_payload(_HEADER.size + _LEVEL.size * levels, len(data), "level index")
+    check_payload(_HEADER.size + _LEVEL.size * levels, file_size, "level index")
     for offset, length, what in ((dfd_offset, dfd_length, "format descriptor"),
                                  (kv_offset, kv_length, "key/value data")):  # fmt: skip
-        check_payload(offset + length, len(data), what)
+        check_payload(offset + length, file_size, what)
     if scheme:
         try:
             import zstandard
@@ -468,7 +489,8 @@ def _read(
                 "this KTX2 file is Zstandard-supercompressed: install bakeshop[compress]"
             ) from None
         inflater = zstandard.ZstdDecompressor()
-    index = [_LEVEL.unpack_from(data, _HEADER.size + _LEVEL.size * m) for m in range(levels)]
+    table = read_payload(f, _LEVEL.size * levels, "level index")
+    index = [_LEVEL.unpack_from(table, _LEVEL.size * m) for m in range(levels)]
     sizes = []
     for m, (offset, length, full) in enumerate(index):
         h, w = mip_size(height, m), mip_size(width, m)
@@ -478,16 +500,16 @@ def _read(
             expected = max(layers, 1) * faces * h * w * channels * SAMPLE_TYPES[dtype].itemsize
         if full != expected or (not scheme and length != expected):
             raise FormatError(f"level {m}: byteLength {length}, expected {expected}")
-        check_payload(offset + length, len(data), f"level {m}")
+        check_payload(offset + length, file_size, f"level {m}")
         sizes.append(expected)
     images = max(layers, 1) * faces
     check_chain_decode(
         width, height, levels, images, channels if block is None else block.channels,
-        sum(sizes), len(data), decode=decode,
+        sum(sizes), file_size, decode=decode,
     )  # fmt: skip
     raw_levels = []
     for m, ((offset, length, _), expected) in enumerate(zip(index, sizes, strict=True)):
-        level = data[offset : offset + length]
+        level = _read_at(f, offset, length, f"level {m}")
         if scheme:
             # the output is capped by the size the index declares (zstandard trusts a frame's
             # own content size over the cap, so a frame declaring another size is refused first)
@@ -511,8 +533,8 @@ def _read(
         "layers": layers,
         "vk_format": vk_format,
         "supercompression": schemes[scheme],
-        "key_values": _key_values(data[kv_offset : kv_offset + kv_length], "<"),
-        "dfd": data[dfd_offset : dfd_offset + dfd_length],
+        "key_values": _key_values(_read_at(f, kv_offset, kv_length, "key/value data"), "<"),
+        "dfd": _read_at(f, dfd_offset, dfd_length, "format descriptor"),
     }
     if block is not None:
         from bakeshop.io.compress.texture import BlockTexture

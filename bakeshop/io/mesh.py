@@ -28,6 +28,8 @@ from bakeshop.resources import Cost, require
 MESH_EXTENSIONS = (".obj", ".stl", ".ply", ".off", ".gltf", ".glb")
 #: glTF accessor component types (numpy dtypes) and components per element of each type.
 GLTF_COMPONENT_TYPES = {5120: "i1", 5121: "u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
+#: the largest glTF JSON read, bytes: a .gltf file, or a GLB's JSON chunk.
+GLTF_JSON_MAX = 64 << 20
 GLTF_COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 
 
@@ -228,26 +230,49 @@ def _gltf_check(header: dict, buffers: list[bytes], path: Path) -> None:
                     )
 
 
+def _gltf_chunk(f: io.BufferedReader, length: int, what: str, path: Path) -> bytes:
+    """The next ``length`` bytes of ``f``, ``what`` of the glTF ``path``, checked against the
+    file's size and the memory bound before they are read."""
+    left = os.fstat(f.fileno()).st_size - f.tell()
+    if length > left:
+        raise FormatError(f"{what} of {length:,} bytes runs past the file's end", path)
+    require(Cost(length, length, f"{what} of {length:,} bytes"), path)
+    return f.read(length)
+
+
+def _gltf_read(path: Path) -> tuple[dict, bytes | None]:
+    """The glTF's JSON (at most :data:`GLTF_JSON_MAX` bytes) and a GLB's binary chunk (None
+    for a .gltf), read chunk by chunk."""
+    with open(path, "rb") as f:
+        if path.suffix.lower() != ".glb":
+            length = os.fstat(f.fileno()).st_size
+        else:
+            head = f.read(20)
+            if len(head) < 20 or head[:4] != b"glTF":
+                raise FormatError("not a binary glTF file (bad magic bytes)", path)
+            length = struct.unpack_from("<I", head, 12)[0]
+        if length > GLTF_JSON_MAX:
+            raise UnsupportedError(
+                f"its JSON is {length:,} bytes, more than the {GLTF_JSON_MAX >> 20} MiB read "
+                "from a glTF (keep the buffers in the binary chunk or .bin files, not in data "
+                "URIs)",
+                path,
+            )
+        header = json.loads(_gltf_chunk(f, length, "the JSON", path))
+        if path.suffix.lower() != ".glb" or len(tail := f.read(8)) < 8:
+            return header, None
+        length = struct.unpack_from("<I", tail, 0)[0]
+        return header, _gltf_chunk(f, length, "the binary chunk", path)
+
+
 def _gltf_geometry(path: Path) -> tuple[bytes, dict[str, bytes]]:
     """The glTF's JSON reduced to its geometry, checked by :func:`_gltf_check`, with each
     buffer named by its index and TEXCOORD_n renamed to _TEXCOORD_n (trimesh keeps those as
     plain vertex attributes; its own UV handling keeps only TEXCOORD_0 and only on primitives
     with a material); and the buffers by name. Materials and images are dropped, so nothing but
     the checked buffers is ever read."""
-    data = path.read_bytes()
-    binary = None
     try:
-        if path.suffix.lower() == ".glb":
-            if len(data) < 20 or data[:4] != b"glTF":
-                raise FormatError("not a binary glTF file (bad magic bytes)", path)
-            length = struct.unpack_from("<I", data, 12)[0]
-            header = json.loads(data[20 : 20 + length])
-            rest = data[20 + length :]
-            if len(rest) >= 8:
-                size = struct.unpack_from("<I", rest, 0)[0]
-                binary = rest[8 : 8 + size]
-        else:
-            header = json.loads(data)
+        header, binary = _gltf_read(path)
         buffers = _gltf_buffers(header, binary, path)
         _gltf_check(header, buffers, path)
     except (ValueError, struct.error, AttributeError, TypeError, KeyError) as e:
@@ -310,7 +335,7 @@ def load_mesh(path: str | os.PathLike) -> Mesh:
             )
         else:
             mesh = trimesh.load(path, force="mesh", process=False, maintain_order=True)
-    except FormatError:
+    except BakeshopError:
         raise
     except Exception as e:  # trimesh raises many types for corrupt files
         raise FormatError(f"cannot read the mesh: {e}", path) from None

@@ -434,7 +434,7 @@ def filtered_relief(
     d = np.asarray(detail)
     tu, tv = as_pair(tile, "tile")
     chain = mip_chain(d)
-    level = min(len(chain) - 1, round(_lod(d.shape[:2], tuple(shape), tu, tv)))
+    level = min(len(chain) - 1, round(_lod(d.shape[:2], (shape[0], shape[1]), tu, tv)))
     return _relief(d), _relief(chain.level(level))
 
 

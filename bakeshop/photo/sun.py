@@ -41,8 +41,12 @@ without bound as ``chi`` falls: 1.5e13 times the clipped light was seen) is refu
 values stay, as lower bounds, and :attr:`SunRecovery.reason` says why. So is a region that is
 not round (it fills less than :data:`MIN_FILL` of the circle around it), a fit that misses its
 ring by more than :data:`FIT_RESIDUAL` RMS (relative: a horizon, the ground or a cloud in it,
-which a sky plane cannot follow), and a model that holds :data:`FIT_RESIDUAL` less light than
-the clipped lower bounds it replaces (it does not explain the clipping).
+which a sky plane cannot follow), a model that holds :data:`FIT_RESIDUAL` less light than
+the clipped lower bounds it replaces (it does not explain the clipping), and a ring that does
+not determine the disk: its inner and outer halves, fitted alone, imply disks more than
+:data:`RING_AGREEMENT` times apart (a sunshape gives both the same disk; an aureole that is not
+one, or a sky's gradient read as aureole, biases the slope, which moves the disk by tens of
+percent per 0.1).
 
 With ``irradiance=`` (a light meter's reading of the direct sun, in the merge's units: lux for
 an absolute stack), the disk's energy is set so that the modelled sun (disk plus the aureole
@@ -90,6 +94,9 @@ MIN_FILL = 0.4
 #: most RMS relative error of the aureole's fit on its ring, and most shortfall of the model
 #: below the clipped lower bounds, for a fit to be believed.
 FIT_RESIDUAL = 0.1
+#: most ratio between the disks that the ring's inner and outer halves imply alone, for a fit
+#: to be believed (8-bit brackets of Buie's sunshape give up to 1.4).
+RING_AGREEMENT = 2.0
 
 
 def _gamma(chi: np.ndarray | float) -> np.ndarray | float:
@@ -138,6 +145,28 @@ def _chi_from_gamma(gamma: float) -> float:
     chis = np.geomspace(*CSR_RANGE, 2000)
     gammas = _gamma(chis)  # decreasing on this branch
     return float(np.interp(-gamma, -gammas, chis))
+
+
+def _disk_centre(gamma: float, amplitude: np.ndarray) -> np.ndarray:
+    """The disk's centre radiance ``L0 = A / exp(kappa)`` (per channel) that an aureole
+    ``A theta^gamma`` implies through Buie's sunshape."""
+    return amplitude / math.exp(float(_kappa(_chi_from_gamma(gamma))))
+
+
+def _halves(
+    theta: np.ndarray, tangent: np.ndarray, values: np.ndarray, omega: np.ndarray
+) -> tuple[float, float]:
+    """The disk centres that the ring's inner and outer halves (split at the geometric mean
+    of its angles) imply when each is fitted alone; NaN for a half that no aureole fits.
+    A sunshape's aureole gives both the same disk, whatever the ring's extent."""
+    log = np.log(theta)
+    inner = log < 0.5 * (log.min() + log.max())
+    peaks = []
+    for part in (inner, ~inner):
+        fit = _fit_aureole(theta[part], tangent[part], values[part], omega[part])
+        centre = math.nan if fit is None else _luminance(_disk_centre(fit[0], fit[2])[None])[0]
+        peaks.append(float(centre))
+    return peaks[0], peaks[1]
 
 
 @dataclass(frozen=True)
@@ -422,31 +451,31 @@ def _model_candidate(
     fill = float(omega[near].sum()) / (2 * math.pi * (1 - math.cos(clip_radius)))
     if fill < MIN_FILL:  # before the model's work, which grows with the region
         none = np.zeros(values.shape[1])
-        reason = (
+        not_round = (
             f"the region clipped in every frame is not round ({fill:.0%} of the circle around "
             f"it, less than {MIN_FILL:.0%}): a cloud or a glint, not a sun"
         )
         return _Candidate(
             near, centre, clip_radius, outer, np.zeros(0, np.int64), light, none, None, None,
-            none, np.zeros((0, none.size)), 0.0, "none", reason,
+            none, np.zeros((0, none.size)), 0.0, "none", not_round,
         )  # fmt: skip
     region = np.flatnonzero(ang <= clip_radius + 0.5 * pitch)
     region = region[omega[region] > 0]
     ring = (ang > clip_radius + pitch) & (ang < outer) & measured & (omega > 0)
     theta_mrad = ang * 1e3
     slope = chi = amplitude = None
-    residual = 0.0
+    residual, halves = 0.0, (math.nan, math.nan)
     sky = np.zeros(values.shape[1])
     if np.count_nonzero(ring) >= MIN_RING:
         offsets = dirs[ring] - centre * (dirs[ring] @ centre)[:, None]
         axes = np.linalg.svd(np.eye(3) - np.outer(centre, centre))[0][:, :2]
-        fit = _fit_aureole(
-            theta_mrad[ring], offsets @ axes, values[ring].astype(np.float64), omega[ring]
-        )
+        ring_fit = (theta_mrad[ring], offsets @ axes, values[ring].astype(np.float64), omega[ring])
+        fit = _fit_aureole(*ring_fit)
         if fit is not None:
             slope, sky, amplitude, residual = fit
             slope = float(slope)
             chi = _chi_from_gamma(slope)
+            halves = _halves(*ring_fit)
     if amplitude is None:  # no aureole to fit: the sky is the median of the ring
         near_sky = (ang > clip_radius + pitch) & (ang < outer) & (omega > 0)
         if near_sky.any():
@@ -466,8 +495,8 @@ def _model_candidate(
         model += aureole[:, None] * amplitude[None, :]
     aureole_irr = ((model - sky) * (omega[region] * cos)[:, None]).sum(0)
     peak, reason = 0.0, None
-    if amplitude is not None and chi is not None:  # the fitted disk's centre
-        l0 = amplitude / math.exp(float(_kappa(chi)))
+    if amplitude is not None and slope is not None:  # the fitted disk's centre
+        l0 = _disk_centre(slope, amplitude)
         peak = float(_luminance(l0[None])[0])
     if irradiance is not None:
         colour = amplitude if amplitude is not None and amplitude.sum() > 0 else before.mean(0)
@@ -509,6 +538,14 @@ def _model_candidate(
         reason = (
             f"the aureole's fit holds {short:.0%} less light than the clipped lower bounds "
             f"around the sun, more than {FIT_RESIDUAL:.0%}: it does not explain the clipping"
+        )
+    elif source == "aureole" and not max(halves) <= RING_AGREEMENT * min(halves):  # NaN too
+        inner, outer = (h / peak for h in halves)
+        reason = (
+            f"the inner and outer halves of the ring around the sun, fitted alone, put "
+            f"{inner:.2g} and {outer:.2g} times the fitted disk's light in it, more than "
+            f"{RING_AGREEMENT:g}x apart: the aureole does not follow one sunshape, so it does "
+            "not determine the sun's energy"
         )
     model = np.maximum(model, lower)  # a clipped value is a lower bound
     return _Candidate(

@@ -309,19 +309,31 @@ def test_digests_are_cached_by_stat_and_racy_files_rehashed(tmp_path):
     assert again.digest(tmp_path / "missing") is None
 
 
-def test_outputs_a_step_no_longer_writes_are_removed_unless_edited(work, level):
+def test_a_renamed_output_is_left_in_place_and_dropped_from_the_manifest(work, level):
     bake(level)
     recipe = level / "level.toml"
     recipe.write_text(RECIPE.replace('output = "out/b.pfm"', 'output = "out/b2.pfm"'))
     result = bake(level)
     assert result.built == ["scale.b"]
-    assert not (level / "out/b.pfm").exists() and (level / "out/b2.pfm").exists()
-    manifest = bio.read_json(level / "level.bake.json")
-    assert manifest["steps"]["scale.b"]["removed"] == ["out/b.pfm"]
-    bio.write_image(level / "out/b2.pfm", image(9))  # an artist's edit of the output
-    recipe.write_text(RECIPE)
+    assert (level / "out/b.pfm").exists() and (level / "out/b2.pfm").exists()
+    record = bio.read_json(level / "level.bake.json")["steps"]["scale.b"]
+    assert record["removed"] == [] and record["left"] == ["out/b.pfm"]
+    assert [o["file"] for o in record["outputs"]] == ["out/b2.pfm"]
+
+
+def test_outputs_a_step_no_longer_writes_are_removed_unless_edited(work, level):
     bake(level)
-    assert (level / "out/b2.pfm").exists()  # edited since the bake: left alone
+    manifest = level / "level.bake.json"
+    document = bio.read_json(manifest)
+    for name, recorded in (("out/b.pfm.json", b"stale"), ("out/b.pfm.txt", b"as baked")):
+        (level / name).write_bytes(b"stale")  # the second edited since its bake
+        entry = {"bytes": 5, "sha256": hashlib.sha256(recorded).hexdigest()}
+        document["steps"]["scale.b"]["outputs"].append({"file": name, **entry})
+    bio.write_json(manifest, document)
+    (level / "level.toml").write_text(RECIPE.replace('"out/b.pfm"', '"out/b.pfm"\nfactor = 3.0'))
+    assert bake(level).built == ["scale.b"]
+    assert not (level / "out/b.pfm.json").exists() and (level / "out/b.pfm.txt").exists()
+    assert bio.read_json(manifest)["steps"]["scale.b"]["removed"] == ["out/b.pfm.json"]
 
 
 def test_temporaries_left_by_a_killed_write_are_removed(work, level):

@@ -124,6 +124,19 @@ def test_a_forged_output_naming_an_input_never_deletes_it(level):
     assert manifest(level)["steps"]["scale.a"]["removed"] == []
 
 
+def test_a_forged_output_naming_a_file_no_step_makes_is_left_in_place(level):
+    (level / "notes.txt").write_text("the artist's notes")
+    forged = entry(level / "notes.txt") | {"file": "notes.txt"}
+    forge(level, lambda m: m["steps"]["scale.a"]["outputs"].append(forged))
+    (level / "level.toml").write_text(RECIPE.replace('"in/a.pfm"', '"in/a.pfm"\nfactor = 3.0'))
+    result = bake(level)
+    assert result.built == ["scale.a"] and not result.failed
+    assert (level / "notes.txt").read_text() == "the artist's notes"
+    record = manifest(level)["steps"]["scale.a"]
+    assert record["removed"] == [] and record["left"] == ["notes.txt"]
+    assert "notes.txt" not in {o["file"] for o in record["outputs"]}
+
+
 def test_a_forged_output_naming_the_recipe_is_refused(level):
     forged = entry(level / "level.toml") | {"file": "level.toml"}
     forge(level, lambda m: m["steps"]["scale.a"]["outputs"].append(forged))
@@ -243,12 +256,21 @@ WRONG_TYPES = {
     "reload a list": lambda m: m["steps"]["scale.a"]["outputs"][0].update(reload=[]),
     "removed a string": lambda m: m["steps"]["scale.a"].update(removed="out/x"),
     "a removed file a number": lambda m: m["steps"]["scale.a"].update(removed=[1]),
+    "a file left a number": lambda m: m["steps"]["scale.a"].update(left=[1]),
     "operation_version a string": lambda m: m["steps"]["scale.a"].update(operation_version="1"),
     "bakeshop a number": lambda m: m["steps"]["scale.a"].update(bakeshop=1),
     "facts a list": lambda m: m["steps"]["scale.a"].update(facts=[]),
     "seconds a string": lambda m: m["steps"]["scale.a"].update(seconds="1"),
     "recipe a number": lambda m: m.update(recipe=1),
 }
+
+
+def test_a_wrong_number_in_the_manifest_says_what_is_expected(level):
+    forge(level, lambda m: m["steps"]["scale.a"].update(operation_version=1e308))
+    assert refused(level).startswith(
+        f"{level / 'level.bake.json'}: steps.scale.a.operation_version must be an integer, not a "
+        "number with a fraction or an exponent"
+    )
 
 
 @pytest.mark.parametrize("change", WRONG_TYPES.values(), ids=WRONG_TYPES)
@@ -288,7 +310,7 @@ def test_a_manifest_nested_too_deeply_is_one_error(level):
 @pytest.mark.parametrize(
     ("text", "message"),
     [
-        ("x = 1" + "0" * 5000 + "\n", "not valid TOML: Exceeds the limit"),
+        ("x = 1" + "0" * 5000 + "\n", "an integer of more than 4300 digits"),
         ("a = " + "[" * 10_000 + "]" * 10_000 + "\n", "nested too deeply"),
         ("a = " + "{b = " * 10_000 + "1" + "}" * 10_000 + "\n", "nested too deeply"),
         ("# " + "x" * MAX_RECIPE_BYTES + "\n", "a recipe is at most 4 MiB"),
@@ -324,7 +346,9 @@ def test_a_recipe_that_is_no_file_is_refused_at_once(tmp_path, kind):
 
 
 def test_explain_names_the_first_differing_key_of_a_nested_option_with_both_values(tmp_path):
-    bio.write_image(tmp_path / "m.png", np.full((8, 8, 3), 0.5, np.float32), bits=16)
+    flat = np.full((8, 8, 3), 0.5, np.float32)
+    flat[..., 2] = 1.0  # a flat normal map: (0, 0, 1), which the normals step now checks
+    bio.write_image(tmp_path / "m.png", flat, bits=16)
     text = """
     [normals.n]
     macro = "m.png"

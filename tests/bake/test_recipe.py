@@ -1,11 +1,14 @@
 """Recipes are validated completely before any work starts; every mistake names the file and
 what is valid."""
 
+import os
+
 import numpy as np
 import pytest
 
 import bakeshop.io as bio
 from bakeshop.bake import load_recipe, starter_recipe
+from bakeshop.bake.operations import number
 from bakeshop.errors import BakeshopError
 
 
@@ -137,6 +140,54 @@ def test_steps_run_after_the_steps_whose_outputs_they_read(folder):
 )
 def test_mistakes_are_refused_before_any_work(folder, text, message):
     assert message in error(folder, text)
+
+
+REMAP = '[remap.r]\ninput = "probe.hdr"\noutput = "r.exr"\nto = "latlong"\nsize = '
+WATER = '[water.w]\noutput = "w"\n'
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (REMAP + "9" * 4000, "[remap.r] size must be in [1, 16384], got an integer of 4000 digits"),
+        (
+            WATER + "seed = " + "9" * 400,
+            "[water.w] seed must be in [0, 9223372036854775807], got an integer of 400 digits",
+        ),
+        (
+            WATER + f"seed = {2**63}",  # rounded to the bound as a float, it passed
+            "[water.w] seed must be in [0, 9223372036854775807], got 9223372036854775808",
+        ),
+        (
+            WATER + "size = " + "9" * 400,
+            "[water.w] size must be in [0.01, 100000], got an integer of 400 digits",
+        ),
+        (REMAP + "9" * 5000, "an integer of more than 4300 digits"),
+    ],
+)
+def test_an_integer_out_of_range_is_refused_with_the_range_however_long(folder, text, message):
+    assert error(folder, text) == message
+
+
+def test_a_large_integer_option_keeps_every_digit(folder):
+    step = load(folder, WATER + f"seed = {2**60 + 1}\n").steps[0]
+    assert step.options["seed"] == 2**60 + 1  # through a float it was 2**60
+
+
+def test_a_number_beyond_floats_is_refused_without_an_overflow():
+    def fail(reason):
+        raise BakeshopError(reason)
+
+    with pytest.raises(BakeshopError, match="x must be a finite number .* 401 digits"):
+        number(10**400, "x", fail)
+
+
+def test_a_special_file_as_an_input_is_named_for_what_it_is(folder):
+    os.mkfifo(folder / "f.hdr")
+    message = error(folder, '[probe.a]\ninput = "f.hdr"\noutput = "o"\n')
+    assert message.endswith(
+        "f.hdr is a named pipe (FIFO), not a file: bakeshop reads regular files only"
+    )
 
 
 def test_a_missing_recipe_is_named(tmp_path):

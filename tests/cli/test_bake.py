@@ -156,6 +156,26 @@ def test_a_forged_manifest_never_deletes_a_file_outside_the_level(capsys, level)
     victim.unlink()
 
 
+def test_a_forged_entry_for_a_file_no_step_makes_is_left_in_place_and_said(capsys, level):
+    notes = level.parent / "notes.txt"
+    notes.write_text("precious")
+    run(capsys, "bake", level)
+    manifest = level.parent / "level.bake.json"
+    document = json.loads(manifest.read_text())
+    sha = hashlib.sha256(b"precious").hexdigest()
+    document["steps"]["copy.b"]["outputs"].append({"file": "notes.txt", "bytes": 8, "sha256": sha})
+    manifest.write_text(json.dumps(document))
+    level.write_text(RECIPE.replace("gain = 2.0", "gain = 3.0"))
+    status, out, err = run(capsys, "bake", level)
+    assert status == 0 and err == "" and notes.read_text() == "precious"
+    assert out.splitlines()[1] == (
+        "left in place: notes.txt (no step of the recipe makes it any more; delete it yourself)"
+    )
+    record = json.loads(manifest.read_text())["steps"]["copy.b"]
+    assert record["removed"] == [] and record["left"] == ["notes.txt"]
+    assert "notes.txt" not in {o["file"] for o in record["outputs"]}
+
+
 @pytest.mark.parametrize("kind", ["fifo", "/dev/zero", "nested", "outside"])
 def test_a_hostile_recipe_is_one_error_line(capsys, tmp_path, kind):
     path = tmp_path / "level.toml"

@@ -155,6 +155,40 @@ def test_an_alpha_of_one_is_dropped_with_a_note_any_other_needs_the_option(
     assert main(["-q", *words, str(ramp), *args, "--alpha", "premultiply"]) == 0
 
 
+#: the same commands on the out-of-core path (a --memory bound), reading the input by windows
+CHUNKED_RGB_ONLY_WRITERS = [
+    (["resize"], ["{out}.pfm", "--size", "8x4"]),
+    (["remap"], ["{out}.hdr", "--to", "mirrorball", "--size", "8"]),
+    (["dims"], ["-o", "{out}", "--method", "exact", "--size", "8x4"]),
+]
+
+
+@pytest.mark.parametrize(
+    "words, rest", CHUNKED_RGB_ONLY_WRITERS, ids=[" ".join(w) for w, _ in CHUNKED_RGB_ONLY_WRITERS]
+)
+def test_out_of_core_paths_follow_the_same_alpha_rule(tmp_path, capfd, words, rest):
+    out = str(tmp_path / "out")
+    args = [*(a.format(out=out) for a in rest), "--memory", "8MB"]
+    assert main(["-q", *words, str(_rgba(tmp_path, 1.0)), *args]) == 0, capfd.readouterr().err
+    captured = capfd.readouterr()
+    assert "alpha dropped as it is read" in captured.out and captured.err == ""
+
+    ramp = _rgba(tmp_path, np.linspace(0, 1, 16, dtype=np.float32))
+    assert main(["-q", *words, str(ramp), *args]) == 2
+    assert "--alpha drop or --alpha premultiply" in one_error_line(capfd)
+    assert main(["-q", *words, str(ramp), *args, "--alpha", "premultiply"]) == 0
+
+
+def test_out_of_core_premultiply_multiplies_the_colour_by_alpha(tmp_path, capfd):
+    ramp = np.linspace(0, 1, 16, dtype=np.float32)
+    out = tmp_path / "out.pfm"
+    args = ["--size", "16x8", "--memory", "8MB", "--alpha", "premultiply"]
+    assert main(["-q", "resize", str(_rgba(tmp_path, ramp)), str(out), *args]) == 0
+    np.testing.assert_allclose(
+        read_image(out), np.broadcast_to(0.5 * ramp[None, :, None], (8, 16, 3))
+    )
+
+
 def test_premultiply_multiplies_the_colour_by_alpha(tmp_path, capfd):
     ramp = np.linspace(0, 1, 16, dtype=np.float32)
     source = _rgba(tmp_path, ramp)
@@ -163,3 +197,18 @@ def test_premultiply_multiplies_the_colour_by_alpha(tmp_path, capfd):
     np.testing.assert_allclose(
         read_image(out), np.broadcast_to(0.5 * ramp[None, :, None], (8, 16, 3))
     )
+
+
+# -- a refused command creates nothing -----------------------------------------------------------
+
+
+def test_a_refused_dims_creates_no_output_folder(tmp_path, probe, capfd):
+    folder = tmp_path / "new" / "dims"
+    args = ["-q", "dims", str(probe), "-o", str(folder), "--method", "exact"]
+    assert main([*args, "--size", "8192x4096"]) == 2  # refused by the DIM's texel bound
+    assert "360x180 is plenty" in one_error_line(capfd)
+    ramp = _rgba(tmp_path, np.linspace(0, 1, 16, dtype=np.float32))
+    args[2] = str(ramp)
+    assert main([*args, "--size", "8x4", "--memory", "8MB"]) == 2  # refused while read by windows
+    assert "--alpha drop" in one_error_line(capfd)
+    assert not (tmp_path / "new").exists()

@@ -165,3 +165,30 @@ def test_random_bytes(scratch, data):
 @given(st.integers(0, 1), fuzzing.edits(300), st.integers(1, 1500))
 def test_mutations_of_valid_files(scratch, seed_files, which, changes, end):
     fuzzing.decode(scratch, fuzzing.mutate(seed_files[which], changes, end), levels)
+
+
+@pytest.mark.parametrize("container", ["ktx", "ktx2"])
+def test_a_chain_over_the_budget_is_refused_from_its_header_unread(
+    tmp_path, monkeypatch, container
+):
+    import io
+    import os
+
+    from bakeshop.io import ktx, ktx2
+    from bakeshop.io.budget import decode_budget
+
+    module = {"ktx": ktx, "ktx2": ktx2}[container]
+    path = tmp_path / f"big.{container}"
+    getattr(module, f"write_{container}")(path, [np.ones((6, 64, 64, 4), np.float32)])
+    read = []
+
+    class Counted(io.BufferedReader):
+        def read(self, size: int | None = -1, /) -> bytes:
+            data = super().read(size)
+            read.append(len(data))
+            return data
+
+    monkeypatch.setattr(module, "open_input", lambda p: Counted(io.FileIO(os.fspath(p))))
+    with decode_budget(64 << 10), pytest.raises(FormatError, match="decompression bomb"):
+        getattr(module, f"read_{container}")(path)
+    assert sum(read) < 4096 < path.stat().st_size  # the header and level index only

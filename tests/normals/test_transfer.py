@@ -4,6 +4,7 @@ import base64
 import json
 import os
 import re
+import struct
 
 import numpy as np
 import pytest
@@ -424,12 +425,55 @@ def test_a_gltf_whose_numbers_point_outside_its_data_is_refused(gltf_with, case)
     assert e.value.path in (str(path), str(path.parent / "fifo.bin"))
 
 
+def _glb(json_length: int, chunk: bytes) -> bytes:
+    """A GLB whose JSON chunk says ``json_length`` bytes, with ``chunk`` after the JSON."""
+    js = b'{"asset": {"version": "2.0"}}   '
+    return b"glTF" + struct.pack("<III", 2, 0, json_length) + b"JSON" + js + chunk
+
+
+GLB_CHUNKS = {
+    "JSON past the end": (_glb(1 << 20, b""), "the JSON of 1,048,576 bytes runs past"),
+    "JSON over the bound": (_glb(1 << 31, b""), "more than the 64 MiB read from a glTF"),
+    "binary past the end": (
+        _glb(32, struct.pack("<I", 1 << 30) + b"BIN\0" + bytes(16)),
+        "the binary chunk of 1,073,741,824 bytes runs past",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", GLB_CHUNKS)
+def test_a_glb_is_read_chunk_by_chunk_each_length_checked_first(tmp_path, case):
+    data, message = GLB_CHUNKS[case]
+    path = tmp_path / "lying.glb"
+    path.write_bytes(data)
+    with pytest.raises(BakeshopError, match=re.escape(message)):
+        load_mesh(path)
+
+
+def test_a_large_gltf_is_refused_before_it_is_read(tmp_path, monkeypatch):
+    from bakeshop import resources
+
+    big = tmp_path / "big.gltf"
+    with open(big, "wb") as f:
+        f.truncate(65 << 20)  # sparse: nothing written
+    with pytest.raises(BakeshopError, match="more than the 64 MiB read from a glTF"):
+        load_mesh(big)
+    glb = tmp_path / "big.glb"
+    glb.write_bytes(_glb(32, struct.pack("<I", 48 << 20) + b"BIN\0"))
+    with open(glb, "r+b") as f:
+        f.truncate(f.seek(0, 2) + (48 << 20))
+    monkeypatch.setattr(resources, "memory_limits", lambda: {"memory available": 40 << 20})
+    with pytest.raises(BakeshopError, match="the binary chunk of 50,331,648 bytes needs about"):
+        load_mesh(glb)
+
+
 @pytest.mark.parametrize("command", [["float"], ["normals", "transfer"]])
 def test_the_commands_that_read_a_mesh_refuse_it_in_one_line(gltf_with, capsys, command):
     path = gltf_with(_lying)
     extra = [str(path.parent / "d.png"), str(path.parent / "o.png"), "--size", "8"]
     if command == ["normals", "transfer"]:
-        write_image(path.parent / "d.png", np.full((8, 8, 3), 0.5, np.float32))
+        flat = np.broadcast_to(np.float32([0.5, 0.5, 1.0]), (8, 8, 3))  # a flat normal map
+        write_image(path.parent / "d.png", flat)
     args = [*command, str(path), *(extra if command != ["float"] else [])]
     assert main(args) == 2
     err = capsys.readouterr().err

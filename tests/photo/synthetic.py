@@ -175,3 +175,28 @@ def ball_photo(h, w, cx, cy, radius, environment=smooth_probe, *, supersample=4,
             wall = background * (1 + 0.5 * np.sin(xs / 7.0) * np.cos(ys / 11.0))
             image += np.where(inside[..., None], colour, wall[..., None])
     return (image / supersample**2).astype(np.float32)
+
+
+def painted_sun_probe(h: int = 256, n: int = 16) -> np.ndarray:
+    """A (h, 2h) latlong sky with a sun that is not Buie's: a disk of radiance 8.7e4 and radius
+    0.27 degrees (smaller than a texel of a 512-wide latlong) in a power-law aureole (slope
+    -2.2) flattened inside 0.5 degrees, over a sky brightening towards it (the red team's). The
+    texels within 3 degrees of the sun are averaged over n x n sub-samples."""
+    sun = np.array([math.cos(0.5) * math.sin(1.0), math.sin(0.5), -math.cos(0.5) * math.cos(1.0)])
+
+    def radiance(d):
+        ang = np.degrees(np.arccos(np.clip(d @ sun, -1, 1)))
+        sky = 0.3 + 0.5 * np.clip(d[..., 1], 0, 1) + 0.2 * np.exp(-ang / 20)
+        sky = np.where(d[..., 1] < 0, 0.15, sky)
+        aureole = np.where(ang > 0.27, 40 * np.clip(ang / 0.5, 1, None) ** -2.2, 8.7e4)
+        return sky + aureole
+
+    w = 2 * h
+    probe = radiance(latlong_dirs(h, w))
+    near = latlong_dirs(h, w) @ sun > math.cos(math.radians(3))
+    acc = np.zeros(np.count_nonzero(near))
+    for oy in (np.arange(n) + 0.5) / n:
+        for ox in (np.arange(n) + 0.5) / n:
+            acc += radiance(latlong_dirs(h, w, oy, ox)[near])
+    probe[near] = acc / n**2
+    return (probe[..., None] * SUN_COLOUR).astype(np.float32)

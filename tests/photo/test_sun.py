@@ -14,6 +14,7 @@ from bakeshop.photo import (
     CLIPPED,
     MEASURED,
     MODELLED,
+    known_response,
     make_stack,
     merge_stack,
     recover_response,
@@ -175,3 +176,39 @@ def test_a_sun_low_over_the_horizon_is_refused_not_modelled_five_times_too_brigh
     assert out is merged.radiance and status is merged.status
     low = np.asarray(synthetic.LOW_SUN) / np.linalg.norm(synthetic.LOW_SUN)
     assert np.degrees(np.arccos(found.direction @ low)) < 0.2
+
+
+@pytest.mark.parametrize("response", ["srgb", "recovered"])
+def test_a_sun_its_aureole_does_not_determine_is_refused_not_modelled_at_half_its_energy(
+    response,
+):
+    """The red team's sun: smaller than a texel and brighter than Buie's sunshape makes it
+    for its aureole, which is flattened near the disk, over a sky brightening towards it. Each
+    fit was inside every bound and modelled 0.49 (sRGB), 0.77 (a curve recovered with Debevec)
+    or 0.14 (Robertson) of its energy. The ring's inner and outer halves put 0.86 and 3.3
+    times the fitted disk's light in it: refused in one line, the clipped values kept."""
+    times = TIMES[:5]
+    probe = synthetic.painted_sun_probe()
+    if response == "srgb":
+        x = np.clip(probe * times[:, None, None, None] * 13.5, 0, 1)
+        z = np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
+        stack = make_stack(np.rint(z * 255).astype(np.uint8), times)
+        merged = merge_stack(stack, known_response("srgb"))
+    else:
+        merged = _merged(probe, 13.5)
+    out, status, found = recover_sun(merged.radiance, merged.status, "latlong")
+    _refused(merged, found, "does not determine the sun's energy")
+    assert out is merged.radiance and status is merged.status
+
+
+@pytest.mark.slow
+def test_a_clear_skys_faint_aureole_that_does_not_determine_its_sun_is_refused():
+    """Buie's own sun of a clear sky (circumsolar ratio 0.01) at the fixture's radiance: its
+    faint aureole, near the sky's level in the outer ring, read a slope that modelled 0.75 of
+    the sun's energy, nothing said. The ring's halves put 3.1 and 0.16 times the fitted disk's
+    light in it: refused."""
+    probe, _, _ = synthetic.sunny_probe(2e5, 0.01)
+    merged = _merged(probe)
+    out, status, found = recover_sun(merged.radiance, merged.status, "latlong")
+    _refused(merged, found, "does not determine the sun's energy")
+    assert out is merged.radiance and status is merged.status

@@ -143,3 +143,15 @@ def test_murk_constants_and_luts(tmp_path, capsys):
     lake = tmp_path / "lake"
     assert main(["-q", "water", "murk", str(lake), "--water-type", "3C", "--visibility", "4"]) == 0
     assert json.loads((lake / "murk.json").read_text())["visibility_m"] == pytest.approx(4.0)
+
+
+def test_a_refused_ripples_flipbook_creates_no_output_folder(tmp_path, capfd, monkeypatch):
+    from bakeshop import resources
+    from tests.cli.test_process import one_error_line
+
+    monkeypatch.setattr(resources, "memory_limits", lambda: {"memory available": 16 << 20})
+    folder = tmp_path / "new" / "drop"
+    args = ["-q", "water", "ripples", str(folder), "--resolution", "512", "--frames", "64"]
+    assert main(args) == 2
+    assert "a flipbook of 64 frames" in one_error_line(capfd)
+    assert not (tmp_path / "new").exists()

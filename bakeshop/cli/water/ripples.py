@@ -228,7 +228,6 @@ def ripples(out_dir: Path, **o: Any) -> None:
             f"{with_article(format(o['size'], 'g'))} m "
             "texture: use a larger --size or a smaller drop"
         )
-    out_dir.mkdir(parents=True, exist_ok=True)
     frames = o["frames"]
     times = np.linspace(0, o["duration"], frames, endpoint=frames == 1)
     files: list = []
@@ -241,6 +240,8 @@ def ripples(out_dir: Path, **o: Any) -> None:
         # every frame's normals (float32) and their packed texels (at most float32 too) are held
         gathered = frames * n * n * RIPPLE_TEXEL_BYTES
         require(Cost(gathered, frames, f"a flipbook of {frames} frames of {n}x{n} normals"))
+    out_dir.mkdir(parents=True, exist_ok=True)  # after every check: a refusal creates nothing
+    if "flipbook" in outputs:
         sink = TextureSet(out_dir, o["name"], o["layout"], container=o["container"],
                           columns=None, gutter=0, mips=True, frames=frames)  # fmt: skip
         if o["model"] == "analytic":
