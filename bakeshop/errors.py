@@ -11,7 +11,7 @@ import os
 from collections.abc import Collection
 
 
-class _Located:
+class _Located(Exception):
     """A plain ``reason`` and optionally the ``path`` it concerns."""
 
     def __init__(self, reason: str, path: str | os.PathLike | None = None):
@@ -23,7 +23,7 @@ class _Located:
         return f"{self.path}: {self.reason}" if self.path else self.reason
 
 
-class BakeshopError(_Located, Exception):
+class BakeshopError(_Located):
     """Base class: a plain ``reason`` and optionally the ``path`` it concerns."""
 
 

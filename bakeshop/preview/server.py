@@ -204,7 +204,7 @@ def _handler(
 
         def handle_one_request(self) -> None:
             try:  # the next request's first byte, waited for `idle` seconds
-                if not self.rfile.peek(1):
+                if not self.rfile.peek(1):  # type: ignore[attr-defined] # a BufferedReader
                     self.close_connection = True
                     return
             except OSError:
