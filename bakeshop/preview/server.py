@@ -45,7 +45,7 @@ from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import resources
 from socket import SHUT_RDWR, socket
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -178,6 +178,20 @@ def _web_file(name: str) -> bytes:
     return resources.files("bakeshop.preview").joinpath("web").joinpath(name).read_bytes()
 
 
+#: what socketserver hands a server: a stream socket, or a datagram and its socket.
+_Request = Union[socket, "tuple[bytes, socket]"]
+
+
+def _socket(request: _Request) -> socket:
+    """The socket of a request as socketserver hands it over."""
+    return request if isinstance(request, socket) else request[1]
+
+
+def _port(address: Any) -> int:
+    """The port of a bound server address (host, port[, flow, scope])."""
+    return int(address[1])
+
+
 class Viewer(NamedTuple):
     """A running viewer: its server, the thread serving it, and its address."""
 
@@ -230,8 +244,9 @@ def _handler(
                     pass
 
         def parse_request(self) -> bool:
-            if len(self.raw_requestline.split()) != 3:  # HTTP/0.9 ("GET /") or no request at all
-                self.command, self.requestline, self.close_connection = None, "", True
+            line = getattr(self, "raw_requestline", b"")  # set by handle_one_request
+            if len(line.split()) != 3:  # HTTP/0.9 ("GET /") or no request at all
+                self.command, self.requestline, self.close_connection = "", "", True
                 self.request_version = self.default_request_version
                 ok = False
                 if self._headers_pending.acquire(blocking=False):
@@ -250,7 +265,7 @@ def _handler(
             if len(self.headers.get_all("Host", ())) > 1:
                 self.send_error(HTTPStatus.BAD_REQUEST, "More than one Host")
                 return
-            port = self.server.server_address[1]
+            port = _port(self.server.server_address)
             hosts = {f"{name}:{port}" for name in LOOPBACK_NAMES}
             if port == 80:
                 hosts.update(LOOPBACK_NAMES)
@@ -289,23 +304,25 @@ class _BoundedServer(ThreadingHTTPServer):
         super().__init__(address, handler)
         self._slots = threading.BoundedSemaphore(connections)
 
-    def process_request(self, request: socket, client_address: tuple) -> None:
+    def process_request(self, request: _Request, client_address: Any) -> None:
         if self._slots.acquire(blocking=False):
             super().process_request(request, client_address)
             return
         try:
-            request.sendall(b"HTTP/1.0 503 Service Unavailable\r\nConnection: close\r\n\r\n")
+            _socket(request).sendall(
+                b"HTTP/1.0 503 Service Unavailable\r\nConnection: close\r\n\r\n"
+            )
         except OSError:
             pass
         self.shutdown_request(request)
 
-    def process_request_thread(self, request: socket, client_address: tuple) -> None:
+    def process_request_thread(self, request: _Request, client_address: Any) -> None:
         try:
             super().process_request_thread(request, client_address)
         finally:
             self._slots.release()
 
-    def handle_error(self, request: socket, client_address: tuple) -> None:
+    def handle_error(self, request: _Request, client_address: Any) -> None:
         """A client gone mid-answer (a reset, a closed tab) is not the viewer's error: no
         traceback on the terminal for it; anything else is reported as before."""
         if not isinstance(sys.exc_info()[1], OSError):
