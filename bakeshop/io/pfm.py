@@ -195,7 +195,10 @@ def write(
         raise ArgumentError(f"cannot write {image.dtype} pixels as PFM float32")
     height, width, channels = image.shape
     if channels not in _MAGIC_OF:
-        raise ArgumentError(f"PFM stores 1 (grey) or 3 (RGB) channels, not {channels}")
+        raise ArgumentError(
+            f"PFM stores 1 (grey) or 3 (RGB) channels, not {channels}"
+            + (": drop or premultiply the alpha first (--alpha)" if channels == 4 else "")
+        )
     signed = -scale if byteorder == "<" else scale
     header = f"{_MAGIC_OF[channels]}\n{width} {height}\n{signed!r}\n".encode("ascii")
     dtype = np.dtype(byteorder + "f4")

@@ -394,7 +394,10 @@ def write(path: str | os.PathLike, image: ArrayLike, *, rle: bool = True) -> Non
         raise ArgumentError(f"cannot write {image.dtype} pixels as Radiance RGBE")
     height, width, channels = image.shape
     if channels not in (1, 3):
-        raise ArgumentError(f"Radiance .hdr stores RGB, not {channels} channels")
+        raise ArgumentError(
+            f"Radiance .hdr stores RGB, not {channels} channels"
+            + (": drop or premultiply the alpha first (--alpha)" if channels == 4 else "")
+        )
     rle = bool(rle) and _RLE_MIN <= width <= _RLE_MAX
     chunks = _scanlines(np.ascontiguousarray(image, dtype=np.float32), rle)
     header = f"#?RADIANCE\nSOFTWARE=bakeshop\nFORMAT=32-bit_rle_rgbe\n\n-Y {height} +X {width}\n"
