@@ -116,6 +116,7 @@ def bake_probe(
     from bakeshop.io import write_image, write_json
     from bakeshop.light import bake_probe as bake
     from bakeshop.light import bake_probe_cost, contact_sheet, sh, sheet_exposure, sun_document
+    from bakeshop.sphere import check_environment
 
     paths = {
         "cube": out_dir / f"env_{{face}}.{fmt}",
@@ -152,7 +153,7 @@ def bake_probe(
     image = fit_alpha(image, alpha, source, *outputs)  # alpha is carried by every step
     cost = bake_probe_cost(
         image.shape, layout, cube_size=cube_size, specular_size=specular_size, mips=mips,
-        itemsize=image.itemsize,
+        itemsize=image.itemsize, shadow_probe=False,
     )  # fmt: skip
     check(cost, source, "--cube-size or --specular-size", "--specular-size")
     _require_space(
@@ -160,9 +161,11 @@ def bake_probe(
     )
     out_dir.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
-    # the shadow probe is a copy (counted in the bake's cost): the engine chains are re-baked
-    # from the probe itself, sun included
-    baked = bake(image, layout, cube_size=cube_size, specular_size=specular_size, mips=mips)
+    # the shadow probe is painted into the probe itself once nothing else reads it (the
+    # contact sheet and the engine chains read it first, sun included): a 16k probe is never
+    # held twice
+    baked = bake(image, layout, cube_size=cube_size, specular_size=specular_size, mips=mips,
+                 shadow_probe=False)  # fmt: skip
     from bakeshop import progress
 
     with progress.step("contact sheet"):
@@ -182,10 +185,20 @@ def bake_probe(
             description=f"bakeshop display: exposure {ev:+.4f} EV; exposure {ev:+.2f} EV (auto "
             "over the probe's sphere), ACES, clamped, sRGB, 8-bit",
         )
+    written = []
+    if compress or engine:
+        written = bake_compressed(
+            baked, image, layout, out_dir, engine or "generic", specular_size=specular_size,
+            quality_profile=quality_profile, overflow=overflow, min_psnr=min_psnr, zstd=zstd,
+        )  # fmt: skip
+    with progress.step("writing the shadow probe"):
+        env = check_environment(image, layout)  # the probe itself, with a channel axis
+        if baked.fill is not None:
+            baked.fill.paint(env.image)
         # a cube probe (faces or a container) is painted as a cube: one picture, a cross
-        assert baked.shadow_probe is not None  # bake_probe paints a copy unless told not to
-        shadow = as_picture(baked.shadow_probe, layout)
-        write_environment(paths["shadow_probe"], shadow, picture_layout(layout))
+        write_environment(
+            paths["shadow_probe"], as_picture(env.shaped(env.image), layout), picture_layout(layout)
+        )
     elapsed = time.perf_counter() - started
     t = baked.timings
     s = baked.cube.shape[1]
@@ -223,10 +236,6 @@ def bake_probe(
             f"radius {baked.sun.angular_radius_deg:.2f} deg"
         )
     if compress or engine:
-        written = bake_compressed(
-            baked, image, layout, out_dir, engine or "generic", specular_size=specular_size,
-            quality_profile=quality_profile, overflow=overflow, min_psnr=min_psnr, zstd=zstd,
-        )  # fmt: skip
         click.echo(f"  compressed for {ENGINES[engine or 'generic'].title}:")
         for path, what, report in written:
             q = ""

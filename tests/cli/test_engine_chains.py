@@ -54,9 +54,9 @@ def baked(tmp_path_factory):
     calls = []
     real = command.bake_compressed
 
-    def record(*args, **kwargs):
-        calls.append((args, kwargs))
-        return real(*args, **kwargs)
+    def record(bake, image, *rest, **kwargs):  # the probe as it is when the chains are made
+        calls.append(((bake, image.copy(), *rest), kwargs))
+        return real(bake, image, *rest, **kwargs)
 
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(command, "bake_compressed", record)
