@@ -1,0 +1,3 @@
+import numpy as np
+
+def half_planes(bits: np.ndarray, out: np.ndarray) -> None: ...

@@ -1,0 +1,5 @@
+#include "common/bind.hpp"
+
+using namespace bakeshop;
+
+void bind_sampling(nb::module_& m) {}
