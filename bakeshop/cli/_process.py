@@ -10,9 +10,8 @@ One run of the command line (:func:`run`) promises:
   ignored it: a shell script without job control starts its background commands with SIGINT
   ignored, Python keeps an inherited SIG_IGN, and so a ``kill -INT`` of such a job went
   unheard: the work finished and the command exited 0. SIGHUP stays ignored under ``nohup``.
-  A signal that arrives while numba compiles a kernel (the first run after install) is raised
-  when the compile ends: an exception inside numba's compiler leaves llvmlite objects whose
-  finalisers crashed the process (SIGSEGV, 2 of 60 interrupted compiles).
+  A signal that arrives inside a compiled kernel is raised when the kernel returns (Python runs
+  its handlers between bytecodes); kernels are short enough per call for that to be prompt.
 - **One line on stderr for a failure**, ``bakeshop: error: FILE: reason``, and nothing else:
   Python warnings (numpy's overflow warnings among them) and log records of the libraries
   (trimesh) raised during the run are collected, dropped when the run fails, and printed one
@@ -39,7 +38,7 @@ import sys
 import threading
 import time
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
 from types import FrameType
 from typing import Any
@@ -70,10 +69,6 @@ class Interrupted(BaseException):
         self.signum = signum
 
 
-def _quiet(unraisable: Any) -> None:
-    """An unraisable-exception hook that says nothing (installed once a signal arrived)."""
-
-
 @contextlib.contextmanager
 def signals_as_exceptions() -> Iterator[list[int]]:
     """Within the block (in the main thread), the :data:`SIGNALS` raise :class:`Interrupted`.
@@ -83,18 +78,11 @@ def signals_as_exceptions() -> Iterator[list[int]]:
     """
     received: list[int] = []
     first: list[float] = []
-    deferred: list[Callable[[], None]] = []
 
     def handler(signum: int, frame: FrameType | None) -> None:
         received.append(signum)
         if not first:
             first.append(time.monotonic())
-            # what the interruption tears down mid-call (llvmlite's objects while numba
-            # compiles) may fail in its finaliser: the one line said at exit is the report
-            sys.unraisablehook = _quiet
-            if _compiling():
-                deferred.append(_after_compile(signum))
-                return
             raise Interrupted(signum)
         if time.monotonic() - first[0] > GRACE_SECONDS:
             signal.signal(signum, signal.SIG_DFL)
@@ -111,44 +99,8 @@ def signals_as_exceptions() -> Iterator[list[int]]:
     try:
         yield received
     finally:
-        for stop in deferred:
-            stop()
         for signum, old in previous.items():
             signal.signal(signum, old if old is not None else signal.SIG_DFL)
-
-
-def _compiling() -> bool:
-    """Whether this thread is inside numba's compiler (it holds numba's compiler lock)."""
-    module = sys.modules.get("numba.core.compiler_lock")
-    return module is not None and bool(module.global_compiler_lock.is_locked())
-
-
-def _after_compile(signum: int) -> Callable[[], None]:
-    """Raise :class:`Interrupted` for ``signum`` when numba's compile under way ends (at the
-    outermost release of its compiler lock, heard through ``numba.core.event``); returns the
-    function that stops listening."""
-    from numba.core import event
-
-    kind = "numba:compiler_lock"
-
-    class AfterCompile(event.Listener):
-        def on_start(self, e: Any) -> None:
-            pass
-
-        def on_end(self, e: Any) -> None:
-            if not _compiling():
-                stop()
-                raise Interrupted(signum)
-
-    listener, listening = AfterCompile(), [True]
-
-    def stop() -> None:
-        if listening:
-            listening.clear()
-            event.unregister(kind, listener)
-
-    event.register(kind, listener)
-    return stop
 
 
 @contextlib.contextmanager
@@ -375,6 +327,5 @@ def _invoke(
     except Exception:
         if not received:
             raise  # a bug: its traceback is what a report needs
-        # the signal surfaced through a library as another error (numba reports an exception
-        # set during a compiled call as a SystemError): it was the signal
+        # the signal surfaced through a library as another error: it was the signal
         return 0, None

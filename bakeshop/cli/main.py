@@ -8,11 +8,8 @@ process (signals, the one error line, warnings) is :mod:`bakeshop.cli._process`.
 
 from __future__ import annotations
 
-import atexit
 import importlib
-import os
 import sys
-import threading
 from typing import NoReturn
 
 import click
@@ -134,10 +131,6 @@ COMMANDS: dict[str, tuple[str, str]] = {
             "and water, rebuilding only the..."
         ),
     ),
-    "warm-up": (
-        "warm_up",
-        "Compile every command's numba kernels now, so that no command compiles on its first run.",
-    ),
 }
 
 COMMAND_MODULES = list(dict.fromkeys(module for module, _ in COMMANDS.values()))
@@ -188,7 +181,14 @@ class _Lazy(click.Group):
     "per byte of the file when that is more; a larger result is refused as a possible "
     "decompression bomb); 1 byte to 1 EiB.",
 )
-def cli(quiet: bool, max_decoded: int | None) -> None:
+@click.option(
+    "--threads",
+    type=click.IntRange(1, 4096),
+    metavar="N",
+    help="Threads of the compiled kernels (default: OMP_NUM_THREADS when set, else every "
+    "processor this process may use); 1 to 4096.",
+)
+def cli(quiet: bool, max_decoded: int | None, threads: int | None) -> None:
     """The content pipeline of a real-time renderer: HDR light probes, panoramas and cube maps,
     diffuse irradiance, fresnel bakes, normal maps and buoyancy.
 
@@ -199,15 +199,13 @@ def cli(quiet: bool, max_decoded: int | None) -> None:
     Example:
       bakeshop info probe.hdr
       bakeshop --max-decoded 8G convert flat_16k_mask.png mask.exr
+      bakeshop --threads 1 irradiance probe.hdr irr.hdr
     """
-    from bakeshop.cli._startup import trim_numba_startup
-    from bakeshop.io import user_store
-    from bakeshop.sphere import persist_caches
-
     record_command_writes(click.get_current_context())
-    trim_numba_startup()  # 0.4-0.5 s of a small command's start-up
-    # what depends only on shapes (area-filter matrices) is built once per user, not per run
-    persist_caches(user_store())
+    if threads is not None:
+        from bakeshop import threads as kernel_threads
+
+        kernel_threads.use(threads)
     if not quiet:
         # bars on a terminal; elsewhere (a log) plain lines from steps longer than the log
         # interval only, so that a quick command's stderr is its error line alone
@@ -228,32 +226,8 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def command() -> NoReturn:
-    """The ``bakeshop`` executable: :func:`main`, then the exit handlers, and an exit that skips
-    the interpreter's teardown (as mypy's ``hard_exit`` does).
-
-    When a command returns, its files are written and closed and its temporaries removed;
-    what is left is Python freeing every object of every module, 0.2 s once numba is loaded
-    (its typing and lowering registries): a tenth of a small command. The handlers registered
-    with :mod:`atexit` still run and the streams are flushed. The ordinary exit is kept where
-    something waits for it: a thread still running (the workers of dask's thread pool, after
-    a chunked job) or a tracer or profiler (coverage, cProfile, pdb), which writes its results
-    then."""
-    status = main()
-    main_thread = threading.main_thread()
-    if (
-        any(t is not main_thread and t.is_alive() and not t.daemon for t in threading.enumerate())
-        or sys.gettrace() is not None
-        or sys.getprofile() is not None
-    ):
-        sys.exit(status)
-    atexit._run_exitfuncs()
-    try:
-        for stream in (sys.stdout, sys.stderr):
-            if stream is not None:  # None: the descriptor was closed when Python started
-                stream.flush()
-    except (OSError, ValueError):  # a closed pipe or stream: Python's own exit reports it
-        sys.exit(status)
-    os._exit(status)
+    """The ``bakeshop`` executable: :func:`main`, then exit with its status."""
+    sys.exit(main())
 
 
 if __name__ == "__main__":

@@ -31,31 +31,47 @@ class Store(Protocol):
     def put(self, key: str, arrays: Sequence[np.ndarray]) -> bool: ...
 
 
-#: the store of the persisted caches (None: each process builds its own).
+#: the store of the persisted caches: :func:`bakeshop.io.user_store` until
+#: :func:`persist_caches` says otherwise (None: each process builds its own).
 _store: Store | None = None
+_chosen = False
 
 
 def persist_caches(store: Store | None) -> None:
     """Keep the entries of the costly caches (:data:`PERSISTED`) in ``store`` between
     processes: a miss reads the store before building, and what is built is saved there.
-    ``None`` stops. The command line passes :func:`bakeshop.io.user_store`; a library caller
-    may pass any :class:`bakeshop.io.ArrayStore`.
+    ``None`` stops. Without a call, the library and the command line alike use
+    :func:`bakeshop.io.user_store` (``BAKESHOP_CACHE_BYTES=0`` keeps nothing); any
+    :class:`bakeshop.io.ArrayStore` may be passed.
 
     An entry's key holds the cache's name, the key in the process, and a fingerprint of the
     code of :mod:`bakeshop.sphere` and of bakeshop's version, so an entry built by other code
     is never read."""
-    global _store
-    _store = store
+    global _store, _chosen
+    _store, _chosen = store, True
+
+
+def _current_store() -> Store | None:
+    """The store of the persisted caches, the user's one when none was chosen."""
+    if not _chosen:
+        from bakeshop.io.store import user_store
+
+        persist_caches(user_store())
+    return _store
 
 
 @functools.cache
 def _fingerprint() -> str:
-    """A digest of bakeshop's version and of every source file of this package."""
+    """A digest of bakeshop's version and of every source file and compiled kernel of this
+    package."""
     from bakeshop import __version__
+    from bakeshop.sphere import _native
 
     digest = hashlib.sha256(__version__.encode())
-    for path in sorted(Path(__file__).parent.rglob("*.py")):
-        digest.update(str(path.relative_to(Path(__file__).parent)).encode() + path.read_bytes())
+    folder = Path(__file__).parent
+    for path in sorted(folder.rglob("*.py")):
+        digest.update(str(path.relative_to(folder)).encode() + path.read_bytes())
+    digest.update(Path(_native.__file__).read_bytes())  # wherever the install put it
     return digest.hexdigest()[:16]
 
 
@@ -78,7 +94,7 @@ class ByteBoundedCache:
         value = self.get(key)
         if value is not None:
             return value
-        store = _store if self.name in PERSISTED else None
+        store = _current_store() if self.name in PERSISTED else None
         disk_key = f"{self.name}|{_fingerprint()}|{key!r}"
         value = None if store is None else store.load(disk_key)
         if value is not None:

@@ -48,7 +48,7 @@ def test_every_persisted_cache_exists():
     assert set(PERSISTED) <= set(_CACHES)
 
 
-@pytest.mark.slow  # fresh processes: numba's cached kernels load in each
+@pytest.mark.slow  # fresh processes
 def test_a_second_process_at_the_same_sizes_reads_the_matrix(tmp_path):
     first = child(tmp_path)
     second = child(tmp_path)
@@ -60,7 +60,7 @@ def test_a_second_process_at_the_same_sizes_reads_the_matrix(tmp_path):
     assert len(list(tmp_path.glob("*.npz"))) == 2
 
 
-@pytest.mark.slow  # fresh processes: numba's cached kernels load in each
+@pytest.mark.slow  # fresh processes
 def test_a_corrupt_matrix_file_is_rebuilt_with_the_same_result(tmp_path):
     first = child(tmp_path)
     (path,) = tmp_path.glob("*.npz")
@@ -71,7 +71,7 @@ def test_a_corrupt_matrix_file_is_rebuilt_with_the_same_result(tmp_path):
     assert child(tmp_path)["loads"] == 1  # the rebuilt file is whole
 
 
-@pytest.mark.slow  # fresh processes: numba's cached kernels load in each
+@pytest.mark.slow  # fresh processes
 def test_two_processes_building_the_same_matrix_at_once_leave_one_valid_file(tmp_path):
     procs = [
         subprocess.Popen(
@@ -83,6 +83,34 @@ def test_two_processes_building_the_same_matrix_at_once_leave_one_valid_file(tmp
     assert len({r["digest"] for r in results}) == 1
     assert [p.name for p in tmp_path.iterdir()] == [next(tmp_path.glob("*.npz")).name]
     assert child(tmp_path)["loads"] == 1
+
+
+#: one process of a library user who chose no store: the user's store is used.
+LIBRARY_CHILD = textwrap.dedent(
+    """
+    import json
+    import numpy as np
+    from bakeshop.sphere import cache_info, remap
+    remap(np.ones((32, 64, 3), np.float32), "latlong", "cube", 8, filter="area")
+    info = cache_info()["area filter matrices"]
+    print(json.dumps([info["builds"], info["loads"]]))
+    """
+)
+
+
+@pytest.mark.slow  # fresh processes
+def test_a_library_user_gets_the_user_store_without_asking(tmp_path):
+    """Keeping the matrices between processes is the library's behaviour, not the command
+    line's: a script that never calls persist_caches reads what an earlier one built."""
+    import os
+
+    env = {**os.environ, "BAKESHOP_CACHE_DIR": str(tmp_path), "BAKESHOP_CACHE_BYTES": "1000000000"}
+    runs = [
+        json.loads(subprocess.run([sys.executable, "-c", LIBRARY_CHILD], check=True, env=env,
+                                  capture_output=True, text=True).stdout.splitlines()[-1])
+        for _ in range(2)
+    ]  # fmt: skip
+    assert runs == [[1, 0], [0, 1]]
 
 
 def test_in_process_the_store_is_read_after_memory_and_only_when_given(tmp_path):
