@@ -1,5 +1,6 @@
 # `make demo` bakes the embedded default probe (the main job) into ./demo; `make test` runs every
-# test, `make test-fast` all but those marked slow (over 5 s each).
+# test, `make test-fast` all but those marked slow (over 5 s each), `make sanitize` the codec
+# tests on a sanitizer build of the compiled core.
 # Each creates the virtual environment .venv on first use: the demo installs bakeshop, what the
 # main job needs and moderngl for its preview pictures; the tests add the test references (the
 # `test` extra).
@@ -7,19 +8,20 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test test-fast lint bench sysdeps clean
+.PHONY: demo test test-fast sanitize lint bench sysdeps clean
 
-# Installing ends by compiling the package's bytecode (pip does it for a regular install, not for
-# an editable one) and running `bakeshop warm-up`: every command once on small inputs, which
-# compiles their numba kernels into their cache beside the package (bakeshop/*/__pycache__), so
-# that a command's first real run is as fast as any later one.
-$(BIN)/.installed: pyproject.toml
+# Installing builds the compiled core (src/, C++ through CMake and nanobind, a minute or two on
+# two cores) into the editable install; a change under src/ installs again, which rebuilds only
+# what changed (the build folder build/<wheel tag> is kept).
+NATIVE := CMakeLists.txt $(shell find src -name '*.cpp' -o -name '*.hpp')
+
+$(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install -q --upgrade pip
+
+$(BIN)/.installed: $(VENV)/bin/python pyproject.toml $(NATIVE)
 	$(BIN)/pip install -q -e '.[preview]'
 	$(BIN)/python -m compileall -q bakeshop
-	@echo "compiling every command's numba kernels (once: about 5 minutes of CPU, see docs/install.md)"
-	$(BIN)/bakeshop warm-up
 	touch $@
 
 $(BIN)/.installed-test: $(BIN)/.installed
@@ -49,6 +51,11 @@ test: $(BIN)/.installed-test sysdeps
 test-fast: $(BIN)/.installed-test sysdeps
 	$(BIN)/python -m pytest -n 2 -q -m "not slow"
 
+# The compiled core again with AddressSanitizer and UndefinedBehaviorSanitizer, under the codec
+# fuzz tests and the bad-file corpus (CI runs it after the tests; a report fails it).
+sanitize: $(BIN)/.installed-test
+	PYTHON=$(abspath $(BIN)/python) .ci/sanitize
+
 lint: $(BIN)/.installed-test
 	$(BIN)/ruff check bakeshop tests benchmarks
 	$(BIN)/mypy
@@ -57,4 +64,4 @@ bench: $(BIN)/.installed-test
 	for b in benchmarks/bench_*.py; do $(BIN)/python $$b || exit 1; done
 
 clean:
-	rm -rf $(VENV) demo
+	rm -rf $(VENV) demo build

@@ -21,10 +21,10 @@ import threading
 from collections.abc import Callable, Sequence
 from typing import Any, TypeVar
 
-import numba
 import numpy as np
 
 from bakeshop import progress
+from bakeshop import threads as kernel_threads
 from bakeshop.errors import BakeshopError, UnsupportedError
 from bakeshop.huge.memory import refuse, resolve_memory
 from bakeshop.huge.scheduler import CONNECT_TIMEOUT, LOCAL_SCHEDULERS, scheduler_address
@@ -34,23 +34,18 @@ T = TypeVar("T")
 
 
 class InTask:
-    """``fn`` as a dask task: numba kernels inside it use ``threads`` threads (one per task
-    when the scheduler already runs a task per core), restored afterwards. Picklable."""
+    """``fn`` as a dask task: the compiled kernels inside it use ``threads`` threads (one per
+    task when the scheduler already runs a task per core), restored afterwards. Picklable."""
 
     def __init__(self, fn: Callable, threads: int):
         self.fn = fn
         self.threads = threads
 
     def __call__(self, *args: Any, **kwargs: Any) -> Any:
-        """``fn(*args, **kwargs)`` with numba limited to this worker's share of the threads and
-        progress silenced."""
-        before = numba.get_num_threads()
-        numba.set_num_threads(max(1, min(self.threads, numba.config.NUMBA_NUM_THREADS)))
-        try:
-            with progress.silenced():
-                return self.fn(*args, **kwargs)
-        finally:
-            numba.set_num_threads(before)
+        """``fn(*args, **kwargs)`` with the kernels limited to this worker's share of the
+        threads and progress silenced."""
+        with kernel_threads.limited(self.threads), progress.silenced():
+            return self.fn(*args, **kwargs)
 
     def __repr__(self) -> str:
         return getattr(self.fn, "__name__", repr(self.fn))
@@ -158,7 +153,7 @@ class Engine:
         pickle.dumps(source)
 
     def _task(self, fn: Callable) -> InTask:
-        cores = numba.config.NUMBA_NUM_THREADS
+        cores = kernel_threads.count()
         return InTask(fn, max(1, cores // self.workers) if not self.distributed else 1)
 
     def _compute(self, graph_items: Sequence[object], description: str) -> tuple[Any, ...]:

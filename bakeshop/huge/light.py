@@ -109,7 +109,7 @@ def _check(reader: Reader, layout: str) -> tuple[int, int, int]:
 
 def _strips(reader: Reader, engine: Engine, fixed: int, what: str) -> list[tuple[int, int]]:
     """Strips of rows whose tasks fit their share of the bound, at most :data:`STRIP_BYTES`
-    each (the interpreter, numpy, numba and dask already hold ~300 MB outside the bound)."""
+    each (the interpreter, numpy and dask already hold ~300 MB outside the bound)."""
     h, w, c = reader.shape
     row = w * (_TEXEL_BYTES + 8 * c)
     per_task = min(engine.per_task(fixed, reader), STRIP_BYTES)
