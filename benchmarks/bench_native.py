@@ -1,15 +1,15 @@
-"""Time each compiled kernel against the numba kernel it replaced, in one run.
+"""Time each compiled kernel against the kernel of an earlier revision, in one run.
 
 The cases are benchmarks/native_cases/*.py: each file's ``cases()`` returns ``(label, thunk)``
-pairs that call functions whose names and signatures are the same before and after the port.
-Each case file runs in a fresh process twice: on this tree (the compiled core) and on the tree
-of git revision BEFORE (default: the last one with numba, 9f4eaba), exported to a temporary
-folder and run by an interpreter that sees this environment's packages but not its bakeshop.
-The numba side needs numba installed (``pip install numba``; bakeshop no longer depends on it).
+pairs that call functions whose names and signatures are the same in both revisions. Each case
+file runs in a fresh process twice: on this tree (the compiled core) and on the tree of git
+revision BEFORE (default 9f4eaba, the last with the kernels compiled just in time), exported to a
+temporary folder and run in a virtual environment that sees this environment's packages (not
+its bakeshop) and gets what the old tree's pyproject.toml lists and this one lacks.
 
-Per case: the first call in the process (numba compiles or loads its cache here; the compiled
-core does neither) and the best of REPEATS later calls, wall seconds; the ratio is numba's best
-over the native best (above 1: the native kernel is faster).
+Per case: the first call in the process (the old kernels compile, or load their cache, here;
+the compiled core does neither) and the best of REPEATS later calls, wall seconds; the ratio is
+the old best over the native best (above 1: the native kernel is faster).
 
 usage: python benchmarks/bench_native.py [--before REV] [--repeats N] [CASE_FILE ...]
 """
@@ -26,6 +26,11 @@ import tempfile
 from pathlib import Path
 
 import peers
+
+try:
+    import tomllib
+except ImportError:  # Python 3.10
+    import tomli as tomllib
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "benchmarks" / "native_cases"
@@ -54,28 +59,25 @@ def run_cases(python: str, case_file: Path, repeats: int, env: dict[str, str]) -
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def before_interpreter(folder: Path, revision: str) -> tuple[str, dict[str, str]] | None:
-    """An interpreter and environment running the tree of ``revision`` with numba, or None."""
-    try:
-        import numba  # noqa: F401
-    except ImportError:
-        print("numba is not installed: only the native side is timed (pip install numba)")
-        return None
+def before_interpreter(folder: Path, revision: str) -> tuple[str, dict[str, str]]:
+    """An interpreter and environment that run the tree of ``revision``."""
     tree = folder / "tree"
     tree.mkdir()
-    archive = subprocess.run(["git", "archive", revision, "bakeshop"], cwd=ROOT, check=True,
-                             capture_output=True).stdout  # fmt: skip
+    archive = subprocess.run(["git", "archive", revision, "bakeshop", "pyproject.toml"], cwd=ROOT,
+                             check=True, capture_output=True).stdout  # fmt: skip
     subprocess.run(["tar", "-x", "-C", str(tree)], input=archive, check=True)
     venv = folder / "venv"
-    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True)
-    site = sysconfig.get_paths()["purelib"]
+    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
     python = str(venv / "bin" / "python")
     purelib = subprocess.run([python, "-c", "import sysconfig; print(sysconfig.get_paths()"
                               "['purelib'])"], check=True, capture_output=True,
                              text=True).stdout.strip()  # fmt: skip
     # a plain path line: this environment's packages, without the .pth of its editable bakeshop
-    Path(purelib, "environment.pth").write_text(site + "\n")
-    env = {**os.environ, "PYTHONPATH": str(tree), "NUMBA_CACHE_DIR": str(folder / "numba")}
+    Path(purelib, "environment.pth").write_text(sysconfig.get_paths()["purelib"] + "\n")
+    with open(tree / "pyproject.toml", "rb") as f:
+        needs = tomllib.load(f)["project"]["dependencies"]
+    subprocess.run([python, "-m", "pip", "install", "-q", *needs], check=True)
+    env = {**os.environ, "PYTHONPATH": str(tree)}  # the old kernels cache in the temporary tree
     return python, env
 
 
@@ -87,16 +89,16 @@ def main() -> None:
     args = parser.parse_args()
     files = args.files or sorted(CASES.glob("*.py"))
     print(f"machine: {peers.machine()}")
-    print(f"before: {args.before} (numba, its cache empty: the first call compiles)")
+    print(f"before: {args.before} (its kernel cache empty: the first call compiles)")
     rows = []
     with tempfile.TemporaryDirectory() as folder:
         before = before_interpreter(Path(folder), args.before)
         for case_file in files:
             native = run_cases(sys.executable, case_file, args.repeats, dict(os.environ))
-            old = run_cases(before[0], case_file, args.repeats, before[1]) if before else {}
+            old = run_cases(before[0], case_file, args.repeats, before[1])
             for label, (first, best) in native.items():
                 rows.append((label, old.get(label), (first, best)))
-    print(f"{'kernel':44} {'numba 1st':>10} {'numba':>9} {'native 1st':>10} {'native':>9} "
+    print(f"{'kernel':44} {'old 1st':>10} {'old':>9} {'native 1st':>10} {'native':>9} "
           f"{'ratio':>6}")  # fmt: skip
     for label, old, (first, best) in rows:
         o1, ob = (f"{old[0]:.4f}", f"{old[1]:.4f}") if old else ("-", "-")
