@@ -35,9 +35,8 @@ BUDGET = 100_000_000
 ALLOCATED = 64_000_000
 #: the least that each call below asks for.
 ASKED = 500_000_000
-#: the refusal comes before the work: seconds. The work itself takes minutes; a first call may
-#: import modules and compile a kernel or two on the way (tens of seconds on a fresh clone's empty
-#: numba cache and a loaded machine: 37 s was seen at 5 s).
+#: the refusal comes before the work: seconds. The work itself takes minutes; a first call
+#: imports modules on the way (a few seconds on a loaded machine).
 REFUSED_WITHIN = 60.0
 
 

@@ -3,8 +3,9 @@ that configuration annotates every function and exempts no module.
 
 mypy runs in-process (``mypy.api``), with the repository's ``[tool.mypy]`` settings:
 ``disallow_untyped_defs`` and ``disallow_incomplete_defs`` for the whole package (public and
-private functions, numba kernels and click callbacks alike), ``check_untyped_defs`` and
-``strict_equality``. Only third-party modules get overrides (missing stubs, numba's dispatchers).
+private functions and click callbacks alike; the compiled kernels through their ``.pyi``
+stubs), ``check_untyped_defs`` and ``strict_equality``. Only third-party modules get overrides
+(missing stubs).
 """
 
 import sys
