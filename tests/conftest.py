@@ -27,9 +27,10 @@ def pytest_sessionfinish(session):
     Under ``pytest -n 2`` a worker tells the controller it has finished right after this hook;
     the controller then closes the connection, and execnet gives the worker 5 s to end before
     it sends the worker a SIGINT. pytest (>= 8.4) runs full garbage collections after that, in
-    ``pytest_unconfigure``: over a worker's heap (Hypothesis, moderngl and the JIT compiler's objects, then) they
-    took 3.6-5.7 s on the shared 2-core machine at load 20, and the SIGINT landed in Hypothesis's
-    gc callback as a ``KeyboardInterrupt`` traceback at the end of a run that still exited 0.
+    ``pytest_unconfigure``: over a worker's heap (Hypothesis and moderngl objects, and then a
+    JIT compiler's) they took 3.6-5.7 s on the shared 2-core machine at load 20, and the SIGINT
+    landed in Hypothesis's gc callback as a ``KeyboardInterrupt`` traceback at the end of a run
+    that still exited 0.
     Collecting here, before the worker reports, and freezing what survives (``gc.freeze``: later
     collections skip those objects) brings those collections to milliseconds. Finalizers still
     run while pytest's unraisable-exception hook is installed, so nothing they raise is lost.
