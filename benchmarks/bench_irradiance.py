@@ -11,13 +11,14 @@ upsampled bilinearly to 5020x2510 (OpenCV), the size of the team's probes. Jobs:
   sun DIM and of ``sh2`` against it (the pair is computed at 90x45 for the comparison);
 - ``exact-full``: ``exact`` from the full probe to the full 360x180 DIM (every texel for every
   output texel, summed by cones: O(M N^(2/3)));
-- ``brute``: the O(M N) brute force HDRShop runs, at its best (a fused, vectorised,
-  multi-threaded numba loop) at 64800 x 131072 pairs, extrapolated to 64800 x 12.6 M;
+- ``brute``: the O(M N) brute force HDRShop runs, at its best (float64 matrix products on
+  cache-sized tiles, numpy's BLAS, one thread per processor) at 64800 x 131072 pairs,
+  extrapolated to 64800 x 12.6 M;
 - ``command``: the whole ``bakeshop -q dims`` command on the probe as a .hdr file: start-up,
   reading, the pair, and writing sun_dim.hdr, shadow_dim.hdr, shadow_probe.hdr and sun.json.
 
-Each job runs in a fresh subprocess after one small warm-up (numba's compiled code is cached
-on disk); "cpu" is the process's CPU time over the run (all threads), steadier than wall time
+Each job runs in a fresh subprocess after one small warm-up (imports, first-touch page
+faults); "cpu" is the process's CPU time over the run (all threads), steadier than wall time
 on a shared machine; peak is the resident high-water mark (``VmHWM``, reset before the job)
 minus the resident size before: the extra memory the job needed.
 
@@ -38,9 +39,9 @@ import subprocess
 import sys
 import tempfile
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-import numba
 import numpy as np
 import peers
 
@@ -106,22 +107,29 @@ def child(job: str, workdir: Path) -> dict:
     return {"seconds": seconds, "cpu": cpu, "peak": max(peak, 0), **extra}
 
 
-@numba.njit(parallel=True, fastmath=True, cache=True)
-def _brute(normals, dirs, energy, out):
-    for i in numba.prange(normals.shape[0]):
-        a0 = a1 = a2 = 0.0
-        for j in range(dirs.shape[1]):
-            c = normals[i, 0] * dirs[0, j] + normals[i, 1] * dirs[1, j] + normals[i, 2] * dirs[2, j]
-            c = max(c, 0.0)
-            a0 += c * energy[0, j]
-            a1 += c * energy[1, j]
-            a2 += c * energy[2, j]
-        out[i, 0], out[i, 1], out[i, 2] = a0, a1, a2
+def _brute(normals, dirs, energy, out, rows=64, columns=4096):
+    """``out[i] = sum_j max(normals[i] . dirs[:, j], 0) energy[:, j]``: tiles of ``rows`` output
+    texels x ``columns`` source texels (2 MiB of cosines, in cache), one block of rows per task,
+    as many threads as processors (numpy releases the GIL in its matrix products; the job's
+    process runs BLAS on one thread, so that the tiles' products do not spawn more)."""
+
+    def block(i):
+        acc = np.zeros((min(rows, len(normals) - i), 3))
+        cos = np.empty((len(acc), columns))
+        for j in range(0, dirs.shape[1], columns):
+            c = cos[:, : min(columns, dirs.shape[1] - j)]
+            np.matmul(normals[i : i + rows], dirs[:, j : j + columns], out=c)
+            np.maximum(c, 0.0, out=c)
+            acc += c @ energy[:, j : j + columns].T
+        out[i : i + rows] = acc
+
+    with ThreadPoolExecutor(len(os.sched_getaffinity(0))) as pool:
+        list(pool.map(block, range(0, len(normals), rows)))
 
 
 def brute(probe) -> dict:
-    """HDRShop's algorithm, every source texel for every output texel, at its best: a fused,
-    vectorised, multi-threaded float64 loop (numba), on 64800 x 131072 pairs."""
+    """HDRShop's algorithm, every source texel for every output texel, at its best: float64
+    matrix products on cache-sized tiles, multi-threaded, on 64800 x 131072 pairs."""
     from bakeshop.sphere import layout
 
     lay = layout("latlong")
@@ -130,11 +138,11 @@ def brute(probe) -> dict:
     d, _ = lay.directions((h, w))
     e = src.reshape(-1, 3) * lay.solid_angles((h, w)).reshape(-1, 1)
     n_src = min(h * w, 131072)
-    d = np.ascontiguousarray(d.reshape(-1, 3)[:n_src].T)
-    e = np.ascontiguousarray(e[:n_src].T)
-    n = lay.directions((DIM[1], DIM[0]))[0].reshape(-1, 3)
+    d = np.ascontiguousarray(d.reshape(-1, 3)[:n_src].T, np.float64)
+    e = np.ascontiguousarray(e[:n_src].T, np.float64)
+    n = np.ascontiguousarray(lay.directions((DIM[1], DIM[0]))[0].reshape(-1, 3), np.float64)
     out = np.empty((len(n), 3))
-    _brute(n[:8], d, e, out[:8])  # compile or load
+    _brute(n[:8], d, e, out[:8])  # warm-up: threads, page faults
     start = time.perf_counter()
     _brute(n, d, e, out)
     seconds = time.perf_counter() - start
@@ -161,8 +169,11 @@ def run(job: str, workdir: Path) -> dict:
         used = resource.getrusage(resource.RUSAGE_CHILDREN)
         cpu = used.ru_utime + used.ru_stime - cpu.ru_utime - cpu.ru_stime
         return {"seconds": time.perf_counter() - start, "cpu": cpu}
+    # the brute force threads its tiles itself: BLAS on one thread per tile
+    one_blas = {"OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"} if job == "brute" else {}
     out = subprocess.run(
         [sys.executable, __file__, "--child", job, str(workdir)],
+        env=dict(os.environ, **one_blas),
         check=True,
         capture_output=True,
         text=True,
