@@ -9,7 +9,7 @@ probes only). For each BC6H profile:
   beforehand (the encoder alone, one thread: the wheel's call is single-threaded);
 - "bakeshop 1 thread": ``encode_image(workers=1)`` from float32 RGB (conversion to half, RGBA,
   padding, strip cutting included): its excess over "ispc direct" is bakeshop's overhead.
-  Both are CPU times of the process (numba's kernels set to one thread), which a shared
+  Both are CPU times of the process (bakeshop's kernels set to one thread), which a shared
   machine's load inflates far less than wall time;
 - "bakeshop": the default, strips on both cores (wall time);
 
@@ -18,8 +18,8 @@ the 6x1024 cube with all its mips through ``encode_texture`` (the issue's 3 s ta
 through the whole ``compress_levels`` (encode, decode, measure), an uncompressed half-float
 DDS write of the same chain, bakeshop's decoder speed, BC7/RGBD-in-BC7 and BC5 normal maps.
 
-Times are the best of ``REPEATS`` after a warm-up (numba's compiled code is cached on disk), on
-a machine shared with other jobs. Run: ``.venv/bin/python benchmarks/bench_compress.py
+Times are the best of ``REPEATS`` after a warm-up (imports, first-touch page faults), on a
+machine shared with other jobs. Run: ``.venv/bin/python benchmarks/bench_compress.py
 [bc6h] [cube] [other]`` (all three by default; about five minutes on an idle machine).
 """
 
@@ -179,20 +179,19 @@ def ldr_and_normals():
 def main():
     sections = sys.argv[1:] or ["bc6h", "cube", "other"]
     import ispc_texcomp
-    import numba
+
+    from bakeshop import threads
 
     print(
         f"bakeshop compression benchmark; ispc-texcomp {ispc_texcomp.__version__}, "
-        f"numba {numba.__version__}, {os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}"
+        f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}"
     )
     if "bc6h" in sections:
         print("\n| probe | BC6H profile | ispc direct Mpx/s | bakeshop 1 thread Mpx/s | overhead "
               "| bakeshop 2 threads Mpx/s | mPSNR dB | log2 RMSE |")  # fmt: skip
         print("|---|---|---|---|---|---|---|---|")
-        threads = numba.get_num_threads()
-        numba.set_num_threads(1)  # one-thread conversions: their CPU time compares with ISPC's
-        bc6h_table()
-        numba.set_num_threads(threads)
+        with threads.limited(1):  # one-thread conversions: their CPU time compares with ISPC's
+            bc6h_table()
     if "cube" in sections:
         cube_chain()
     if "other" in sections:
