@@ -11,8 +11,9 @@ The probe is the repository's 1k probe (tests/data/kiara_1_dawn_1k.hdr) enlarged
 integer factor (each texel repeated), with a sun disc of 0.27 degrees radius added 20 degrees
 above the horizon (radiance 5e4: a clear noon sun's irradiance relative to its sky), written as
 PFM by strips (reading it is then one pass over the bytes). Outputs are written as PFM and DDS
-(the defaults otherwise). Each checkout first bakes the 1k probe once, so that its numba
-kernels are compiled and cached (a studio's second run). The page cache is not dropped: the
+(the defaults otherwise). Each checkout first bakes the 1k probe once, untimed: imports and
+first-touch page faults (a checkout from before the compiled core also fills its JIT's cache
+there, a studio's second run). The page cache is not dropped: the
 file was just written, so each run reads it from memory. "cpu" is the process's user + system
 seconds (all threads): on a machine shared with other jobs it is the steadier figure.
 """
@@ -110,7 +111,7 @@ def main() -> None:
         runs = [("this branch", None)]
         if args.before is not None:
             runs.append((f"before ({args.before})", args.before.resolve()))
-        for _, source in runs:  # compile and cache the kernels
+        for _, source in runs:  # untimed: page faults (and an old checkout's JIT cache)
             run(ROOT / "tests" / "data" / "kiara_1_dawn_1k.hdr", folder / "warm", source)
         print("| bake-probe | seconds | cpu seconds | peak MB | peak / decoded |")
         print("| --- | ---: | ---: | ---: | ---: |")

@@ -9,9 +9,9 @@ Every measurement runs in a fresh subprocess and peak memory is the process's re
 high-water mark (``VmHWM``, reset just before the operation through ``/proc/self/clear_refs``; it
 counts the C++ libraries' allocations that tracemalloc cannot see) minus the resident size just
 before: the extra memory the operation needed, including the array a read returns. Pages of a
-memory-mapped file count once touched. Times are the best of 3 after
-one warm-up run (numba's compiled code is cached on disk); "cpu" is the process's CPU time for the
-same run (all its threads), which is steadier than wall time on a shared machine.
+memory-mapped file count once touched. Times are the best of 3 after one warm-up run (imports,
+first-touch page faults); "cpu" is the process's CPU time for the same run (all its threads),
+which is steadier than wall time on a shared machine.
 
 For PFM, bakeshop reads into memory (a memory map of a file that another program truncates kills
 the process with SIGBUS): "memmap" is the map-based read it replaced, a ``numpy.memmap`` of the

@@ -38,8 +38,8 @@ area-averaged to 64x32 for "64"):
 
 bakeshop runs twice per job where it builds a geometry plan: "cold" with an empty plan cache (a
 new cache directory per run) and warm (the user cache directory of a previous run: a second
-run at the same sizes). numba's compiled kernels are on disk in both (see README for a first
-run after install).
+run at the same sizes). The kernels are compiled at install, so a first run after install
+compiles nothing: cold is cold for the plan cache only.
 
 Usage: ``python benchmarks/bench_commands.py [--repeats N] [JOB ...]`` (default: every job,
 N = 3 for ``start``, the 1k and the 64x32 jobs, 1 for the larger ones; several minutes on 2 cores).
@@ -336,7 +336,7 @@ def main() -> None:
         for job in jobs:
             repeats = args.repeats or (3 if job in SHORT else 1)
             found = contenders(job, work, run)
-            # a warm-up of each bakeshop command fills the plan cache (and numba's), untimed
+            # a warm-up of each bakeshop command fills the plan cache (and the page cache), untimed
             for name, command in found.items():
                 if name.startswith("bakeshop") and not isinstance(command, tuple):
                     timer(command, cache)()

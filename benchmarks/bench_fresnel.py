@@ -3,7 +3,7 @@
 Peers (no tool does this bake, so the peers are the two ways one would write it in numpy):
 
 - numpy per texel: the layout's texel directions, the exact reflectance formula as numpy
-  array expressions, a multiply (what bakeshop did before its numba kernel);
+  array expressions, a multiply (what bakeshop did before it had a kernel of its own);
 - bakeshop, geometry cached: a second bake of the same layout, shape and up axis reuses the
   texel cosines (cached for the last two), as a batch of probes does;
 - numpy per row: latlong-only shortcut with up = +Y, where a row shares one angle: 2048
@@ -11,7 +11,8 @@ Peers (no tool does this bake, so the peers are the two ways one would write it 
 
 Also the 8-bit sRGB encode of the bake (exposure, clamp, IEC 61966-2-1, round) against
 OpenImageIO's colorconvert + quantise, and a cold run: a new process that imports bakeshop,
-bakes and exits (numba's on-disk cache already filled), the cost a CLI user sees.
+bakes and exits (the kernels are compiled at install: nothing to compile or fill first), the
+cost a CLI user sees.
 
 Prints seconds (best of 3, warm), ratio to bakeshop, and peak traced memory (tracemalloc) in
 multiples of the input image (96 MiB).
@@ -67,7 +68,7 @@ def oiio_srgb8(image):
 
 
 def measure(function, image, repeats=3):
-    function(image)  # warm: numba compilation, caches
+    function(image)  # warm: imports, page faults, caches
     best = float("inf")
     for _ in range(repeats):
         start = time.perf_counter()
@@ -156,7 +157,7 @@ def main():
         found.measured("oiio", "sRGB encode")
     imported, loaded, baked = cold_run()
     print(
-        f"cold (new process, numba cache on disk, best of 3): import {imported:.2f} s, "
+        f"cold (new process, best of 3): import {imported:.2f} s, "
         f"loading the kernels {loaded:.2f} s, bake {baked:.3f} s"
     )
     found.finish()

@@ -5,9 +5,9 @@ Files (built here by tests/io/bombs.py, nothing downloaded): four 16384 x 16384 
 Radiance runs, zip OpenEXR, RLE TGA, deflated PNG; 128 KiB to 4 MiB each) and a 2048 x 1024 zip
 OpenEXR of R, G, B and 120 more half channels. Each read runs in a fresh child process; "peak" is
 the resident high-water mark (VmHWM, reset just before the read) minus the resident size before:
-the memory the read needed, after the imports (numba's, 1-2 s, are any command's cost, not
-the file's). The children may grow to MEMORY_LIMIT (address space), so that a
-peer decoding a bomb cannot take the shared machine down; a read that hits it says so.
+the memory the read needed, after the imports (any command's cost, not the file's). The
+children may grow to MEMORY_LIMIT (address space), so that a peer decoding a bomb cannot take
+the shared machine down; a read that hits it says so.
 
 bakeshop refuses the bombs from their headers (its decode budget, :mod:`bakeshop.io.budget`);
 OpenImageIO decodes what it can. For the 120-channel file both read only R, G, B
@@ -75,7 +75,7 @@ def child(tool: str, path: str) -> dict:
         import bakeshop.io.exr
         import bakeshop.io.ldr
         import bakeshop.io.rgbe
-        import bakeshop.io.tga  # noqa: F401 - imports (numba: ~1 s) are not the read's cost
+        import bakeshop.io.tga  # noqa: F401 - imports are not the read's cost
         from bakeshop.io import read_image
 
         def read():

@@ -1,9 +1,9 @@
 """Benchmark: normal-map blending at 4096x4096 and transfer onto a 2048x2048 UV layout.
 
-Each job runs in a fresh subprocess (numba's cache warm, one warm-up run first), timed as the
-best of a few runs; peak memory is the peak of the arrays allocated during one run (the output
-included, the inputs not), measured with tracemalloc, reported as a multiple of the output's
-size; "with inputs" adds the inputs the job needs in memory.
+Each job runs in a fresh subprocess (one warm-up run first), timed as the best of a few runs;
+peak memory is the peak of the arrays allocated during one run (the output included, the
+inputs not), measured with tracemalloc, reported as a multiple of the output's size; "with
+inputs" adds the inputs the job needs in memory.
 
 Peers: the same formulas written as plain numpy array expressions (what a Python pipeline
 would do), timed in the same run. No open implementation of the transfer exists among the
@@ -28,8 +28,9 @@ import numpy as np
 
 def _measure(fn, repeats=3):
     """Best time of ``repeats`` runs after a warm-up, and the peak of numpy allocations of one
-    more run (tracemalloc sees every numpy array; numba's own small buffers are not counted)."""
-    fn()  # warm-up: numba cache load, first-touch page faults
+    more run (tracemalloc sees every numpy array; the compiled kernels' own small buffers are not
+    counted)."""
+    fn()  # warm-up: loading the compiled kernels, first-touch page faults
     best = float("inf")
     for _ in range(repeats):
         t = time.perf_counter()

@@ -1,6 +1,6 @@
 """Time and memory of merging brackets and unwrapping mirror balls, against OpenCV in one run.
 
-Jobs (each in a fresh subprocess, after one small warm-up that loads numba's cached code):
+Jobs (each in a fresh subprocess, after one small warm-up that loads the compiled kernels):
 
 - ``merge-6mp``: 7 brackets of 3000x2000, 8-bit, 2 stops apart (1/4000 s to 1 s);
 - ``merge-24mp``: 9 brackets of 6000x4000, 8-bit, 1.5 stops apart.

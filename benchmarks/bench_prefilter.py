@@ -2,10 +2,10 @@
 
 Inputs: Poly Haven's Rooitou Park probe (the embedded default probe,
 ``bakeshop/data/default_probe.hdr``, 1024x512, a visible sun) as it is and upsampled to 4096x2048
-(bilinear). Each case runs in a fresh process, warmed on a tiny input first (numba compilation is
-cached on disk), and reports the best of 3 wall times, the CPU time of that run (both cores count),
-the time spent remapping the latlong to the source cube, the peak traced numpy memory and the
-process's peak RSS.
+(bilinear). Each case runs in a fresh process, warmed on a tiny input first (imports, loading
+the compiled kernels), and reports the best of 3 wall times, the CPU time of that run (both
+cores count), the time spent remapping the latlong to the source cube, the peak traced numpy
+memory and the process's peak RSS.
 
 No peer runs here: these are library calls, and the peers (cmgen's GGX ``--ibl-ld``, cmft's
 Phong radiance filter) are commands; ``bench_commands.py`` (job ``ggx-4k``) runs them against

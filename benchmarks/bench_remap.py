@@ -2,8 +2,8 @@
 cv2.remap converter, float32 RGB, cold (first call: geometry built) and warm (cached).
 
 Each measurement runs in its own subprocess so that peak memory (ru_maxrss above the process's
-state once the input exists) and "cold" mean the same for everyone; numba's kernels are loaded
-from its on-disk cache before the clock starts (a one-off of a few seconds per installation).
+state once the input exists) and "cold" mean the same for everyone; bakeshop's compiled kernels
+are loaded before the clock starts (cold is the geometry, not the import).
 Wall and CPU times are both printed: on a shared machine the CPU seconds (all threads) are the
 steadier figure; each figure is the median over PROCESSES processes.
 
@@ -114,7 +114,7 @@ def _child(case: str, engine: str, scale: int) -> dict:
     ssize, dsize = ssize // scale, dsize // scale
     image = _source(src, ssize)
     if engine.startswith("bakeshop"):
-        # load numba's cached kernels outside the clock (a per-installation one-off)
+        # load the compiled kernels outside the clock (an import, not the geometry)
         from bakeshop.sphere import remap
 
         small = _source(src, 8)

@@ -68,7 +68,7 @@ def main():
             if peer is None or found.present(peer)
         }
         for function in tools.values():
-            function(image, size)  # warm: numba compilation or loading, caches
+            function(image, size)  # warm: loading the kernels, page faults, caches
         times = peers.alternate(
             {name: functools.partial(peers.call, functools.partial(function, image, size))
              for name, function in tools.items()},
