@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import os
 
-import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError
+from bakeshop.io import _native
 
 _UNSIGNED = {8: np.uint8, 16: np.uint16}
 
@@ -54,15 +54,7 @@ def float_to_unsigned(
     return out
 
 
-@numba.njit(cache=True, parallel=True)
-def _quantize(values: np.ndarray, top: int, out: np.ndarray) -> None:  # pragma: no cover
-    """Out = rint(clip(v, 0, 1) * top), NaN -> 0, in one pass."""
-    scale = np.float32(top)
-    for i in numba.prange(values.size):
-        v = values[i]
-        if not v > 0:  # NaN, zero and negatives
-            out[i] = 0
-        elif v >= 1:
-            out[i] = top
-        else:
-            out[i] = np.rint(v * scale)
+def _quantize(values: np.ndarray, top: int, out: np.ndarray) -> None:
+    """Out = rint(clip(v, 0, 1) * top), NaN -> 0, in one parallel pass (``src/io/quantize.hpp``;
+    ``out`` uint8 or uint16)."""
+    _native.quantize(values, top, out)

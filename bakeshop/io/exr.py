@@ -57,6 +57,7 @@ from bakeshop.errors import (
     validate_choice,
 )
 from bakeshop.io._files import MAX_PIXELS, check_dimensions
+from bakeshop.io._half import half_planes
 from bakeshop.io.budget import check_decode
 
 NAME = "OpenEXR"
@@ -80,11 +81,6 @@ HALF_MAX = 65504.0
 Box = tuple[tuple[int, int], tuple[int, int]]
 _T = TypeVar("_T")
 
-
-#: images larger than this (pixels) are converted to half by the one-pass numba kernel of
-#: :mod:`bakeshop.io._half`; smaller ones by numpy, the same bits without loading numba (about
-#: a second of start-up, more than numpy's three passes cost below a megapixel).
-_KERNEL_PIXELS = 1 << 20
 
 _STORED = {np.dtype(np.float16): "half", np.dtype(np.float32): "float", np.dtype(np.uint32): "uint"}
 _FLOAT = Imath.PixelType(Imath.PixelType.FLOAT)
@@ -441,7 +437,7 @@ def to_half(image: np.ndarray, wider: str) -> np.ndarray:
     option ``wider`` that keeps them (:func:`check_half`).
 
     Rounding is IEEE round-to-nearest-even, as OpenEXR's own float-to-half conversion. (The
-    writer converts large float32 images with the equivalent one-pass kernel of
+    writer converts float32 images with the equivalent one-pass kernel of
     :mod:`bakeshop.io._half`; tests/io/test_exr.py holds the two to the same bits.)
     """
     return check_half(np.asarray(image), wider).astype(np.float16)
@@ -499,9 +495,7 @@ def write(
                 ),
                 stacklevel=2,
             )
-    if pixel_type == "half" and a.dtype == np.float32 and a.shape[0] * a.shape[1] > _KERNEL_PIXELS:
-        from bakeshop.io._half import half_planes  # numba: large images only
-
+    if pixel_type == "half" and a.dtype == np.float32:
         planes = list(half_planes(a))  # converted and split in one pass
     else:
         a = a.astype(PIXEL_TYPES[pixel_type], copy=False)

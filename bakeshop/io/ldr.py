@@ -22,13 +22,13 @@ JPEG grey / YCbCr                   (H, W, 1) / (H, W, 3)
 ==================================  ==============================================
 
 Reading goes through Pillow except for 16-bit colour PNGs (RGB, RGBA, grey+alpha), which Pillow
-reduces to 8 bits: bakeshop inflates and unfilters those itself (numba). Before either, the PNG's
-chunks are walked: a bad checksum in a critical chunk (IHDR, PLTE, IDAT, IEND) is a
+reduces to 8 bits: bakeshop inflates and unfilters those itself (``src/io/ldr.hpp``). Before either,
+the PNG's chunks are walked: a bad checksum in a critical chunk (IHDR, PLTE, IDAT, IEND) is a
 :class:`FormatError`, while an ancillary chunk (text, colour profile ...) with a bad checksum is
-dropped and named in the metadata (``dropped_chunks``) instead of failing the whole file, as
-libpng does by default. The header is checked against the limits of ``bakeshop.io._files`` and
-against the compressed data: deflate expands at most 1032:1, so a header promising more pixels
-than its data can hold is refused before anything is allocated.
+dropped and named in the metadata (``dropped_chunks``) instead of failing the whole file, as libpng
+does by default. The header is checked against the limits of ``bakeshop.io._files`` and against the
+compressed data: deflate expands at most 1032:1, so a header promising more pixels than its data can
+hold is refused before anything is allocated.
 
 Writing PNG is bakeshop's own encoder (Pillow cannot write 16-bit colour): colour types grey,
 RGB, RGBA at 8 bits (default) or 16 (``bits=16``), per-row adaptive filters (the minimum sum of
@@ -50,12 +50,12 @@ import zlib
 from collections.abc import Iterator
 from pathlib import Path
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 from PIL import Image
 
 from bakeshop.errors import ArgumentError, BakeshopError, FormatError, UnsupportedError
+from bakeshop.io import _native
 from bakeshop.io._files import MAX_PIXELS, check_dimensions
 from bakeshop.io._quantize import float_to_unsigned, unsigned_to_float
 from bakeshop.io.budget import check_decode
@@ -159,36 +159,14 @@ def _raw_size(header: dict) -> int:
     return sum(h * (1 + (w * bits + 7) // 8) for *_, w, h in passes)
 
 
-@numba.njit(cache=True)
 def _unfilter(
     buf: np.ndarray, start: int, height: int, stride: int, bpp: int, out: np.ndarray
-) -> int:  # pragma: no cover - compiled
+) -> int:
     """Undo PNG filters of ``height`` rows of ``stride`` bytes (each after its filter byte).
 
     Returns 0, or the 1-based row number whose filter type is invalid.
     """
-    for y in range(height):
-        f = buf[start + y * (stride + 1)]
-        src = start + y * (stride + 1) + 1
-        if f > 4:
-            return y + 1
-        for i in range(stride):
-            x = np.int32(buf[src + i])
-            a = np.int32(out[y, i - bpp]) if i >= bpp else 0
-            b = np.int32(out[y - 1, i]) if y > 0 else 0
-            c = np.int32(out[y - 1, i - bpp]) if y > 0 and i >= bpp else 0
-            if f == 1:
-                x += a
-            elif f == 2:
-                x += b
-            elif f == 3:
-                x += (a + b) >> 1
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                x += a if pa <= pb and pa <= pc else (b if pb <= pc else c)
-            out[y, i] = x & 0xFF
-    return 0
+    return int(_native.png_unfilter(buf, start, height, stride, bpp, out))
 
 
 def _inflate(data: bytes, chunks: list[Chunk], size: int) -> np.ndarray:
@@ -393,48 +371,12 @@ def _read_jpeg(data: bytes, max_pixels: int) -> tuple[np.ndarray, dict]:
 # --- writing -------------------------------------------------------------------------------------
 
 
-@numba.njit(cache=True, inline="always")
-def _filtered(
-    rows: np.ndarray, y: int, i: int, kind: int, bpp: int
-) -> int:  # pragma: no cover - compiled
-    """Byte i of row y under PNG filter ``kind`` (0 none, 1 sub, 2 up, 3 average, 4 Paeth)."""
-    x = np.int32(rows[y, i])
-    if kind == 0:
-        return x & 0xFF
-    a = np.int32(rows[y, i - bpp]) if i >= bpp else np.int32(0)
-    if kind == 1:
-        return (x - a) & 0xFF
-    b = np.int32(rows[y - 1, i]) if y > 0 else np.int32(0)
-    if kind == 2:
-        return (x - b) & 0xFF
-    if kind == 3:
-        return (x - ((a + b) >> 1)) & 0xFF
-    c = np.int32(rows[y - 1, i - bpp]) if y > 0 and i >= bpp else np.int32(0)
-    p = a + b - c
-    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-    return (x - (a if pa <= pb and pa <= pc else (b if pb <= pc else c))) & 0xFF
-
-
-@numba.njit(cache=True, parallel=True)
-def _filter_rows(rows: np.ndarray, bpp: int, out: np.ndarray) -> None:  # pragma: no cover
+def _filter_rows(rows: np.ndarray, bpp: int, out: np.ndarray) -> None:
     """Filter each row of ``rows`` ((H, S) uint8) into ``out`` ((H, S + 1)), choosing per row the
-    filter with the least sum of absolute signed bytes (libpng's heuristic).
+    filter with the least sum of absolute signed bytes (libpng's heuristic), rows in parallel
+    (``src/io/ldr.hpp``).
     """
-    height, stride = rows.shape
-    for y in numba.prange(height):
-        best, best_cost = 0, np.int64(1) << 62
-        for kind in range(5):
-            cost = np.int64(0)
-            for i in range(stride):
-                d = _filtered(rows, y, i, kind, bpp)
-                cost += d if d < 128 else 256 - d
-                if cost >= best_cost:
-                    break
-            if cost < best_cost:
-                best, best_cost = kind, cost
-        out[y, 0] = best
-        for i in range(stride):
-            out[y, i + 1] = _filtered(rows, y, i, best, bpp)
+    _native.png_filter_rows(rows, bpp, out)
 
 
 def _chunk(kind: bytes, payload: bytes) -> bytes:

@@ -33,20 +33,16 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
+from bakeshop.io import _native
 from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
-from bakeshop.io._rgbe_codes import (
-    _EMPTY_RUN,
-    _LENGTH,
-    _NO_PREVIOUS,
-    _OK,
-    _OVERRUN,
-    _RLE_MAX,
-    _RLE_MIN,
-    _TRUNCATED,
-)
 from bakeshop.io.budget import check_decode
 
 NAME = "Radiance HDR"
+
+#: Scanline lengths that the new run-length form can encode (Radiance's MINELEN, MAXELEN).
+_RLE_MIN, _RLE_MAX = 8, 0x7FFF
+# Status codes of the decoder (src/io/rgbe.hpp).
+_OK, _TRUNCATED, _OVERRUN, _EMPTY_RUN, _LENGTH, _NO_PREVIOUS = range(6)
 
 #: Radiance's standard primaries (``STDPRIMS`` in its ``color.h``): CIE xy of red, green, blue and
 #: the white point (equal-energy white E).
@@ -170,12 +166,6 @@ def _variables(lines: list[bytes]) -> dict:
     return facts
 
 
-#: images up to this many pixels whose scanlines are all new-style runs are decoded without
-#: numba (:func:`_decode_runs`): loading numba and its kernel costs about a second of start-up,
-#: more than decoding a 1024x512 probe in Python takes.
-_SMALL = 1 << 20
-
-
 def _decode(
     data: np.ndarray,
     pos: int,
@@ -185,93 +175,20 @@ def _decode(
     factors: np.ndarray,
     dry: bool,
 ) -> tuple[int, int, int]:
-    """Decode as the numba kernel :func:`bakeshop.io._rgbe_kernels._decode` does (same
-    arguments, same result, the same float32 bits): small run-length files in Python and
-    numpy; large ones in parts on every thread, the scanlines located first (their packet
-    headers only: 4 ms for 12.6 MP) and each part starting at a new-style scanline, which never
-    refers to the one before; anything else (a dry pass, old-style or faulty scanlines) by the
-    serial kernel, which reports what is wrong."""
-    small = nscan * scanlen <= _SMALL
-    if small and _RLE_MIN <= scanlen <= _RLE_MAX:
-        result = _decode_runs(data, pos, nscan, scanlen, out, factors, dry)
-        if result is not None:
-            return result
-    import numba  # large or old-style files
+    """Decode ``nscan`` scanlines of ``scanlen`` pixels from ``data[pos:]`` (uint8) into
+    ``out[scan, pixel, channel]`` (float32, any strides), multiplying channel c by ``factors[c]``
+    (``(m + 0.5) * 2**(e - 136) * factor`` in float64, rounded once to float32).
 
-    from bakeshop.io._rgbe_kernels import _decode as kernel
-    from bakeshop.io._rgbe_kernels import _decode_parts, scan
-
-    parts = numba.get_num_threads()
-    if not (dry or small or nscan < 2 * parts or parts < 2):
-        starts = np.empty(nscan + 1, np.int64)
-        walked, end, status = scan(data, pos, scanlen, nscan, starts, 0)
-        bounds = np.linspace(0, nscan, parts + 1).astype(np.int64)
-        first = starts[bounds[:-1]]
-        new_style = (
-            walked == nscan and not status and all(data[p] == 2 == data[p + 1] for p in first)
-        )
-        if new_style and _decode_parts(data, first, bounds, scanlen, out, factors):
-            return _OK, nscan, end
-    return kernel(data, pos, nscan, scanlen, out, factors, dry)
-
-
-def _decode_runs(
-    data: np.ndarray,
-    pos: int,
-    nscan: int,
-    scanlen: int,
-    out: np.ndarray,
-    factors: np.ndarray,
-    dry: bool,
-) -> tuple[int, int, int] | None:
-    """The new-style run-length decoder in Python, a packet at a time, and the conversion to
-    float in numpy (``(m + 0.5) * 2**(e - 136) * factor`` in float64, rounded once to float32,
-    as the kernel). Returns the kernel's (status, scanline, position), or None when a scanline
-    is not new-style (the kernel then decodes the whole file)."""
-    raw = data.tobytes()
-    n = len(raw)
-    lines = None if dry else np.empty((nscan, 4, scanlen), np.uint8)
-    for s in range(nscan):
-        if not (pos + 4 <= n and raw[pos] == 2 and raw[pos + 1] == 2 and raw[pos + 2] < 128):
-            return None
-        if (raw[pos + 2] << 8) + raw[pos + 3] != scanlen:
-            return _LENGTH, s, pos
-        pos += 4
-        for c in range(4):
-            plane = bytearray()
-            j = 0
-            while j < scanlen:
-                if pos >= n:
-                    return _TRUNCATED, s, pos
-                code = raw[pos]
-                pos += 1
-                if code > 128:
-                    count = code - 128
-                    if j + count > scanlen:
-                        return _OVERRUN, s, pos
-                    if pos >= n:
-                        return _TRUNCATED, s, pos
-                    plane += raw[pos : pos + 1] * count
-                    pos += 1
-                else:
-                    count = code
-                    if count == 0:
-                        return _EMPTY_RUN, s, pos
-                    if j + count > scanlen:
-                        return _OVERRUN, s, pos
-                    if pos + count > n:
-                        return _TRUNCATED, s, pos
-                    plane += raw[pos : pos + count]
-                    pos += count
-                j += count
-            if lines is not None:
-                lines[s, c] = np.frombuffer(plane, np.uint8)
-    if lines is not None:
-        e = lines[:, 3]
-        scale = np.where(e == 0, 0.0, np.ldexp(1.0, e.astype(np.int64) - 136))
-        for c in range(3):
-            out[:, :, c] = (lines[:, c] + 0.5) * scale * factors[c]
-    return _OK, nscan, pos
+    The compiled decoder (``src/io/rgbe.hpp``): a file of new-style scanlines is decoded in parts
+    on every thread (the scanlines located first, their packet headers only; a part starts at a
+    new-style scanline, which never refers to the one before); anything else (a dry pass,
+    old-style or faulty scanlines) serially, which reports what is wrong. With ``dry`` nothing is
+    written: the pass only checks that the data holds the whole image. Returns (status,
+    scanline, position after the last byte used)."""
+    status, scanline, end = _native.rgbe_decode(
+        data, int(pos), int(nscan), int(scanlen), out, factors, bool(dry)
+    )
+    return status, scanline, end
 
 
 def read(
@@ -406,10 +323,19 @@ def write(path: str | os.PathLike, image: ArrayLike, *, rle: bool = True) -> Non
         f.writelines(chunks)
 
 
+#: scanlines per task of the parallel encoder.
+_BLOCK_ROWS = 32
+
+
 def _scanlines(image: np.ndarray, rle: bool) -> list[memoryview]:
     """The encoded scanlines of a C-contiguous (H, W, C) float32 image, C in {1, 3}, as the
-    consecutive pieces of the file that the parallel encoder made (no copy)."""
-    from bakeshop.io._rgbe_kernels import _encode  # numba: loaded by writers only
-
-    encoded, starts, stops = _encode(image, rle)
+    consecutive pieces of the file that the parallel encoder made (no copy): blocks of
+    :data:`_BLOCK_ROWS` scanlines, each encoded into its own part of one buffer sized for the
+    worst case (pages never written are never touched)."""
+    height, width, _ = image.shape
+    per_line = 4 + 4 * (width + (width + 127) // 128) if rle else 4 * width
+    encoded = np.empty(height * per_line, np.uint8)
+    blocks = -(-height // _BLOCK_ROWS)
+    starts, stops = np.empty(blocks, np.int64), np.empty(blocks, np.int64)
+    _native.rgbe_encode(image, rle, _BLOCK_ROWS, encoded, starts, stops)
     return [encoded[a:b].data for a, b in zip(starts.tolist(), stops.tolist(), strict=True)]

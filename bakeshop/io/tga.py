@@ -36,7 +36,6 @@ from __future__ import annotations
 import os
 import struct
 
-import numba
 import numpy as np
 
 from bakeshop.errors import (
@@ -46,6 +45,7 @@ from bakeshop.errors import (
     validate_choice,
     with_article,
 )
+from bakeshop.io import _native
 from bakeshop.io._files import MAX_PIXELS, check_dimensions, check_payload
 from bakeshop.io._quantize import float_to_unsigned, unsigned_to_float
 from bakeshop.io.budget import check_decode
@@ -120,84 +120,22 @@ def sniff(head: bytes) -> bool:
     return h["width"] > 0 and h["height"] > 0
 
 
-@numba.njit(cache=True)
-def _unrle(
-    data: np.ndarray, start: int, count: int, bpp: int, out: np.ndarray
-) -> int:  # pragma: no cover - compiled
-    """Decode ``count`` pixels of ``bpp`` bytes from ``data[start:]`` into ``out``.
+def _unrle(data: np.ndarray, start: int, count: int, bpp: int, out: np.ndarray) -> int:
+    """Decode ``count`` pixels of ``bpp`` bytes from ``data[start:]`` into ``out`` (the compiled
+    decoder, ``src/io/tga.hpp``: every packet checked against both ends before it is copied).
 
     Returns the offset after the last packet, -1 if the data ends early, -2 if a packet runs
     past the last pixel.
     """
-    pos = start
-    n = data.size
-    i = 0
-    while i < count:
-        if pos >= n:
-            return -1
-        h = data[pos]
-        pos += 1
-        run = (h & 0x7F) + 1
-        if i + run > count:
-            return -2
-        if h & 0x80:
-            if pos + bpp > n:
-                return -1
-            for k in range(run):
-                for b in range(bpp):
-                    out[(i + k) * bpp + b] = data[pos + b]
-            pos += bpp
-        else:
-            m = run * bpp
-            if pos + m > n:
-                return -1
-            out[i * bpp : i * bpp + m] = data[pos : pos + m]
-            pos += m
-        i += run
-    return pos
+    return int(_native.tga_unrle(data, start, count, bpp, out))
 
 
-@numba.njit(cache=True)
-def _same(row: np.ndarray, a: int, b: int, bpp: int) -> bool:  # pragma: no cover - compiled
-    for k in range(bpp):
-        if row[a * bpp + k] != row[b * bpp + k]:
-            return False
-    return True
-
-
-@numba.njit(cache=True)
-def _rle(rows: np.ndarray, width: int, bpp: int) -> np.ndarray:  # pragma: no cover - compiled
+def _rle(rows: np.ndarray, width: int, bpp: int) -> np.ndarray:
     """Run-length encode each row of ``rows`` ((H, W * bpp) uint8) into TGA packets."""
-    height = rows.shape[0]
-    out = np.empty(height * width * (bpp + 1), np.uint8)
-    o = 0
-    for y in range(height):
-        row = rows[y]
-        x = 0
-        while x < width:
-            run = 1
-            while x + run < width and run < 128 and _same(row, x, x + run, bpp):
-                run += 1
-            if run >= 2:
-                out[o] = 0x80 | (run - 1)
-                out[o + 1 : o + 1 + bpp] = row[x * bpp : x * bpp + bpp]
-                o += 1 + bpp
-                x += run
-            else:
-                start = x
-                x += 1
-                while x < width and x - start < 128:
-                    if x + 1 < width and _same(row, x, x + 1, bpp):
-                        break
-                    x += 1
-                n = x - start
-                out[o] = n - 1
-                out[o + 1 : o + 1 + n * bpp] = row[start * bpp : x * bpp]
-                o += 1 + n * bpp
-    return out[:o]
+    out = np.empty(rows.shape[0] * width * (bpp + 1), np.uint8)
+    return out[: _native.tga_rle(rows, width, bpp, out)]
 
 
-@numba.njit(cache=True, parallel=True)
 def _expand8(
     raw: np.ndarray,
     height: int,
@@ -208,16 +146,9 @@ def _expand8(
     flip_y: bool,
     lut: np.ndarray,
     out: np.ndarray,
-) -> None:  # pragma: no cover - compiled
+) -> None:
     """out[y, x, c] = lut[byte order[c] of the stored pixel that lands at (x, y)]."""
-    channels = order.size
-    for y in numba.prange(height):
-        sy = np.int64(height - 1 - y) if flip_y else np.int64(y)
-        for x in range(width):
-            sx = np.int64(width - 1 - x) if flip_x else np.int64(x)
-            base = (sy * width + sx) * bpp
-            for c in range(channels):
-                out[y, x, c] = lut[raw[base + order[c]]]
+    _native.tga_expand8(raw, height, width, bpp, order, flip_x, flip_y, lut, out)
 
 
 def _channel_order(bits: int, alpha_bits: int, grey: bool) -> np.ndarray:

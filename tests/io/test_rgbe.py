@@ -20,6 +20,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from bakeshop import threads
 from bakeshop.errors import ArgumentError, FormatError, UnsupportedError
 from bakeshop.io import read_image, rgbe, write_image
 from tests.files import PROBES, probe_path
@@ -242,18 +243,66 @@ def test_header_variants_of_real_writers(tmp_path, header):
     np.testing.assert_array_equal(read_image(path), reference_decode(picture))
 
 
-# --- the two decoders: numpy for small files, numba for the rest ---------------------------------
+# --- the decoder against one written out in Python; its parallel parts against its serial pass ---
+
+
+def python_decode(data, pos, nscan, scanlen, out, factors, dry):
+    """New-style run-length scanlines decoded in Python, a packet at a time, and converted to
+    float in numpy (``(m + 0.5) * 2**(e - 136) * factor`` in float64, rounded once to float32):
+    the decoder's (status, scanline, position), or None when a scanline is not new-style."""
+    raw = data.tobytes()
+    n = len(raw)
+    lines = None if dry else np.empty((nscan, 4, scanlen), np.uint8)
+    for s in range(nscan):
+        if not (pos + 4 <= n and raw[pos] == 2 and raw[pos + 1] == 2 and raw[pos + 2] < 128):
+            return None
+        if (raw[pos + 2] << 8) + raw[pos + 3] != scanlen:
+            return rgbe._LENGTH, s, pos
+        pos += 4
+        for c in range(4):
+            plane = bytearray()
+            j = 0
+            while j < scanlen:
+                if pos >= n:
+                    return rgbe._TRUNCATED, s, pos
+                code = raw[pos]
+                pos += 1
+                if code > 128:
+                    count = code - 128
+                    if j + count > scanlen:
+                        return rgbe._OVERRUN, s, pos
+                    if pos >= n:
+                        return rgbe._TRUNCATED, s, pos
+                    plane += raw[pos : pos + 1] * count
+                    pos += 1
+                else:
+                    count = code
+                    if count == 0:
+                        return rgbe._EMPTY_RUN, s, pos
+                    if j + count > scanlen:
+                        return rgbe._OVERRUN, s, pos
+                    if pos + count > n:
+                        return rgbe._TRUNCATED, s, pos
+                    plane += raw[pos : pos + count]
+                    pos += count
+                j += count
+            if lines is not None:
+                lines[s, c] = np.frombuffer(plane, np.uint8)
+    if lines is not None:
+        e = lines[:, 3]
+        scale = np.where(e == 0, 0.0, np.ldexp(1.0, e.astype(np.int64) - 136))
+        for c in range(3):
+            out[:, :, c] = (lines[:, c] + 0.5) * scale * factors[c]
+    return rgbe._OK, nscan, pos
 
 
 def both_decoders(data, nscan, scanlen, dry=False):
-    """(status, scanline, position) and the pixels of the Python/numpy decoder and of the numba
-    kernel on the same bytes."""
-    from bakeshop.io._rgbe_kernels import _decode as kernel
-
+    """(status, scanline, position) and the pixels of the Python decoder above and of the
+    compiled one on the same bytes."""
     _, offset = rgbe._header(data)
     factors = np.array([1.0, 0.5, 3.0])
     results = []
-    for decode in (rgbe._decode_runs, kernel):
+    for decode in (python_decode, rgbe._decode):
         out = np.zeros((nscan, scanlen, 3), np.float32)
         result = decode(data, offset, nscan, scanlen, out, factors, dry)
         results.append((None if result is None else tuple(result), out))
@@ -261,7 +310,7 @@ def both_decoders(data, nscan, scanlen, dry=False):
 
 
 @pytest.mark.parametrize("name", PROBES)
-def test_small_file_decoder_gives_the_kernels_bits_on_real_probes(name):
+def test_decoder_gives_the_python_decoders_bits_on_real_probes(name):
     data = np.fromfile(probe_path(name), np.uint8)
     facts, _ = rgbe._header(data)
     (status, out), (kernel_status, kernel_out) = both_decoders(
@@ -272,7 +321,7 @@ def test_small_file_decoder_gives_the_kernels_bits_on_real_probes(name):
 
 
 @pytest.mark.parametrize("seed", range(6))
-def test_small_file_decoder_finds_the_kernels_problems(tmp_path, seed):
+def test_decoder_finds_the_python_decoders_problems(tmp_path, seed):
     rng = np.random.default_rng(seed)
     image = np.exp(rng.normal(0, 3, (9, 40, 3))).astype(np.float32)
     image[:, :20] = image[:, :1]  # runs
@@ -285,7 +334,7 @@ def test_small_file_decoder_finds_the_kernels_problems(tmp_path, seed):
         for candidate in (mutated, data[:k]):
             for dry in (True, False):
                 (status, out), (kernel_status, kernel_out) = both_decoders(candidate, 9, 40, dry)
-                # None: a scanline not in the new form, which the kernel decodes instead
+                # None: a scanline not in the new form, which the Python decoder leaves
                 assert status is None or status == kernel_status
                 if status is not None and status[0] == 0 and not dry:
                     assert np.array_equal(out.view(np.uint32), kernel_out.view(np.uint32))
@@ -294,8 +343,16 @@ def test_small_file_decoder_finds_the_kernels_problems(tmp_path, seed):
 @pytest.mark.parametrize("seed", range(3))
 def test_the_parallel_decoder_gives_the_serial_kernels_bits_and_problems(tmp_path, seed):
     """A large image is decoded in parts on every thread: the same float32 bits as the serial
-    kernel, and the same (status, scanline, position) for files mutated or cut anywhere."""
-    from bakeshop.io._rgbe_kernels import _decode
+    pass (one thread), and the same (status, scanline, position) for files mutated or cut
+    anywhere."""
+
+    def parallel(*args):
+        with threads.limited(4):
+            return rgbe._decode(*args)
+
+    def serial(*args):
+        with threads.limited(1):
+            return rgbe._decode(*args)
 
     rng = np.random.default_rng(seed)
     image = np.exp(rng.normal(0, 3, (1040, 1024, 3))).astype(np.float32)
@@ -311,16 +368,16 @@ def test_the_parallel_decoder_gives_the_serial_kernels_bits_and_problems(tmp_pat
         candidates += [mutated, data[:k]]
     for candidate in candidates:
         got, want = np.zeros((2, 1040, 1024, 3), np.float32)
-        status = rgbe._decode(candidate, offset, 1040, 1024, got, factors, False)
-        assert status == _decode(candidate, offset, 1040, 1024, want, factors, False)
+        status = parallel(candidate, offset, 1040, 1024, got, factors, False)
+        assert status == serial(candidate, offset, 1040, 1024, want, factors, False)
         if status[0] == 0:
             assert np.array_equal(got.view(np.uint32), want.view(np.uint32))
     # into the flipped and transposed views that read() passes for other orientations
     for base, view in (((1040, 1024), lambda a: a[::-1, ::-1]),
                        ((1024, 1040), lambda a: a.transpose(1, 0, 2)[::-1])):  # fmt: skip
         got, want = np.zeros((2, *base, 3), np.float32)
-        status = rgbe._decode(data, offset, 1040, 1024, view(got), factors, False)
-        assert status == _decode(data, offset, 1040, 1024, view(want), factors, False)
+        status = parallel(data, offset, 1040, 1024, view(got), factors, False)
+        assert status == serial(data, offset, 1040, 1024, view(want), factors, False)
         assert status[0] == 0
         assert np.array_equal(got.view(np.uint32), want.view(np.uint32))
 

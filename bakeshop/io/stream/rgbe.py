@@ -24,9 +24,8 @@ from collections.abc import Iterable
 import numpy as np
 
 from bakeshop.errors import FormatError, UnsupportedError
-from bakeshop.io import rgbe
+from bakeshop.io import _native, rgbe
 from bakeshop.io._files import atomic_path, check_dimensions, check_payload
-from bakeshop.io._rgbe_kernels import _decode, scan
 from bakeshop.io.stream._base import Reader
 
 #: held while a reader walks its file's scanlines (once per reader, whichever thread reads
@@ -95,7 +94,9 @@ class RgbeReader(Reader):
             while done < height:
                 f.seek(pos)
                 data = np.frombuffer(f.read(SCAN_BYTES), np.uint8)
-                walked, end, status = scan(data, 0, width, height - done, starts[done:], pos)
+                walked, end, status = _native.rgbe_scan(
+                    data, 0, width, height - done, starts[done:], pos
+                )
                 if status:
                     raise FormatError(
                         f"corrupt pixel data in scanline {done + walked + 1} of {height}: "
@@ -134,8 +135,7 @@ class RgbeReader(Reader):
         if len(data) != end - begin:
             raise FormatError("the file was truncated while it was being read")
         lines = np.empty((last - first + lead, width, 3), np.float32)
-        # the numba kernel: strips of a large file, where Python's small-file decoder is slow
-        status = _decode(data, 0, last - first + lead, width, lines, self.factors, False)
+        status = rgbe._decode(data, 0, last - first + lead, width, lines, self.factors, False)
         rgbe._check(status, last - first + lead)
         lines = lines[lead:]
         if self.flip_rows:
