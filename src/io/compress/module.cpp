@@ -46,11 +46,20 @@ NB_MODULE(_native, m) {
          In<uint8_t, 1> a31, In<uint8_t, 1> a32) {
         require_blocks(blocks, 16, out, 4, "decode_bc7: blocks (n, 16) -> out (n, 16, 4)");
         require_table(modes, {8, 10}, 0, 8, "decode_bc7: bad mode table");
-        const int64_t* mode = modes.data();
-        for (int k = 0; k < 8; ++k)  // 1..3 subsets; index bits 2..4 (or none for IB2)
-          require(mode[10 * k] >= 1 && mode[10 * k] <= 3 && mode[10 * k + 8] >= 2 &&
-                      mode[10 * k + 8] <= 4 && mode[10 * k + 9] <= 4 && mode[10 * k + 9] != 1,
+        for (int k = 0; k < 8; ++k) {
+          const int64_t* row = modes.data() + 10 * k;
+          const int64_t ns = row[0], pb = row[1], rb = row[2], isb = row[3], cb = row[4],
+                        ab = row[5], epb = row[6], spb = row[7], ib = row[8], ib2 = row[9];
+          const int64_t p = epb || spb ? 1 : 0;
+          // 1..3 subsets, endpoints of at most 8 bits with their P-bit, index bits 2..4 (IB2:
+          // none or 2..4), and every field inside the block's 128 bits
+          const int64_t used = k + 1 + pb + rb + isb + 2 * ns * (3 * cb + ab) +
+                               (epb ? 2 * ns : spb ? ns : 0) + 16 * ib - ns +
+                               (ib2 ? 16 * ib2 - 1 : 0);
+          require(ns >= 1 && ns <= 3 && cb + p <= 8 && ab + p <= 8 && ib >= 2 && ib <= 4 &&
+                      (ib2 == 0 || (ib2 >= 2 && ib2 <= 4)) && used <= 128,
                   "decode_bc7: bad mode table");
+        }
         require_table(weights, {5, 16}, 0, 64, "decode_bc7: bad weight table");
         require_table(p2, {64, 16}, 0, 1, "decode_bc7: bad partition table");
         require_table(p3, {64, 16}, 0, 2, "decode_bc7: bad partition table");
