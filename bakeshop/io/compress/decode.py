@@ -79,9 +79,9 @@ def decode_blocks(blocks: np.ndarray, fmt: BlockFormat) -> np.ndarray:
     blocks = np.ascontiguousarray(blocks, np.uint8)
     base = fmt.name.split("-")[0]
     if base == "bc7":
-        texels = np.empty((n, 16, 4), np.uint8)
+        texels = np.empty((n, 16, 4), np.float32)  # the 8-bit values / 255, in float32
         _native.decode_bc7(blocks, texels, _BC7_MODES, _WEIGHTS, _P2, _P3, _A2, _A31, _A32)
-        return texels.astype(np.float32) / np.float32(255)
+        return texels
     if base == "bc6h":
         bits = np.empty((n, 16, 3), np.uint16)
         _native.decode_bc6h(blocks, bits, fmt.signed, _BC6H_MODES, _BC6H_BITS, _WEIGHTS, _P2, _A2)

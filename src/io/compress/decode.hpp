@@ -24,16 +24,17 @@ struct BptcTables {
   const int8_t* bc6h_layout = nullptr;   // (32, 82, 2): (field, bit) of each block bit
 };
 
-// BC7 blocks (n, 16) -> RGBA texels (n, 16, 4) uint8.
-inline void decode_bc7(const uint8_t* blocks, index_t n, uint8_t* out, const BptcTables& t) {
+// BC7 blocks (n, 16) -> RGBA texels (n, 16, 4) float32: the spec's 8-bit values divided by 255
+// in float32 (as numpy's uint8 -> float32 / 255).
+inline void decode_bc7(const uint8_t* blocks, index_t n, float* out, const BptcTables& t) {
   Errors errors;
 #pragma omp parallel for schedule(static)
   for (index_t b = 0; b < n; ++b) {
     const uint8_t* block = blocks + 16 * b;
-    uint8_t* texels = out + 64 * b;
+    float* texels = out + 64 * b;
     const int first = block[0];
     if (first == 0) {  // reserved: every channel 0
-      std::fill(texels, texels + 64, uint8_t{0});
+      std::fill(texels, texels + 64, 0.0f);
       continue;
     }
     int mode = 0;
@@ -121,11 +122,11 @@ inline void decode_bc7(const uint8_t* blocks, index_t n, uint8_t* out, const Bpt
       } else {
         wc = wa = t.weights[16 * ib + primary[i]];
       }
-      uint8_t* texel = texels + 4 * i;
+      int64_t texel[4];
       for (int c = 0; c < 4; ++c)
-        texel[c] = static_cast<uint8_t>(
-            interpolate(endpoints[e0][c], endpoints[e0 + 1][c], c < 3 ? wc : wa));
+        texel[c] = interpolate(endpoints[e0][c], endpoints[e0 + 1][c], c < 3 ? wc : wa);
       if (rotation) std::swap(texel[rotation - 1], texel[3]);
+      for (int c = 0; c < 4; ++c) texels[4 * i + c] = static_cast<float>(texel[c]) / 255.0f;
     }
   }
   errors.check();

@@ -41,7 +41,7 @@ void require_blocks(const In<uint8_t, 2>& blocks, size_t block_bytes, const Arra
 NB_MODULE(_native, m) {
   m.def(
       "decode_bc7",
-      [](In<uint8_t, 2> blocks, Out<uint8_t, 3> out, In<int64_t, 2> modes,
+      [](In<uint8_t, 2> blocks, Out<float, 3> out, In<int64_t, 2> modes,
          In<int64_t, 2> weights, In<uint8_t, 2> p2, In<uint8_t, 2> p3, In<uint8_t, 1> a2,
          In<uint8_t, 1> a31, In<uint8_t, 1> a32) {
         require_blocks(blocks, 16, out, 4, "decode_bc7: blocks (n, 16) -> out (n, 16, 4)");
