@@ -24,8 +24,8 @@ constexpr int64_t kW4[16] = {0, 4, 9, 13, 17, 21, 26, 30, 34, 38, 43, 47, 51, 55
 inline int64_t quantize(double q, int bits) {
   const int64_t top = (int64_t{1} << (bits - 1)) - 1;
   // np.round: to nearest, ties to even (the default rounding mode's nearbyint)
-  const auto guess =
-      static_cast<int64_t>(std::nearbyint(q * static_cast<double>(int64_t{1} << (bits - 1)) / 32768.0));
+  const double scaled = q * static_cast<double>(int64_t{1} << (bits - 1)) / 32768.0;
+  const auto guess = static_cast<int64_t>(std::nearbyint(scaled));
   int64_t best = 0;
   double best_error = 1e30;
   for (int64_t x = guess - 1; x < guess + 2; ++x) {
@@ -95,7 +95,8 @@ inline void encode_block(const double q[16][3], uint8_t* out, const int8_t* layo
   double axis[3] = {diagonal, diagonal, diagonal};
   for (int iteration = 0; iteration < 8; ++iteration) {
     double next[3];
-    for (int i = 0; i < 3; ++i) next[i] = cov[i][0] * axis[0] + cov[i][1] * axis[1] + cov[i][2] * axis[2];
+    for (int i = 0; i < 3; ++i)
+      next[i] = cov[i][0] * axis[0] + cov[i][1] * axis[1] + cov[i][2] * axis[2];
     const double n = std::sqrt(0.0 + next[0] * next[0] + next[1] * next[1] + next[2] * next[2]);
     if (n == 0) {
       axis[0] = axis[1] = axis[2] = diagonal;
@@ -151,8 +152,9 @@ inline void encode_block(const double q[16][3], uint8_t* out, const int8_t* layo
   if (best_indices[0] >= 8) {
     double swapped[2][3];
     for (int c = 0; c < 3; ++c) {
-      swapped[0][c] = static_cast<double>(unquantize_signed(best_q[1][c], kEndpointBits[best_mode]));
-      swapped[1][c] = static_cast<double>(unquantize_signed(best_q[0][c], kEndpointBits[best_mode]));
+      const int epb = kEndpointBits[best_mode];
+      swapped[0][c] = static_cast<double>(unquantize_signed(best_q[1][c], epb));
+      swapped[1][c] = static_cast<double>(unquantize_signed(best_q[0][c], epb));
     }
     fit(q, best_mode, swapped, quantized, indices);
     if (indices[0] >= 8) {  // a clamped difference: flip the indices of the same endpoints
@@ -178,7 +180,8 @@ inline void encode_block(const double q[16][3], uint8_t* out, const int8_t* layo
   int position = 65;
   for (int t = 0; t < 16; ++t) {
     const int n = t == 0 ? 3 : 4;
-    for (int k = 0; k < n; ++k) bits[position + k] = static_cast<uint8_t>((best_indices[t] >> k) & 1);
+    for (int k = 0; k < n; ++k)
+      bits[position + k] = static_cast<uint8_t>((best_indices[t] >> k) & 1);
     position += n;
   }
   for (int byte = 0; byte < 16; ++byte) {
