@@ -18,10 +18,10 @@ from concurrent.futures import ThreadPoolExecutor
 from types import ModuleType
 from typing import TYPE_CHECKING
 
-import numba
 import numpy as np
 
 from bakeshop.errors import ArgumentError, BakeshopError, validate_choice
+from bakeshop.io.compress import _native
 from bakeshop.io.compress.formats import BlockFormat, block_format
 
 if TYPE_CHECKING:
@@ -93,62 +93,22 @@ def _rgba(image: np.ndarray, fill: float) -> np.ndarray:
     return np.concatenate([rgb, np.full_like(image[..., :1], fill)], axis=2)
 
 
-@numba.njit(cache=True, inline="always")
-def _half_bits(bits: int) -> int:  # pragma: no cover - compiled
-    """IEEE binary16 bits of a float32 given by its bits (uint32), rounded to nearest even;
-    beyond +-65504 (and infinity) saturated to +-65504, never infinity. NaN is refused before.
-
-    The rounding is Giesen's "float_to_half_fast3_rtne": normal halves add the rounding bias
-    ``0xFFF + odd`` before dropping 13 mantissa bits; subnormal halves add 0.5f, whose float
-    addition rounds the 10 kept bits to nearest even.
-    """
-    u = np.int64(bits)
-    sign = u & 0x80000000
-    u ^= sign
-    if u >= 0x47800000:  # 2^16 and up: beyond every half
-        half = 0x7BFF
-    elif u < 0x38800000:  # below 2^-14: a subnormal half or zero
-        value = np.uint32(u).view(np.float32) + np.float32(0.5)
-        half = np.int64(np.float32(value).view(np.uint32)) - 0x3F000000
-    else:
-        half = (u - (112 << 23) + 0xFFF + ((u >> 13) & 1)) >> 13
-        if half >= 0x7C00:  # rounded up past 65504
-            half = 0x7BFF
-    return half | (sign >> 16)
-
-
-@numba.njit(cache=True, parallel=True)
-def _half_rgba(bits: np.ndarray, out: np.ndarray) -> None:  # pragma: no cover - compiled
-    """``out[:H, :W]`` (uint16 RGBA) = half floats of ``bits`` ((H, W, C) float32 bits as
-    uint32): grey repeated to RGB, missing blue 0, missing alpha 1 (0x3C00)."""
-    h, w, c = bits.shape
-    for y in numba.prange(h):
-        if c == 3:
-            for x in range(w):
-                for k in range(3):
-                    out[y, x, k] = _half_bits(bits[y, x, k])
-                out[y, x, 3] = 0x3C00
-        else:
-            for x in range(w):
-                for k in range(3):
-                    if c == 1:
-                        out[y, x, k] = _half_bits(bits[y, x, 0])
-                    elif k < c:
-                        out[y, x, k] = _half_bits(bits[y, x, k])
-                    else:
-                        out[y, x, k] = 0
-                out[y, x, 3] = _half_bits(bits[y, x, 3]) if c == 4 else 0x3C00
-
-
 def to_half_surface(image: np.ndarray) -> np.ndarray:
     """The RGBA half-float surface ISPC's BC6H encoder reads, as float16 ``(H', W', 4)``, H' and
-    W' the next multiples of 4 (edge texels repeated), in one pass (see :func:`_half_bits`)."""
+    W' the next multiples of 4 (edge texels repeated), in one compiled pass
+    (``src/io/compress/encode.hpp``): grey repeated to RGB, missing blue 0, missing alpha 1.
+
+    The halves are rounded to nearest even, and values beyond +-65504 (and infinities) saturate
+    to +-65504, never infinity (NaN is refused before). The rounding is Giesen's
+    "float_to_half_fast3_rtne": normal halves add the rounding bias ``0xFFF + odd`` before
+    dropping 13 mantissa bits; subnormal halves add 0.5f, whose float addition rounds the 10 kept
+    bits to nearest even."""
     image = np.ascontiguousarray(image, np.float32)
     if image.ndim == 2:
         image = image[..., None]
     h, w = image.shape[:2]
     out = np.empty((h + (-h % 4), w + (-w % 4), 4), np.uint16)
-    _half_rgba(image.view(np.uint32), out)
+    _native.half_rgba(image.view(np.uint32), out)
     out[h:, :w] = out[h - 1 : h, :w]
     out[:, w:] = out[:, w - 1 : w]
     return out.view(np.float16)
