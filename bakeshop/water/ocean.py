@@ -483,6 +483,7 @@ def ocean_frames(
         sel = index[start : start + batch]
         spectra = np.empty((sel.size, len(pairs), n, n), complex_type)
         if frames is not None:
+            assert o.cycles is not None  # a looping ocean: checked above
             _native.loop_spectra(a, b, o.cycles, sel, table, m, spectra)
         else:
             _native.free_spectra(a, b, o.omega, t[sel], m, spectra)
