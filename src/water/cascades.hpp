@@ -9,6 +9,18 @@
 
 namespace bakeshop::water {
 
+// Python's `int(t) % n` (floor) of an integral texel index t: in integers where it fits (the
+// usual case), else exactly in double.
+inline index_t wrap(double t, index_t n, double period) {
+  if (std::fabs(t) < 0x1p62) {
+    const index_t m = static_cast<index_t>(t) % n;
+    return m < 0 ? m + n : m;
+  }
+  double m = std::fmod(t, period);
+  if (m < 0) m += period;
+  return static_cast<index_t>(m) % n;
+}
+
 // out[i, :] += weight * bilinear sample of the periodic field (n, n, channels) at world
 // (x[i], y[i]); row 0 at the top (y = size). A point that is not finite samples NaN.
 inline void sample_add(const double* field, index_t n, index_t channels, double size,
@@ -28,12 +40,8 @@ inline void sample_add(const double* field, index_t n, index_t channels, double 
     const double v0 = std::floor(v);
     const double fu = u - u0;
     const double fv = v - v0;
-    // Python's % (floor) of the integral texel index, exact in double at any distance
-    double cu = std::fmod(u0, period), rv = std::fmod(v0, period);
-    if (cu < 0) cu += period;
-    if (rv < 0) rv += period;
-    const index_t c0 = static_cast<index_t>(cu) % n;
-    const index_t r0 = static_cast<index_t>(rv) % n;
+    const index_t c0 = wrap(u0, n, period);
+    const index_t r0 = wrap(v0, n, period);
     const index_t c1 = (c0 + 1) % n;
     const index_t r1 = (r0 + 1) % n;
     const double* f00 = field + (r0 * n + c0) * channels;
