@@ -1,8 +1,8 @@
 """Benchmark: buoyancy force evaluation, voxelisation, and stepping with MuJoCo.
 
-Jobs (each in a fresh subprocess, numba's cache warm, one warm-up run, best of a few runs; peak
-memory is the child's peak resident set size from ``resource.getrusage``, which includes the
-Python interpreter, numpy, numba and MuJoCo themselves, about 150-250 MB):
+Jobs (each in a fresh subprocess, one warm-up run, best of a few runs; peak memory is the
+child's peak resident set size from ``resource.getrusage``, which includes the Python
+interpreter, numpy and MuJoCo themselves, about 150-250 MB):
 
 ``forces``
     One force evaluation of 1000 bodies x 512 points (1 m boxes, voxel resolution 8, random
@@ -96,8 +96,7 @@ def _numpy_forces(fleet, state, model, horizon):
 
 
 def job_forces(n_bodies):
-    import numba
-
+    from bakeshop import threads
     from bakeshop.buoyancy.forces import ForceModel, evaluate
     from bakeshop.buoyancy.water import Water, Wave
 
@@ -110,10 +109,8 @@ def job_forces(n_bodies):
     ref_f, ref_t = _numpy_forces(fleet, state, team, 1 / 60)
     agree = float(np.abs(ours.force - ref_f).max() / np.abs(ref_f).max())
     t_team = _best(lambda: evaluate(fleet, state, flat, team, 0.0, 1 / 60))
-    threads = numba.get_num_threads()
-    numba.set_num_threads(1)
-    t_one = _best(lambda: evaluate(fleet, state, flat, team, 0.0, 1 / 60))
-    numba.set_num_threads(threads)
+    with threads.limited(1):
+        t_one = _best(lambda: evaluate(fleet, state, flat, team, 0.0, 1 / 60))
     t_drag = _best(lambda: evaluate(fleet, state, waves, drag, 0.3, 1 / 60))
     t_numpy = _best(lambda: _numpy_forces(fleet, state, team, 1 / 60), repeats=2)
     return {
@@ -210,13 +207,13 @@ def main():
     args = parser.parse_args()
     if args.job:
         return _child(args)
-    import numba
+    from bakeshop import threads
 
     cpu = next(
         (line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if "model name" in line),
         platform.processor(),
     )
-    print(f"machine: {cpu}, {numba.config.NUMBA_NUM_THREADS} threads, numba {numba.__version__}")
+    print(f"machine: {cpu}, {threads.count()} threads")
     f = _run("forces", args)
     p = f["points"]
     print(f"\nforce evaluation, {args.bodies} bodies x {p // args.bodies} points ({p} points)")

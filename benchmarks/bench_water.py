@@ -4,9 +4,9 @@ the murk tables, against plain numpy and against the FFT floor, in one run.
 Ocean normals, 256^2 x 64 frames and 1024^2 x 128 frames, JONSWAP, choppiness 0.8 (the normal
 of the displaced surface needs five real fields: two slopes and three displacement derivatives):
 
-- bakeshop: ``ocean_frames(fields=("normal",), choppiness=0.8)``: per frame one numba pass
+- bakeshop: ``ocean_frames(fields=("normal",), choppiness=0.8)``: per frame one C++ pass
   builds three packed complex64 spectra (two real fields per complex FFT) with phases from an
-  integer turn table, scipy's FFT (2 threads) inverts them, one numba pass makes unit normals;
+  integer turn table, scipy's FFT (2 threads) inverts them, one C++ pass makes unit normals;
   frames in batches of at most 256 MiB (the frames are consumed, not kept);
 - numpy reference: the same sum written plainly, per frame: complex exp of every mode,
   h_hat = a e^{-iwt} + b e^{iwt}, five separate numpy inverse FFTs (complex128), normals with
@@ -14,13 +14,13 @@ of the displaced surface needs five real fields: two slopes and three displaceme
 - FFT floor: only the three complex64 inverse FFTs per frame that bakeshop's packing needs,
   with numpy's FFT (one thread) and scipy's (2 threads): nothing can be faster than its FFTs.
 
-Wave equation: steps of a 1024^2 periodic grid (the 9-point isotropic stencil), numba vs the
+Wave equation: steps of a 1024^2 periodic grid (the 9-point isotropic stencil), C++ vs the
 same stencil in numpy (np.roll), in ns per cell-step.
 
 Murk: the tables and LUTs of a Jerlov type (spectral integration over 129 wavelengths).
 
-Each ocean size runs twice: with both cores (numba and scipy's FFT threads) and with one thread
-each, whose CPU seconds a loaded machine disturbs least. Prints seconds (best of 3 for small
+Each ocean size runs twice: with both cores (the kernels' and scipy's FFT threads) and with one
+thread each, whose CPU seconds a loaded machine disturbs least. Prints seconds (best of 3 for small
 jobs, 1 for large), CPU seconds, ratios to the scipy FFT floor of the same thread count, and
 peak traced memory (tracemalloc) of bakeshop's ocean runs.
 """
@@ -34,10 +34,10 @@ import resource
 import time
 import tracemalloc
 
-import numba
 import numpy as np
 import scipy.fft
 
+import bakeshop.threads
 from bakeshop.water import murk
 from bakeshop.water.ocean import ocean, ocean_frames
 from bakeshop.water.ripples import WaveEquation
@@ -97,9 +97,10 @@ def fft_floor(n, frames, library, threads=None):
 
 
 def ocean_rows(n, frames, size, subset, threads, reference):
-    """Rows of one size at ``threads`` threads (numba and scipy); ``reference``: the numpy
+    """Rows of one size at ``threads`` threads (the kernels and scipy); ``reference``: the numpy
     reference's row, measured once (it is single-threaded), or None to measure it."""
-    numba.set_num_threads(threads)
+    before = bakeshop.threads.count()
+    bakeshop.threads.use(threads)
     o = ocean(SEA, size=size, resolution=n, seed=1, loop_period=max(8.0, frames / 8))
     frames = max(frames, o.minimum_frames())
     # compile and warm the caches: one batch of one frame
@@ -120,7 +121,7 @@ def ocean_rows(n, frames, size, subset, threads, reference):
     rows.append(("FFT floor, numpy (1 thread)", w, c, None))
     w, c, _ = timed(lambda: fft_floor(n, frames, "scipy", threads), 3 if n <= 256 else 1)
     rows.append((f"FFT floor, scipy ({threads} thread{'s' if threads > 1 else ''})", w, c, None))
-    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    bakeshop.threads.use(before)
     return frames, rows
 
 
@@ -145,7 +146,7 @@ def wave_rows(n=1024, steps=40):
 
     wn, cn, _ = timed(numpy_steps, 3)
     cells = n * n * steps
-    return [("bakeshop (numba)", w / cells * 1e9, c / cells * 1e9),
+    return [("bakeshop (C++)", w / cells * 1e9, c / cells * 1e9),
             ("numpy (np.roll)", wn / cells * 1e9, cn / cells * 1e9)]  # fmt: skip
 
 
