@@ -90,7 +90,7 @@ def cases() -> list[tuple[str, Callable[[], object]]]:
         )
     )
 
-    body = make_body(make_shape("peep"), 400.0, resolution=72)  # ~100k+ points
+    body = make_body(make_shape("peep"), 400.0, resolution=72)  # about 57k points
     fleet = pack([body] * 4)
     water = Water(level=0.0, waves=(Wave(0.2, 8.0, 30.0), Wave(0.05, 3.0, -60.0)))
     q = rng.normal(size=(4, 4))
