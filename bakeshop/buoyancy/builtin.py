@@ -15,10 +15,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import numba
 import numpy as np
 
-from bakeshop.buoyancy.state import State, rotation
+from bakeshop.buoyancy import _native
+from bakeshop.buoyancy.state import State
 
 if TYPE_CHECKING:
     from bakeshop.buoyancy.mass import Fleet
@@ -51,51 +51,8 @@ class BuiltinBackend:
         """Advance one solver step under external ``force`` and ``torque`` (B, 3), plus
         gravity."""
         s = self._state
-        _step(
+        _native.builtin_step(
             s.position, s.quaternion, s.velocity, s.angular_velocity, force, torque,
             self.fleet.mass, self.fleet.inertia, self.fleet.inverse_inertia,
             self.timestep, self.gravity,
         )  # fmt: skip
-
-
-@numba.njit(cache=True)
-def _step(
-    position: np.ndarray,
-    quaternion: np.ndarray,
-    velocity: np.ndarray,
-    omega: np.ndarray,
-    force: np.ndarray,
-    torque: np.ndarray,
-    mass: np.ndarray,
-    inertia: np.ndarray,
-    inverse: np.ndarray,
-    dt: float,
-    g: float,
-) -> None:
-    for b in range(position.shape[0]):
-        for a in range(3):
-            velocity[b, a] += dt * force[b, a] / mass[b]
-        velocity[b, 1] -= dt * g
-        r = rotation(quaternion[b, 0], quaternion[b, 1], quaternion[b, 2], quaternion[b, 3])
-        wb = r.T @ omega[b]
-        tb = r.T @ torque[b]
-        lb = inertia[b] @ wb
-        gyro = np.cross(wb, lb)
-        wb = wb + dt * (inverse[b] @ (tb - gyro))
-        omega[b] = r @ wb
-        for a in range(3):
-            position[b, a] += dt * velocity[b, a]
-        # q <- dq q with dq the rotation by |w| dt about w
-        wx, wy, wz = omega[b, 0], omega[b, 1], omega[b, 2]
-        angle = np.sqrt(wx * wx + wy * wy + wz * wz) * dt
-        if angle > 0.0:
-            s = np.sin(0.5 * angle) / (angle / dt)
-            d0, d1, d2, d3 = np.cos(0.5 * angle), wx * s, wy * s, wz * s
-            q0, q1, q2, q3 = quaternion[b, 0], quaternion[b, 1], quaternion[b, 2], quaternion[b, 3]
-            n0 = d0 * q0 - d1 * q1 - d2 * q2 - d3 * q3
-            n1 = d0 * q1 + d1 * q0 + d2 * q3 - d3 * q2
-            n2 = d0 * q2 - d1 * q3 + d2 * q0 + d3 * q1
-            n3 = d0 * q3 + d1 * q2 - d2 * q1 + d3 * q0
-            norm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2 + n3 * n3)
-            quaternion[b, 0], quaternion[b, 1] = n0 / norm, n1 / norm
-            quaternion[b, 2], quaternion[b, 3] = n2 / norm, n3 / norm

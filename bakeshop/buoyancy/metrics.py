@@ -9,11 +9,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import numba
 import numpy as np
 
+from bakeshop.buoyancy import _native
 from bakeshop.buoyancy.hydrostatics import archimedes_draft
-from bakeshop.buoyancy.state import quaternion_to_matrix, rotation
+from bakeshop.buoyancy.state import quaternion_to_matrix
 
 if TYPE_CHECKING:
     from bakeshop.buoyancy.forces import ForceModel
@@ -29,30 +29,15 @@ def clearance(fleet: Fleet, trace: Trace, water: Water) -> np.ndarray:
     """(S, B) height (m) of each body's lowest point above the water surface below it."""
     out = np.empty(trace.position.shape[:2])
     for b, body in enumerate(fleet.bodies):
-        p = _lowest_points(
+        # the world position of the lowest hull vertex at each recorded step
+        p = np.empty((trace.position.shape[0], 3))
+        _native.lowest_points(
             np.ascontiguousarray(body.hull_vertices, dtype=np.float64),
             np.ascontiguousarray(trace.quaternion[:, b]),
             np.ascontiguousarray(trace.position[:, b]),
+            p,
         )
         out[:, b] = p[:, 1] - water.height(p[:, 0], p[:, 2], trace.time)
-    return out
-
-
-@numba.njit(cache=True)
-def _lowest_points(hull: np.ndarray, quaternion: np.ndarray, position: np.ndarray) -> np.ndarray:
-    """(S, 3) world position of the lowest hull vertex at each recorded step."""
-    out = np.empty((quaternion.shape[0], 3))
-    for s in range(quaternion.shape[0]):
-        r = rotation(quaternion[s, 0], quaternion[s, 1], quaternion[s, 2], quaternion[s, 3])
-        best, low = 0, np.inf
-        for v in range(hull.shape[0]):
-            y = r[1, 0] * hull[v, 0] + r[1, 1] * hull[v, 1] + r[1, 2] * hull[v, 2]
-            if y < low:
-                best, low = v, y
-        for a in range(3):
-            out[s, a] = position[s, a] + (
-                r[a, 0] * hull[best, 0] + r[a, 1] * hull[best, 1] + r[a, 2] * hull[best, 2]
-            )
     return out
 
 

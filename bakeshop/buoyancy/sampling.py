@@ -14,9 +14,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-import numba
 import numpy as np
 
+from bakeshop.buoyancy import _native
 from bakeshop.errors import ArgumentError
 
 if TYPE_CHECKING:
@@ -92,114 +92,6 @@ def sample_points(
     return SamplePoints(positions=positions - jitter, volumes=volumes, heights=heights, cell=cell)
 
 
-@numba.njit(cache=True)
-def _crossings(
-    triangles: np.ndarray,
-    x0: float,
-    z0: float,
-    step: float,
-    nx: int,
-    nz: int,
-    counts: np.ndarray,
-    hits_y: np.ndarray,
-    hits_w: np.ndarray,
-    offsets: np.ndarray,
-    fill: bool,
-) -> None:
-    """Intersect every vertical ray (i, k) at (x0 + (i+0.5) step, z0 + (k+0.5) step) with the
-    triangles. With ``fill`` False only count per ray; with True write height and winding sign
-    (+1 entering the solid going up, -1 leaving) into the CSR arrays."""
-    for t in range(triangles.shape[0]):
-        ax, ay, az = triangles[t, 0, 0], triangles[t, 0, 1], triangles[t, 0, 2]
-        bx, by, bz = triangles[t, 1, 0], triangles[t, 1, 1], triangles[t, 1, 2]
-        cx, cy, cz = triangles[t, 2, 0], triangles[t, 2, 1], triangles[t, 2, 2]
-        # y component of (b - a) x (c - a): sign tells up- or down-facing.
-        ny = (bz - az) * (cx - ax) - (bx - ax) * (cz - az)
-        if ny == 0.0:
-            continue
-        sign = -1 if ny > 0 else 1
-        i0 = max(int(np.ceil((min(ax, bx, cx) - x0) / step - 0.5)), 0)
-        i1 = min(int(np.floor((max(ax, bx, cx) - x0) / step - 0.5)), nx - 1)
-        k0 = max(int(np.ceil((min(az, bz, cz) - z0) / step - 0.5)), 0)
-        k1 = min(int(np.floor((max(az, bz, cz) - z0) / step - 0.5)), nz - 1)
-        for i in range(i0, i1 + 1):
-            px = x0 + (i + 0.5) * step
-            for k in range(k0, k1 + 1):
-                pz = z0 + (k + 0.5) * step
-                # Barycentric weights of (px, pz) in the projected triangle.
-                wa = ((bz - pz) * (cx - px) - (bx - px) * (cz - pz)) / ny
-                wb = ((cz - pz) * (ax - px) - (cx - px) * (az - pz)) / ny
-                wc = 1.0 - wa - wb
-                if wa < 0.0 or wb < 0.0 or wc < 0.0:
-                    continue
-                ray = i * nz + k
-                if fill:
-                    j = offsets[ray] + counts[ray]
-                    hits_y[j] = wa * ay + wb * by + wc * cy
-                    hits_w[j] = sign
-                counts[ray] += 1
-
-
-@numba.njit(cache=True, parallel=True)
-def _accumulate(
-    hits_y: np.ndarray,
-    hits_w: np.ndarray,
-    offsets: np.ndarray,
-    x0: float,
-    y0: float,
-    z0: float,
-    cell: float,
-    shape: np.ndarray,
-    sub: int,
-    volume: np.ndarray,
-    moment: np.ndarray,
-    area: np.ndarray,
-) -> None:
-    """Integrate the inside intervals of every ray into the cells (one thread per cell column):
-    volume, first moments and the horizontal area of rays that meet solid in the cell."""
-    nx, ny, nz = shape[0], shape[1], shape[2]
-    last_ray = np.full(nx * ny * nz, -1, dtype=np.int64)
-    step = cell / sub
-    ray_area = step * step
-    for c in numba.prange(nx * nz):
-        ci = c // nz
-        ck = c % nz
-        for si in range(sub):
-            i = ci * sub + si
-            px = x0 + (i + 0.5) * step
-            for sk in range(sub):
-                k = ck * sub + sk
-                pz = z0 + (k + 0.5) * step
-                ray = i * (nz * sub) + k
-                start, stop = offsets[ray], offsets[ray + 1]
-                if stop - start < 2:
-                    continue
-                order = np.argsort(hits_y[start:stop]) + start
-                winding = 0
-                for h in range(len(order) - 1):
-                    winding += hits_w[order[h]]
-                    if winding <= 0:
-                        continue
-                    ya = hits_y[order[h]]
-                    yb = hits_y[order[h + 1]]
-                    ja = max(int((ya - y0) / cell), 0)
-                    jb = min(int((yb - y0) / cell), ny - 1)
-                    for j in range(ja, jb + 1):
-                        lo = max(ya, y0 + j * cell)
-                        hi = min(yb, y0 + (j + 1) * cell)
-                        if hi <= lo:
-                            continue
-                        v = (hi - lo) * ray_area
-                        cell_index = (ci * ny + j) * nz + ck
-                        if last_ray[cell_index] != ray:
-                            last_ray[cell_index] = ray
-                            area[cell_index] += ray_area
-                        volume[cell_index] += v
-                        moment[cell_index, 0] += v * px
-                        moment[cell_index, 1] += v * 0.5 * (lo + hi)
-                        moment[cell_index, 2] += v * pz
-
-
 def _voxelise(
     triangles: np.ndarray, origin: np.ndarray, cell: float, shape: np.ndarray, sub: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -207,7 +99,9 @@ def _voxelise(
     step = cell / sub
     counts = np.zeros(nx * nz, dtype=np.int64)
     empty_f, empty_i = np.zeros(0), np.zeros(0, dtype=np.int64)
-    _crossings(
+    # rays (i, k) at (x0 + (i + 0.5) step, z0 + (k + 0.5) step): first count the hits per ray,
+    # then write each hit's height and winding sign into the CSR lists
+    _native.crossings(
         triangles, origin[0], origin[2], step, nx, nz, counts, empty_f, empty_i, counts, False
     )
     offsets = np.zeros(nx * nz + 1, dtype=np.int64)
@@ -215,12 +109,15 @@ def _voxelise(
     hits_y = np.empty(offsets[-1])
     hits_w = np.empty(offsets[-1], dtype=np.int64)
     counts[:] = 0
-    _crossings(triangles, origin[0], origin[2], step, nx, nz, counts, hits_y, hits_w, offsets, True)
+    _native.crossings(
+        triangles, origin[0], origin[2], step, nx, nz, counts, hits_y, hits_w, offsets, True
+    )
     n_cells = int(np.prod(shape))
     volume = np.zeros(n_cells)
     moment = np.zeros((n_cells, 3))
     area = np.zeros(n_cells)
-    _accumulate(
+    # the inside intervals of every ray into the cells: volume, first moments, wet area
+    _native.accumulate(
         hits_y,
         hits_w,
         offsets,

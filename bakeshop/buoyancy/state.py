@@ -8,9 +8,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
+
+from bakeshop.buoyancy import _native
 
 
 @dataclass
@@ -53,17 +54,9 @@ def axis_angle_quaternion(axis: ArrayLike, degrees: float) -> np.ndarray:
     return np.concatenate([[np.cos(half)], np.sin(half) * axis / np.linalg.norm(axis)])
 
 
-@numba.njit(cache=True, inline="always")
 def rotation(q0: float, q1: float, q2: float, q3: float) -> np.ndarray:
-    """Rotation matrix of a unit quaternion (w, x, y, z), for the numba kernels."""
-    r = np.empty((3, 3))
-    r[0, 0] = 1 - 2 * (q2 * q2 + q3 * q3)
-    r[0, 1] = 2 * (q1 * q2 - q0 * q3)
-    r[0, 2] = 2 * (q1 * q3 + q0 * q2)
-    r[1, 0] = 2 * (q1 * q2 + q0 * q3)
-    r[1, 1] = 1 - 2 * (q1 * q1 + q3 * q3)
-    r[1, 2] = 2 * (q2 * q3 - q0 * q1)
-    r[2, 0] = 2 * (q1 * q3 - q0 * q2)
-    r[2, 1] = 2 * (q2 * q3 + q0 * q1)
-    r[2, 2] = 1 - 2 * (q1 * q1 + q2 * q2)
-    return r
+    """Rotation matrix (3, 3) of a unit quaternion (w, x, y, z), as the compiled kernels
+    compute it (``src/buoyancy/state.hpp``)."""
+    out = np.empty((3, 3))
+    _native.rotation(float(q0), float(q1), float(q2), float(q3), out)
+    return out

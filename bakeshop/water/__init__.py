@@ -5,8 +5,7 @@ The submodules, each named for what it holds:
 - :mod:`bakeshop.water.spectra`: dispersion and the Phillips, Pierson-Moskowitz, JONSWAP and
   TMA spectra with directional spreading (:class:`~bakeshop.water.spectra.Spectrum`).
 - :mod:`bakeshop.water.ocean`: FFT synthesis on a tileable patch, quantised to loop in time;
-  heights, exact spectral slopes, choppy displacement, the Jacobian and normals (its numba
-  kernels in ``_kernels``).
+  heights, exact spectral slopes, choppy displacement, the Jacobian and normals.
 - :mod:`bakeshop.water.amplitudes`: the seeded, resolution-independent amplitudes of the modes.
 - :mod:`bakeshop.water.cascades`: patches of several sizes splitting one spectrum.
 - :mod:`bakeshop.water.gerstner`: the lattice's waves summed directly (Gerstner waves).
@@ -17,6 +16,8 @@ The submodules, each named for what it holds:
 - :mod:`bakeshop.water.murk`: beam and diffuse attenuation per sRGB channel from measured
   spectra (Pope & Fry, Jerlov), paths under water, LUTs and engine constants.
 - :mod:`bakeshop.water.shader`: the reference GLSL water shader and an offscreen renderer.
+
+The compiled kernels of these modules are in ``_native`` (C++, ``src/water/``).
 
 The most used names are re-exported here.
 """

@@ -1,43 +1,14 @@
 """Deterministic amplitudes of an ocean's lattice modes: standard normals from a counter-based hash
 (SplitMix64) of the seed and each mode's integer indices, the same on any machine, at any
-resolution and in any order of evaluation."""
+resolution and in any order of evaluation (the kernel: ``src/water/amplitudes.hpp``)."""
 
 from __future__ import annotations
 
-import math
-
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
-
-
-@numba.njit(cache=True)
-def _splitmix64(z: np.uint64) -> np.uint64:  # pragma: no cover - compiled
-    z = z + np.uint64(0x9E3779B97F4A7C15)
-    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
-    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
-    return z ^ (z >> np.uint64(31))
-
-
-@numba.njit(cache=True)
-def _mode_normals(
-    seed: int, mx: np.ndarray, my: np.ndarray, out: np.ndarray
-) -> None:  # pragma: no cover - compiled
-    """Two independent standard normals per lattice mode (mx[i], my[i]), from a hash of the
-    seed and the mode's integer indices (Box-Muller on two 53-bit uniforms)."""
-    base = _splitmix64(np.uint64(seed))
-    scale = 2.0**-53
-    for i in range(mx.size):
-        state = _splitmix64(base ^ np.uint64(np.int64(mx[i])))
-        state = _splitmix64(state ^ np.uint64(np.int64(my[i]) * np.int64(0x5851F42D)))
-        u1 = (float(_splitmix64(state) >> np.uint64(11)) + 0.5) * scale
-        u2 = float(_splitmix64(state ^ np.uint64(0xD1B54A32D192ED03)) >> np.uint64(11)) + 0.5
-        u2 *= scale
-        r = math.sqrt(-2.0 * math.log(u1))
-        out[i, 0] = r * math.cos(2.0 * math.pi * u2)
-        out[i, 1] = r * math.sin(2.0 * math.pi * u2)
+from bakeshop.water import _native
 
 
 def mode_normals(seed: int, mx: ArrayLike, my: ArrayLike) -> np.ndarray:
@@ -54,7 +25,7 @@ def mode_normals(seed: int, mx: ArrayLike, my: ArrayLike) -> np.ndarray:
     my = np.asarray(my, dtype=np.int64)
     mx, my = np.broadcast_arrays(mx, my)
     out = np.empty((mx.size, 2))
-    _mode_normals(int(seed), mx.ravel(), my.ravel(), out)
+    _native.mode_normals(int(seed), mx.ravel(), my.ravel(), out)
     return out.reshape(mx.shape + (2,))
 
 

@@ -20,12 +20,11 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
-from bakeshop.water.amplitudes import _splitmix64
+from bakeshop.water import _native
 from bakeshop.water.ocean import Ocean, ocean
 from bakeshop.water.spectra import Spectrum
 
@@ -71,7 +70,7 @@ def repeat_distance(size_a: float, size_b: float, tolerance: float) -> float:
 
 
 def _cascade_seed(seed: int, index: int) -> int:
-    return int(_splitmix64(np.uint64(seed) ^ np.uint64(0x6A09E667F3BCC908 + index))) >> 1
+    return _native.splitmix64(int(np.uint64(seed) ^ np.uint64(0x6A09E667F3BCC908 + index))) >> 1
 
 
 def cascades(
@@ -125,35 +124,10 @@ def cascades(
     return out
 
 
-@numba.njit(parallel=True, cache=True)
-def _sample_add(
-    field: np.ndarray, size: float, x: np.ndarray, y: np.ndarray, weight: float, out: np.ndarray
-) -> None:  # pragma: no cover - compiled
-    """out[i] += weight * bilinear sample of periodic ``field`` (N, N, C) at world (x, y)."""
-    n = field.shape[0]
-    texel = size / n
-    for i in numba.prange(x.size):
-        u = x[i] / texel - 0.5
-        v = (size - y[i]) / texel - 0.5  # row coordinate: row 0 at the top (y = size)
-        u0 = math.floor(u)
-        v0 = math.floor(v)
-        fu = u - u0
-        fv = v - v0
-        c0 = int(u0) % n
-        r0 = int(v0) % n
-        c1 = (c0 + 1) % n
-        r1 = (r0 + 1) % n
-        for ch in range(field.shape[2]):
-            out[i, ch] += weight * (
-                (1 - fv) * ((1 - fu) * field[r0, c0, ch] + fu * field[r0, c1, ch])
-                + fv * ((1 - fu) * field[r1, c0, ch] + fu * field[r1, c1, ch])
-            )
-
-
 def sample_periodic(field: ArrayLike, size: float, x: ArrayLike, y: ArrayLike) -> np.ndarray:
     """Bilinear, wrapping lookup of a patch field at world points, as a GPU's REPEAT sampler
     does. ``field`` (N, N) or (N, N, C); x, y in metres (y up the picture). Returns (..., C) or
-    (...) float64."""
+    (...) float64 (NaN at points that are not finite). The kernel: ``src/water/cascades.hpp``."""
     f = np.asarray(field, dtype=np.float64)
     scalar = f.ndim == 2
     if scalar:
@@ -162,7 +136,7 @@ def sample_periodic(field: ArrayLike, size: float, x: ArrayLike, y: ArrayLike) -
     y = np.asarray(y, dtype=np.float64)
     shape = np.broadcast(x, y).shape
     out: np.ndarray = np.zeros((int(np.prod(shape)), f.shape[2]))
-    _sample_add(
+    _native.sample_add(
         np.ascontiguousarray(f),
         float(size),
         np.ascontiguousarray(np.broadcast_to(x, shape)).ravel(),

@@ -31,13 +31,12 @@ import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
-from bakeshop.water._kernels import FOLD_FLOOR
-from bakeshop.water.ocean import FIELDS, Ocean
+from bakeshop.water import _native
+from bakeshop.water.ocean import FIELDS, FOLD_FLOOR, Ocean
 
 
 @dataclass(frozen=True)
@@ -91,43 +90,6 @@ def gerstner_waves(o: Ocean, count: int | None = None) -> GerstnerWaves:
     )
 
 
-@numba.njit(parallel=True, cache=True)
-def _sums(
-    amp: np.ndarray,
-    kx: np.ndarray,
-    ky: np.ndarray,
-    phase: np.ndarray,
-    x: np.ndarray,
-    y: np.ndarray,
-    out: np.ndarray,
-) -> None:  # pragma: no cover - compiled
-    """out[i] = the eight sums (h, hx, hy, dx, dy, dxx, dyy, dxy) at point i; phase (M,) is
-    -w t + phi for the time being evaluated."""
-    for i in numba.prange(x.size):
-        s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0
-        for j in range(amp.size):
-            k = math.sqrt(kx[j] * kx[j] + ky[j] * ky[j])
-            th = kx[j] * x[i] + ky[j] * y[i] + phase[j]
-            c = amp[j] * math.cos(th)
-            s = amp[j] * math.sin(th)
-            s0 += c
-            s1 -= kx[j] * s
-            s2 -= ky[j] * s
-            s3 -= kx[j] / k * s
-            s4 -= ky[j] / k * s
-            s5 -= kx[j] * kx[j] / k * c
-            s6 -= ky[j] * ky[j] / k * c
-            s7 -= kx[j] * ky[j] / k * c
-        out[i, 0] = s0
-        out[i, 1] = s1
-        out[i, 2] = s2
-        out[i, 3] = s3
-        out[i, 4] = s4
-        out[i, 5] = s5
-        out[i, 6] = s6
-        out[i, 7] = s7
-
-
 def _phases(w: GerstnerWaves, t: float, frame: int | None, frames: int | None) -> np.ndarray:
     if frame is not None:
         # a frame index comes with a looping ocean and its frame count
@@ -169,7 +131,7 @@ def gerstner(
     if frame is not None and (w.cycles is None or frames is None):
         raise ArgumentError("frame= needs looping waves and frames=")
     sums = np.empty((xs.size, 8))
-    _sums(w.amplitude, w.kx, w.ky, _phases(w, t, frame, frames), xs, ys, sums)
+    _native.gerstner_sums(w.amplitude, w.kx, w.ky, _phases(w, t, frame, frames), xs, ys, sums)
     return _assemble(sums, xs, ys, lam, shape)
 
 

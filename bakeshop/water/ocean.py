@@ -62,7 +62,7 @@ from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice, with_article
 from bakeshop.resources import Cost, require
-from bakeshop.water._kernels import _flat_normals, _free_spectra, _loop_spectra, _normals
+from bakeshop.water import _native
 from bakeshop.water.amplitudes import _check_seed, mode_normals
 from bakeshop.water.spectra import Spectrum
 
@@ -78,6 +78,9 @@ FieldName = Literal["height", "slope", "displacement", "jacobian", "normal"]
 FROZEN_MODES = ("keep", "drop")
 ALIAS_MODES = ("refuse", "drop")
 DTYPES = ("float32", "float64")
+#: A folded texel (J <= 0, the surface passes through itself) has no outward normal; its
+#: normal's z is clamped to this before normalising (such texels are foam).
+FOLD_FLOOR: float = _native.FOLD_FLOOR
 
 
 #: Bytes of working memory one frame batch may take (complex spectra, FFT buffers, outputs).
@@ -480,9 +483,10 @@ def ocean_frames(
         sel = index[start : start + batch]
         spectra = np.empty((sel.size, len(pairs), n, n), complex_type)
         if frames is not None:
-            _loop_spectra(a, b, o.cycles, sel, table, m, spectra)
+            assert o.cycles is not None  # a looping ocean: checked above
+            _native.loop_spectra(a, b, o.cycles, sel, table, m, spectra)
         else:
-            _free_spectra(a, b, o.omega, t[sel], m, spectra)
+            _native.free_spectra(a, b, o.omega, t[sel], m, spectra)
         scipy.fft.ifft2(spectra, axes=(-2, -1), norm="forward", overwrite_x=True, workers=workers)
         yield sel, _unpack(spectra, pairs, fields, choppiness, real_type)
 
@@ -521,6 +525,7 @@ def _unpack(
     choppiness: float,
     real_type: type[np.floating],
 ) -> dict[str, np.ndarray]:
+    index = {p: i for i, p in enumerate(pairs)}
     got = {p: spectra[:, i] for i, p in enumerate(pairs)}
     out: dict[str, np.ndarray] = {}
     lam = choppiness
@@ -540,9 +545,10 @@ def _unpack(
     if "normal" in fields:
         normals = np.empty(got["slope"].shape + (3,), real_type)
         if choppiness > 0:
-            _normals(got["slope"], got["stretch"], got["height"], lam, normals)
+            _native.normals(spectra, index["slope"], index["stretch"], index["height"], lam,
+                            normals)  # fmt: skip
         else:
-            _flat_normals(got["slope"], normals)
+            _native.flat_normals(spectra, index["slope"], normals)
         out["normal"] = normals
     return out
 

@@ -53,12 +53,12 @@ import math
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy import special
 
 from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.water import _native
 from bakeshop.water.spectra import (
     GRAVITY,
     KINEMATIC_VISCOSITY,
@@ -412,40 +412,6 @@ def _neighbours(n: int, periodic: bool, reflect: bool) -> tuple[np.ndarray, np.n
     return prev, nxt
 
 
-@numba.njit(parallel=True, cache=True)
-def _laplacian_step(
-    h: np.ndarray,
-    v: np.ndarray,
-    c2: float,
-    damp_a: float,
-    damp_b: float,
-    dt: float,
-    dx2: float,
-    force: np.ndarray,
-    rm: np.ndarray,
-    rp: np.ndarray,
-    cm: np.ndarray,
-    cp: np.ndarray,
-) -> None:
-    """One leapfrog step of the damped wave equation with the 9-point isotropic Laplacian;
-    rm/rp and cm/cp give each row's and column's neighbours (the edge condition)."""
-    rows, cols = h.shape
-    scale = c2 / (6.0 * dx2)
-    for r in numba.prange(rows):  # pragma: no cover - compiled
-        up = rm[r]
-        down = rp[r]
-        for c in range(cols):
-            left = cm[c]
-            right = cp[c]
-            edge = h[up, c] + h[down, c] + h[r, left] + h[r, right]
-            corner = h[up, left] + h[up, right] + h[down, left] + h[down, right]
-            lap = 4.0 * edge + corner - 20.0 * h[r, c]
-            v[r, c] = (damp_a * v[r, c] + dt * (scale * lap + force[r, c])) / damp_b
-    for r in numba.prange(rows):  # pragma: no cover - compiled
-        for c in range(cols):
-            h[r, c] += dt * v[r, c]
-
-
 @dataclass
 class WaveEquation:
     """A damped 2-D wave equation on a grid (see the module notes), stepped with
@@ -539,7 +505,7 @@ class WaveEquation:
                 for s in active:
                     force += s.strength * self._gaussian(*s.at(self.time), s.radius)
             old = self.height.copy() if self.edges == "absorb" else None
-            _laplacian_step(self.height, self.velocity, self.speed**2, a, b, self.dt,
+            _native.laplacian_step(self.height, self.velocity, self.speed**2, a, b, self.dt,
                             self.dx**2, force, *self._neighbours)  # fmt: skip
             if old is not None:
                 self._mur(old)

@@ -13,11 +13,11 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
+from bakeshop.water import _native
 
 #: Foam defaults: foam starts where the Jacobian falls below FOAM_START and is full at FOAM_FULL
 #: (J < 0: the surface folds over; Tessendorf 2001, sec. 4.4).
@@ -225,30 +225,6 @@ def box_mips(values: ArrayLike) -> list[np.ndarray]:
 # --- previews ---------------------------------------------------------------------------------
 
 
-@numba.njit(parallel=True, cache=True)
-def _shade(
-    normals: np.ndarray, view: np.ndarray, sun: np.ndarray, out: np.ndarray
-) -> None:  # pragma: no cover - compiled
-    h, w = normals.shape[:2]
-    for r in numba.prange(h):
-        for c in range(w):
-            nx, ny, nz = normals[r, c, 0], normals[r, c, 1], normals[r, c, 2]
-            cos_v = max(nx * view[0] + ny * view[1] + nz * view[2], 0.0)
-            # mirror direction m = 2 (n.v) n - v and Schlick's fresnel for water (R0 = 0.02)
-            mx = 2.0 * cos_v * nx - view[0]
-            my = 2.0 * cos_v * ny - view[1]
-            mz = 2.0 * cos_v * nz - view[2]
-            f = 0.02 + 0.98 * (1.0 - cos_v) ** 5
-            e = min(max(mz, 0.0), 1.0)  # a sky deep blue overhead, pale at the horizon
-            sky_r = 0.75 - 0.60 * e
-            sky_g = 0.85 - 0.55 * e
-            sky_b = 0.95 - 0.35 * e
-            glint = max(mx * sun[0] + my * sun[1] + mz * sun[2], 0.0) ** 600 * 30.0
-            out[r, c, 0] = 0.003 + (1.0 - f) * 0.010 + f * (sky_r + glint)
-            out[r, c, 1] = 0.015 + (1.0 - f) * 0.035 + f * (sky_g + glint)
-            out[r, c, 2] = 0.030 + (1.0 - f) * 0.060 + f * (sky_b + glint)
-
-
 def shade(
     normals: ArrayLike, *, view: ArrayLike = (0.0, -0.8, 0.6), sun: ArrayLike = (0.05, 0.83, 0.55)
 ) -> np.ndarray:
@@ -262,7 +238,7 @@ def shade(
     view = np.asarray(view, dtype=np.float32)
     sun = np.asarray(sun, dtype=np.float32)
     out = np.empty(n.shape, np.float32)
-    _shade(n, view / np.linalg.norm(view), sun / np.linalg.norm(sun), out)
+    _native.shade(n, view / np.linalg.norm(view), sun / np.linalg.norm(sun), out)
     return out
 
 

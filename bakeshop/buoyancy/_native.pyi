@@ -1,0 +1,76 @@
+import numpy as np
+
+def rotation(q0: float, q1: float, q2: float, q3: float, out: np.ndarray) -> None: ...
+def crossings(
+    triangles: np.ndarray,
+    x0: float,
+    z0: float,
+    step: float,
+    nx: int,
+    nz: int,
+    counts: np.ndarray,
+    hits_y: np.ndarray,
+    hits_w: np.ndarray,
+    offsets: np.ndarray,
+    fill: bool,
+) -> None: ...
+def accumulate(
+    hits_y: np.ndarray,
+    hits_w: np.ndarray,
+    offsets: np.ndarray,
+    x0: float,
+    y0: float,
+    z0: float,
+    cell: float,
+    shape: np.ndarray,
+    sub: int,
+    volume: np.ndarray,
+    moment: np.ndarray,
+    area: np.ndarray,
+) -> None: ...
+def point_forces(
+    offsets: np.ndarray,
+    points: np.ndarray,
+    volumes: np.ndarray,
+    heights: np.ndarray,
+    body_volume: np.ndarray,
+    mass: np.ndarray,
+    inertia: np.ndarray,
+    position: np.ndarray,
+    quaternion: np.ndarray,
+    velocity: np.ndarray,
+    omega: np.ndarray,
+    waves: np.ndarray,
+    level: float,
+    t: float,
+    rho: float,
+    g: float,
+    damping: int,
+    c_lin: float,
+    c_ang: float,
+    c_drag: float,
+    predict: bool,
+    c_predict: float,
+    m_predict: float,
+    horizon: float,
+    force: np.ndarray,
+    torque: np.ndarray,
+    submerged_points: np.ndarray,
+    submerged_volume: np.ndarray,
+) -> None: ...
+def lowest_points(
+    hull: np.ndarray, quaternion: np.ndarray, position: np.ndarray, out: np.ndarray
+) -> None: ...
+def builtin_step(
+    position: np.ndarray,
+    quaternion: np.ndarray,
+    velocity: np.ndarray,
+    omega: np.ndarray,
+    force: np.ndarray,
+    torque: np.ndarray,
+    mass: np.ndarray,
+    inertia: np.ndarray,
+    inverse: np.ndarray,
+    dt: float,
+    g: float,
+) -> None: ...
