@@ -201,14 +201,22 @@ def resample_separable(
     scratch per thread. ``src`` and ``out`` are float32 or float64, ``out`` C-ordered. Returns
     ``out``.
     """
-    ry, ky, wy = (np.asarray(a, t) for a, t in zip(rows, _CSR_TYPES))
-    rx, kx, wx = (np.asarray(a, t) for a, t in zip(cols, _CSR_TYPES))
+    ry, ky, wy = _csr(rows)
+    rx, kx, wx = _csr(cols)
     _native.separable(_rows(src), ry, ky, wy, rx, kx, wx, out)
     return out
 
 
-#: the types the kernel takes a CSR matrix in: (indptr, indices, weights).
-_CSR_TYPES = (np.int64, np.int64, np.float64)
+def _csr(
+    matrix: tuple[np.ndarray, np.ndarray, np.ndarray],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(indptr, indices, weights) in the types the kernel takes: int64, int64, float64."""
+    indptr, indices, weights = matrix
+    return (
+        np.asarray(indptr, np.int64),
+        np.asarray(indices, np.int64),
+        np.asarray(weights, np.float64),
+    )
 
 
 def _rows(src: np.ndarray) -> np.ndarray:

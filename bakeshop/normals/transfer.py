@@ -41,8 +41,8 @@ from numpy.typing import ArrayLike
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.io.mesh import Mesh
-from bakeshop.normals.encoding import normalize
 from bakeshop.normals import _native
+from bakeshop.normals.encoding import normalize
 from bakeshop.normals.tiling import as_pair, mip_chain
 
 PROJECTIONS = ("uv2", "planar", "box", "triplanar")
@@ -247,9 +247,9 @@ def world_to_tangent(
     -------
     (N, 3) float64 unit normals in the tangent frame; (0, 0, 1) where the frame is degenerate.
     """
-    arrays = [np.ascontiguousarray(a, np.float64) for a in (world, tangent, sign, normal)]
-    out = np.empty((len(arrays[0]), 3))
-    _native.world_to_tangent(*arrays, out)
+    w, t, s, n = (np.ascontiguousarray(a, np.float64) for a in (world, tangent, sign, normal))
+    out = np.empty((len(w), 3))
+    _native.world_to_tangent(w, t, s, n, out)
     return out
 
 
