@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 from bakeshop._lazy import export_lazily
 
-# names load from their module when first read (numba and scipy only with resize and display)
+# names load from their module when first read (scipy and the kernels only with resize and display)
 export_lazily(
     __name__,
     {

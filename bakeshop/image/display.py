@@ -13,11 +13,11 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
+from bakeshop.image import _native
 from bakeshop.image.statistics import luminance
 
 #: IEC 61966-2-1 sRGB transfer function constants: the linear segment's end in linear light,
@@ -86,7 +86,7 @@ def srgb_encode(linear: ArrayLike) -> np.ndarray:
     Part 2-1: Default RGB colour space - sRGB.
     """
     a = _float_array(linear)
-    out = np.empty_like(a)
+    out = np.empty(a.shape, a.dtype)
     _apply(_ENCODE, a, out)
     return out
 
@@ -113,7 +113,7 @@ def srgb_decode(encoded: ArrayLike) -> np.ndarray:
     IEC 61966-2-1:1999 (see :func:`srgb_encode`).
     """
     a = _float_array(encoded)
-    out = np.empty_like(a)
+    out = np.empty(a.shape, a.dtype)
     _apply(_DECODE, a, out)
     return out
 
@@ -121,37 +121,10 @@ def srgb_decode(encoded: ArrayLike) -> np.ndarray:
 _ENCODE, _DECODE = 0, 1
 
 
-@numba.njit(cache=True, inline="always")
-def _srgb_encode1(x: float) -> float:
-    """The IEC 61966-2-1 encoding of one value, odd-extended to negatives; NaN stays NaN."""
-    m = abs(x)
-    if m <= SRGB_LINEAR_LIMIT:
-        v = SRGB_SLOPE * m
-    else:
-        v = (1.0 + SRGB_OFFSET) * m ** (1.0 / SRGB_GAMMA) - SRGB_OFFSET
-    return -v if x < 0 else v
-
-
-@numba.njit(cache=True, inline="always")
-def _srgb_decode1(x: float) -> float:
-    m = abs(x)
-    if m <= SRGB_ENCODED_LIMIT:
-        v = m / SRGB_SLOPE
-    else:
-        v = ((m + SRGB_OFFSET) / (1.0 + SRGB_OFFSET)) ** SRGB_GAMMA
-    return -v if x < 0 else v
-
-
-@numba.njit(cache=True, parallel=True)
-def _apply_flat(which: int, a: np.ndarray, out: np.ndarray) -> None:
-    for i in numba.prange(a.size):
-        x = np.float64(a[i])
-        out[i] = _srgb_encode1(x) if which == _ENCODE else _srgb_decode1(x)
-
-
 def _apply(which: int, a: np.ndarray, out: np.ndarray) -> None:
-    """Run a curve over any-shaped ``a`` into ``out`` (same shape), in float64 arithmetic."""
-    _apply_flat(which, np.ascontiguousarray(a).reshape(-1), out.reshape(-1))
+    """Run a curve over any-shaped ``a`` into ``out`` (same shape, C order), in float64
+    arithmetic (``src/image/display.hpp``)."""
+    _native.srgb_apply(np.ascontiguousarray(a).reshape(-1), which == _DECODE, out.reshape(-1))
 
 
 def _colour_channels(image: ArrayLike) -> tuple[np.ndarray, int]:
@@ -356,37 +329,11 @@ def to_srgb8(linear: ArrayLike, *, dither: str = "none", seed: int = 0) -> np.nd
     a, colour = _colour_channels(linear)
     channels = 1 if colour == 0 else a.shape[-1]
     out = np.empty(a.shape, np.uint8)
-    _srgb8(
+    _native.srgb8(
         np.ascontiguousarray(a).reshape(-1, channels),
         max(colour, 1),
         dither == "triangular",
-        np.uint64(seed & 0xFFFFFFFF),
+        int(seed) & 0xFFFFFFFF,
         out.reshape(-1, channels),
     )
     return out
-
-
-@numba.njit(cache=True, inline="always")
-def _uniform(key: np.uint64) -> np.float64:
-    """A uniform number in [0, 1) from a 64-bit key (SplitMix64's finaliser): counter-based, so
-    the dither is the same whatever the number of threads."""
-    z = key + np.uint64(0x9E3779B97F4A7C15)
-    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
-    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
-    z = z ^ (z >> np.uint64(31))
-    return np.float64(z >> np.uint64(11)) * (1.0 / 9007199254740992.0)
-
-
-@numba.njit(cache=True, parallel=True)
-def _srgb8(a: np.ndarray, colour: int, dither: bool, seed: np.uint64, out: np.ndarray) -> None:
-    channels = a.shape[1]
-    base = seed << np.uint64(34)
-    for p in numba.prange(a.shape[0]):
-        for k in range(channels):
-            x = np.float64(a[p, k])
-            x = 0.0 if x != x else min(max(x, 0.0), 1.0)
-            q = 255.0 * (_srgb_encode1(x) if k < colour else x)
-            if dither and k < colour and 0.0 < x < 1.0:
-                key = base + np.uint64(2 * (p * channels + k))
-                q += _uniform(key) - _uniform(key + np.uint64(1))
-            out[p, k] = np.uint8(min(max(np.rint(q), 0.0), 255.0))

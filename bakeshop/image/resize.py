@@ -5,8 +5,9 @@ exact fractional overlaps), so the mean of the image, its "energy", is preserved
 sizes. For integer factors this is the exact box filter; otherwise it is the area-weighted
 filter (the same definition as OpenCV's ``INTER_AREA`` and Photoshop's "average" downsampling).
 The filter is separable, ``out = A_y @ image @ A_x.T`` with sparse overlap matrices, so the cost is
-O(H_in * W_in * C) multiply-adds: one read of the input, numba-parallel over output rows, each
-output row accumulated in float64 (one row of scratch per thread, no image-sized temporary).
+O(H_in * W_in * C) multiply-adds: one read of the input, parallel over output rows (the compiled
+kernels of ``src/image/resize.hpp``), each output row accumulated in float64 (one row of
+scratch per thread, no image-sized temporary).
 
 Any rectangle of the output can be computed from the window of the input that its footprint
 covers (:func:`area_footprint`, :func:`resize_area_part`) with the same arithmetic in the same
@@ -20,11 +21,12 @@ import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
+from bakeshop import threads
 from bakeshop.errors import ArgumentError
+from bakeshop.image import _native
 from bakeshop.resources import Cost, require
 
 if TYPE_CHECKING:
@@ -34,7 +36,7 @@ if TYPE_CHECKING:
 _WEIGHT_BYTES = 12
 #: bytes that a call holds whatever its size (a margin for the weights' int64 temporaries and
 #: the threads' working set; 4 MB was 3 MB short of a measured peak, RSS counting the threads'
-#: stacks and the pages numba touches).
+#: stacks and the pages the kernels touch).
 _OVERHEAD = 8 << 20
 
 
@@ -84,7 +86,7 @@ def resize_area_cost(shape: Sequence[int], size: tuple[int, int], *, itemsize: i
     channels = int(math.prod(shape[2:]))
     width, height = (int(n) for n in size)
     weights = _WEIGHT_BYTES * (h + height + w + width) * 2
-    scratch = numba.get_num_threads() * w * channels * 8
+    scratch = threads.count() * w * channels * 8
     copy = h * w * channels * 4 if itemsize not in (4, 8) else 0
     memory = width * height * channels * max(itemsize, 4) + weights + scratch + copy + _OVERHEAD
     what = f"resizing {w}x{h} to {width}x{height}"
@@ -177,7 +179,7 @@ def resize_area_part(
     out = np.empty((i1 - i0, j1 - j0, src.shape[2]), src.dtype)
     if h % height == 0 and w % width == 0:
         fy, fx = h // height, w // width
-        _box(_rows(src[ly - y0 : hy - y0, lx - x0 : hx - x0]), fy, fx, out)
+        _native.box(_rows(src[ly - y0 : hy - y0, lx - x0 : hx - x0]), fy, fx, out)
     else:
         ay, ax = area_weights(h, height)[i0:i1], area_weights(w, width)[j0:j1]
         resample_separable(src, (ay.indptr, ay.indices - y0, ay.data),
@@ -195,11 +197,26 @@ def resample_separable(
 
     ``rows = (indptr, indices, weights)`` is ``Ay`` in CSR form (``len(indptr) = out rows +
     1``, indices into ``src``'s rows), ``cols`` is ``Ax`` (indices into its columns); the sums
-    run over each CSR row in its stored order. Numba-parallel over output rows; one float64 row
-    of scratch per output row. Returns ``out``.
+    run over each CSR row in its stored order. Parallel over output rows; one float64 row of
+    scratch per thread. ``src`` and ``out`` are float32 or float64, ``out`` C-ordered. Returns
+    ``out``.
     """
-    _separable(_rows(src), rows[0], rows[1], rows[2], cols[0], cols[1], cols[2], out)
+    ry, ky, wy = _csr(rows)
+    rx, kx, wx = _csr(cols)
+    _native.separable(_rows(src), ry, ky, wy, rx, kx, wx, out)
     return out
+
+
+def _csr(
+    matrix: tuple[np.ndarray, np.ndarray, np.ndarray],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(indptr, indices, weights) in the types the kernel takes: int64, int64, float64."""
+    indptr, indices, weights = matrix
+    return (
+        np.asarray(indptr, np.int64),
+        np.asarray(indices, np.int64),
+        np.asarray(weights, np.float64),
+    )
 
 
 def _rows(src: np.ndarray) -> np.ndarray:
@@ -210,87 +227,3 @@ def _rows(src: np.ndarray) -> np.ndarray:
     if src.strides[2] != src.itemsize or src.strides[1] != c * src.itemsize:
         src = np.ascontiguousarray(src)
     return src.reshape(h, w * c)
-
-
-@numba.njit(inline="always")
-def _add_rows(row: np.ndarray, src: np.ndarray, y: int, k: int, n: int, first: bool) -> None:
-    """``row[:n] (+)= src[y] + ... + src[y + k - 1]`` for k in 1, 2, 4, left to right in
-    float64: the same sums, rounding for rounding, as adding the rows one at a time from zero
-    (0 + a = a exactly), with one pass over ``row`` per k rows instead of per row."""
-    if k == 4:
-        a, b, c, d = src[y], src[y + 1], src[y + 2], src[y + 3]
-        if first:
-            for t in range(n):
-                row[t] = np.float64(a[t]) + b[t] + c[t] + d[t]
-        else:
-            for t in range(n):
-                row[t] = row[t] + a[t] + b[t] + c[t] + d[t]
-    elif k == 2:
-        a, b = src[y], src[y + 1]
-        if first:
-            for t in range(n):
-                row[t] = np.float64(a[t]) + b[t]
-        else:
-            for t in range(n):
-                row[t] = row[t] + a[t] + b[t]
-    else:
-        a = src[y]
-        if first:
-            for t in range(n):
-                row[t] = a[t]
-        else:
-            for t in range(n):
-                row[t] += a[t]
-
-
-@numba.njit(parallel=True, cache=True)
-def _box(src: np.ndarray, fy: int, fx: int, out: np.ndarray) -> None:
-    """``out[i, j, c]`` = the mean of the ``fy x fx`` block of ``src`` (h, w * C rows) it
-    covers: the block's columns summed down its rows (vectorised along the row, four rows a
-    pass), then the ``fx`` column sums of each texel, in float64, rounded once."""
-    width, channels = out.shape[1], out.shape[2]
-    n = width * fx * channels
-    scale = 1.0 / (fy * fx)
-    for i in numba.prange(out.shape[0]):
-        row = np.empty(n)
-        y, stop = i * fy, (i + 1) * fy
-        while y < stop:
-            k = 4 if stop - y >= 4 else (2 if stop - y >= 2 else 1)
-            _add_rows(row, src, y, k, n, y == i * fy)
-            y += k
-        for j in range(width):
-            for c in range(channels):
-                base = j * fx * channels + c
-                acc = row[base]
-                for x in range(1, fx):
-                    acc += row[base + x * channels]
-                out[i, j, c] = acc * scale
-
-
-@numba.njit(parallel=True, cache=True)
-def _separable(
-    src: np.ndarray,
-    ry: np.ndarray,
-    ky: np.ndarray,
-    wy: np.ndarray,
-    rx: np.ndarray,
-    kx: np.ndarray,
-    wx: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """``out[i, j, c] = sum_t wx[t] sum_s wy[s] src[ky[s], kx[t] * C + c]`` over the CSR
-    rows ``i`` of (ry, ky, wy) and ``j`` of (rx, kx, wx): the weighted input rows summed into
-    one float64 row (vectorised along it), then each texel's column taps."""
-    n, channels = src.shape[1], out.shape[2]
-    for i in numba.prange(out.shape[0]):
-        row = np.zeros(n)
-        for t in range(ry[i], ry[i + 1]):
-            s, wgt = src[ky[t]], wy[t]
-            for x in range(n):
-                row[x] += wgt * s[x]
-        for j in range(out.shape[1]):
-            for c in range(channels):
-                acc = 0.0
-                for t in range(rx[j], rx[j + 1]):
-                    acc += wx[t] * row[kx[t] * channels + c]
-                out[i, j, c] = acc

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 from bakeshop._lazy import export_lazily
 
 # names load from their module when first read (a command's options name the methods and
-# encodings without loading the kernels, and numba with them)
+# encodings without loading the kernels)
 export_lazily(
     __name__,
     {

@@ -117,9 +117,9 @@ def blend(
     shape = np.shape(macro)
     m, d, s, dtype = _check(macro, detail, strength)
     out = np.empty(m.shape, dtype)
-    from bakeshop.normals._blend_kernels import blend_texels  # numba: loaded when first needed
+    from bakeshop.normals import _native  # the formulas' kernel: src/normals/blend.hpp
 
-    blend_texels(METHODS.index(method), m, d, s, out)
+    _native.blend_texels(METHODS.index(method), m, d, s, out)
     return out.reshape(shape)
 
 

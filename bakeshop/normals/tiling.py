@@ -28,19 +28,18 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError
 from bakeshop.image import resize_area
+from bakeshop.normals import _native
 from bakeshop.normals.blend import DEFAULT_METHOD, blend
 from bakeshop.normals.encoding import normalize
 
 __all__ = [
     "MipChain",
     "mip_chain",
-    "trilinear_add",
     "sample_wrapped",
     "place_detail",
     "filtered_relief",
@@ -106,97 +105,6 @@ def mip_chain(image: ArrayLike) -> MipChain:
     )
 
 
-@numba.njit(cache=True, inline="always")
-def _bilinear_add(
-    texels: np.ndarray,
-    base: int,
-    h: int,
-    w: int,
-    x: float,
-    y: float,
-    wrap: bool,
-    weight: float,
-    out: np.ndarray,
-) -> None:
-    """Out += weight * bilinear sample at texel coordinates (x, y) of the (h, w) level whose
-    first texel is texels[base]."""
-    x -= 0.5
-    y -= 0.5
-    x0 = math.floor(x)
-    y0 = math.floor(y)
-    fx = x - x0
-    fy = y - y0
-    if wrap:
-        i0 = int(x0) % w
-        i1 = (i0 + 1) % w
-        j0 = int(y0) % h
-        j1 = (j0 + 1) % h
-    else:
-        i0 = min(max(int(x0), 0), w - 1)
-        i1 = min(max(int(x0) + 1, 0), w - 1)
-        j0 = min(max(int(y0), 0), h - 1)
-        j1 = min(max(int(y0) + 1, 0), h - 1)
-    w00 = (1 - fx) * (1 - fy) * weight
-    w10 = fx * (1 - fy) * weight
-    w01 = (1 - fx) * fy * weight
-    w11 = fx * fy * weight
-    r0 = base + j0 * w
-    r1 = base + j1 * w
-    for k in range(out.shape[0]):
-        out[k] += w00 * texels[r0 + i0, k] + w10 * texels[r0 + i1, k]
-        out[k] += w01 * texels[r1 + i0, k] + w11 * texels[r1 + i1, k]
-
-
-@numba.njit(cache=True, inline="always")
-def trilinear_add(
-    texels: np.ndarray,
-    offsets: np.ndarray,
-    shapes: np.ndarray,
-    x: float,
-    y: float,
-    lod: float,
-    wrap: bool,
-    out: np.ndarray,
-) -> None:
-    """Out += trilinear sample of a packed :class:`MipChain` (numba device function).
-
-    (x, y) are level-0 texel coordinates (texel (i, j)'s centre is (i + 0.5, j + 0.5)) and lod
-    is log2 of the footprint in level-0 texels; the two nearest levels are blended.
-    """
-    n = offsets.shape[0]
-    lod = min(max(lod, 0.0), n - 1.0)
-    lo = int(math.floor(lod))
-    t = lod - lo
-    h0 = shapes[0, 0]
-    w0 = shapes[0, 1]
-    for k in range(2):
-        lv = lo + k
-        weight = 1.0 - t if k == 0 else t
-        if weight <= 0.0 or lv >= n:
-            continue
-        h = shapes[lv, 0]
-        w = shapes[lv, 1]
-        _bilinear_add(texels, offsets[lv], h, w, x * w / w0, y * h / h0, wrap, weight, out)
-
-
-@numba.njit(cache=True, parallel=True)
-def _sample_points(
-    texels: np.ndarray,
-    offsets: np.ndarray,
-    shapes: np.ndarray,
-    xs: np.ndarray,
-    ys: np.ndarray,
-    lods: np.ndarray,
-    wrap: bool,
-    out: np.ndarray,
-) -> None:
-    for p in numba.prange(xs.shape[0]):
-        o = out[p]
-        for k in range(o.shape[0]):
-            o[k] = 0.0
-        trilinear_add(texels, offsets, shapes, xs[p], ys[p], lods[p], wrap, o)
-
-
 def sample_wrapped(
     chain: MipChain | ArrayLike,
     x: ArrayLike,
@@ -231,47 +139,8 @@ def sample_wrapped(
     ys = np.ascontiguousarray(y, dtype=np.float64).reshape(-1)
     lods = np.ascontiguousarray(np.broadcast_to(np.asarray(lod, np.float64), xs.shape))
     out = np.empty((xs.size, chain.texels.shape[1]), np.float32)
-    _sample_points(chain.texels, chain.offsets, chain.shapes, xs, ys, lods, wrap, out)
+    _native.sample_points(chain.texels, chain.offsets, chain.shapes, xs, ys, lods, wrap, out)
     return out
-
-
-@numba.njit(cache=True, parallel=True)
-def _place(
-    texels: np.ndarray,
-    offsets: np.ndarray,
-    shapes: np.ndarray,
-    lod: float,
-    affine: np.ndarray,
-    cos_r: float,
-    sin_r: float,
-    sign_x: float,
-    sign_y: float,
-    out: np.ndarray,
-) -> None:
-    """Sample along an affine map of output texels to level-0 texels, rotate XY, renormalise."""
-    height, width = out.shape[:2]
-    acc = np.empty((height, 3))
-    for j in numba.prange(height):
-        a = acc[j]
-        for i in range(width):
-            a[0] = 0.0
-            a[1] = 0.0
-            a[2] = 0.0
-            x = affine[0, 0] * (i + 0.5) + affine[0, 1] * (j + 0.5) + affine[0, 2]
-            y = affine[1, 0] * (i + 0.5) + affine[1, 1] * (j + 0.5) + affine[1, 2]
-            trilinear_add(texels, offsets, shapes, x, y, lod, True, a)
-            nx = (cos_r * a[0] - sin_r * a[1]) * sign_x
-            ny = (sin_r * a[0] + cos_r * a[1]) * sign_y
-            nz = a[2]
-            length = math.sqrt(nx * nx + ny * ny + nz * nz)
-            if length > 0 and math.isfinite(length):
-                out[j, i, 0] = nx / length
-                out[j, i, 1] = ny / length
-                out[j, i, 2] = nz / length
-            else:
-                out[j, i, 0] = 0.0
-                out[j, i, 1] = 0.0
-                out[j, i, 2] = 1.0
 
 
 def as_pair(value: ArrayLike, what: str) -> tuple[float, float]:
@@ -344,7 +213,7 @@ def place_detail(
     # the gradient of h(R(-theta) diag(tu, tv) p) is diag(tu, tv) R(theta) grad h: rotated,
     # then mirrored where a tile count is negative (the slopes' scale is left as authored).
     signs = math.copysign(1, tu), math.copysign(1, tv)
-    _place(chain.texels, chain.offsets, chain.shapes, lod, affine, c, s, *signs, out)
+    _native.place(chain.texels, chain.offsets, chain.shapes, lod, affine, c, s, *signs, out)
     return out
 
 

@@ -35,15 +35,15 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.io.mesh import Mesh
+from bakeshop.normals import _native
 from bakeshop.normals.encoding import normalize
-from bakeshop.normals.tiling import as_pair, mip_chain, trilinear_add
+from bakeshop.normals.tiling import as_pair, mip_chain
 
 PROJECTIONS = ("uv2", "planar", "box", "triplanar")
 AXES = ("x", "y", "z")
@@ -150,34 +150,6 @@ def corner_tangents(
 # --- rasterisation and dilation -----------------------------------------------------------
 
 
-@numba.njit(cache=True)
-def _rasterize(tex: np.ndarray, faces: np.ndarray, face_map: np.ndarray, bary: np.ndarray) -> None:
-    height, width = face_map.shape
-    for f in range(faces.shape[0]):
-        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-        ax, ay, bx, by, cx, cy = tex[a, 0], tex[a, 1], tex[b, 0], tex[b, 1], tex[c, 0], tex[c, 1]
-        area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-        if not (abs(area) > 0) or not math.isfinite(area):
-            continue
-        eps = -1e-9
-        x0 = max(int(math.ceil(min(ax, bx, cx) - 0.5)), 0)
-        x1 = min(int(math.floor(max(ax, bx, cx) - 0.5)), width - 1)
-        y0 = max(int(math.ceil(min(ay, by, cy) - 0.5)), 0)
-        y1 = min(int(math.floor(max(ay, by, cy) - 0.5)), height - 1)
-        for j in range(y0, y1 + 1):
-            py = j + 0.5
-            for i in range(x0, x1 + 1):
-                px = i + 0.5
-                w0 = ((bx - px) * (cy - py) - (by - py) * (cx - px)) / area
-                w1 = ((cx - px) * (ay - py) - (cy - py) * (ax - px)) / area
-                w2 = 1.0 - w0 - w1
-                if w0 >= eps and w1 >= eps and w2 >= eps:
-                    face_map[j, i] = f
-                    bary[j, i, 0] = w0
-                    bary[j, i, 1] = w1
-                    bary[j, i, 2] = w2
-
-
 def rasterize_uv(
     uv: np.ndarray, faces: np.ndarray, shape: tuple[int, int]
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -204,38 +176,8 @@ def rasterize_uv(
     tex[:, 1] = (1 - uv[:, 1]) * height
     face = np.full((height, width), -1, np.int32)
     bary = np.zeros((height, width, 3))
-    _rasterize(tex, np.ascontiguousarray(faces, np.int64), face, bary)
+    _native.rasterize(tex, np.ascontiguousarray(faces, np.int64), face, bary)
     return face, bary
-
-
-@numba.njit(cache=True)
-def _dilate(out: np.ndarray, filled: np.ndarray, rings: int) -> None:
-    """Grow the filled region ring by ring (8-neighbours), copying values outwards."""
-    height, width = filled.shape
-    frontier = np.empty(height * width, np.int64)
-    n = 0
-    for j in range(height):
-        for i in range(width):
-            if filled[j, i]:
-                frontier[n] = j * width + i
-                n += 1
-    following = np.empty(height * width, np.int64)
-    ring = 0
-    while n > 0 and (rings < 0 or ring < rings):
-        m = 0
-        for k in range(n):
-            j, i = frontier[k] // width, frontier[k] % width
-            for dj in range(-1, 2):
-                for di in range(-1, 2):
-                    jj, ii = j + dj, i + di
-                    if 0 <= jj < height and 0 <= ii < width and not filled[jj, ii]:
-                        filled[jj, ii] = True
-                        out[jj, ii] = out[j, i]
-                        following[m] = jj * width + ii
-                        m += 1
-        frontier, following = following, frontier
-        n = m
-        ring += 1
 
 
 def dilate(
@@ -273,56 +215,18 @@ def _pad(out: np.ndarray, covered: ArrayLike, pixels: int | None, background: Ar
     """:func:`dilate` in place."""
     if pixels is not None and pixels < 0:
         raise ArgumentError(f"padding must be >= 0 texels; got {pixels}")
-    filled = np.array(covered, dtype=bool)
+    filled = np.array(covered, dtype=bool, order="C")
     if out.ndim != 3 or out.shape[:2] != filled.shape:
         raise ArgumentError(f"image {out.shape} and coverage {filled.shape} do not match")
-    _dilate(out, filled, -1 if pixels is None else int(pixels))
+    # the kernel copies whole texels: their bytes, whatever the dtype (src/normals/transfer.hpp)
+    texels = np.ascontiguousarray(out).reshape(out.shape[0], out.shape[1], -1)
+    _native.dilate(texels.view(np.uint8), filled, -1 if pixels is None else int(pixels))
+    if texels is not out:
+        out[...] = texels
     out[~filled] = background
 
 
 # --- frames and the per-texel kernel ------------------------------------------------------
-
-
-@numba.njit(cache=True, inline="always")
-def _to_tangent(
-    wx: float,
-    wy: float,
-    wz: float,
-    tx: float,
-    ty: float,
-    tz: float,
-    sign: float,
-    nx: float,
-    ny: float,
-    nz: float,
-) -> tuple[float, float, float]:
-    """[T B N]^-1 w normalised, B = sign * cross(N, T); (0, 0, 1) for a degenerate frame."""
-    bx = sign * (ny * tz - nz * ty)
-    by = sign * (nz * tx - nx * tz)
-    bz = sign * (nx * ty - ny * tx)
-    r0x, r0y, r0z = by * nz - bz * ny, bz * nx - bx * nz, bx * ny - by * nx  # B x N
-    r1x, r1y, r1z = ny * tz - nz * ty, nz * tx - nx * tz, nx * ty - ny * tx  # N x T
-    r2x, r2y, r2z = ty * bz - tz * by, tz * bx - tx * bz, tx * by - ty * bx  # T x B
-    det = tx * r0x + ty * r0y + tz * r0z
-    mx = wx * r0x + wy * r0y + wz * r0z
-    my = wx * r1x + wy * r1y + wz * r1z
-    mz = wx * r2x + wy * r2y + wz * r2z
-    length = math.sqrt(mx * mx + my * my + mz * mz)
-    if not (abs(det) > 1e-12 and length > 0 and math.isfinite(length)):
-        return 0.0, 0.0, 1.0
-    scale = math.copysign(1.0, det) / length
-    return mx * scale, my * scale, mz * scale
-
-
-@numba.njit(cache=True, parallel=True)
-def _world_to_tangent(
-    world: np.ndarray, tangent: np.ndarray, sign: np.ndarray, normal: np.ndarray, out: np.ndarray
-) -> None:
-    for i in numba.prange(world.shape[0]):
-        w, t, n = world[i], tangent[i], normal[i]
-        out[i, 0], out[i, 1], out[i, 2] = _to_tangent(
-            w[0], w[1], w[2], t[0], t[1], t[2], sign[i], n[0], n[1], n[2]
-        )
 
 
 def world_to_tangent(
@@ -343,139 +247,10 @@ def world_to_tangent(
     -------
     (N, 3) float64 unit normals in the tangent frame; (0, 0, 1) where the frame is degenerate.
     """
-    arrays = [np.ascontiguousarray(a, np.float64) for a in (world, tangent, sign, normal)]
-    out = np.empty((len(arrays[0]), 3))
-    _world_to_tangent(*arrays, out)
+    w, t, s, n = (np.ascontiguousarray(a, np.float64) for a in (world, tangent, sign, normal))
+    out = np.empty((len(w), 3))
+    _native.world_to_tangent(w, t, s, n, out)
     return out
-
-
-@numba.njit(cache=True, inline="always")
-def _detail(
-    texels: np.ndarray,
-    offsets: np.ndarray,
-    shapes: np.ndarray,
-    s: float,
-    t: float,
-    lod: float,
-    place: np.ndarray,
-    acc: np.ndarray,
-) -> tuple[float, float, float]:
-    """The detail normal at pattern coordinates (s, t): placed (tile, rotation, offset),
-    sampled trilinearly with wrap, renormalised, its XY turned with the pattern."""
-    a = s * place[0]
-    b = t * place[1]
-    c, sn = place[4], place[5]
-    qu = c * a + sn * b + place[2]
-    qv = -sn * a + c * b + place[3]
-    acc[0] = 0.0
-    acc[1] = 0.0
-    acc[2] = 0.0
-    trilinear_add(
-        texels, offsets, shapes, qu * shapes[0, 1], (1.0 - qv) * shapes[0, 0], lod, True, acc
-    )
-    length = math.sqrt(acc[0] * acc[0] + acc[1] * acc[1] + acc[2] * acc[2])
-    if not length > 0:
-        return 0.0, 0.0, 1.0
-    dx, dy, dz = acc[0] / length, acc[1] / length, acc[2] / length
-    return (c * dx - sn * dy) * place[6], (sn * dx + c * dy) * place[7], dz
-
-
-_UV2, _PLANAR, _BOX, _TRIPLANAR = 0, 1, 2, 3
-#: texels per task of the parallel kernel
-_TASK = 4096
-
-
-@numba.njit(cache=True, parallel=True)
-def _shade(
-    texels_idx: np.ndarray,
-    face_of: np.ndarray,
-    bary: np.ndarray,
-    faces: np.ndarray,
-    normals: np.ndarray,
-    positions: np.ndarray,
-    uv2: np.ndarray,
-    frame: np.ndarray,
-    frame2: np.ndarray,
-    texels: np.ndarray,
-    offsets: np.ndarray,
-    shapes: np.ndarray,
-    lod: np.ndarray,
-    box_axis: np.ndarray,
-    mode: int,
-    axis: int,
-    sharpness: float,
-    place: np.ndarray,
-    axes: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    n = texels_idx.shape[0]
-    for task in numba.prange((n + _TASK - 1) // _TASK):
-        acc = np.empty(3)
-        wt = np.empty(3)
-        for p in range(task * _TASK, min(n, (task + 1) * _TASK)):
-            q = texels_idx[p]
-            f = face_of[q]
-            b0, b1, b2 = bary[q, 0], bary[q, 1], bary[q, 2]
-            i0, i1, i2 = faces[f, 0], faces[f, 1], faces[f, 2]
-            nx = b0 * normals[i0, 0] + b1 * normals[i1, 0] + b2 * normals[i2, 0]
-            ny = b0 * normals[i0, 1] + b1 * normals[i1, 1] + b2 * normals[i2, 1]
-            nz = b0 * normals[i0, 2] + b1 * normals[i1, 2] + b2 * normals[i2, 2]
-            tx = b0 * frame[f, 0, 0] + b1 * frame[f, 1, 0] + b2 * frame[f, 2, 0]
-            ty = b0 * frame[f, 0, 1] + b1 * frame[f, 1, 1] + b2 * frame[f, 2, 1]
-            tz = b0 * frame[f, 0, 2] + b1 * frame[f, 1, 2] + b2 * frame[f, 2, 2]
-            if mode == _UV2:
-                s = b0 * uv2[i0, 0] + b1 * uv2[i1, 0] + b2 * uv2[i2, 0]
-                t = b0 * uv2[i0, 1] + b1 * uv2[i1, 1] + b2 * uv2[i2, 1]
-                dx, dy, dz = _detail(texels, offsets, shapes, s, t, lod[f, 0], place, acc)
-                ux = b0 * frame2[f, 0, 0] + b1 * frame2[f, 1, 0] + b2 * frame2[f, 2, 0]
-                uy = b0 * frame2[f, 0, 1] + b1 * frame2[f, 1, 1] + b2 * frame2[f, 2, 1]
-                uz = b0 * frame2[f, 0, 2] + b1 * frame2[f, 1, 2] + b2 * frame2[f, 2, 2]
-                s2 = frame2[f, 0, 3]
-                vx = s2 * (ny * uz - nz * uy)
-                vy = s2 * (nz * ux - nx * uz)
-                vz = s2 * (nx * uy - ny * ux)
-                wx = dx * ux + dy * vx + dz * nx
-                wy = dx * uy + dy * vy + dz * ny
-                wz = dx * uz + dy * vz + dz * nz
-            else:
-                nl = math.sqrt(nx * nx + ny * ny + nz * nz)
-                if not nl > 0:
-                    continue  # no normal: the texel stays flat
-                hx, hy, hz = nx / nl, ny / nl, nz / nl
-                px = b0 * positions[i0, 0] + b1 * positions[i1, 0] + b2 * positions[i2, 0]
-                py = b0 * positions[i0, 1] + b1 * positions[i1, 1] + b2 * positions[i2, 1]
-                pz = b0 * positions[i0, 2] + b1 * positions[i1, 2] + b2 * positions[i2, 2]
-                if mode == _TRIPLANAR:
-                    wt[0] = abs(hx) ** sharpness
-                    wt[1] = abs(hy) ** sharpness
-                    wt[2] = abs(hz) ** sharpness
-                    total = wt[0] + wt[1] + wt[2]
-                    for a in range(3):
-                        wt[a] /= total
-                else:
-                    chosen = box_axis[f] if mode == _BOX else axis
-                    for a in range(3):
-                        wt[a] = 1.0 if a == chosen else 0.0
-                gx = 0.0
-                gy = 0.0
-                gz = 0.0
-                for a in range(3):
-                    if wt[a] == 0.0:
-                        continue
-                    e = axes[a]
-                    s = px * e[0, 0] + py * e[0, 1] + pz * e[0, 2]
-                    t = px * e[1, 0] + py * e[1, 1] + pz * e[1, 2]
-                    dx, dy, dz = _detail(texels, offsets, shapes, s, t, lod[f, a], place, acc)
-                    k = -wt[a] / max(dz, 1e-6)
-                    gx += k * (dx * e[0, 0] + dy * e[1, 0])
-                    gy += k * (dx * e[0, 1] + dy * e[1, 1])
-                    gz += k * (dx * e[0, 2] + dy * e[1, 2])
-                gn = gx * hx + gy * hy + gz * hz
-                wx = hx - (gx - gn * hx)
-                wy = hy - (gy - gn * hy)
-                wz = hz - (gz - gn * hz)
-            m = _to_tangent(wx, wy, wz, tx, ty, tz, frame[f, 0, 3], nx, ny, nz)
-            out[q, 0], out[q, 1], out[q, 2] = m
 
 
 def _face_lod(detail_texels: np.ndarray, macro_texels: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -628,8 +403,8 @@ def transfer_detail(
     out[:, 2] = 1
     uv2 = mesh.uv2 if mesh.uv2 is not None else mesh.uv
     with progress.step("transferring"):
-        _shade(
-            texels,
+        _native.shade(  # the per-texel kernel: src/normals/transfer.hpp
+            texels.astype(np.int64, copy=False),
             face_map.reshape(-1),
             bary.reshape(-1, 3),
             faces,

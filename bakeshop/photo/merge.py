@@ -39,11 +39,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, with_article
+from bakeshop.photo import _native
 from bakeshop.photo.response import KNOWN_CURVES, CameraResponse
 from bakeshop.photo.stack import CLIP_HIGH, CLIP_LOW, LUMINANCE_PER_UNIT, ExposureStack, clip_codes
 from bakeshop.resources import Cost, require
@@ -97,262 +97,6 @@ def _tables(
     weight[codes >= high] = 0
     weight /= weight.max()
     return table.astype(np.float32), weight.astype(np.float32), slope.astype(np.float32)
-
-
-@numba.njit(parallel=True, cache=True)
-def _merge_rows(
-    codes: np.ndarray, table: np.ndarray, weight: np.ndarray, slope: np.ndarray,
-    low: int, high: int, inv_exposure: np.ndarray, shifts: np.ndarray, ghost: float,
-    noise: float, row0: int, row1: int, out: np.ndarray, votes: np.ndarray, wsum: np.ndarray,
-    status: np.ndarray, counts: np.ndarray,
-) -> None:  # fmt: skip  # pragma: no cover - compiled
-    p, h, w, nc = codes.shape
-    shift_y = np.floor(shifts[:, 0])
-    shift_x = np.floor(shifts[:, 1])
-    frac_y = shifts[:, 0] - shift_y
-    frac_x = shifts[:, 1] - shift_x
-    iys = shift_y.astype(np.int64)
-    ixs = shift_x.astype(np.int64)
-    whole = True
-    for j in range(p):
-        if frac_y[j] != 0.0 or frac_x[j] != 0.0:
-            whole = False
-    lut = np.empty((p, table.shape[0], nc), np.float32)
-    for j in range(p):
-        for z in range(table.shape[0]):
-            for c in range(nc):
-                lut[j, z, c] = table[z, c] * inv_exposure[j]
-    flag = np.zeros(table.shape[0], np.uint8)
-    for z in range(table.shape[0]):
-        if z >= high:
-            flag[z] = 1
-        elif z <= low:
-            flag[z] = 2
-    for y in numba.prange(row0, row1):
-        est = np.empty((p, nc), np.float32)
-        wts = np.empty((p, nc), np.float32)
-        sig = np.empty(p, np.float32)
-        state = np.empty(p, np.int8)
-        order_level = np.empty(p, np.float64)
-        order_w = np.empty(p, np.float64)
-        order_j = np.empty(p, np.int64)
-        acc = np.empty(nc, np.float64)
-        den = np.empty(nc, np.float64)
-        acc_all = np.empty(nc, np.float64)
-        den_all = np.empty(nc, np.float64)
-        first = np.empty(nc, np.float64)
-        last = np.empty(nc, np.float64)
-        for x in range(w):
-            if ghost == 0.0 and whole:  # no ghost test, whole-pixel shifts: one fused pass
-                n = 0
-                wsum_total = 0.0
-                for c in range(nc):
-                    acc[c] = 0.0
-                    den[c] = 0.0
-                    acc_all[c] = 0.0
-                    den_all[c] = 0.0
-                first_state = 0
-                last_state = 0
-                for j in range(p):
-                    y0 = min(max(y + iys[j], 0), h - 1)
-                    x0 = min(max(x + ixs[j], 0), w - 1)
-                    f = 0
-                    for c in range(nc):
-                        f |= flag[codes[j, y0, x0, c]]
-                    state_j = 1 if f & 1 else (2 if f else 0)
-                    if state_j == 1:
-                        counts[y, j, 0] += 1
-                    elif state_j == 2:
-                        counts[y, j, 1] += 1
-                    total = 0.0
-                    for c in range(nc):
-                        z = codes[j, y0, x0, c]
-                        e = lut[j, z, c]
-                        wt = weight[z, c]
-                        acc_all[c] += wt * e
-                        den_all[c] += wt
-                        if j == 0:
-                            first[c] = e
-                        if j == p - 1:
-                            last[c] = e
-                        if state_j == 0:
-                            acc[c] += wt * e
-                            den[c] += wt
-                            total += wt
-                    if j == 0:
-                        first_state = state_j
-                    if j == p - 1:
-                        last_state = state_j
-                    if state_j == 0:
-                        n += 1
-                        wsum_total += total / nc
-                code = 0
-                if n == 0:
-                    if first_state == 1:
-                        code = 1
-                        for c in range(nc):
-                            acc[c] = first[c]
-                            den[c] = 1.0
-                    elif last_state == 2:
-                        code = 2
-                        for c in range(nc):
-                            acc[c] = last[c]
-                            den[c] = 1.0
-                    else:
-                        for c in range(nc):
-                            if den_all[c] > 0.0:
-                                acc[c] = acc_all[c]
-                                den[c] = den_all[c]
-                            else:
-                                acc[c] = first[c]
-                                den[c] = 1.0
-                for c in range(nc):
-                    out[y, x, c] = acc[c] / den[c] if den[c] > 0.0 else 0.0
-                votes[y, x] = n
-                wsum[y, x] = wsum_total
-                status[y, x] = code
-                continue
-            for j in range(p):
-                iy = int(shift_y[j])
-                ix = int(shift_x[j])
-                fy = frac_y[j]
-                fx = frac_x[j]
-                y0 = min(max(y + iy, 0), h - 1)
-                x0 = min(max(x + ix, 0), w - 1)
-                y1 = min(max(y + iy + 1, 0), h - 1)
-                x1 = min(max(x + ix + 1, 0), w - 1)
-                hi = False
-                lo = False
-                sig[j] = 0.0
-                if fy == 0.0 and fx == 0.0:  # a whole-pixel shift (or none): one tap
-                    s_j = 0.0
-                    for c in range(nc):
-                        z = codes[j, y0, x0, c]
-                        f = flag[z]
-                        if f == 1:
-                            hi = True
-                        elif f == 2:
-                            lo = True
-                        est[j, c] = table[z, c] * inv_exposure[j]
-                        wts[j, c] = weight[z, c]
-                        s_j += slope[z, c]
-                    sig[j] = s_j / nc
-                else:
-                    for c in range(nc):
-                        lin = 0.0
-                        wt = 0.0
-                        sl = 0.0
-                        for t in range(4):
-                            ty = y0 if t < 2 else y1
-                            tx = x0 if t % 2 == 0 else x1
-                            tw = (1.0 - fy if t < 2 else fy) * (1.0 - fx if t % 2 == 0 else fx)
-                            if tw <= 0.0:
-                                continue
-                            z = codes[j, ty, tx, c]
-                            if z >= high:
-                                hi = True
-                            if z <= low:
-                                lo = True
-                            lin += tw * table[z, c]
-                            wt += tw * weight[z, c]
-                            sl += tw * slope[z, c]
-                        est[j, c] = lin * inv_exposure[j]
-                        wts[j, c] = wt
-                        sig[j] += sl / nc
-                state[j] = 1 if hi else (2 if lo else 0)
-                if hi:
-                    counts[y, j, 0] += 1
-                elif lo:
-                    counts[y, j, 1] += 1
-            # the reference for the ghost test: the median of the unclipped frames' log levels,
-            # one vote each (the frames that agree outvote one that saw something else, however
-            # well exposed it is)
-            ref_level = 0.0
-            ref_sig = 0.0
-            if ghost > 0.0:
-                m = 0
-                total_w = 0.0
-                for j in range(p):
-                    if state[j] == 0:
-                        level = 0.0
-                        for c in range(nc):
-                            level += est[j, c]
-                        if level > 0.0:
-                            order_level[m] = math.log(level)
-                            order_w[m] = 1.0
-                            order_j[m] = j
-                            total_w += 1.0
-                            m += 1
-                for a in range(1, m):  # insertion sort by level (m <= 64)
-                    lv, wv, jv = order_level[a], order_w[a], order_j[a]
-                    b = a - 1
-                    while b >= 0 and order_level[b] > lv:
-                        order_level[b + 1] = order_level[b]
-                        order_w[b + 1] = order_w[b]
-                        order_j[b + 1] = order_j[b]
-                        b -= 1
-                    order_level[b + 1] = lv
-                    order_w[b + 1] = wv
-                    order_j[b + 1] = jv
-                run = 0.0
-                for a in range(m):
-                    run += order_w[a]
-                    if run >= 0.5 * total_w:
-                        ref_level = order_level[a]
-                        ref_sig = sig[order_j[a]]
-                        break
-            n = 0
-            wsum_total = 0.0
-            for c in range(nc):
-                out[y, x, c] = 0.0
-            for c in range(nc):
-                acc[c] = 0.0
-                den[c] = 0.0
-            for j in range(p):
-                if state[j] != 0:
-                    continue
-                if ghost > 0.0:
-                    level = 0.0
-                    for c in range(nc):
-                        level += est[j, c]
-                    if level <= 0.0:
-                        continue
-                    if abs(math.log(level) - ref_level) > ghost + 3.0 * noise * (sig[j] + ref_sig):
-                        counts[y, j, 2] += 1
-                        continue
-                n += 1
-                total = 0.0
-                for c in range(nc):
-                    acc[c] += wts[j, c] * est[j, c]
-                    den[c] += wts[j, c]
-                    total += wts[j, c]
-                wsum_total += total / nc
-            code = 0
-            if n == 0:
-                if state[0] == 1:
-                    code = 1  # the darkest frame is clipped: a lower bound
-                    for c in range(nc):
-                        acc[c] = est[0, c]
-                        den[c] = 1.0
-                elif state[p - 1] == 2:
-                    code = 2  # the brightest frame is dark: an upper bound
-                    for c in range(nc):
-                        acc[c] = est[p - 1, c]
-                        den[c] = 1.0
-                else:  # each frame clipped in some channel: every channel on its own
-                    for j in range(p):
-                        for c in range(nc):
-                            acc[c] += wts[j, c] * est[j, c]
-                            den[c] += wts[j, c]
-                    for c in range(nc):
-                        if den[c] <= 0.0:
-                            acc[c] = est[0, c]
-                            den[c] = 1.0
-            for c in range(nc):
-                out[y, x, c] = acc[c] / den[c] if den[c] > 0.0 else 0.0
-            votes[y, x] = n
-            wsum[y, x] = wsum_total
-            status[y, x] = code
 
 
 @dataclass
@@ -456,9 +200,10 @@ def merge_stack(
     status = np.empty((h, w), np.uint8)
     counts = np.zeros((h, p, 3), np.int32)
     bands = range(0, h, BAND_ROWS)
+    codes = np.ascontiguousarray(codes)
     for r0 in progress.track(bands, f"merging {p} frames", total=len(bands)):
-        _merge_rows(
-            codes, table, weight, slope, low, high, inv_exposure, shifts,
+        _native.merge_rows(  # the kernel: src/photo/merge.hpp
+            codes, table, weight, slope, int(low), int(high), inv_exposure, shifts,
             float(ghost or 0.0), GHOST_NOISE, r0, min(h, r0 + BAND_ROWS),
             out, votes, wsum, status, counts,
         )  # fmt: skip

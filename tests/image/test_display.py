@@ -309,7 +309,7 @@ def test_adaptation_step_reaches_63_percent_after_one_time_constant():
         adapt_exposure([0.0], frame_time=0)
 
 
-@settings(deadline=None)  # the first call loads numba's compiled kernels
+@settings(deadline=None)  # the first call imports the module and its compiled kernels
 @given(st.floats(-1e6, 1e6, allow_nan=False))
 def test_srgb_round_trip_property(x):
     assert srgb_decode(srgb_encode(np.float64(x))) == pytest.approx(x, rel=1e-12, abs=1e-15)
