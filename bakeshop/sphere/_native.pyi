@@ -114,4 +114,34 @@ def latlong_window(
     h: int, w: int, top: int, bottom: int, left: int, right: int, dirs: np.ndarray
 ) -> None: ...
 
+# texels.hpp: texel directions, cosines and checks
+def count_nonfinite(flat: np.ndarray) -> tuple[int, int, int]: ...
+def row_directions(
+    kind: int, h: int, w: int, r0: int, r1: int, trig: np.ndarray, out: np.ndarray
+) -> None: ...
+def index_directions(
+    kind: int, h: int, w: int, index: np.ndarray, trig: np.ndarray, out: np.ndarray
+) -> None: ...
+def texel_cosines(
+    kind: int, faces: int, h: int, w: int, up: np.ndarray, out: np.ndarray
+) -> None: ...
+
+# cube_latlong.hpp: a cube texel's exact overlaps with a latlong's texels
+def latlong_taps(
+    skind: int,
+    sh: int,
+    sw: int,
+    f: int,
+    i: int,
+    j: int,
+    rot: np.ndarray,
+    dh: int,
+    dw: int,
+    om: float,
+    o: int,
+    room: int,
+    taps: np.ndarray,
+    weights: np.ndarray,
+) -> int: ...
+
 # --- end of sampling ---------------------------------------------------------------------------

@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "common/bind.hpp"
+#include "sphere/cube_latlong.hpp"
 #include "sphere/gather.hpp"
 #include "sphere/maps.hpp"
 #include "sphere/texels.hpp"
@@ -331,4 +332,24 @@ void bind_sampling(nb::module_& m) {
         sphere::texel_cosines(kind, faces, h, w, up.data(), out.data());
       },
       "kind"_a, "faces"_a, "h"_a, "w"_a, "up"_a, "out"_a.noconvert(), release_gil());
+  // --- cube_latlong.hpp -----------------------------------------------------------------------
+  m.def(
+      "latlong_taps",
+      [](int skind, index_t sh, index_t sw, index_t f, index_t i, index_t j, In<double, 2> rot,
+         index_t dh, index_t dw, double om, index_t o, index_t room, Out<int32_t, 1> taps,
+         Out<float, 1> weights) {
+        check_kind(skind, sh, sw);
+        check_kind(sphere::LATLONG, dh, dw);
+        check_rot(rot);
+        require(sphere::is_cubic(skind) && 0 <= f && f < 6 && 0 <= i && i < sw && 0 <= j &&
+                    j < sh,
+                "latlong_taps: (f, i, j) must be a texel of a cube source");
+        require(0 <= o && 0 <= room && o + room <= static_cast<index_t>(taps.shape(0)) &&
+                    o + room <= static_cast<index_t>(weights.shape(0)),
+                "latlong_taps: taps and weights must have room from o");
+        return sphere::latlong_taps<float>(skind, sh, sw, f, i, j, rot.data(), dh, dw, om, o, room,
+                                           taps.data(), weights.data());
+      },
+      "skind"_a, "sh"_a, "sw"_a, "f"_a, "i"_a, "j"_a, "rot"_a, "dh"_a, "dw"_a, "om"_a, "o"_a,
+      "room"_a, "taps"_a.noconvert(), "weights"_a.noconvert(), release_gil());
 }
