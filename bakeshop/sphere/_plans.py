@@ -56,6 +56,7 @@ def build(
     rot = key_matrix(rotation)
     if out is None:
         image = out = _NO_IMAGE
+    assert image is not None, "a plan is applied to an image"
     base = np.empty(m, np.int32)
     frac = np.empty((0, 2) if nearest else (m, 2), np.float32)
     _native.plan(s.kind, sh, sw, d.kind, dh, dw, faces, rot, nearest, base, frac, image, out,
