@@ -27,10 +27,9 @@ from typing import Any, NamedTuple
 import numba
 import numpy as np
 
-from bakeshop import progress
+from bakeshop import progress, threads
 from bakeshop.sphere import _area_kernels as kernels
-from bakeshop.sphere import _gather, _maps, _plans
-from bakeshop.sphere import _matrix_kernels as matrix_kernels
+from bakeshop.sphere import _gather, _maps, _native, _plans
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere._gather import EXCEPTION
 from bakeshop.sphere.cube import FACE_BASES
@@ -85,7 +84,7 @@ def _splat(
         width=np.zeros(n, np.float32),
         parts=np.ones((n, 2), np.int32),
         # one float64 (m, 2) buffer per thread, as many as fit in AREA_BUFFER_BYTES
-        acc=np.zeros((max(1, min(numba.get_num_threads(), AREA_BUFFER_BYTES // (m * 16))), m, 2)),
+        acc=np.zeros((max(1, min(threads.count(), AREA_BUFFER_BYTES // (m * 16))), m, 2)),
     )
     kernels.splat_plan(s.kind, sh, sw, sfaces, omega, d.kind, dh, dw, rot, *splat)
     return splat
@@ -165,18 +164,18 @@ def _rows(splat: _Splat, merged: tuple[np.ndarray, np.ndarray, np.ndarray], alph
     ``(indptr int64, indices int32, values float32)``."""
     offsets, taps, weights = merged
     m = len(alpha)
-    cursor = np.zeros((numba.get_num_threads(), m), np.int64)
+    cursor = np.zeros((threads.count(), m), np.int64)
     none = (np.empty(0, np.int32), np.empty(0, np.float32))
     deposits = (splat.anchor, splat.wq, splat.scale, dst_width, offsets, taps, weights, alpha,
                 inverse, cursor)  # fmt: skip
-    matrix_kernels.splat_rows(*deposits, False, *none)
+    _native.splat_rows(*deposits, False, *none)
     counts = np.zeros(m, np.int64)
-    matrix_kernels.bilinear_rows(alpha, src_width, *bilinear, counts, counts, False, *none)
+    _native.bilinear_rows(alpha, src_width, *bilinear, counts, counts, False, *none)
     indptr = np.zeros(m + 1, np.int64)
-    matrix_kernels.row_starts(cursor, counts, indptr)
+    _native.row_starts(cursor, counts, indptr)
     rows = (np.empty(indptr[-1], np.int32), np.empty(indptr[-1], np.float32))
-    matrix_kernels.splat_rows(*deposits, True, *rows)
-    matrix_kernels.bilinear_rows(alpha, src_width, *bilinear, indptr, counts, True, *rows)
+    _native.splat_rows(*deposits, True, *rows)
+    _native.bilinear_rows(alpha, src_width, *bilinear, indptr, counts, True, *rows)
     return indptr, rows[0], rows[1]
 
 
@@ -195,19 +194,19 @@ def _balance(indptr: np.ndarray, indices: np.ndarray, values: np.ndarray, omega_
     sooner), ending on the rows (exact). Stops when every column is within AREA_BALANCE_RTOL or
     after AREA_BALANCE_ITERATIONS; returns the largest relative column error left."""
     n = len(omega_in)
-    threads = max(1, min(numba.get_num_threads(), AREA_BUFFER_BYTES // (n * 8)))
-    blocks = np.searchsorted(indptr, np.linspace(0, indptr[-1], threads + 1)).astype(np.int64)
+    chunks = max(1, min(threads.count(), AREA_BUFFER_BYTES // (n * 8)))
+    blocks = np.searchsorted(indptr, np.linspace(0, indptr[-1], chunks + 1)).astype(np.int64)
     blocks[-1] = len(indptr) - 1  # rows of equal total length, the empty last rows included
-    energy = np.zeros((threads, n))
+    energy = np.zeros((chunks, n))
     col = np.ones(n)
     step = np.ones(n)
     err = np.inf
     for _ in range(AREA_BALANCE_ITERATIONS):
-        matrix_kernels.balance_rows(indptr, indices, values, omega_out, col, blocks, energy)
-        err = matrix_kernels.balance_columns(energy, omega_in, col, step)
+        _native.balance_rows(indptr, indices, values, omega_out, col, blocks, energy)
+        err = _native.balance_columns(energy, omega_in, col, step)
         if err <= AREA_BALANCE_RTOL:
             break
-    matrix_kernels.scale_rows(indptr, indices, values, col)
+    _native.scale_rows(indptr, indices, values, col)
     return err
 
 
@@ -272,7 +271,7 @@ def _build_for(
     lengths[1:][used] = np.diff(indptr)[order[used]]
     view_indptr = np.cumsum(lengths)
     view_rows = (np.empty_like(indices), np.empty_like(values))
-    matrix_kernels.reorder_rows(indptr, indices, values, order, view_indptr, *view_rows)
+    _native.reorder_rows(indptr, indices, values, order, view_indptr, *view_rows)
     plan = (view_indptr, *view_rows)
     for a in plan:
         a.setflags(write=False)
@@ -300,7 +299,7 @@ def area_remap(
         if len(indptr) == 0:
             return None
         out = np.empty(dst_shape + (flat.shape[1],), flat.dtype)
-        matrix_kernels.area_gather(flat, indptr, indices, values, out.reshape(-1, flat.shape[1]))
+        _native.area_gather(flat, indptr, indices, values, out.reshape(-1, flat.shape[1]))
     return out
 
 
@@ -628,7 +627,8 @@ def peak_candidates(values: np.ndarray, omega: np.ndarray, start: int = 0) -> tu
     values = np.asarray(values)
     peak = np.empty(len(values), values.dtype)
     stats = np.zeros(3)
-    _peak_stats(values, omega, stats, peak)
+    # peak[t]: texel t's brightest channel, -inf without solid angle (numpy's max: 8x slower)
+    _native.peak_stats(values, omega, stats, peak)
     keep = min(len(peak), MAX_BRIGHT + 1)
     top = np.argpartition(peak, len(peak) - keep)[len(peak) - keep :]
     top = top[np.isfinite(peak[top])]
@@ -656,23 +656,6 @@ def bright_texels(parts: list) -> tuple[float, np.ndarray, np.ndarray]:
         return none
     order = np.argsort(index[above])
     return clamp, index[above][order], values[above][order]
-
-
-@numba.njit(cache=True)
-def _peak_stats(  # pragma: no cover - compiled
-    values: np.ndarray, omega: np.ndarray, stats: np.ndarray, peaks: np.ndarray
-) -> None:
-    # peaks[t]: texel t's brightest channel, -inf without solid angle (numpy's max: 8x slower)
-    for t in range(values.shape[0]):
-        peaks[t] = -np.inf
-        if omega[t] > 0:
-            peak = values[t, 0]
-            for c in range(1, values.shape[1]):
-                peak = max(peak, values[t, c])
-            peaks[t] = peak
-            stats[0] += peak * omega[t]
-            stats[1] += omega[t]
-            stats[2] = max(stats[2], peak)
 
 
 def sample_weights(
