@@ -414,21 +414,6 @@ def nearest_texel(kind: int, h: int, w: int, f: float, x: float, y: float) -> in
 # --- drivers ------------------------------------------------------------------------------------
 
 
-@numba.njit(parallel=True, cache=True, error_model="numpy")
-def directions_at(kind: int, h: int, w: int, coords: np.ndarray, out: np.ndarray) -> None:
-    for p in numba.prange(coords.shape[0]):
-        out[p, 0], out[p, 1], out[p, 2] = direction(
-            kind, h, w, coords[p, 0], coords[p, 1], coords[p, 2]
-        )
-
-
-@numba.njit(parallel=True, cache=True, error_model="numpy")
-def coordinates_of(kind: int, h: int, w: int, dirs: np.ndarray, out: np.ndarray) -> None:
-    for p in numba.prange(dirs.shape[0]):
-        f, x, y = coordinates(kind, h, w, dirs[p, 0], dirs[p, 1], dirs[p, 2])
-        out[p, 0], out[p, 1], out[p, 2] = f, x, y
-
-
 @_jit
 def rotate(rot: np.ndarray, x: float, y: float, z: float) -> tuple[float, float, float]:
     # R^T d: what the output shows at d is what the input showed at R^T d
@@ -451,17 +436,3 @@ def latlong_trig(h: int, w: int) -> np.ndarray:
         theta = math.pi * (j + 0.5) / h
         trig[2, j], trig[3, j] = math.sin(theta), math.cos(theta)
     return trig
-
-
-@numba.njit(parallel=True, cache=True)
-def latlong_directions(out: np.ndarray) -> None:
-    """Fill ``out`` (H, W, 3) with the latlong texel-centre directions
-    ``(sin theta_j sin phi_i, cos theta_j, -sin theta_j cos phi_i)``."""
-    h, w = out.shape[0], out.shape[1]
-    trig = latlong_trig(h, w)
-    for j in numba.prange(h):
-        st, ct = trig[2, j], trig[3, j]
-        for i in range(w):
-            out[j, i, 0] = st * trig[0, i]
-            out[j, i, 1] = ct
-            out[j, i, 2] = -st * trig[1, i]

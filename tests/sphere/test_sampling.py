@@ -415,7 +415,8 @@ def test_a_cube_texels_overlaps_with_a_latlongs_texels(face, j, i, rotation):
     3e-4 of the texel's solid angle (measured 2e-5 to 1e-4, and 6e-6 to 2e-5 with 1600 x 1600
     points: the points' own error)."""
     from bakeshop.sphere._cube_latlong import latlong_taps
-    from bakeshop.sphere._maps import CUBE, directions_at
+    from bakeshop.sphere._kinds import CUBE
+    from bakeshop.sphere._native import directions_at
 
     rot = np.eye(3) if rotation is None else rotation_matrix(*rotation)
     omega = layout("cube").solid_angles((6, 512, 512))[face, j, i]
