@@ -3,9 +3,9 @@
 Every source texel deposits its solid angle into the output texels that its footprint (the box
 bounding its locally affine image) overlaps, in proportion to the overlap; where the output is
 locally finer, the source texel is first cut into parts, each depositing its own solid angle.
-The resulting matrix is built in four stages, each a function here over the kernels of
-:mod:`bakeshop.sphere._area_kernels` (the deposits) and :mod:`~bakeshop.sphere._matrix_kernels`
-(the matrix):
+The resulting matrix is built in four stages, each a function here over the compiled kernels
+of ``src/sphere/area.hpp`` (the deposits) and ``src/sphere/matrix.hpp`` (the matrix), through
+:mod:`bakeshop.sphere._native`:
 
 1. :func:`_splat`: the deposits of ordinary texels (a 3x3 block of output texels each) and the
    blend towards bilinear where the deposits cover too little;
@@ -24,15 +24,13 @@ from __future__ import annotations
 import math
 from typing import Any, NamedTuple
 
-import numba
 import numpy as np
 
 from bakeshop import progress, threads
-from bakeshop.sphere import _area_kernels as kernels
-from bakeshop.sphere import _gather, _maps, _native, _plans
+from bakeshop.sphere import _gather, _native, _plans
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere._gather import EXCEPTION
-from bakeshop.sphere.cube import FACE_BASES
+from bakeshop.sphere._kinds import CUBE, LATLONG, OPENEXR_CUBE
 from bakeshop.sphere.layouts import MAX_EDGE, MAX_TEXELS, Layout, layout
 from bakeshop.sphere.reductions import box_reduce
 from bakeshop.sphere.rotation import key_matrix
@@ -55,7 +53,8 @@ AREA_BALANCE_RTOL = 1e-4
 
 
 class _Splat(NamedTuple):
-    """The per-source-texel deposits of :func:`_splat` (see ``_area_kernels.splat_plan``)."""
+    """The per-source-texel deposits of :func:`_splat` (see ``splat_plan`` in
+    ``src/sphere/area.hpp``)."""
 
     anchor: np.ndarray  # int32 (n,): first output texel of a 3x3 block, EXCEPTION, or -1
     wq: np.ndarray  # float32 (n, 4): box weights along x and y
@@ -86,7 +85,7 @@ def _splat(
         # one float64 (m, 2) buffer per thread, as many as fit in AREA_BUFFER_BYTES
         acc=np.zeros((max(1, min(threads.count(), AREA_BUFFER_BYTES // (m * 16))), m, 2)),
     )
-    kernels.splat_plan(s.kind, sh, sw, sfaces, omega, d.kind, dh, dw, rot, *splat)
+    _native.splat_plan(s.kind, sh, sw, sfaces, omega, d.kind, dh, dw, rot, *splat)
     return splat
 
 
@@ -122,18 +121,35 @@ def _merge(s: Layout, src_shape: tuple[int, ...], d: Layout, dst_shape: tuple[in
         np.cumsum(room[start:stop], out=at[1:])
         taps, weights = scratch[0][: at[-1]], scratch[1][: at[-1]]
         counts = offsets[start + 1 : stop + 1]
-        kernels.splat_exceptions(s.kind, sh, sw, omega, d.kind, dh, dw, rot, where[start:stop],
-                                 parts, at, taps, weights, counts)  # fmt: skip
+        _splat_exceptions(s.kind, sh, sw, omega, d.kind, dh, dw, rot, where[start:stop], parts,
+                          at, taps, weights, counts)  # fmt: skip
         kept_ends = np.cumsum(counts) + kept.size
         # room for everything at this chunk's merged share of the unmerged deposits, + 1/16
         expected = int(kept_ends[-1] / ends[stop - 1] * ends[-1] * 17 / 16) + 1024
         kept.reserve(int(kept_ends[-1]), expected)
-        kernels.compact_exceptions(at, counts, taps, weights, kept_ends, *kept.arrays)
+        _native.compact_exceptions(at, counts, taps, weights, kept_ends, *kept.arrays)
         kept.size = int(kept_ends[-1])
         start = stop
     np.cumsum(offsets, out=offsets)
     taps, weights = kept.filled()
     return offsets, taps, weights
+
+
+def _splat_exceptions(skind: int, sh: int, sw: int, omega: np.ndarray, dkind: int, dh: int,
+                      dw: int, rot: np.ndarray, where: np.ndarray, parts: np.ndarray,
+                      at: np.ndarray, taps: np.ndarray, weights: np.ndarray,
+                      counts: np.ndarray) -> None:  # fmt: skip
+    """The merged deposits of the texels ``where`` (``splat_exceptions``, src/sphere/area.hpp):
+    texel k's at ``at[k]`` onwards, ``counts[k]`` of them. A cube's texels cut into parts into
+    a latlong deposit their exact overlaps (``_cube_latlong``, still numba) first."""
+    latlong_done = skind in (CUBE, OPENEXR_CUBE) and dkind == LATLONG
+    if latlong_done:
+        from bakeshop.sphere._area_kernels import cube_latlong_taps
+
+        cube_latlong_taps(skind, sh, sw, omega, dh, dw, rot, where, parts, at, taps, weights,
+                          counts)  # fmt: skip
+    _native.splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, at, taps,
+                             weights, counts, latlong_done)  # fmt: skip
 
 
 class _Growing:
@@ -232,12 +248,12 @@ def _build(
     where = np.flatnonzero(splat.anchor == EXCEPTION)
     merged = _merge(s, src_shape, d, dst_shape, rot, omega, where, splat.parts)
     if len(where):
-        kernels.deposit_exceptions(where, *merged, splat.width, splat.acc)
+        _native.deposit_exceptions(where, *merged, splat.width, splat.acc)
         splat.anchor[where] = EXCEPTION - np.arange(len(where), dtype=np.int32)
     m = splat.acc.shape[1]
     alpha, inverse = np.empty(m, np.float32), np.empty(m, np.float32)
     omega_out = d.solid_angles(dst_shape).reshape(-1)
-    kernels.area_alpha(splat.acc, omega_out, alpha, inverse)
+    _native.area_alpha(splat.acc, omega_out, alpha, inverse)
     src_width, dst_width = s.grid(src_shape)[1], d.grid(dst_shape)[1]
     # the bilinear plan's taps fill in where the deposits cover too little
     bilinear = _plans.cached(src, src_shape, dst, dst_shape, "bilinear", rotation)
@@ -382,7 +398,12 @@ def supersample(
     out = np.empty((faces * dh, dw, c), flat.dtype)
     step = max(1, SUPERSAMPLE_PART // (k * k * dw))
     if d.name == "cube":  # one fused pass, the samples' weights from the face's density
-        _supersample_cube(s.kind, sh, sw, flat, clamp, dh, k, key_matrix(rotation), out)
+        # out[f, j, i]: the mean of the k x k samples of cube texel (f, i, j), each weighed by the
+        # face's solid angle density (1 + sc^2 + tc^2)^-1.5 and looked up bilinearly in the
+        # source clamped at clamp (src/sphere/reduce.hpp); with k >= 3 the samples' source
+        # coordinates are the centre's plus the map's derivatives where that is within 0.05
+        # source texels of exact
+        _native._supersample_cube(s.kind, sh, sw, flat, clamp, dh, k, key_matrix(rotation), out)
         step = faces * dh
     for top in range(faces * dh if d.name == "cube" else 0, faces * dh, step):
         bottom = min(top + step, faces * dh)
@@ -398,116 +419,6 @@ def supersample(
         flat_out = out.reshape(-1, c)
         np.add.at(flat_out, q, values.astype(flat_out.dtype))
     return out.reshape(tuple(dst_shape) + (c,))
-
-
-@numba.njit(cache=True, inline="always", error_model="numpy")
-def _source_xy(  # pragma: no cover - compiled
-    skind: int, sh: int, sw: int, rot: np.ndarray, f: int, sc: float, tc: float
-) -> tuple[float, float, float]:
-    # source coordinates (face, x, y) of cube face f's point (sc, tc)
-    x = _BASES[f, 0, 0] + sc * _BASES[f, 1, 0] + tc * _BASES[f, 2, 0]
-    y = _BASES[f, 0, 1] + sc * _BASES[f, 1, 1] + tc * _BASES[f, 2, 1]
-    z = _BASES[f, 0, 2] + sc * _BASES[f, 1, 2] + tc * _BASES[f, 2, 2]
-    x, y, z = _maps.rotate(rot, x, y, z)
-    if skind == _maps.LATLONG:
-        u, v = _maps.latlong_xy(sh, sw, x, y, z)
-        return 0, u, v
-    return _maps.coordinates(skind, sh, sw, x, y, z)
-
-
-#: where the source coordinates of a cube texel's samples are interpolated from its centre's
-#: (k >= 3 samples a side), they may be this far (in source texels) from the exact ones, else
-#: every sample's are computed.
-_LINEAR_TOLERANCE = 0.05
-
-
-@numba.njit(parallel=True, cache=True, error_model="numpy")
-def _supersample_cube(skind: int, sh: int, sw: int, src: np.ndarray, clamp: float, size: int,
-                      k: int, rot: np.ndarray,
-                      out: np.ndarray) -> None:  # pragma: no cover - compiled  # fmt: skip
-    # out[f, j, i] = sum_s w_s R(p_s) / sum_s w_s over the k x k sample points of cube texel
-    # (f, i, j) (the centres of its finer grid's texels), w_s = (1 + sc^2 + tc^2)^-1.5 (the
-    # face's solid angle density there), R the bilinear lookup of the source clamped at clamp.
-    # With k >= 3 the samples' source coordinates are the texel centre's plus the map's
-    # derivatives times their offsets, where that is within _LINEAR_TOLERANCE of exact.
-    channels = src.shape[1]
-    step = 2.0 / (size * k)
-    half = 0.5 * (k - 1)
-    for row in numba.prange(6 * size):
-        f = row // size
-        j = row - f * size
-        acc = np.zeros(channels)
-        for i in range(size):
-            acc[:] = 0.0
-            total = 0.0
-            sc0 = (i * k + 0.5 + half) * step - 1.0
-            tc0 = (j * k + 0.5 + half) * step - 1.0
-            linear = False
-            if k >= 3:
-                f0, u0, v0 = _source_xy(skind, sh, sw, rot, f, sc0, tc0)
-                f1, u1, v1 = _source_xy(skind, sh, sw, rot, f, sc0 + step, tc0)
-                f2, u2, v2 = _source_xy(skind, sh, sw, rot, f, sc0, tc0 + step)
-                f3, u3, v3 = _source_xy(skind, sh, sw, rot, f, sc0 - half * step, tc0 - half * step)
-                dus, dvs, dut, dvt = u1 - u0, v1 - v0, u2 - u0, v2 - v0
-                pu = u0 - half * (dus + dut)
-                pv = v0 - half * (dvs + dvt)
-                linear = (
-                    f0 == f1 and f0 == f2 and f0 == f3
-                    and abs(pu - u3) < _LINEAR_TOLERANCE and abs(pv - v3) < _LINEAR_TOLERANCE
-                )  # fmt: skip
-            for a in range(k):
-                tc = (j * k + a + 0.5) * step - 1.0
-                for b in range(k):
-                    sc = (i * k + b + 0.5) * step - 1.0
-                    q = 1.0 + sc * sc + tc * tc
-                    w = 1.0 / (q * math.sqrt(q))
-                    if linear:
-                        sf = f0
-                        u = u0 + (b - half) * dus + (a - half) * dut
-                        v = v0 + (b - half) * dvs + (a - half) * dvt
-                    else:
-                        sf, u, v = _source_xy(skind, sh, sw, rot, f, sc, tc)
-                    total += w
-                    _add_bilinear(skind, sh, sw, src, clamp, sf, u, v, w, acc)
-            for c in range(channels):
-                out[row, i, c] = acc[c] / total
-
-
-@numba.njit(cache=True, inline="always", error_model="numpy")
-def _add_bilinear(kind: int, h: int, w: int, src: np.ndarray, clamp: float, f: float, x: float,
-                  y: float, weight: float,
-                  acc: np.ndarray) -> None:  # pragma: no cover - compiled  # fmt: skip
-    # acc += weight * the seam-aware bilinear value at coordinates (f, x, y), every texel
-    # clamped at clamp (a cube corner's missing texel is the mean of the other three)
-    xs, ys = x - 0.5, y - 0.5
-    x0, y0 = math.floor(xs), math.floor(ys)
-    fx, fy = xs - x0, ys - y0
-    i0, j0 = int(x0), int(y0)
-    base = _gather.block(kind, h, w, f, i0, j0, 2)
-    if base >= 0:
-        t0, t1, t2, t3 = base, base + 1, base + w, base + w + 1
-    else:
-        t0 = _maps.resolve(kind, h, w, f, i0, j0, x)
-        t1 = _maps.resolve(kind, h, w, f, i0 + 1, j0, x)
-        t2 = _maps.resolve(kind, h, w, f, i0, j0 + 1, x)
-        t3 = _maps.resolve(kind, h, w, f, i0 + 1, j0 + 1, x)
-    w0, w1 = (1.0 - fx) * (1.0 - fy) * weight, fx * (1.0 - fy) * weight
-    w2, w3 = (1.0 - fx) * fy * weight, fx * fy * weight
-    for c in range(src.shape[1]):
-        v0 = min(src[t0, c], clamp) if t0 >= 0 else 0.0
-        v1 = min(src[t1, c], clamp) if t1 >= 0 else 0.0
-        v2 = min(src[t2, c], clamp) if t2 >= 0 else 0.0
-        v3 = min(src[t3, c], clamp) if t3 >= 0 else 0.0
-        if t0 < 0 or t1 < 0 or t2 < 0 or t3 < 0:
-            m = (v0 + v1 + v2 + v3) / 3.0
-            v0 = v0 if t0 >= 0 else m
-            v1 = v1 if t1 >= 0 else m
-            v2 = v2 if t2 >= 0 else m
-            v3 = v3 if t3 >= 0 else m
-        acc[c] += w0 * v0 + w1 * v1 + w2 * v2 + w3 * v3
-
-
-_BASES = np.ascontiguousarray(FACE_BASES)
 
 
 def bright_deposits(

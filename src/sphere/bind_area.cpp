@@ -2,6 +2,7 @@
 // exact reductions and the supersampling (src/sphere/reduce.hpp), its geometry
 // (src/sphere/area.hpp). Python: bakeshop/sphere/area.py, bakeshop/sphere/reductions.py.
 #include "common/bind.hpp"
+#include "sphere/area.hpp"
 #include "sphere/matrix.hpp"
 #include "sphere/reduce.hpp"
 
@@ -73,6 +74,39 @@ void def_peak_stats(nb::module_& m) {
                            omega.data(), stats.data(), peaks.data());
       },
       "values"_a, "omega"_a, "stats"_a.noconvert(), "peaks"_a.noconvert(), release_gil());
+}
+
+
+void require_rotation(const In<double, 2>& rot) {
+  require(rot.shape(0) == 3 && rot.shape(1) == 3, "the rotation must be 3 x 3");
+}
+
+bool is_cubic_kind(int kind) { return sphere::is_cubic(kind); }
+
+void require_grid(int kind, int64_t h, int64_t w, const char* what) {
+  require(kind >= 0 && kind <= 9 && h >= 1 && w >= 1, what);
+}
+
+template <class T>
+void def_supersample_cube(nb::module_& m) {
+  m.def(
+      "_supersample_cube",
+      [](int skind, int64_t sh, int64_t sw, In<T, 2> src, double clamp, int64_t size, int64_t k,
+         In<double, 2> rot, Out<T, 3> out) {
+        require_grid(skind, sh, sw, "_supersample_cube: a bad source grid");
+        require_rotation(rot);
+        require(size >= 1 && k >= 1, "_supersample_cube: size and k must be positive");
+        require(static_cast<int64_t>(out.shape(0)) == 6 * size &&
+                    static_cast<int64_t>(out.shape(1)) == size && out.shape(2) == src.shape(1),
+                "_supersample_cube: out must be (6 size, size, C)");
+        Errors errors;
+        sphere::supersample_cube(skind, sh, sw, src.data(), len(src),
+                                 static_cast<index_t>(src.shape(1)), clamp, size, k, rot.data(),
+                                 out.data(), errors);
+        errors.check();
+      },
+      "skind"_a, "sh"_a, "sw"_a, "src"_a, "clamp"_a, "size"_a, "k"_a, "rot"_a,
+      "out"_a.noconvert(), release_gil());
 }
 
 }  // namespace
@@ -221,4 +255,121 @@ void bind_area(nb::module_& m) {
   def_peak_stats<double, double>(m);
   def_peak_stats<float, float>(m);
   def_peak_stats<double, float>(m);
+
+  // --- the geometry (area.hpp) ---
+  m.def(
+      "splat_plan",
+      [](int skind, int64_t sh, int64_t sw, int64_t sfaces, In<double, 1> omega, int dkind,
+         int64_t dh, int64_t dw, In<double, 2> rot, Out<int32_t, 1> anchor, Out<float, 2> wq,
+         Out<float, 1> scale, Out<float, 1> width, Out<int32_t, 2> parts, Out<double, 3> acc) {
+        require_grid(skind, sh, sw, "splat_plan: a bad source grid");
+        require_grid(dkind, dh, dw, "splat_plan: a bad destination grid");
+        require_rotation(rot);
+        const index_t n = sfaces * sh * sw;
+        require(sfaces >= 1 && len(omega) == n && len(anchor) == n && len(wq) == n &&
+                    wq.shape(1) == 4 && len(scale) == n && len(width) == n &&
+                    len(parts) == n && parts.shape(1) == 2,
+                "splat_plan: the per-texel arrays must hold the source's texels");
+        const index_t faces = is_cubic_kind(dkind) ? 6 : 1;
+        const index_t m_ = static_cast<index_t>(acc.shape(1));
+        require(len(acc) >= 1 && m_ == faces * dh * dw && acc.shape(2) == 2,
+                "splat_plan: acc must be (chunks, destination texels, 2)");
+        sphere::splat_plan(skind, sh, sw, sfaces, omega.data(), dkind, dh, dw, rot.data(),
+                           anchor.data(), wq.data(), scale.data(), width.data(), parts.data(),
+                           acc.data(), len(acc), m_);
+      },
+      "skind"_a, "sh"_a, "sw"_a, "sfaces"_a, "omega"_a, "dkind"_a, "dh"_a, "dw"_a, "rot"_a,
+      "anchor"_a.noconvert(), "wq"_a.noconvert(), "scale"_a.noconvert(), "width"_a.noconvert(),
+      "parts"_a.noconvert(), "acc"_a.noconvert(), release_gil());
+  m.def(
+      "splat_exceptions",
+      [](int skind, int64_t sh, int64_t sw, In<double, 1> omega, int dkind, int64_t dh,
+         int64_t dw, In<double, 2> rot, In<int64_t, 1> where, In<int32_t, 2> parts,
+         In<int64_t, 1> offsets, Out<int32_t, 1> taps, Out<float, 1> weights,
+         Out<int64_t, 1> counts, bool latlong_done) {
+        require_grid(skind, sh, sw, "splat_exceptions: a bad source grid");
+        require_grid(dkind, dh, dw, "splat_exceptions: a bad destination grid");
+        require_rotation(rot);
+        const index_t n = len(where), texels = len(omega);
+        require(len(parts) == texels && parts.shape(1) == 2,
+                "splat_exceptions: parts must be (source texels, 2)");
+        require(len(offsets) == n + 1 && len(counts) == n,
+                "splat_exceptions: offsets (n + 1,) and counts (n,) for n texels");
+        require(len(weights) == len(taps), "splat_exceptions: taps and weights differ");
+        const int64_t *wh = where.data(), *at = offsets.data();
+        const int32_t* pa = parts.data();
+        bool ok = n == 0 || (at[0] >= 0 && at[n] <= len(taps));
+        for (index_t k = 0; ok && k < n; ++k) {
+          const int64_t p = wh[k];
+          ok = p >= 0 && p < texels && pa[2 * p] >= 1 && pa[2 * p + 1] >= 1 &&
+               at[k + 1] - at[k] >= 4 * static_cast<int64_t>(pa[2 * p]) * pa[2 * p + 1];
+        }
+        require(ok, "splat_exceptions: texels, parts or room out of range");
+        Errors errors;
+        // latlong_done: a cube's texels cut into parts into a latlong hold their exact overlaps
+        // already (bakeshop.sphere._area_kernels.cube_latlong_taps; -1 where they do not apply)
+        int64_t* cn = counts.data();
+        const index_t taps_len = len(taps);
+        auto given = [cn, at, taps_len, latlong_done](index_t k, index_t, index_t, index_t,
+                                                      double, index_t, index_t room, int32_t*,
+                                                      float*) -> index_t {
+          if (!latlong_done) return -1;
+          const int64_t c = cn[k];
+          return (c >= 0 && c <= room && at[k] + c <= taps_len) ? c : -1;
+        };
+        sphere::splat_exceptions(skind, sh, sw, omega.data(), dkind, dh, dw, rot.data(), wh, n,
+                                 pa, at, taps.data(), weights.data(), cn, errors, given);
+        errors.check();
+      },
+      "skind"_a, "sh"_a, "sw"_a, "omega"_a, "dkind"_a, "dh"_a, "dw"_a, "rot"_a, "where"_a,
+      "parts"_a, "offsets"_a, "taps"_a.noconvert(), "weights"_a.noconvert(),
+      "counts"_a.noconvert(), "latlong_done"_a = false, release_gil());
+  m.def(
+      "compact_exceptions",
+      [](In<int64_t, 1> at, In<int64_t, 1> counts, In<int32_t, 1> taps, In<float, 1> weights,
+         In<int64_t, 1> ends, Out<int32_t, 1> out_taps, Out<float, 1> out_weights) {
+        const index_t n = len(counts);
+        require(len(at) >= n && len(ends) == n, "compact_exceptions: at, counts, ends differ");
+        require(len(taps) == len(weights) && len(out_taps) == len(out_weights),
+                "compact_exceptions: taps and weights differ");
+        const int64_t *a = at.data(), *c = counts.data(), *e = ends.data();
+        bool ok = true;
+        for (index_t k = 0; ok && k < n; ++k)
+          ok = c[k] >= 0 && a[k] >= 0 && a[k] + c[k] <= len(taps) && e[k] - c[k] >= 0 &&
+               e[k] <= len(out_taps);
+        require(ok, "compact_exceptions: entries beyond the buffers");
+        sphere::compact_exceptions(a, c, n, taps.data(), weights.data(), e, out_taps.data(),
+                                   out_weights.data());
+      },
+      "at"_a, "counts"_a, "taps"_a, "weights"_a, "ends"_a, "out_taps"_a.noconvert(),
+      "out_weights"_a.noconvert(), release_gil());
+  m.def(
+      "deposit_exceptions",
+      [](In<int64_t, 1> where, In<int64_t, 1> offsets, In<int32_t, 1> taps,
+         In<float, 1> weights, In<float, 1> width, Out<double, 3> acc) {
+        const index_t n = len(where), m_ = static_cast<index_t>(acc.shape(1));
+        require(len(offsets) == n + 1 && len(taps) == len(weights) && acc.shape(2) == 2 &&
+                    len(acc) >= 1,
+                "deposit_exceptions: offsets (n + 1,), acc (chunks, m, 2)");
+        const int64_t *wh = where.data(), *o = offsets.data();
+        const int32_t* t = taps.data();
+        bool ok = n == 0 || (o[0] >= 0 && o[n] <= len(taps));
+        for (index_t k = 0; ok && k < n; ++k) ok = wh[k] >= 0 && wh[k] < len(width) && o[k] <= o[k + 1];
+        for (index_t e = 0; ok && e < len(taps); ++e) ok = t[e] >= 0 && t[e] < m_;
+        require(ok, "deposit_exceptions: entries beyond the buffers");
+        sphere::deposit_exceptions(wh, n, o, t, weights.data(), width.data(), acc.data());
+      },
+      "where"_a, "offsets"_a, "taps"_a, "weights"_a, "width"_a, "acc"_a.noconvert(),
+      release_gil());
+  m.def(
+      "area_alpha",
+      [](In<double, 3> acc, In<double, 1> omega, Out<float, 1> alpha, Out<float, 1> inverse) {
+        const index_t m_ = static_cast<index_t>(acc.shape(1));
+        require(acc.shape(2) == 2 && len(omega) == m_ && len(alpha) == m_ && len(inverse) == m_,
+                "area_alpha: acc (chunks, m, 2), omega, alpha, inverse (m,)");
+        sphere::area_alpha(acc.data(), len(acc), m_, omega.data(), alpha.data(), inverse.data());
+      },
+      "acc"_a, "omega"_a, "alpha"_a.noconvert(), "inverse"_a.noconvert(), release_gil());
+  def_supersample_cube<float>(m);
+  def_supersample_cube<double>(m);
 }
