@@ -79,4 +79,70 @@ def peak_stats(
     values: np.ndarray, omega: np.ndarray, stats: np.ndarray, peaks: np.ndarray
 ) -> None: ...
 
+def splat_plan(
+    skind: int,
+    sh: int,
+    sw: int,
+    sfaces: int,
+    omega: np.ndarray,
+    dkind: int,
+    dh: int,
+    dw: int,
+    rot: np.ndarray,
+    anchor: np.ndarray,
+    wq: np.ndarray,
+    scale: np.ndarray,
+    width: np.ndarray,
+    parts: np.ndarray,
+    acc: np.ndarray,
+) -> None: ...
+def splat_exceptions(
+    skind: int,
+    sh: int,
+    sw: int,
+    omega: np.ndarray,
+    dkind: int,
+    dh: int,
+    dw: int,
+    rot: np.ndarray,
+    where: np.ndarray,
+    parts: np.ndarray,
+    offsets: np.ndarray,
+    taps: np.ndarray,
+    weights: np.ndarray,
+    counts: np.ndarray,
+    latlong_done: bool = False,
+) -> None: ...
+def compact_exceptions(
+    at: np.ndarray,
+    counts: np.ndarray,
+    taps: np.ndarray,
+    weights: np.ndarray,
+    ends: np.ndarray,
+    out_taps: np.ndarray,
+    out_weights: np.ndarray,
+) -> None: ...
+def deposit_exceptions(
+    where: np.ndarray,
+    offsets: np.ndarray,
+    taps: np.ndarray,
+    weights: np.ndarray,
+    width: np.ndarray,
+    acc: np.ndarray,
+) -> None: ...
+def area_alpha(
+    acc: np.ndarray, omega: np.ndarray, alpha: np.ndarray, inverse: np.ndarray
+) -> None: ...
+def _supersample_cube(
+    skind: int,
+    sh: int,
+    sw: int,
+    src: np.ndarray,
+    clamp: float,
+    size: int,
+    k: int,
+    rot: np.ndarray,
+    out: np.ndarray,
+) -> None: ...
+
 # --- end of the area filter ---
