@@ -5,8 +5,11 @@
 #include <tuple>
 
 #include "common/bind.hpp"
+#include "sphere/cube_latlong.hpp"
 #include "sphere/gather.hpp"
 #include "sphere/maps.hpp"
+#include "sphere/texels.hpp"
+#include "sphere/windows.hpp"
 
 using namespace bakeshop;
 
@@ -23,6 +26,15 @@ void check_rot(const In<double, 2>& rot) {
 
 template <class T>
 void bind_gathers(nb::module_& m) {
+  m.def(
+      "count_nonfinite",
+      [](In<T, 1> flat) {
+        int64_t nans, infs, first;
+        sphere::count_nonfinite<T>(flat.data(), static_cast<index_t>(flat.shape(0)), nans, infs,
+                                   first);
+        return std::make_tuple(nans, infs, first);
+      },
+      "flat"_a.noconvert(), release_gil());
   m.def(
       "plan",
       [](int skind, index_t sh, index_t sw, int dkind, index_t dh, index_t dw, index_t faces,
@@ -242,4 +254,102 @@ void bind_sampling(nb::module_& m) {
       release_gil());
   bind_gathers<float>(m);
   bind_gathers<double>(m);
+  // --- windows.hpp ----------------------------------------------------------------------------
+  m.def(
+      "part_taps",
+      [](int skind, index_t sh, index_t sw, int dkind, index_t dh, index_t dw, In<double, 2> rot,
+         index_t f, index_t j0, index_t j1, index_t i0, index_t i1, bool nearest,
+         Out<int32_t, 2> taps, Out<float, 2> frac) {
+        check_kind(skind, sh, sw);
+        check_kind(dkind, dh, dw);
+        check_rot(rot);
+        require(0 <= j0 && j0 <= j1 && j1 <= dh && 0 <= i0 && i0 <= i1 && i1 <= dw &&
+                    0 <= f && f < (sphere::is_cubic(dkind) ? 6 : 1),
+                "part_taps: the part must lie on a face of the destination");
+        const index_t n = (j1 - j0) * (i1 - i0);
+        require(static_cast<index_t>(taps.shape(0)) == n &&
+                    (nearest ? taps.shape(1) >= 1 : taps.shape(1) == 4) && frac.shape(1) == 2 &&
+                    (nearest || static_cast<index_t>(frac.shape(0)) == n),
+                "part_taps: taps (n, 1) nearest or (n, 4) and frac (n, 2) bilinear");
+        sphere::part_taps(skind, sh, sw, dkind, dh, dw, rot.data(), f, j0, j1, i0, i1, nearest,
+                          taps.data(), static_cast<index_t>(taps.shape(1)), frac.data());
+      },
+      "skind"_a, "sh"_a, "sw"_a, "dkind"_a, "dh"_a, "dw"_a, "rot"_a, "f"_a, "j0"_a, "j1"_a,
+      "i0"_a, "i1"_a, "nearest"_a, "taps"_a.noconvert(), "frac"_a.noconvert(), release_gil());
+  m.def(
+      "latlong_window",
+      [](index_t h, index_t w, index_t top, index_t bottom, index_t left, index_t right,
+         Out<double, 2> dirs) {
+        require(h > 0 && w > 0 && 0 <= top && top <= bottom && bottom <= h && 0 <= left &&
+                    left <= right && right <= w,
+                "latlong_window: the window must lie in the latlong");
+        require(static_cast<index_t>(dirs.shape(0)) == (bottom - top) * (right - left) &&
+                    dirs.shape(1) == 3,
+                "latlong_window: dirs must be (n, 3)");
+        sphere::latlong_window(h, w, top, bottom, left, right, dirs.data());
+      },
+      "h"_a, "w"_a, "top"_a, "bottom"_a, "left"_a, "right"_a, "dirs"_a.noconvert(),
+      release_gil());
+  // --- texels.hpp -----------------------------------------------------------------------------
+  m.def(
+      "row_directions",
+      [](int kind, index_t h, index_t w, index_t r0, index_t r1, In<double, 2> trig,
+         Out<double, 2> out) {
+        check_kind(kind, h, w);
+        const index_t rows = (sphere::is_cubic(kind) ? 6 : 1) * h;
+        require(0 <= r0 && r0 <= r1 && r1 <= rows, "row_directions: rows outside the layout");
+        require(kind != sphere::LATLONG ||
+                    (trig.shape(0) == 4 && static_cast<index_t>(trig.shape(1)) >= std::max(h, w)),
+                "row_directions: trig must be latlong_trig(h, w)");
+        require(static_cast<index_t>(out.shape(0)) == (r1 - r0) * w && out.shape(1) == 3,
+                "row_directions: out must be ((r1 - r0) w, 3)");
+        sphere::row_directions(kind, h, w, r0, r1, trig.data(),
+                               static_cast<index_t>(trig.shape(1)), out.data());
+      },
+      "kind"_a, "h"_a, "w"_a, "r0"_a, "r1"_a, "trig"_a, "out"_a.noconvert(), release_gil());
+  m.def(
+      "index_directions",
+      [](int kind, index_t h, index_t w, In<int64_t, 1> index, In<double, 2> trig,
+         Out<double, 2> out) {
+        check_kind(kind, h, w);
+        require(kind != sphere::LATLONG ||
+                    (trig.shape(0) == 4 && static_cast<index_t>(trig.shape(1)) >= std::max(h, w)),
+                "index_directions: trig must be latlong_trig(h, w)");
+        require(out.shape(0) == index.shape(0) && out.shape(1) == 3,
+                "index_directions: out must be (n, 3)");
+        sphere::index_directions(kind, h, w, (sphere::is_cubic(kind) ? 6 : 1) * h, index.data(),
+                                 static_cast<index_t>(index.shape(0)), trig.data(),
+                                 static_cast<index_t>(trig.shape(1)), out.data());
+      },
+      "kind"_a, "h"_a, "w"_a, "index"_a, "trig"_a, "out"_a.noconvert(), release_gil());
+  m.def(
+      "texel_cosines",
+      [](int kind, index_t faces, index_t h, index_t w, In<double, 1> up, Out<double, 1> out) {
+        check_kind(kind, h, w);
+        require(faces == (sphere::is_cubic(kind) ? 6 : 1) && up.shape(0) == 3 &&
+                    static_cast<index_t>(out.shape(0)) == faces * h * w,
+                "texel_cosines: up (3,) and out (faces h w,)");
+        sphere::texel_cosines(kind, faces, h, w, up.data(), out.data());
+      },
+      "kind"_a, "faces"_a, "h"_a, "w"_a, "up"_a, "out"_a.noconvert(), release_gil());
+  // --- cube_latlong.hpp -----------------------------------------------------------------------
+  m.def(
+      "latlong_taps",
+      [](int skind, index_t sh, index_t sw, index_t f, index_t i, index_t j, In<double, 2> rot,
+         index_t dh, index_t dw, double om, index_t o, index_t room, Out<int32_t, 1> taps,
+         Out<float, 1> weights) {
+        check_kind(skind, sh, sw);
+        check_kind(sphere::LATLONG, dh, dw);
+        check_rot(rot);
+        require(sphere::is_cubic(skind) && 0 <= f && f < 6 && 0 <= i && i < sw && 0 <= j &&
+                    j < sh,
+                "latlong_taps: (f, i, j) must be a texel of a cube source");
+        require(0 <= o && 0 <= room && o + room <= static_cast<index_t>(taps.shape(0)) &&
+                    o + room <= static_cast<index_t>(weights.shape(0)),
+                "latlong_taps: taps and weights must have room from o");
+        return sphere::latlong_taps<float>(skind, sh, sw, f, i, j, rot.data(), dh, dw, om, o, room,
+                                           taps.data(), weights.data());
+      },
+      "skind"_a, "sh"_a, "sw"_a, "f"_a, "i"_a, "j"_a, "rot"_a, "dh"_a, "dw"_a, "om"_a, "o"_a,
+      "room"_a, "taps"_a.noconvert(), "weights"_a.noconvert(), release_gil());
 }
