@@ -241,7 +241,6 @@ def splat_exceptions(
     taps: np.ndarray,
     weights: np.ndarray,
     counts: np.ndarray,
-    latlong_done: bool = False,
 ) -> None: ...
 def compact_exceptions(
     at: np.ndarray,

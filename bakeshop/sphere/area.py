@@ -30,7 +30,6 @@ from bakeshop import progress, threads
 from bakeshop.sphere import _gather, _native, _plans
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere._gather import EXCEPTION
-from bakeshop.sphere._kinds import CUBE, LATLONG, OPENEXR_CUBE
 from bakeshop.sphere.layouts import MAX_EDGE, MAX_TEXELS, Layout, layout
 from bakeshop.sphere.reductions import box_reduce
 from bakeshop.sphere.rotation import key_matrix
@@ -121,8 +120,8 @@ def _merge(s: Layout, src_shape: tuple[int, ...], d: Layout, dst_shape: tuple[in
         np.cumsum(room[start:stop], out=at[1:])
         taps, weights = scratch[0][: at[-1]], scratch[1][: at[-1]]
         counts = offsets[start + 1 : stop + 1]
-        _splat_exceptions(s.kind, sh, sw, omega, d.kind, dh, dw, rot, where[start:stop], parts,
-                          at, taps, weights, counts)  # fmt: skip
+        _native.splat_exceptions(s.kind, sh, sw, omega, d.kind, dh, dw, rot, where[start:stop],
+                                 parts, at, taps, weights, counts)  # fmt: skip
         kept_ends = np.cumsum(counts) + kept.size
         # room for everything at this chunk's merged share of the unmerged deposits, + 1/16
         expected = int(kept_ends[-1] / ends[stop - 1] * ends[-1] * 17 / 16) + 1024
@@ -133,23 +132,6 @@ def _merge(s: Layout, src_shape: tuple[int, ...], d: Layout, dst_shape: tuple[in
     np.cumsum(offsets, out=offsets)
     taps, weights = kept.filled()
     return offsets, taps, weights
-
-
-def _splat_exceptions(skind: int, sh: int, sw: int, omega: np.ndarray, dkind: int, dh: int,
-                      dw: int, rot: np.ndarray, where: np.ndarray, parts: np.ndarray,
-                      at: np.ndarray, taps: np.ndarray, weights: np.ndarray,
-                      counts: np.ndarray) -> None:  # fmt: skip
-    """The merged deposits of the texels ``where`` (``splat_exceptions``, src/sphere/area.hpp):
-    texel k's at ``at[k]`` onwards, ``counts[k]`` of them. A cube's texels cut into parts into
-    a latlong deposit their exact overlaps (``_cube_latlong``, still numba) first."""
-    latlong_done = skind in (CUBE, OPENEXR_CUBE) and dkind == LATLONG
-    if latlong_done:
-        from bakeshop.sphere._area_kernels import cube_latlong_taps
-
-        cube_latlong_taps(skind, sh, sw, omega, dh, dw, rot, where, parts, at, taps, weights,
-                          counts)  # fmt: skip
-    _native.splat_exceptions(skind, sh, sw, omega, dkind, dh, dw, rot, where, parts, at, taps,
-                             weights, counts, latlong_done)  # fmt: skip
 
 
 class _Growing:

@@ -13,8 +13,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from bakeshop.image import area_weights, resample_separable
-from bakeshop.sphere.cube import cube_to_view
 from bakeshop.sphere import _native
+from bakeshop.sphere.cube import cube_to_view
 from bakeshop.sphere.layouts import Layout
 from bakeshop.sphere.texels import cube_face_solid_angles
 

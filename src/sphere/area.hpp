@@ -643,9 +643,9 @@ inline void area_alpha(const double* acc, index_t chunks, index_t m, const doubl
 
 namespace bakeshop::sphere {
 
-// A cube source texel's exact overlaps with a latlong destination's texels (_cube_latlong's
-// latlong_taps) are not part of this header: the caller passes them as `latlong(k, f, i, j, om,
-// o, room, taps, weights)` for texel k, returning the count or -1 where they do not apply.
+// A cube source texel's exact overlaps with a latlong destination's texels (cube_latlong.hpp's
+// latlong_taps) come from the caller as `latlong(k, f, i, j, om, o, room, taps, weights)` for
+// texel k, returning the count or -1 where they do not apply (none: NoLatlongTaps).
 struct NoLatlongTaps {
   index_t operator()(index_t, index_t, index_t, index_t, double, index_t, index_t, int32_t*,
                      float*) const {

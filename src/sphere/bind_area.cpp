@@ -3,6 +3,7 @@
 // (src/sphere/area.hpp). Python: bakeshop/sphere/area.py, bakeshop/sphere/reductions.py.
 #include "common/bind.hpp"
 #include "sphere/area.hpp"
+#include "sphere/cube_latlong.hpp"
 #include "sphere/matrix.hpp"
 #include "sphere/reduce.hpp"
 
@@ -286,7 +287,7 @@ void bind_area(nb::module_& m) {
       [](int skind, int64_t sh, int64_t sw, In<double, 1> omega, int dkind, int64_t dh,
          int64_t dw, In<double, 2> rot, In<int64_t, 1> where, In<int32_t, 2> parts,
          In<int64_t, 1> offsets, Out<int32_t, 1> taps, Out<float, 1> weights,
-         Out<int64_t, 1> counts, bool latlong_done) {
+         Out<int64_t, 1> counts) {
         require_grid(skind, sh, sw, "splat_exceptions: a bad source grid");
         require_grid(dkind, dh, dw, "splat_exceptions: a bad destination grid");
         require_rotation(rot);
@@ -306,24 +307,19 @@ void bind_area(nb::module_& m) {
         }
         require(ok, "splat_exceptions: texels, parts or room out of range");
         Errors errors;
-        // latlong_done: a cube's texels cut into parts into a latlong hold their exact overlaps
-        // already (bakeshop.sphere._area_kernels.cube_latlong_taps; -1 where they do not apply)
-        int64_t* cn = counts.data();
-        const index_t taps_len = len(taps);
-        auto given = [cn, at, taps_len, latlong_done](index_t k, index_t, index_t, index_t,
-                                                      double, index_t, index_t room, int32_t*,
-                                                      float*) -> index_t {
-          if (!latlong_done) return -1;
-          const int64_t c = cn[k];
-          return (c >= 0 && c <= room && at[k] + c <= taps_len) ? c : -1;
+        const double* r = rot.data();
+        // a cube's texels cut into parts into a latlong: their exact overlaps (cube_latlong.hpp)
+        auto latlong = [=](index_t, index_t f, index_t i, index_t j, double om, index_t o,
+                           index_t room, int32_t* t, float* w) -> index_t {
+          return sphere::latlong_taps(skind, sh, sw, f, i, j, r, dh, dw, om, o, room, t, w);
         };
-        sphere::splat_exceptions(skind, sh, sw, omega.data(), dkind, dh, dw, rot.data(), wh, n,
-                                 pa, at, taps.data(), weights.data(), cn, errors, given);
+        sphere::splat_exceptions(skind, sh, sw, omega.data(), dkind, dh, dw, r, wh, n, pa, at,
+                                 taps.data(), weights.data(), counts.data(), errors, latlong);
         errors.check();
       },
       "skind"_a, "sh"_a, "sw"_a, "omega"_a, "dkind"_a, "dh"_a, "dw"_a, "rot"_a, "where"_a,
       "parts"_a, "offsets"_a, "taps"_a.noconvert(), "weights"_a.noconvert(),
-      "counts"_a.noconvert(), "latlong_done"_a = false, release_gil());
+      "counts"_a.noconvert(), release_gil());
   m.def(
       "compact_exceptions",
       [](In<int64_t, 1> at, In<int64_t, 1> counts, In<int32_t, 1> taps, In<float, 1> weights,
