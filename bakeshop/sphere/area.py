@@ -3,9 +3,9 @@
 Every source texel deposits its solid angle into the output texels that its footprint (the box
 bounding its locally affine image) overlaps, in proportion to the overlap; where the output is
 locally finer, the source texel is first cut into parts, each depositing its own solid angle.
-The resulting matrix is built in four stages, each a function here over the kernels of
-:mod:`bakeshop.sphere._area_kernels` (the deposits) and :mod:`~bakeshop.sphere._matrix_kernels`
-(the matrix):
+The resulting matrix is built in four stages, each a function here over the compiled kernels
+of ``src/sphere/area.hpp`` (the deposits) and ``src/sphere/matrix.hpp`` (the matrix), through
+:mod:`bakeshop.sphere._native`:
 
 1. :func:`_splat`: the deposits of ordinary texels (a 3x3 block of output texels each) and the
    blend towards bilinear where the deposits cover too little;
@@ -24,16 +24,12 @@ from __future__ import annotations
 import math
 from typing import Any, NamedTuple
 
-import numba
 import numpy as np
 
-from bakeshop import progress
-from bakeshop.sphere import _area_kernels as kernels
-from bakeshop.sphere import _gather, _maps, _plans
-from bakeshop.sphere import _matrix_kernels as matrix_kernels
+from bakeshop import progress, threads
+from bakeshop.sphere import _gather, _native, _plans
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere._gather import EXCEPTION
-from bakeshop.sphere.cube import FACE_BASES
 from bakeshop.sphere.layouts import MAX_EDGE, MAX_TEXELS, Layout, layout
 from bakeshop.sphere.reductions import box_reduce
 from bakeshop.sphere.rotation import key_matrix
@@ -56,7 +52,8 @@ AREA_BALANCE_RTOL = 1e-4
 
 
 class _Splat(NamedTuple):
-    """The per-source-texel deposits of :func:`_splat` (see ``_area_kernels.splat_plan``)."""
+    """The per-source-texel deposits of :func:`_splat` (see ``splat_plan`` in
+    ``src/sphere/area.hpp``)."""
 
     anchor: np.ndarray  # int32 (n,): first output texel of a 3x3 block, EXCEPTION, or -1
     wq: np.ndarray  # float32 (n, 4): box weights along x and y
@@ -85,9 +82,9 @@ def _splat(
         width=np.zeros(n, np.float32),
         parts=np.ones((n, 2), np.int32),
         # one float64 (m, 2) buffer per thread, as many as fit in AREA_BUFFER_BYTES
-        acc=np.zeros((max(1, min(numba.get_num_threads(), AREA_BUFFER_BYTES // (m * 16))), m, 2)),
+        acc=np.zeros((max(1, min(threads.count(), AREA_BUFFER_BYTES // (m * 16))), m, 2)),
     )
-    kernels.splat_plan(s.kind, sh, sw, sfaces, omega, d.kind, dh, dw, rot, *splat)
+    _native.splat_plan(s.kind, sh, sw, sfaces, omega, d.kind, dh, dw, rot, *splat)
     return splat
 
 
@@ -123,13 +120,13 @@ def _merge(s: Layout, src_shape: tuple[int, ...], d: Layout, dst_shape: tuple[in
         np.cumsum(room[start:stop], out=at[1:])
         taps, weights = scratch[0][: at[-1]], scratch[1][: at[-1]]
         counts = offsets[start + 1 : stop + 1]
-        kernels.splat_exceptions(s.kind, sh, sw, omega, d.kind, dh, dw, rot, where[start:stop],
+        _native.splat_exceptions(s.kind, sh, sw, omega, d.kind, dh, dw, rot, where[start:stop],
                                  parts, at, taps, weights, counts)  # fmt: skip
         kept_ends = np.cumsum(counts) + kept.size
         # room for everything at this chunk's merged share of the unmerged deposits, + 1/16
         expected = int(kept_ends[-1] / ends[stop - 1] * ends[-1] * 17 / 16) + 1024
         kept.reserve(int(kept_ends[-1]), expected)
-        kernels.compact_exceptions(at, counts, taps, weights, kept_ends, *kept.arrays)
+        _native.compact_exceptions(at, counts, taps, weights, kept_ends, *kept.arrays)
         kept.size = int(kept_ends[-1])
         start = stop
     np.cumsum(offsets, out=offsets)
@@ -165,18 +162,18 @@ def _rows(splat: _Splat, merged: tuple[np.ndarray, np.ndarray, np.ndarray], alph
     ``(indptr int64, indices int32, values float32)``."""
     offsets, taps, weights = merged
     m = len(alpha)
-    cursor = np.zeros((numba.get_num_threads(), m), np.int64)
+    cursor = np.zeros((threads.count(), m), np.int64)
     none = (np.empty(0, np.int32), np.empty(0, np.float32))
     deposits = (splat.anchor, splat.wq, splat.scale, dst_width, offsets, taps, weights, alpha,
                 inverse, cursor)  # fmt: skip
-    matrix_kernels.splat_rows(*deposits, False, *none)
+    _native.splat_rows(*deposits, False, *none)
     counts = np.zeros(m, np.int64)
-    matrix_kernels.bilinear_rows(alpha, src_width, *bilinear, counts, counts, False, *none)
+    _native.bilinear_rows(alpha, src_width, *bilinear, counts, counts, False, *none)
     indptr = np.zeros(m + 1, np.int64)
-    matrix_kernels.row_starts(cursor, counts, indptr)
+    _native.row_starts(cursor, counts, indptr)
     rows = (np.empty(indptr[-1], np.int32), np.empty(indptr[-1], np.float32))
-    matrix_kernels.splat_rows(*deposits, True, *rows)
-    matrix_kernels.bilinear_rows(alpha, src_width, *bilinear, indptr, counts, True, *rows)
+    _native.splat_rows(*deposits, True, *rows)
+    _native.bilinear_rows(alpha, src_width, *bilinear, indptr, counts, True, *rows)
     return indptr, rows[0], rows[1]
 
 
@@ -195,19 +192,19 @@ def _balance(indptr: np.ndarray, indices: np.ndarray, values: np.ndarray, omega_
     sooner), ending on the rows (exact). Stops when every column is within AREA_BALANCE_RTOL or
     after AREA_BALANCE_ITERATIONS; returns the largest relative column error left."""
     n = len(omega_in)
-    threads = max(1, min(numba.get_num_threads(), AREA_BUFFER_BYTES // (n * 8)))
-    blocks = np.searchsorted(indptr, np.linspace(0, indptr[-1], threads + 1)).astype(np.int64)
+    chunks = max(1, min(threads.count(), AREA_BUFFER_BYTES // (n * 8)))
+    blocks = np.searchsorted(indptr, np.linspace(0, indptr[-1], chunks + 1)).astype(np.int64)
     blocks[-1] = len(indptr) - 1  # rows of equal total length, the empty last rows included
-    energy = np.zeros((threads, n))
+    energy = np.zeros((chunks, n))
     col = np.ones(n)
     step = np.ones(n)
     err = np.inf
     for _ in range(AREA_BALANCE_ITERATIONS):
-        matrix_kernels.balance_rows(indptr, indices, values, omega_out, col, blocks, energy)
-        err = matrix_kernels.balance_columns(energy, omega_in, col, step)
+        _native.balance_rows(indptr, indices, values, omega_out, col, blocks, energy)
+        err = _native.balance_columns(energy, omega_in, col, step)
         if err <= AREA_BALANCE_RTOL:
             break
-    matrix_kernels.scale_rows(indptr, indices, values, col)
+    _native.scale_rows(indptr, indices, values, col)
     return err
 
 
@@ -233,12 +230,12 @@ def _build(
     where = np.flatnonzero(splat.anchor == EXCEPTION)
     merged = _merge(s, src_shape, d, dst_shape, rot, omega, where, splat.parts)
     if len(where):
-        kernels.deposit_exceptions(where, *merged, splat.width, splat.acc)
+        _native.deposit_exceptions(where, *merged, splat.width, splat.acc)
         splat.anchor[where] = EXCEPTION - np.arange(len(where), dtype=np.int32)
     m = splat.acc.shape[1]
     alpha, inverse = np.empty(m, np.float32), np.empty(m, np.float32)
     omega_out = d.solid_angles(dst_shape).reshape(-1)
-    kernels.area_alpha(splat.acc, omega_out, alpha, inverse)
+    _native.area_alpha(splat.acc, omega_out, alpha, inverse)
     src_width, dst_width = s.grid(src_shape)[1], d.grid(dst_shape)[1]
     # the bilinear plan's taps fill in where the deposits cover too little
     bilinear = _plans.cached(src, src_shape, dst, dst_shape, "bilinear", rotation)
@@ -272,7 +269,7 @@ def _build_for(
     lengths[1:][used] = np.diff(indptr)[order[used]]
     view_indptr = np.cumsum(lengths)
     view_rows = (np.empty_like(indices), np.empty_like(values))
-    matrix_kernels.reorder_rows(indptr, indices, values, order, view_indptr, *view_rows)
+    _native.reorder_rows(indptr, indices, values, order, view_indptr, *view_rows)
     plan = (view_indptr, *view_rows)
     for a in plan:
         a.setflags(write=False)
@@ -300,7 +297,7 @@ def area_remap(
         if len(indptr) == 0:
             return None
         out = np.empty(dst_shape + (flat.shape[1],), flat.dtype)
-        matrix_kernels.area_gather(flat, indptr, indices, values, out.reshape(-1, flat.shape[1]))
+        _native.area_gather(flat, indptr, indices, values, out.reshape(-1, flat.shape[1]))
     return out
 
 
@@ -383,7 +380,12 @@ def supersample(
     out = np.empty((faces * dh, dw, c), flat.dtype)
     step = max(1, SUPERSAMPLE_PART // (k * k * dw))
     if d.name == "cube":  # one fused pass, the samples' weights from the face's density
-        _supersample_cube(s.kind, sh, sw, flat, clamp, dh, k, key_matrix(rotation), out)
+        # out[f, j, i]: the mean of the k x k samples of cube texel (f, i, j), each weighed by the
+        # face's solid angle density (1 + sc^2 + tc^2)^-1.5 and looked up bilinearly in the
+        # source clamped at clamp (src/sphere/reduce.hpp); with k >= 3 the samples' source
+        # coordinates are the centre's plus the map's derivatives where that is within 0.05
+        # source texels of exact
+        _native._supersample_cube(s.kind, sh, sw, flat, clamp, dh, k, key_matrix(rotation), out)
         step = faces * dh
     for top in range(faces * dh if d.name == "cube" else 0, faces * dh, step):
         bottom = min(top + step, faces * dh)
@@ -399,116 +401,6 @@ def supersample(
         flat_out = out.reshape(-1, c)
         np.add.at(flat_out, q, values.astype(flat_out.dtype))
     return out.reshape(tuple(dst_shape) + (c,))
-
-
-@numba.njit(cache=True, inline="always", error_model="numpy")
-def _source_xy(  # pragma: no cover - compiled
-    skind: int, sh: int, sw: int, rot: np.ndarray, f: int, sc: float, tc: float
-) -> tuple[float, float, float]:
-    # source coordinates (face, x, y) of cube face f's point (sc, tc)
-    x = _BASES[f, 0, 0] + sc * _BASES[f, 1, 0] + tc * _BASES[f, 2, 0]
-    y = _BASES[f, 0, 1] + sc * _BASES[f, 1, 1] + tc * _BASES[f, 2, 1]
-    z = _BASES[f, 0, 2] + sc * _BASES[f, 1, 2] + tc * _BASES[f, 2, 2]
-    x, y, z = _maps.rotate(rot, x, y, z)
-    if skind == _maps.LATLONG:
-        u, v = _maps.latlong_xy(sh, sw, x, y, z)
-        return 0, u, v
-    return _maps.coordinates(skind, sh, sw, x, y, z)
-
-
-#: where the source coordinates of a cube texel's samples are interpolated from its centre's
-#: (k >= 3 samples a side), they may be this far (in source texels) from the exact ones, else
-#: every sample's are computed.
-_LINEAR_TOLERANCE = 0.05
-
-
-@numba.njit(parallel=True, cache=True, error_model="numpy")
-def _supersample_cube(skind: int, sh: int, sw: int, src: np.ndarray, clamp: float, size: int,
-                      k: int, rot: np.ndarray,
-                      out: np.ndarray) -> None:  # pragma: no cover - compiled  # fmt: skip
-    # out[f, j, i] = sum_s w_s R(p_s) / sum_s w_s over the k x k sample points of cube texel
-    # (f, i, j) (the centres of its finer grid's texels), w_s = (1 + sc^2 + tc^2)^-1.5 (the
-    # face's solid angle density there), R the bilinear lookup of the source clamped at clamp.
-    # With k >= 3 the samples' source coordinates are the texel centre's plus the map's
-    # derivatives times their offsets, where that is within _LINEAR_TOLERANCE of exact.
-    channels = src.shape[1]
-    step = 2.0 / (size * k)
-    half = 0.5 * (k - 1)
-    for row in numba.prange(6 * size):
-        f = row // size
-        j = row - f * size
-        acc = np.zeros(channels)
-        for i in range(size):
-            acc[:] = 0.0
-            total = 0.0
-            sc0 = (i * k + 0.5 + half) * step - 1.0
-            tc0 = (j * k + 0.5 + half) * step - 1.0
-            linear = False
-            if k >= 3:
-                f0, u0, v0 = _source_xy(skind, sh, sw, rot, f, sc0, tc0)
-                f1, u1, v1 = _source_xy(skind, sh, sw, rot, f, sc0 + step, tc0)
-                f2, u2, v2 = _source_xy(skind, sh, sw, rot, f, sc0, tc0 + step)
-                f3, u3, v3 = _source_xy(skind, sh, sw, rot, f, sc0 - half * step, tc0 - half * step)
-                dus, dvs, dut, dvt = u1 - u0, v1 - v0, u2 - u0, v2 - v0
-                pu = u0 - half * (dus + dut)
-                pv = v0 - half * (dvs + dvt)
-                linear = (
-                    f0 == f1 and f0 == f2 and f0 == f3
-                    and abs(pu - u3) < _LINEAR_TOLERANCE and abs(pv - v3) < _LINEAR_TOLERANCE
-                )  # fmt: skip
-            for a in range(k):
-                tc = (j * k + a + 0.5) * step - 1.0
-                for b in range(k):
-                    sc = (i * k + b + 0.5) * step - 1.0
-                    q = 1.0 + sc * sc + tc * tc
-                    w = 1.0 / (q * math.sqrt(q))
-                    if linear:
-                        sf = f0
-                        u = u0 + (b - half) * dus + (a - half) * dut
-                        v = v0 + (b - half) * dvs + (a - half) * dvt
-                    else:
-                        sf, u, v = _source_xy(skind, sh, sw, rot, f, sc, tc)
-                    total += w
-                    _add_bilinear(skind, sh, sw, src, clamp, sf, u, v, w, acc)
-            for c in range(channels):
-                out[row, i, c] = acc[c] / total
-
-
-@numba.njit(cache=True, inline="always", error_model="numpy")
-def _add_bilinear(kind: int, h: int, w: int, src: np.ndarray, clamp: float, f: float, x: float,
-                  y: float, weight: float,
-                  acc: np.ndarray) -> None:  # pragma: no cover - compiled  # fmt: skip
-    # acc += weight * the seam-aware bilinear value at coordinates (f, x, y), every texel
-    # clamped at clamp (a cube corner's missing texel is the mean of the other three)
-    xs, ys = x - 0.5, y - 0.5
-    x0, y0 = math.floor(xs), math.floor(ys)
-    fx, fy = xs - x0, ys - y0
-    i0, j0 = int(x0), int(y0)
-    base = _gather.block(kind, h, w, f, i0, j0, 2)
-    if base >= 0:
-        t0, t1, t2, t3 = base, base + 1, base + w, base + w + 1
-    else:
-        t0 = _maps.resolve(kind, h, w, f, i0, j0, x)
-        t1 = _maps.resolve(kind, h, w, f, i0 + 1, j0, x)
-        t2 = _maps.resolve(kind, h, w, f, i0, j0 + 1, x)
-        t3 = _maps.resolve(kind, h, w, f, i0 + 1, j0 + 1, x)
-    w0, w1 = (1.0 - fx) * (1.0 - fy) * weight, fx * (1.0 - fy) * weight
-    w2, w3 = (1.0 - fx) * fy * weight, fx * fy * weight
-    for c in range(src.shape[1]):
-        v0 = min(src[t0, c], clamp) if t0 >= 0 else 0.0
-        v1 = min(src[t1, c], clamp) if t1 >= 0 else 0.0
-        v2 = min(src[t2, c], clamp) if t2 >= 0 else 0.0
-        v3 = min(src[t3, c], clamp) if t3 >= 0 else 0.0
-        if t0 < 0 or t1 < 0 or t2 < 0 or t3 < 0:
-            m = (v0 + v1 + v2 + v3) / 3.0
-            v0 = v0 if t0 >= 0 else m
-            v1 = v1 if t1 >= 0 else m
-            v2 = v2 if t2 >= 0 else m
-            v3 = v3 if t3 >= 0 else m
-        acc[c] += w0 * v0 + w1 * v1 + w2 * v2 + w3 * v3
-
-
-_BASES = np.ascontiguousarray(FACE_BASES)
 
 
 def bright_deposits(
@@ -628,7 +520,8 @@ def peak_candidates(values: np.ndarray, omega: np.ndarray, start: int = 0) -> tu
     values = np.asarray(values)
     peak = np.empty(len(values), values.dtype)
     stats = np.zeros(3)
-    _peak_stats(values, omega, stats, peak)
+    # peak[t]: texel t's brightest channel, -inf without solid angle (numpy's max: 8x slower)
+    _native.peak_stats(values, omega, stats, peak)
     keep = min(len(peak), MAX_BRIGHT + 1)
     top = np.argpartition(peak, len(peak) - keep)[len(peak) - keep :]
     top = top[np.isfinite(peak[top])]
@@ -656,23 +549,6 @@ def bright_texels(parts: list) -> tuple[float, np.ndarray, np.ndarray]:
         return none
     order = np.argsort(index[above])
     return clamp, index[above][order], values[above][order]
-
-
-@numba.njit(cache=True)
-def _peak_stats(  # pragma: no cover - compiled
-    values: np.ndarray, omega: np.ndarray, stats: np.ndarray, peaks: np.ndarray
-) -> None:
-    # peaks[t]: texel t's brightest channel, -inf without solid angle (numpy's max: 8x slower)
-    for t in range(values.shape[0]):
-        peaks[t] = -np.inf
-        if omega[t] > 0:
-            peak = values[t, 0]
-            for c in range(1, values.shape[1]):
-                peak = max(peak, values[t, c])
-            peaks[t] = peak
-            stats[0] += peak * omega[t]
-            stats[1] += omega[t]
-            stats[2] = max(stats[2], peak)
 
 
 def sample_weights(

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import numba
 import numpy as np
 
 from bakeshop.image import area_weights, resample_separable
+from bakeshop.sphere import _native
 from bakeshop.sphere.cube import cube_to_view
 from bakeshop.sphere.layouts import Layout
 from bakeshop.sphere.texels import cube_face_solid_angles
@@ -68,38 +68,22 @@ def reduce_cube(image: np.ndarray, size: int) -> np.ndarray:
     ``(6, size, size, C)`` in the image's float type."""
     s, c = image.shape[1], image.shape[-1]
     out = np.empty((6 * size, size, c), image.dtype)
-    _box_reduce(image.reshape(6 * s, s, c), cube_face_solid_angles(s), s // size, out)
+    box_reduce(image.reshape(6 * s, s, c), cube_face_solid_angles(s), s // size, out)
     return out.reshape(6, size, size, c)
-
-
-@numba.njit(parallel=True, cache=True)
-def _box_reduce(  # pragma: no cover - compiled
-    fine: np.ndarray, omega: np.ndarray, k: int, out: np.ndarray
-) -> None:
-    # out[J, I] = sum(omega L) / sum(omega) over the k x k fine texels of (J, I); 0 where the
-    # block has no solid angle (outside a disk). omega's rows repeat (a cube face's table serves
-    # its six faces).
-    rows, width, channels = out.shape
-    period = omega.shape[0]
-    for r in numba.prange(rows):
-        acc = np.zeros(channels)
-        for i in range(width):
-            acc[:] = 0.0
-            total = 0.0
-            for y in range(r * k, (r + 1) * k):
-                for x in range(i * k, (i + 1) * k):
-                    w = omega[y % period, x]
-                    total += w
-                    for c in range(channels):
-                        acc[c] += w * fine[y, x, c]
-            for c in range(channels):
-                out[r, i, c] = acc[c] / total if total > 0 else 0.0
 
 
 def box_reduce(samples: np.ndarray, weights: np.ndarray, k: int, out: np.ndarray) -> np.ndarray:
     """``out[J, I]`` = the weighted mean of the k x k ``samples`` (rows, columns, C) of output
-    texel (J, I) with ``weights`` (rows, columns); 0 where they sum to 0. Returns ``out``."""
-    _box_reduce(samples, np.ascontiguousarray(weights), k, out)
+    texel (J, I) with ``weights`` (rows, columns); 0 where they sum to 0. Returns ``out``.
+
+    The sums are float64 (``src/sphere/reduce.hpp``); ``weights``' rows repeat when it has fewer
+    than ``samples`` (a cube face's table serves its six faces)."""
+    target = out
+    if out.dtype != samples.dtype or not out.flags.c_contiguous:
+        target = np.empty(out.shape, samples.dtype)
+    _native.box_reduce(samples, np.ascontiguousarray(weights), k, target)
+    if target is not out:
+        out[...] = target
     return out
 
 
