@@ -5,7 +5,11 @@ calls this for every texel of a cube cut into parts on its way to a latlong).
 Cutting a texel into parts small enough for box deposits approximates its overlaps (a 64^2
 cube into a 128x64 latlong: 1.3e-2 RRMS off the brute-force area average, 2.6e-3 with these)
 and is slow where a texel is long: around a latlong's poles, where a texel covers a few rows
-and up to thousands of columns (34 k texels of a 6 x 1024^2 cube made 26 M parts)."""
+and up to thousands of columns (34 k texels of a 6 x 1024^2 cube made 26 M parts).
+
+The compiled ``latlong_taps`` (``src/sphere/cube_latlong.hpp``, bound in
+:mod:`bakeshop.sphere._native`) is the same arithmetic, bit for bit; these numba functions stay
+only while the area filter's numba ``splat_exceptions`` calls them, and go with it."""
 
 from __future__ import annotations
 

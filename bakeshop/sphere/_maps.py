@@ -1,11 +1,15 @@
-"""The layouts' maps as scalar numba functions: the one implementation of each formula.
+"""The layouts' maps as scalar numba functions, for the numba kernels not yet compiled.
+
+The one implementation of each formula is ``src/sphere/maps.hpp`` (same names, same
+arithmetic, bit for bit), which the layouts, the remap plans and gathers, the windows and the
+texel kernels run through :mod:`bakeshop.sphere._native`. These numba twins stay only while
+numba kernels call them: the area filter's (:mod:`bakeshop.sphere._area_kernels`,
+:mod:`bakeshop.sphere.area`, :mod:`bakeshop.sphere._cube_latlong`, ``_gather.block``) and, through
+:mod:`bakeshop.sphere.kernels`, the specular prefilter's; they go with the last of them.
 
 A layout is named here by a kind number and two integers ``(h, w)`` (a cube: ``h = w = S``).
 Texel coordinates are ``(face, x, y)`` with texel ``i``'s centre at ``x = i + 0.5``; flat
-layouts have face 0. The :class:`~bakeshop.sphere.layouts.Layout` classes, the gather kernels
-(:mod:`bakeshop.sphere._gather`) and the area filter's (:mod:`bakeshop.sphere._area_kernels`)
-call these functions, so a direction is computed the same way everywhere; numba code outside
-:mod:`bakeshop.sphere` uses them through :mod:`bakeshop.sphere.kernels`.
+layouts have face 0.
 """
 
 from __future__ import annotations
@@ -206,17 +210,6 @@ def _face_direction(kind: int, w: int, fi: int, x: float, y: float) -> tuple[flo
     return dx / norm, dy / norm, dz / norm
 
 
-@_jit
-def face_row(
-    kind: int, w: int, f: int, j: int, xs: np.ndarray, ys: np.ndarray, zs: np.ndarray
-) -> None:
-    """``direction`` at the centres (i + 0.5, j + 0.5) of cube face f's row j, i < len(xs):
-    the same arithmetic as one loop that vectorises (a call per texel does not: 6x faster)."""
-    fi = min(max(f, 0), 5)
-    for i in range(xs.shape[0]):
-        xs[i], ys[i], zs[i] = _face_direction(kind, w, fi, i + 0.5, j + 0.5)
-
-
 # --- coordinates of directions ------------------------------------------------------------------
 
 
@@ -401,35 +394,6 @@ def resolve(kind: int, h: int, w: int, f: float, i: int, j: int, x: float) -> in
 
 
 @_jit
-def nearest_texel(kind: int, h: int, w: int, f: float, x: float, y: float) -> int:
-    """Flat index of the texel containing the point at coordinates (f, x, y) (``resolve`` of
-    its integer texel); a cube face owns its far edges, so that a direction on a cube edge or
-    corner (where OpenEXR's cube puts texel centres) finds its face's texel."""
-    i, j = int(math.floor(x)), int(math.floor(y))
-    if is_cubic(kind):
-        i, j = min(i, w - 1), min(j, h - 1)
-    return resolve(kind, h, w, f, i, j, x)
-
-
-# --- drivers ------------------------------------------------------------------------------------
-
-
-@numba.njit(parallel=True, cache=True, error_model="numpy")
-def directions_at(kind: int, h: int, w: int, coords: np.ndarray, out: np.ndarray) -> None:
-    for p in numba.prange(coords.shape[0]):
-        out[p, 0], out[p, 1], out[p, 2] = direction(
-            kind, h, w, coords[p, 0], coords[p, 1], coords[p, 2]
-        )
-
-
-@numba.njit(parallel=True, cache=True, error_model="numpy")
-def coordinates_of(kind: int, h: int, w: int, dirs: np.ndarray, out: np.ndarray) -> None:
-    for p in numba.prange(dirs.shape[0]):
-        f, x, y = coordinates(kind, h, w, dirs[p, 0], dirs[p, 1], dirs[p, 2])
-        out[p, 0], out[p, 1], out[p, 2] = f, x, y
-
-
-@_jit
 def rotate(rot: np.ndarray, x: float, y: float, z: float) -> tuple[float, float, float]:
     # R^T d: what the output shows at d is what the input showed at R^T d
     return (
@@ -437,31 +401,3 @@ def rotate(rot: np.ndarray, x: float, y: float, z: float) -> tuple[float, float,
         rot[0, 1] * x + rot[1, 1] * y + rot[2, 1] * z,
         rot[0, 2] * x + rot[1, 2] * y + rot[2, 2] * z,
     )
-
-
-@_jit
-def latlong_trig(h: int, w: int) -> np.ndarray:
-    """Sin and cos of a latlong's longitude at every column centre (rows 0, 1) and of its
-    colatitude at every row centre (rows 2, 3): its directions are their products."""
-    trig = np.empty((4, max(h, w)))
-    for i in range(w):
-        phi = 2 * math.pi * ((i + 0.5) / w - 0.5)
-        trig[0, i], trig[1, i] = math.sin(phi), math.cos(phi)
-    for j in range(h):
-        theta = math.pi * (j + 0.5) / h
-        trig[2, j], trig[3, j] = math.sin(theta), math.cos(theta)
-    return trig
-
-
-@numba.njit(parallel=True, cache=True)
-def latlong_directions(out: np.ndarray) -> None:
-    """Fill ``out`` (H, W, 3) with the latlong texel-centre directions
-    ``(sin theta_j sin phi_i, cos theta_j, -sin theta_j cos phi_i)``."""
-    h, w = out.shape[0], out.shape[1]
-    trig = latlong_trig(h, w)
-    for j in numba.prange(h):
-        st, ct = trig[2, j], trig[3, j]
-        for i in range(w):
-            out[j, i, 0] = st * trig[0, i]
-            out[j, i, 1] = ct
-            out[j, i, 2] = -st * trig[1, i]

@@ -1,5 +1,5 @@
 """Nearest and bilinear remap plans: which source texels, with which weights, make each output
-texel. Built by the kernels of :mod:`bakeshop.sphere._gather`, cached per (source layout and
+texel. Built by the compiled kernels of ``src/sphere/gather.hpp``, cached per (source layout and
 shape, destination layout and shape, filter, rotation), applied as one parallel gather."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import functools
 
 import numpy as np
 
-from bakeshop.sphere import _gather
+from bakeshop.sphere import _native
 from bakeshop.sphere._cache import ByteBoundedCache
 from bakeshop.sphere.cube import cube_to_view
 from bakeshop.sphere.layouts import layout
@@ -41,7 +41,7 @@ def build(
     out: np.ndarray | None = None,
     rows: tuple[int, int] | None = None,
 ) -> Plan:
-    """The remap plan of every output texel (read-only arrays), see ``_gather.plan``:
+    """The remap plan of every output texel (read-only arrays), see ``plan`` in ``gather.hpp``:
     ``(base, frac, taps)``. Nearest: int32 (m,) source texels, no fractions or taps. Bilinear:
     int32 (m,) base indices of 2x2 blocks, float32 (m, 2) fractions and int32 (k, 4) explicit
     taps of the k output texels whose taps cross a seam: 12 bytes per output texel plus 16 per
@@ -56,17 +56,18 @@ def build(
     rot = key_matrix(rotation)
     if out is None:
         image = out = _NO_IMAGE
+    assert image is not None, "a plan is applied to an image"
     base = np.empty(m, np.int32)
     frac = np.empty((0, 2) if nearest else (m, 2), np.float32)
-    _gather.plan(s.kind, sh, sw, d.kind, dh, dw, faces, rot, nearest, base, frac, image, out,
+    _native.plan(s.kind, sh, sw, d.kind, dh, dw, faces, rot, nearest, base, frac, image, out,
                  first)  # fmt: skip
-    where = np.flatnonzero(base == _gather.EXCEPTION)
+    where = np.flatnonzero(base == _native.EXCEPTION)
     taps = np.empty((len(where), 4), np.int32)
     if len(where):
-        _gather.plan_exceptions(s.kind, sh, sw, d.kind, dh, dw, rot, where + first * dw, taps)
-        base[where] = _gather.EXCEPTION - np.arange(len(where), dtype=np.int32)
+        _native.plan_exceptions(s.kind, sh, sw, d.kind, dh, dw, rot, where + first * dw, taps)
+        base[where] = _native.EXCEPTION - np.arange(len(where), dtype=np.int32)
         if len(out):
-            _gather.gather_at(image, sw, base, frac, taps, where, out)
+            _native.gather_at(image, sw, base, frac, taps, where, out)
     for a in (base, frac, taps):
         a.setflags(write=False)
     return base, frac, taps
@@ -117,9 +118,9 @@ def apply(flat_src: np.ndarray, plan: Plan, row: int) -> np.ndarray:
     base, frac, taps = plan
     out = np.empty((base.shape[0], flat_src.shape[1]), flat_src.dtype)
     if len(frac) == 0:
-        _gather.gather_nearest(flat_src, base[:, None], out)
+        _native.gather_nearest(flat_src, base[:, None], out)
     else:
-        _gather.gather_plan(flat_src, row, base, frac, taps, out)
+        _native.gather_plan(flat_src, row, base, frac, taps, out)
     return out
 
 
@@ -139,7 +140,7 @@ def view_plan(plan: Plan, view: str, cube_shape: tuple[int, ...]) -> Plan:
     order = view_order(view, cube_shape)
     view_base = np.empty(order.size, np.int32)
     view_frac = np.empty((order.size if len(frac) else 0, 2), np.float32)
-    _gather.reorder_plan(base, frac, order, view_base, view_frac)
+    _native.reorder_plan(base, frac, order, view_base, view_frac)
     for a in (view_base, view_frac):
         a.setflags(write=False)
     return view_base, view_frac, taps

@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike
 from bakeshop._typing import Filter
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.resources import Cost, require
-from bakeshop.sphere import _gather, _plans
+from bakeshop.sphere import _native, _plans
 from bakeshop.sphere.area import SUPERSAMPLE_PART, area_remap, supersample, supersampling
 from bakeshop.sphere.cube import cube_to_view
 from bakeshop.sphere.layouts import Layout, layout
@@ -94,13 +94,13 @@ def sample(
     nearest = filter == "nearest"
     index = np.empty((len(flat), 1 if nearest else 4), np.int32)
     frac = _NO_FRAC if nearest else np.empty((len(flat), 2), np.float32)
-    _gather.taps_of(base.kind, h, w, flat, nearest, index, frac)
+    _native.taps_of(base.kind, h, w, flat, nearest, index, frac)
     src = np.ascontiguousarray(img.reshape(-1, img.shape[-1]))
     out = np.empty((index.shape[0], src.shape[1]), src.dtype)
     if nearest:
-        _gather.gather_nearest(src, index, out)
+        _native.gather_nearest(src, index, out)
     else:
-        _gather.gather_bilinear(src, index, frac.astype(src.dtype, copy=False), out)
+        _native.gather_bilinear(src, index, frac.astype(src.dtype, copy=False), out)
     out[~np.isfinite(flat).all(axis=1)] = np.nan
     return env.shaped(out.reshape(d.shape[:-1] + (img.shape[-1],)))
 

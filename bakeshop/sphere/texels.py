@@ -28,13 +28,13 @@ import math
 from collections.abc import Iterator, Sequence
 from typing import Literal, NamedTuple, overload
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, with_article
-from bakeshop.sphere import _maps
+from bakeshop.sphere import _native
 from bakeshop.sphere._cache import ByteBoundedCache
+from bakeshop.sphere._kinds import CUBE, LATLONG
 from bakeshop.sphere.cube import cube_to_view
 from bakeshop.sphere.layouts import Layout, layout
 from bakeshop.sphere.layouts.cubemap import _cube_face_solid_angles
@@ -103,7 +103,7 @@ def check_environment(image: ArrayLike, layout_name: str | Layout) -> Environmen
 
 
 def _check_finite(a: np.ndarray) -> None:
-    nan, inf, first = _count_nonfinite(a.reshape(-1))
+    nan, inf, first = _native.count_nonfinite(a.reshape(-1))
     if nan or inf:
         where = np.unravel_index(first // a.shape[-1], a.shape[:-1])
         place = ", ".join(f"{n} {i}" for n, i in zip(_AXES[-len(where) :], where, strict=True))
@@ -115,32 +115,6 @@ def _check_finite(a: np.ndarray) -> None:
 
 
 _AXES = ("face", "row", "column")
-
-
-@numba.njit(parallel=True, cache=True)
-def _count_nonfinite(flat: np.ndarray) -> tuple[int, int, int]:  # pragma: no cover - compiled
-    """(NaNs, infinities, flat index of the first non-finite value or -1)."""
-    chunks = 64
-    n = flat.shape[0]
-    nans = np.zeros(chunks, np.int64)
-    infs = np.zeros(chunks, np.int64)
-    firsts = np.full(chunks, -1, np.int64)
-    for c in numba.prange(chunks):
-        for k in range(c * n // chunks, (c + 1) * n // chunks):
-            v = flat[k]
-            if not np.isfinite(v):
-                if v != v:
-                    nans[c] += 1
-                else:
-                    infs[c] += 1
-                if firsts[c] < 0:
-                    firsts[c] = k
-    first = -1
-    for c in range(chunks):
-        if firsts[c] >= 0:
-            first = firsts[c]
-            break
-    return nans.sum(), infs.sum(), first
 
 
 class Texels(NamedTuple):
@@ -302,13 +276,16 @@ class _RowGeometry:
         self.lay, self.shape = lay, shape
         self.h, self.w, self.faces = lay.grid(shape)
         self.kind = lay.kind
-        self.trig = _maps.latlong_trig(self.h, self.w) if self.kind == _maps.LATLONG else _NO_TRIG
+        self.trig = _NO_TRIG
+        if self.kind == LATLONG:
+            self.trig = np.empty((4, max(self.h, self.w)))
+            _native.latlong_trig(self.h, self.w, self.trig)
         self._full: np.ndarray | None = None
-        if self.kind == _maps.LATLONG:
+        if self.kind == LATLONG:
             # the bands of LatLong.solid_angles, computed whole so that they are the same numbers
             c = np.cos(np.pi * np.arange(self.h + 1) / self.h)
             self._band = (c[:-1] - c[1:]) * (2 * np.pi / self.w)
-        elif self.kind == _maps.CUBE and lay.base is lay:
+        elif self.kind == CUBE and lay.base is lay:
             # a face's table is cached (8 bytes a texel): large faces are computed as needed
             self._face = _cube_face_solid_angles(self.h) if self.h <= 1024 else None
 
@@ -318,9 +295,9 @@ class _RowGeometry:
         return self._full
 
     def solid_angles(self, r0: int, r1: int) -> np.ndarray:
-        if self.kind == _maps.LATLONG:
+        if self.kind == LATLONG:
             return np.repeat(self._band[r0:r1], self.w)
-        if self.kind == _maps.CUBE and self.lay.base is self.lay:
+        if self.kind == CUBE and self.lay.base is self.lay:
             if self._face is None:
                 return _cube_rows_solid_angles(self.h, r0, r1).reshape(-1)
             return self._face[np.arange(r0, r1) % self.h].reshape(-1)
@@ -329,7 +306,7 @@ class _RowGeometry:
     def directions(self, r0: int, r1: int) -> np.ndarray:
         out = np.empty(((r1 - r0) * self.w, 3))
         if self.lay.base is self.lay:
-            _row_directions(self.kind, self.h, self.w, r0, r1, self.trig, out)
+            _native.row_directions(self.kind, self.h, self.w, r0, r1, self.trig, out)
             return out
         return self._view_directions(np.arange(r0 * self.w, r1 * self.w))
 
@@ -341,12 +318,12 @@ class _RowGeometry:
     def at(self, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         if self.lay.base is self.lay:
             dirs = np.empty((len(index), 3))
-            _index_directions(self.kind, self.h, self.w, index, self.trig, dirs)
+            _native.index_directions(self.kind, self.h, self.w, index, self.trig, dirs)
         else:
             dirs = self._view_directions(index)
-        if self.kind == _maps.LATLONG:
+        if self.kind == LATLONG:
             omega = self._band[index // self.w]
-        elif self.kind == _maps.CUBE and self.lay.base is self.lay:
+        elif self.kind == CUBE and self.lay.base is self.lay:
             if self._face is None:
                 j, i = np.divmod(index % (self.h * self.w), self.w)
                 omega = _cube_texel_solid_angles(self.h, j, i)
@@ -397,43 +374,6 @@ def _cube_texel_solid_angles(s: int, j: np.ndarray, i: np.ndarray) -> np.ndarray
     return corner(y1, x1) - corner(y0, x1) - corner(y1, x0) + corner(y0, x0)
 
 
-@numba.njit(cache=True, inline="always")
-def _texel_direction(  # pragma: no cover - compiled
-    kind: int, h: int, w: int, row: int, i: int, trig: np.ndarray
-) -> tuple[float, float, float]:
-    # texel i of flat row ``row`` (face row // h): latlong as the separable products of
-    # LatLong.directions, the others as Layout.directions_at computes them
-    if kind == _maps.LATLONG:
-        st = trig[2, row]
-        return st * trig[0, i], trig[3, row], -st * trig[1, i]
-    f = row // h
-    return _maps.direction(kind, h, w, f, i + 0.5, row - f * h + 0.5)
-
-
-@numba.njit(parallel=True, cache=True)
-def _row_directions(  # pragma: no cover - compiled
-    kind: int, h: int, w: int, r0: int, r1: int, trig: np.ndarray, out: np.ndarray
-) -> None:
-    for r in numba.prange(r1 - r0):
-        row = out[r * w : (r + 1) * w]
-        if _maps.is_cubic(kind):
-            f = (r0 + r) // h
-            _maps.face_row(kind, w, f, r0 + r - f * h, row[:, 0], row[:, 1], row[:, 2])
-            continue
-        for i in range(w):
-            row[i, 0], row[i, 1], row[i, 2] = _texel_direction(kind, h, w, r0 + r, i, trig)
-
-
-@numba.njit(parallel=True, cache=True)
-def _index_directions(  # pragma: no cover - compiled
-    kind: int, h: int, w: int, index: np.ndarray, trig: np.ndarray, out: np.ndarray
-) -> None:
-    for p in numba.prange(index.shape[0]):
-        row = index[p] // w
-        i = index[p] - row * w
-        out[p, 0], out[p, 1], out[p, 2] = _texel_direction(kind, h, w, row, i, trig)
-
-
 #: cosines of recent (layout, shape, axis): a fresnel bake and its exposure share them.
 _cosines = ByteBoundedCache("texel cosines", 1 << 28)
 
@@ -477,23 +417,9 @@ def _texel_cosines(lay: Layout, shape: tuple, up: tuple) -> np.ndarray:
     else:
         h, w, faces = lay.grid(shape)
         out = np.empty(shape)
-        _cosine_kernel(lay.kind, faces, h, w, np.array(up), out.reshape(-1))
+        _native.texel_cosines(lay.kind, faces, h, w, np.array(up), out.reshape(-1))
     out.setflags(write=False)
     return out
-
-
-@numba.njit(cache=True, parallel=True)
-def _cosine_kernel(  # pragma: no cover - compiled
-    kind: int, faces: int, h: int, w: int, up: np.ndarray, out: np.ndarray
-) -> None:
-    for row in numba.prange(faces * h):
-        f, j = divmod(row, h)
-        for i in range(w):
-            if _maps.valid(kind, h, w, f, i, j):
-                dx, dy, dz = _maps.direction(kind, h, w, f, i + 0.5, j + 0.5)
-                out[row * w + i] = dx * up[0] + dy * up[1] + dz * up[2]
-            else:
-                out[row * w + i] = np.nan
 
 
 #: Largest shape whose valid texels are counted one by one (a float64 array of solid angles).

@@ -3,27 +3,23 @@
 :func:`remap_part_taps` gives, for a rectangle of one face of the destination, the source taps
 and fractions of every texel: the same numbers, computed by the same scalar maps in the same
 order, as the plan that :func:`bakeshop.sphere.remap` builds for the whole destination
-(:mod:`bakeshop.sphere._gather`). :func:`taps_window` says which rows and columns of the source
-they read (the window a task must load; a latlong's longitude wraps, so a window may be two
-column ranges), :func:`localise_taps` renumbers the taps into that window, and
-:func:`gather_taps` blends them exactly as the plan's gather does. A remap computed part by part
+(``src/sphere/windows.hpp`` and ``gather.hpp``). :func:`taps_window` says which rows and
+columns of the source they read (the window a task must load; a latlong's longitude wraps, so
+a window may be two column ranges), :func:`localise_taps` renumbers the taps into that window,
+and :func:`gather_taps` blends them exactly as the plan's gather does. A remap computed part by part
 from windows (:mod:`bakeshop.huge`) is therefore bit-identical to the in-memory remap for the
 ``nearest`` and ``bilinear`` filters.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop.errors import ArgumentError, validate_choice
-from bakeshop.sphere import _gather
-from bakeshop.sphere._gather import _plan_direction
-from bakeshop.sphere._maps import LATLONG, coordinates, latlong_trig, latlong_xy, resolve, valid
+from bakeshop.sphere import _native
 from bakeshop.sphere.layouts import Layout, layout
 from bakeshop.sphere.rotation import key_matrix, rotation_key
 
@@ -35,55 +31,6 @@ __all__ = [
     "sample_taps",
     "taps_window",
 ]
-
-
-@numba.njit(parallel=True, cache=True, error_model="numpy")
-def _part_taps(
-    skind: int,
-    sh: int,
-    sw: int,
-    dkind: int,
-    dh: int,
-    dw: int,
-    rot: np.ndarray,
-    f: int,
-    j0: int,
-    j1: int,
-    i0: int,
-    i1: int,
-    nearest: bool,
-    taps: np.ndarray,
-    frac: np.ndarray,
-) -> None:
-    # pragma: no cover - compiled; the arithmetic of _gather.plan and plan_exceptions, per texel
-    trig = latlong_trig(dh, dw)
-    nw = i1 - i0
-    for r in numba.prange(j1 - j0):
-        j = j0 + r
-        for c in range(nw):
-            i = i0 + c
-            p = r * nw + c
-            x, y, z = _plan_direction(dkind, dh, dw, f, i, j, rot, trig)
-            sf = 0
-            if skind == LATLONG:
-                sx, sy = latlong_xy(sh, sw, x, y, z)
-            else:
-                sf, sx, sy = coordinates(skind, sh, sw, x, y, z)
-            if not valid(dkind, dh, dw, f, i, j) or not (abs(sx) < 1e18 and abs(sy) < 1e18):
-                for k in range(taps.shape[1]):
-                    taps[p, k] = -1
-            elif nearest:
-                a, b = int(math.floor(sx)), int(math.floor(sy))
-                taps[p, 0] = resolve(skind, sh, sw, sf, a, b, sx)
-            else:
-                xf, yf = sx - 0.5, sy - 0.5
-                x0, y0 = math.floor(xf), math.floor(yf)
-                frac[p, 0], frac[p, 1] = xf - x0, yf - y0
-                a, b = int(x0), int(y0)
-                taps[p, 0] = resolve(skind, sh, sw, sf, a, b, sx)
-                taps[p, 1] = resolve(skind, sh, sw, sf, a + 1, b, sx)
-                taps[p, 2] = resolve(skind, sh, sw, sf, a, b + 1, sx)
-                taps[p, 3] = resolve(skind, sh, sw, sf, a + 1, b + 1, sx)
 
 
 def remap_part_taps(
@@ -137,7 +84,8 @@ def remap_part_taps(
     taps = np.empty((n, 1 if nearest else 4), np.int32)
     frac = np.empty((0 if nearest else n, 2), np.float32)
     rot = key_matrix(rotation_key(rotation))
-    _part_taps(s.kind, sh, sw, d.kind, dh, dw, rot, face, j0, j1, i0, i1, nearest, taps, frac)
+    _native.part_taps(s.kind, sh, sw, d.kind, dh, dw, rot, face, j0, j1, i0, i1, nearest, taps,
+                      frac)  # fmt: skip
     return taps, frac
 
 
@@ -187,25 +135,10 @@ def gather_taps(window_flat: np.ndarray, taps: np.ndarray, frac: np.ndarray) -> 
     src = np.ascontiguousarray(window_flat)
     out = np.empty((taps.shape[0], src.shape[1]), src.dtype)
     if taps.shape[1] == 1:
-        _gather.gather_nearest(src, taps, out)
+        _native.gather_nearest(src, taps, out)
     else:
-        _gather.gather_bilinear(src, taps, frac, out)
+        _native.gather_bilinear(src, taps, frac, out)
     return out
-
-
-@numba.njit(parallel=True, cache=True)
-def _latlong_window(  # pragma: no cover - compiled
-    h: int, w: int, top: int, bottom: int, left: int, right: int, dirs: np.ndarray
-) -> None:
-    trig = latlong_trig(h, w)
-    nw = right - left
-    for r in numba.prange(bottom - top):
-        st, ct = trig[2, top + r], trig[3, top + r]
-        for c in range(nw):
-            p = r * nw + c
-            dirs[p, 0] = st * trig[0, left + c]
-            dirs[p, 1] = ct
-            dirs[p, 2] = -st * trig[1, left + c]
 
 
 def latlong_window_geometry(
@@ -221,7 +154,7 @@ def latlong_window_geometry(
         raise ArgumentError(f"window {rows} x {cols} is outside a latlong of shape {shape}")
     n = (bottom - top) * (right - left)
     dirs = np.empty((n, 3))
-    _latlong_window(h, w, top, bottom, left, right, dirs)
+    _native.latlong_window(h, w, top, bottom, left, right, dirs)
     c = np.cos(np.pi * np.arange(top, bottom + 1) / h)
     band = (c[:-1] - c[1:]) * (2 * np.pi / w)
     return dirs, np.repeat(band, right - left)
@@ -243,5 +176,5 @@ def sample_taps(
     nearest = filter == "nearest"
     taps = np.empty((len(flat), 1 if nearest else 4), np.int32)
     frac = np.empty((0 if nearest else len(flat), 2), np.float32)
-    _gather.taps_of(lay.kind, h, w, flat, nearest, taps, frac)
+    _native.taps_of(lay.kind, h, w, flat, nearest, taps, frac)
     return taps, frac

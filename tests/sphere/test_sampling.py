@@ -408,14 +408,14 @@ def test_area_filter_near_one_to_one_is_the_area_average(probe, src, dst, size):
      (4, 400, 10, (30, 50, 10)), (1, 60, 200, (30, 50, 10))],
 )  # fmt: skip
 def test_a_cube_texels_overlaps_with_a_latlongs_texels(face, j, i, rotation):
-    """A 512^2 cube's texel into a 2048x1024 latlong (``_cube_latlong.latlong_taps``: at the
+    """A 512^2 cube's texel into a 2048x1024 latlong (``latlong_taps``, cube_latlong.hpp: at the
     equator's side, round a pole, beside a pole, rotated) against 400 x 400 points over the
     texel (one at random in each cell of a 400 x 400 grid), each weighted by its solid angle
     (|d_axis|^3 on a face) and binned by the latlong texel it falls in: every overlap within
     3e-4 of the texel's solid angle (measured 2e-5 to 1e-4, and 6e-6 to 2e-5 with 1600 x 1600
     points: the points' own error)."""
-    from bakeshop.sphere._cube_latlong import latlong_taps
-    from bakeshop.sphere._maps import CUBE, directions_at
+    from bakeshop.sphere._kinds import CUBE
+    from bakeshop.sphere._native import directions_at, latlong_taps
 
     rot = np.eye(3) if rotation is None else rotation_matrix(*rotation)
     omega = layout("cube").solid_angles((6, 512, 512))[face, j, i]

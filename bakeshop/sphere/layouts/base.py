@@ -1,7 +1,8 @@
 """The base class of every panorama layout, and the limits on layout sizes.
 
-The layouts' formulas are the numba functions of :mod:`bakeshop.sphere._maps`, imported by the
-methods that run them: naming a layout (a command's ``--help``, its options) loads no numba."""
+The layouts' formulas are the compiled maps of :mod:`bakeshop.sphere._native`
+(``src/sphere/maps.hpp``), imported by the methods that run them: naming a layout (a command's
+``--help``, its options) loads no extension."""
 
 from __future__ import annotations
 
@@ -120,9 +121,9 @@ class Layout:
         if not self.cubic:
             flat = np.concatenate([np.zeros((len(flat), 1)), flat], axis=1)
         out = np.empty((len(flat), 3))
-        from bakeshop.sphere import _maps
+        from bakeshop.sphere import _native
 
-        _maps.directions_at(self.kind, h, w, np.ascontiguousarray(flat), out)
+        _native.directions_at(self.kind, h, w, np.ascontiguousarray(flat), out)
         return out.reshape(c.shape[:-1] + (3,))
 
     def _centres(self, shape: tuple[int, ...]) -> np.ndarray:
@@ -160,9 +161,9 @@ class Layout:
         h, w, _ = self.grid(shape)
         d = _dirs_array(dirs)
         out = np.empty((d.size // 3, 3))
-        from bakeshop.sphere import _maps
+        from bakeshop.sphere import _native
 
-        _maps.coordinates_of(self.kind, h, w, np.ascontiguousarray(d.reshape(-1, 3)), out)
+        _native.coordinates_of(self.kind, h, w, np.ascontiguousarray(d.reshape(-1, 3)), out)
         coords = out.reshape(d.shape[:-1] + (3,))
         return coords if self.cubic else coords[..., 1:]
 

@@ -43,9 +43,9 @@ class LatLong(Layout):
         # bit-identical to the general path: the same trigonometry as remap's plans)
         shape = self.check_shape(shape)
         dirs = np.empty(shape + (3,))
-        from bakeshop.sphere import _maps
+        from bakeshop.sphere import _native
 
-        _maps.latlong_directions(dirs)
+        _native.latlong_directions(dirs)
         return dirs, self._valid(shape)
 
     def solid_angles(self, shape: Sequence[int]) -> np.ndarray:

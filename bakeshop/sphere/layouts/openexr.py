@@ -123,18 +123,18 @@ class OpenEXRCube(Layout):
         face = np.clip(np.floor(c[..., 1] / s), 0, 5)
         fxy = np.stack([face, c[..., 0], c[..., 1] - face * s], axis=-1).reshape(-1, 3)
         out = np.empty((len(fxy), 3))
-        from bakeshop.sphere import _maps
+        from bakeshop.sphere import _native
 
-        _maps.directions_at(self.kind, s, s, np.ascontiguousarray(fxy), out)
+        _native.directions_at(self.kind, s, s, np.ascontiguousarray(fxy), out)
         return out.reshape(c.shape[:-1] + (3,))
 
     def coordinates(self, dirs: ArrayLike, shape: Sequence[int]) -> np.ndarray:
         s = self.face_size(shape)
         d = _dirs_array(dirs)
         out = np.empty((d.size // 3, 3))
-        from bakeshop.sphere import _maps
+        from bakeshop.sphere import _native
 
-        _maps.coordinates_of(self.kind, s, s, np.ascontiguousarray(d.reshape(-1, 3)), out)
+        _native.coordinates_of(self.kind, s, s, np.ascontiguousarray(d.reshape(-1, 3)), out)
         fxy = out.reshape(d.shape[:-1] + (3,))
         return np.stack([fxy[..., 1], fxy[..., 0] * s + fxy[..., 2]], axis=-1)
 
