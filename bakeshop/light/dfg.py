@@ -38,15 +38,13 @@ https://www.unrealengine.com/blog/physically-based-shading-on-mobile
 
 from __future__ import annotations
 
-import math
-
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, validate_choice, with_article
-from bakeshop.light.specular import BLOCK_LOOKUPS, ggx_half_vector, hammersley
+from bakeshop.light import _native
+from bakeshop.light.specular import BLOCK_LOOKUPS, hammersley
 from bakeshop.resources import Cost, require, seconds_of
 
 VISIBILITIES = ("height-correlated", "schlick")
@@ -62,81 +60,6 @@ TABLE_BYTES = 56
 SAMPLES_PER_SECOND = 6e7
 
 __all__ = ["VISIBILITIES", "dfg_terms", "dfg_table", "dfg_table_cost", "dfg_approximation"]
-
-
-@numba.njit(cache=True, inline="always")
-def _visibility(n_dot_l: float, n_dot_v: float, alpha: float, schlick: bool) -> float:
-    """Smith visibility V = G / (4 n.l n.v) for GGX."""
-    if schlick:
-        k = 0.5 * alpha
-        g_v = n_dot_v / (n_dot_v * (1.0 - k) + k)
-        g_l = n_dot_l / (n_dot_l * (1.0 - k) + k)
-        return g_v * g_l / (4.0 * n_dot_l * n_dot_v)
-    a2 = alpha * alpha
-    lam_v = n_dot_l * math.sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2)
-    lam_l = n_dot_v * math.sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2)
-    return 0.5 / (lam_v + lam_l)
-
-
-@numba.njit(cache=True, parallel=True)
-def _dfg_kernel(
-    n_dot_v: np.ndarray, roughness: np.ndarray, xi: np.ndarray, schlick: bool, out: np.ndarray
-) -> None:
-    n = n_dot_v.size
-    count = xi.shape[0]
-    for p in numba.prange(n):
-        nv = min(max(n_dot_v[p], 1e-6), 1.0)
-        alpha = roughness[p] * roughness[p]
-        vx = math.sqrt(max(0.0, 1.0 - nv * nv))
-        vz = nv
-        a = 0.0
-        b = 0.0
-        for s in range(count):
-            hx, hy, hz = ggx_half_vector(xi[s, 0], xi[s, 1], alpha)
-            v_dot_h = vx * hx + vz * hz
-            lz = 2.0 * v_dot_h * hz - vz
-            if lz <= 0.0 or v_dot_h <= 0.0:
-                continue
-            # pdf(l) = D(h) (n.h) / (4 v.h), so f (n.l) / pdf = V (n.l) 4 (v.h) / (n.h) * F.
-            weight = _visibility(lz, nv, alpha, schlick) * 4.0 * lz * v_dot_h / hz
-            fc = (1.0 - v_dot_h) ** 5
-            a += (1.0 - fc) * weight
-            b += fc * weight
-        out[p, 0] = a / count
-        out[p, 1] = b / count
-
-
-@numba.njit(cache=True, parallel=True)
-def _dfg_grid(
-    n_dot_v: np.ndarray, roughness: np.ndarray, xi: np.ndarray, schlick: bool, out: np.ndarray
-) -> None:
-    """:func:`_dfg_kernel` on the grid ``roughness`` (rows) x ``n_dot_v`` (columns): each row's
-    half vectors are drawn once and reused along it (the same numbers, a fraction of the work)."""
-    count = xi.shape[0]
-    width = n_dot_v.size
-    for row in numba.prange(roughness.size):
-        alpha = roughness[row] * roughness[row]
-        h = np.empty((count, 3))
-        for s in range(count):
-            h[s, 0], h[s, 1], h[s, 2] = ggx_half_vector(xi[s, 0], xi[s, 1], alpha)
-        for col in range(width):
-            nv = min(max(n_dot_v[col], 1e-6), 1.0)
-            vx = math.sqrt(max(0.0, 1.0 - nv * nv))
-            vz = nv
-            a = 0.0
-            b = 0.0
-            for s in range(count):
-                hx, hz = h[s, 0], h[s, 2]
-                v_dot_h = vx * hx + vz * hz
-                lz = 2.0 * v_dot_h * hz - vz
-                if lz <= 0.0 or v_dot_h <= 0.0:
-                    continue
-                weight = _visibility(lz, nv, alpha, schlick) * 4.0 * lz * v_dot_h / hz
-                fc = (1.0 - v_dot_h) ** 5
-                a += (1.0 - fc) * weight
-                b += fc * weight
-            out[row * width + col, 0] = a / count
-            out[row * width + col, 1] = b / count
 
 
 def dfg_terms(
@@ -186,7 +109,7 @@ def dfg_terms(
     with progress.task("DFG table", total=nv.size * samples) as task:
         for a in range(0, nv.size, step):
             b = min(nv.size, a + step)
-            _dfg_kernel(flat_nv[a:b], flat_r[a:b], xi, schlick, out[a:b])
+            _native.dfg_terms(flat_nv[a:b], flat_r[a:b], xi, schlick, out[a:b])
             task.advance((b - a) * samples)
     return out.reshape(nv.shape + (2,))
 
@@ -232,7 +155,9 @@ def dfg_table(
     require(dfg_table_cost(size, samples=samples))
     centres = (np.arange(size) + 0.5) / size
     out = np.empty((size * size, 2))
-    _dfg_grid(centres, centres, hammersley(samples), visibility == "schlick", out)
+    # each row's half vectors are drawn once and reused along it (the same numbers as
+    # dfg_terms, a fraction of the work)
+    _native.dfg_grid(centres, centres, hammersley(samples), visibility == "schlick", out)
     return out.reshape(size, size, 2).astype(np.float32)
 
 

@@ -49,13 +49,12 @@ import operator
 from collections.abc import Iterable, Iterator, Sequence
 from typing import Any
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bakeshop import progress
+from bakeshop import progress, threads
 from bakeshop.errors import ArgumentError, validate_choice, with_article
-from bakeshop.light import sh
+from bakeshop.light import _native, sh
 from bakeshop.resources import Cost, require, seconds_of
 from bakeshop.sphere import STRIP_TEXELS, Environment, Layout, check_environment, texel_strips
 from bakeshop.sphere import layout as get_layout
@@ -127,62 +126,6 @@ def irradiance_cost(
     return Cost(memory, m, what, seconds)
 
 
-@numba.njit(parallel=True, fastmath=True, cache=True)
-def _cosine_sum(  # pragma: no cover - compiled
-    normals: np.ndarray,
-    dirs: np.ndarray,
-    energy: np.ndarray,
-    groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-    supers: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-    out: np.ndarray,
-) -> None:
-    # out[i, c] = sum_j energy[c, j] * max(0, normals[i] . dirs[:, j]), with the sources
-    # sorted into cones (groups: members starts[g]..starts[g+1]) and the cones into larger
-    # cones (supers: groups starts[s]..starts[s+1]). A cone wholly below the horizon of n adds
-    # nothing; one wholly above it adds n . linear[c] (= sum_j e_cj w_j) exactly; only the
-    # cones the horizon crosses are opened. Float64 throughout; fastmath only lets the
-    # reductions vectorise.
-    g_starts, g_axes, g_sin, g_linear = groups
-    s_starts, s_axes, s_sin, s_linear = supers
-    for i in numba.prange(normals.shape[0]):
-        nx, ny, nz = normals[i, 0], normals[i, 1], normals[i, 2]
-        acc = np.zeros(3)
-        for s in range(s_axes.shape[0]):
-            c = nx * s_axes[s, 0] + ny * s_axes[s, 1] + nz * s_axes[s, 2]
-            if c < -s_sin[s] - 1e-12:
-                continue
-            if c > s_sin[s] + 1e-12:
-                for k in range(3):
-                    acc[k] += (
-                        nx * s_linear[s, k, 0] + ny * s_linear[s, k, 1] + nz * s_linear[s, k, 2]
-                    )
-                continue
-            for g in range(s_starts[s], s_starts[s + 1]):
-                c = nx * g_axes[g, 0] + ny * g_axes[g, 1] + nz * g_axes[g, 2]
-                if c < -g_sin[g] - 1e-12:
-                    continue
-                if c > g_sin[g] + 1e-12:
-                    for k in range(3):
-                        acc[k] += (
-                            nx * g_linear[g, k, 0] + ny * g_linear[g, k, 1] + nz * g_linear[g, k, 2]
-                        )
-                    continue
-                a0 = 0.0
-                a1 = 0.0
-                a2 = 0.0
-                for j in range(g_starts[g], g_starts[g + 1]):
-                    c = max(nx * dirs[0, j] + ny * dirs[1, j] + nz * dirs[2, j], 0.0)
-                    a0 += c * energy[0, j]
-                    a1 += c * energy[1, j]
-                    a2 += c * energy[2, j]
-                acc[0] += a0
-                acc[1] += a1
-                acc[2] += a2
-        out[i, 0] = acc[0]
-        out[i, 1] = acc[1]
-        out[i, 2] = acc[2]
-
-
 def _cones(
     d: np.ndarray, e: np.ndarray, starts: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -215,7 +158,8 @@ def _groups(
     tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
     tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
 ]:
-    """Sort sources into two levels of cone-bounded groups for :func:`_cosine_sum`.
+    """Sort sources into two levels of cone-bounded groups for the cosine sum kernel
+    (``src/light/diffuse.hpp``).
 
     Small cones of angular size h ~ (8 pi / N)**(1/3), nested in cones 8 times larger:
     per normal, every large cone is tested, the small cones of the ~2 pi / (8 h) large ones
@@ -300,40 +244,22 @@ def cosine_sum(
     if n.shape[0] * w.shape[0] ** (2 / 3) > 1e8:  # about a second of work or more
         blocks = progress.track(blocks, description)
     for start in blocks:
-        _cosine_sum(n[start : start + _BLOCK], *grouped, out[start : start + _BLOCK])
+        d, e, groups, supers = grouped
+        _native.cosine_sum(
+            n[start : start + _BLOCK], d, e, *groups, *supers, out[start : start + _BLOCK]
+        )
     return out[:, :channels]
 
 
-@numba.njit(cache=True)
-def _bin_of(x: float, y: float, z: float, size: int) -> int:  # pragma: no cover - compiled
-    # A private spatial hash of directions: cube-face bins, size x size per face, that nest
-    # (bin i at 2*size holds bins 2i and 2i+1). Not a panorama layout: faces are unoriented.
-    ax, ay, az = abs(x), abs(y), abs(z)
-    if ax >= ay and ax >= az:
-        face, u, v, m = (0 if x > 0 else 1), y, z, ax
-    elif ay >= az:
-        face, u, v, m = (2 if y > 0 else 3), x, z, ay
-    else:
-        face, u, v, m = (4 if z > 0 else 5), x, y, az
-    if m == 0.0:
-        return 0
-    i = min(int((u / m + 1.0) * 0.5 * size), size - 1)
-    j = min(int((v / m + 1.0) * 0.5 * size), size - 1)
-    return (face * size + j) * size + i
-
-
-@numba.njit(parallel=True, cache=True)
-def _bins(dirs: np.ndarray, subset: np.ndarray, size: int) -> np.ndarray:  # pragma: no cover
-    count = subset.shape[0] if subset.shape[0] > 0 else dirs.shape[0]
-    out = np.empty(count, np.int64)
-    for k in numba.prange(count):
-        t = subset[k] if subset.shape[0] > 0 else np.int64(k)
-        out[k] = _bin_of(dirs[t, 0], dirs[t, 1], dirs[t, 2], size)
+def _bins(dirs: np.ndarray, subset: np.ndarray, size: int) -> np.ndarray:
+    """The cube-face bin at ``size`` of each texel (of all, or of those listed in ``subset``):
+    a private spatial hash of directions whose bins nest (``src/light/diffuse.hpp``)."""
+    out = np.empty(len(subset) if len(subset) else len(dirs), np.int64)
+    _native.bins(dirs, subset, size, out)
     return out
 
 
-@numba.njit(parallel=True, cache=True)
-def _accumulate(  # pragma: no cover - compiled
+def _accumulate(
     values: np.ndarray,
     dirs: np.ndarray,
     omega: np.ndarray,
@@ -344,56 +270,23 @@ def _accumulate(  # pragma: no cover - compiled
     size: int,
     colour: int,
 ) -> np.ndarray:
-    # Row b of the result sums, over texel k (of all texels, or of those listed in subset)
-    # with index[k] == b: its energy per channel, its weight (sum over the first ``colour``
-    # channels of |energy|: alpha is carried, but it is no light),
-    # weight * direction, and a count. Chunks of texels run in parallel into partial sums.
-    # With size > 0, index[k] is first set to the texel's bin at that size.
-    channels = values.shape[1]
-    count = index.shape[0]
-    partial = np.zeros((chunks, n_bins, channels + 5))
-    step = (count + chunks - 1) // chunks
-    for c in numba.prange(chunks):
-        for k in range(c * step, min(count, (c + 1) * step)):
-            t = subset[k] if subset.shape[0] > 0 else np.int64(k)
-            if size > 0:
-                index[k] = _bin_of(dirs[t, 0], dirs[t, 1], dirs[t, 2], size)
-            b = index[k]
-            partial[c, b, channels + 4] += 1.0
-            w = omega[t]
-            if w == 0.0:
-                continue
-            total = 0.0
-            for ch in range(channels):
-                e = values[t, ch] * w
-                partial[c, b, ch] += e
-                if ch < colour:
-                    total += abs(e)
-            partial[c, b, channels] += total
-            for a in range(3):
-                partial[c, b, channels + 1 + a] += total * dirs[t, a]
-    return partial.sum(axis=0)
+    """Row b sums, over the texels k (of all, or of those listed in ``subset``) with
+    ``index[k] == b``: their energy per channel, weight (the sum over the first ``colour``
+    channels of ``|energy|``: alpha is carried, but it is no light), weight * direction and
+    count, in ``chunks`` parallel partial sums. With ``size`` > 0, ``index[k]`` is first set
+    to the texel's bin at that size."""
+    sums = np.empty((n_bins, values.shape[1] + 5))
+    _native.accumulate(values, dirs, omega, subset, index, n_bins, chunks, size, colour, sums)
+    return sums
 
 
-@numba.njit(cache=True)
-def _select(  # pragma: no cover - compiled
+def _select(
     index: np.ndarray, subset: np.ndarray, rank: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    # The texels (of all, or of subset) whose bin has a rank >= 0, and that rank.
-    n = 0
-    for k in range(index.shape[0]):
-        if rank[index[k]] >= 0:
-            n += 1
-    chosen = np.empty(n, np.int64)
-    parent = np.empty(n, np.int64)
-    j = 0
-    for k in range(index.shape[0]):
-        r = rank[index[k]]
-        if r >= 0:
-            chosen[j] = subset[k] if subset.shape[0] > 0 else k
-            parent[j] = r
-            j += 1
-    return chosen, parent
+    """The texels (of all, or of ``subset``) whose bin has a rank >= 0, and that rank."""
+    r = rank[index]
+    keep = r >= 0
+    return (subset[keep] if len(subset) else np.flatnonzero(keep)), r[keep]
 
 
 def compress(
@@ -458,7 +351,7 @@ def compress(
             bins = _bins(dirs, subset, size)
             index = 4 * parent + 2 * (bins // size % 2) + bins % 2
             n_bins, fused = 4 * n_parents, 0
-        chunks = min(4 * numba.get_num_threads(), max(1, len(index) // 65536))
+        chunks = min(4 * threads.count(), max(1, len(index) // 65536))
         sums = _accumulate(values, dirs, omega, subset, index, n_bins, chunks, fused, colour)
         weight = sums[:, channels]
         if threshold is None:
@@ -628,20 +521,10 @@ def integrate(
     return cosine_sum(normals, dirs, energy)
 
 
-@numba.njit(parallel=True, cache=True)
-def _energy(values: np.ndarray, omega: np.ndarray, colour: int) -> float:  # pragma: no cover
-    # sum over texels and the colour channels of |L omega|: compress's measure of energy
-    chunks = 16
-    n = values.shape[0]
-    step = (n + chunks - 1) // chunks
-    partial = np.zeros(chunks)
-    for c in numba.prange(chunks):
-        acc = 0.0
-        for t in range(c * step, min(n, (c + 1) * step)):
-            for ch in range(colour):
-                acc += abs(values[t, ch] * omega[t])
-        partial[c] = acc
-    return partial.sum()
+def _energy(values: np.ndarray, omega: np.ndarray, colour: int) -> float:
+    """Sum over texels and the colour channels of ``|L omega|``: :func:`compress`'s measure of
+    energy (16 partial sums, added in order)."""
+    return float(_native.energy(values, omega, colour))
 
 
 def _painted(flat: np.ndarray, start: int, stop: int, fill: Any) -> np.ndarray:

@@ -16,13 +16,13 @@ C. Schlick, "An Inexpensive BRDF Model for Physically-based Rendering", Computer
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop import progress, sphere
 from bakeshop.errors import ArgumentError, validate_choice
 from bakeshop.image import CLIP_FRACTION, exposure, fit_exposure, srgb_decode, to_srgb8
+from bakeshop.light import _native
 from bakeshop.sphere import check_environment, texel_cosines
 
 #: Index of refraction of water at visible wavelengths (about 20 C, 589 nm).
@@ -90,29 +90,8 @@ def fresnel_dielectric(cos_i: ArrayLike, ior: float = WATER_IOR) -> np.ndarray:
     n = _check_ior(ior)
     c = _cosines(cos_i)
     out = np.empty(c.shape, np.float64)
-    _reflectance_array(np.ascontiguousarray(c, dtype=np.float64).reshape(-1), n, out.reshape(-1))
+    _native.reflectance(np.ascontiguousarray(c, dtype=np.float64).reshape(-1), n, out.reshape(-1))
     return out.astype(c.dtype, copy=False)
-
-
-@numba.njit(cache=True, inline="always")
-def _reflectance(c: float, n: float) -> float:
-    """The formula of :func:`fresnel_dielectric` for one cosine (clipped to [0, 1] here)."""
-    if c != c:
-        return c  # NaN
-    c = min(max(c, 0.0), 1.0)
-    g2 = n * n - 1.0 + c * c
-    if g2 <= 0.0:
-        return 1.0  # total internal reflection (only possible for n < 1)
-    g = np.sqrt(g2)
-    a = (g - c) / (g + c)
-    b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0)
-    return 0.5 * a * a * (1.0 + b * b)
-
-
-@numba.njit(cache=True, parallel=True)
-def _reflectance_array(c: np.ndarray, n: float, out: np.ndarray) -> None:
-    for i in numba.prange(c.size):
-        out[i] = _reflectance(c[i], n)
 
 
 def fresnel_schlick(cos_i: ArrayLike, ior: float = WATER_IOR) -> np.ndarray:
@@ -212,8 +191,9 @@ def bake_fresnel(
     a, lay = env.image, env.layout
     shape = a.shape[:-1]
     cos = texel_cosines(lay, shape, up)
-    out = np.empty_like(a)
-    _apply_reflectance(
+    out = np.empty(a.shape, a.dtype)  # C order: the kernel writes it through a flat view
+    # out = image * R(cos) where cos >= 0, 0 below the plane; alpha kept; NaN cos: all 0
+    _native.apply_reflectance(
         cos.reshape(-1),
         n,
         np.ascontiguousarray(a).reshape(-1, a.shape[-1]),
@@ -231,20 +211,6 @@ def bake_fresnel(
         colour = min(a.shape[-1], 3)
         out[lower + (slice(0, colour),)] = fetched[:, :colour] * fresnel_dielectric(-c, n)[:, None]
     return env.shaped(out)
-
-
-@numba.njit(cache=True, parallel=True)
-def _apply_reflectance(
-    cos: np.ndarray, n: float, image: np.ndarray, out: np.ndarray, colour: int
-) -> None:
-    """Out = image * R(cos) where cos >= 0, 0 below the plane; alpha kept; NaN cos: all 0."""
-    for p in numba.prange(cos.size):
-        c = cos[p]
-        r = _reflectance(c, n) if c >= 0.0 else 0.0
-        for k in range(colour):
-            out[p, k] = image[p, k] * r
-        for k in range(colour, image.shape[1]):
-            out[p, k] = image[p, k] if c == c else 0.0
 
 
 #: Fraction of the reflected hemisphere's solid angle that the automatic LDR exposure lets clip.

@@ -44,7 +44,8 @@ source texel on a sunny probe, in a couple of seconds for a 6x256, 9-level chain
    ``Omega_p`` the cube texel's solid angle where the sample lands. The pyramid's faces are
    padded with their neighbours' texels, so bilinear lookups are seamless.
 
-Kernels are numba, parallel over output texels.
+Kernels are compiled (C++ with OpenMP, ``src/light/specular.hpp``), parallel over output
+texels.
 
 References
 ----------
@@ -65,13 +66,12 @@ import functools
 import math
 from collections.abc import Sequence
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from bakeshop import progress
 from bakeshop.errors import ArgumentError, with_article
-from bakeshop.light._specular_kernels import _filter_kernel, _lobe_kernel
+from bakeshop.light import _native
 from bakeshop.resources import Cost, require, seconds_of
 from bakeshop.sphere import Layout, check_environment, remap, remap_cost, sample, valid_texels
 from bakeshop.sphere import layout as get_layout
@@ -146,7 +146,6 @@ def hammersley(count: int) -> np.ndarray:
     return np.stack([i / count, bits.astype(np.float64) / 2.0**32], axis=-1)
 
 
-@numba.njit(cache=True, inline="always")
 def ggx_half_vector(u: float, v: float, alpha: float) -> tuple[float, float, float]:
     """Half vector h (tangent frame, n = +z) distributed as D(h) (n.h) for GGX's ``alpha``.
 
@@ -350,7 +349,7 @@ def _convolve(
         sk, values = source.rest_level(k)
         src_dirs, _ = cube_layout.directions((6, sk, sk))
         acc, total = np.zeros((n, channels)), np.zeros(n)
-        _lobe_kernel(
+        _native.lobe(
             dirs,
             np.ascontiguousarray(src_dirs.reshape(-1, 3)),
             cube_layout.solid_angles((6, sk, sk)).reshape(-1),
@@ -371,7 +370,7 @@ def _convolve(
         step = max(1, BLOCK_LOOKUPS // max(1, count))
         for a in range(0, n, step):
             b = min(n, a + step)
-            _filter_kernel(dirs[a:b], lobe.samples, *source.pyramid, LOD_BIAS, _LOG2_FIT, rgba[a:b])
+            _native.filter(dirs[a:b], lobe.samples, *source.pyramid, LOD_BIAS, _LOG2_FIT, rgba[a:b])
             if task is not None:
                 task.advance((b - a) * lobe.nominal)
         out = rgba[:, :channels]
@@ -397,7 +396,7 @@ def _bright_part(source: _Source, dirs: np.ndarray, size: int, lobe: _Lobe) -> n
         # the lobe depends on n.l alone: its sum over the output texels around each bright
         # texel is the same kernel with the roles swapped (no values, only the totals)
         nothing = np.zeros((dirs.shape[0], 0))
-        _lobe_kernel(
+        _native.lobe(
             source.bright_dirs, dirs, omega, nothing, lobe.ggx, lobe.param, lobe.cos_cut,
             np.zeros((count, 0)), norms,
         )  # fmt: skip
@@ -406,7 +405,7 @@ def _bright_part(source: _Source, dirs: np.ndarray, size: int, lobe: _Lobe) -> n
         reached[:, None], source.bright_values / np.where(reached, norms, 1)[:, None], 0
     )
     acc, total = np.zeros((dirs.shape[0], channels)), np.zeros(dirs.shape[0])
-    _lobe_kernel(
+    _native.lobe(
         dirs,
         source.bright_dirs,
         source.bright_omega,

@@ -11,10 +11,10 @@ import math
 from collections.abc import Iterator
 from typing import Protocol
 
-import numba
 import numpy as np
 
 from bakeshop.image import LUMINANCE_WEIGHTS
+from bakeshop.light import _native
 from bakeshop.sphere import Environment, texel_rows, texel_strips, texels_at
 
 #: some texels: flat indices (n,), colour values (n, colour), directions (n, 3), solid angles (n,).
@@ -137,71 +137,31 @@ class ImageTexels:
 _NO_DIRS = np.zeros((0, 3))
 
 
-@numba.njit(parallel=True, cache=True)
-def _cap(  # pragma: no cover - compiled
-    dirs: np.ndarray, omega: np.ndarray, centre: np.ndarray, cos_limit: float
-) -> np.ndarray:
-    # Indices (ascending) of the texels with a solid angle within acos(cos_limit) of centre.
-    chunks = 64
-    step = (dirs.shape[0] + chunks - 1) // chunks
-    counts = np.zeros(chunks + 1, np.int64)
-    for c in numba.prange(chunks):
-        n = 0
-        for i in range(c * step, min(dirs.shape[0], (c + 1) * step)):
-            cos = dirs[i, 0] * centre[0] + dirs[i, 1] * centre[1] + dirs[i, 2] * centre[2]
-            if cos > cos_limit and omega[i] > 0:
-                n += 1
-        counts[c + 1] = n
-    offsets = np.cumsum(counts)
-    out = np.empty(offsets[-1], np.int64)
-    for c in numba.prange(chunks):
-        j = offsets[c]
-        for i in range(c * step, min(dirs.shape[0], (c + 1) * step)):
-            cos = dirs[i, 0] * centre[0] + dirs[i, 1] * centre[1] + dirs[i, 2] * centre[2]
-            if cos > cos_limit and omega[i] > 0:
-                out[j] = i
-                j += 1
-    return out
+def _cap(dirs: np.ndarray, omega: np.ndarray, centre: np.ndarray, cos_limit: float) -> np.ndarray:
+    """Indices (ascending) of the texels with a solid angle within ``acos(cos_limit)`` of
+    ``centre`` (``src/light/sun_texels.hpp``)."""
+    return _native.cap(dirs, omega, np.asarray(centre, np.float64).reshape(-1), cos_limit)
 
 
-@numba.njit(cache=True, inline="always")
-def _lum(values: np.ndarray, weights: np.ndarray, i: int) -> float:  # pragma: no cover - compiled
-    # texel_luminance of texel i, the same arithmetic in the values' type
-    if values.shape[1] < 3:
-        return values[i, 0]
-    return values[i, 0] * weights[0] + values[i, 1] * weights[1] + values[i, 2] * weights[2]
-
-
-@numba.njit(parallel=True, cache=True)
-def _brightest(  # pragma: no cover - compiled
+def _brightest(
     values: np.ndarray,
     weights: np.ndarray,
     omega: np.ndarray,
-    dirs: np.ndarray,
+    dirs: np.ndarray | None,
     centre: np.ndarray,
     cos_limit: float,
 ) -> int:
-    # The texel of largest luminance among those with a solid angle and at more than
-    # acos(cos_limit) from centre (cos_limit > 1: all of them, dirs unread); -1 if none is
-    # positive. ``weights``: the luminance weights in the values' type.
-    chunks = 64
-    n = values.shape[0]
-    best = np.full(chunks, -1, np.int64)
-    step = (n + chunks - 1) // chunks
-    for c in numba.prange(chunks):
-        top = 0.0
-        for i in range(c * step, min(n, (c + 1) * step)):
-            lum = _lum(values, weights, i)
-            if lum > top and omega[i] > 0:
-                if (
-                    cos_limit > 1.0
-                    or dirs[i, 0] * centre[0] + dirs[i, 1] * centre[1] + dirs[i, 2] * centre[2]
-                    < cos_limit
-                ):
-                    top = lum
-                    best[c] = i
-    k = -1
-    for c in range(chunks):
-        if best[c] >= 0 and (k < 0 or _lum(values, weights, best[c]) > _lum(values, weights, k)):
-            k = best[c]
-    return k
+    """The texel of largest luminance (in the values' type, ``weights`` the luminance weights
+    in it) among those with a solid angle and at more than ``acos(cos_limit)`` from ``centre``
+    (``cos_limit`` > 1: all of them, ``dirs`` unread, None allowed); -1 if none is positive;
+    the first on a tie. 64 chunks whatever the thread count (``src/light/sun_texels.hpp``)."""
+    if values.dtype not in (np.float32, np.float64):
+        values = values.astype(np.float64)
+    weights = np.asarray(weights, values.dtype)
+    if dirs is None:
+        dirs = _NO_DIRS
+    return int(
+        _native.brightest(
+            values, weights, omega, dirs, np.asarray(centre, np.float64).reshape(-1), cos_limit
+        )
+    )

@@ -417,7 +417,7 @@ def test_flat_water_claim_through_opengl(name):
     assert np.mean(err[clean] > 1) <= FLAT_WATER_OVER_ONE
 
 
-@settings(deadline=None)  # the first call loads numba's compiled kernels
+@settings(deadline=None)  # the first call imports the compiled kernels
 @given(
     st.floats(0, 1),
     st.floats(0, 1),

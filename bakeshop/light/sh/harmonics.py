@@ -6,11 +6,12 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
+from bakeshop import threads
 from bakeshop.errors import ArgumentError
+from bakeshop.light import _native
 
 #: the highest order the module accepts (a guard against absurd allocations).
 MAX_ORDER = 256
@@ -81,113 +82,8 @@ def basis(directions: ArrayLike, order: int) -> np.ndarray:
         raise ArgumentError(f"directions must have shape (..., 3), got {d.shape}")
     flat = np.ascontiguousarray(d.reshape(-1, 3))
     out = np.empty((flat.shape[0], (order + 1) ** 2), dtype=np.float64)
-    _basis_rows(flat, order, out)
+    _native.basis_rows(flat, order, out)
     return out.reshape(d.shape[:-1] + (out.shape[-1],))
-
-
-@numba.njit(cache=True)
-def _basis_into(  # pragma: no cover - compiled
-    x: float, y: float, z: float, order: int, out: np.ndarray
-) -> None:
-    # Y(l, m) at one direction into out[l * (l + 1) + m]: the fully normalised associated
-    # Legendre recurrence in z, and (cm, sm) = Re, Im of (x + iy)^m = sin^m (cos m phi, sin m phi).
-    cm, sm = 1.0, 0.0
-    pmm = 0.5 / math.sqrt(math.pi)  # normalised P(m, m) / sin^m
-    root2 = math.sqrt(2.0)
-    for m in range(order + 1):
-        if m > 0:
-            cm, sm = cm * x - sm * y, cm * y + sm * x
-            pmm *= math.sqrt((2 * m + 1) / (2 * m))
-        p_prev, p = 0.0, pmm  # P(l - 1, m), P(l, m) for l = m
-        for l in range(m, order + 1):
-            if l == m + 1:
-                p_prev, p = p, math.sqrt(2 * m + 3) * z * p
-            elif l > m + 1:
-                a = math.sqrt((4 * l * l - 1) / (l * l - m * m))
-                b = math.sqrt(((l - 1) ** 2 - m * m) / (4 * (l - 1) ** 2 - 1))
-                p_prev, p = p, a * (z * p - b * p_prev)
-            if m == 0:
-                out[l * (l + 1)] = p
-            else:
-                out[l * (l + 1) + m] = root2 * p * cm
-                out[l * (l + 1) - m] = root2 * p * sm
-
-
-@numba.njit(parallel=True, cache=True)
-def _basis_rows(dirs: np.ndarray, order: int, out: np.ndarray) -> None:  # pragma: no cover
-    for i in numba.prange(dirs.shape[0]):
-        _basis_into(dirs[i, 0], dirs[i, 1], dirs[i, 2], order, out[i])
-
-
-@numba.njit(parallel=True, cache=True)
-def _project(  # pragma: no cover - compiled
-    values: np.ndarray, dirs: np.ndarray, weights: np.ndarray, order: int, chunks: int
-) -> np.ndarray:
-    # sum_i values[i] * weights[i] * Y(d_i), in parallel chunks, without a basis array.
-    n = (order + 1) ** 2
-    channels = values.shape[1]
-    partial = np.zeros((chunks, n, channels))
-    step = (dirs.shape[0] + chunks - 1) // chunks
-    for c in numba.prange(chunks):
-        y = np.empty(n)
-        for i in range(c * step, min(dirs.shape[0], (c + 1) * step)):
-            w = weights[i]
-            if w == 0.0:
-                continue
-            _basis_into(dirs[i, 0], dirs[i, 1], dirs[i, 2], order, y)
-            for k in range(n):
-                yw = y[k] * w
-                for ch in range(channels):
-                    partial[c, k, ch] += yw * values[i, ch]
-    return partial.sum(axis=0)
-
-
-#: the real SH of order 2 in closed form (the recurrence's values, to rounding): the constants
-#: of Y(0,0), Y(1,m), Y(2,+-2), Y(2,+-1) xy..., Y(2,0) (3z^2 - 1) and Y(2,2) (x^2 - y^2).
-_C0 = 0.5 / math.sqrt(math.pi)
-_C1 = math.sqrt(3 / (4 * math.pi))
-_C2 = math.sqrt(15 / (4 * math.pi))
-_C20 = math.sqrt(5 / (16 * math.pi))
-_C22 = math.sqrt(15 / (16 * math.pi))
-
-
-@numba.njit(parallel=True, cache=True, fastmath=True)
-def _project_order2(  # pragma: no cover - compiled
-    values: np.ndarray, dirs: np.ndarray, weights: np.ndarray, chunks: int
-) -> np.ndarray:
-    # _project for order 2 with the nine polynomials written out: ~3x fewer operations than
-    # the recurrence, the same sums to rounding (fastmath lets the sums vectorise).
-    channels = values.shape[1]
-    partial = np.zeros((chunks, 9, channels))
-    n = dirs.shape[0]
-    step = (n + chunks - 1) // chunks
-    for c in numba.prange(chunks):
-        acc = np.zeros((9, channels))
-        for i in range(c * step, min(n, (c + 1) * step)):
-            w = weights[i]
-            x, y, z = dirs[i, 0], dirs[i, 1], dirs[i, 2]
-            b0 = _C0 * w
-            b1 = _C1 * y * w
-            b2 = _C1 * z * w
-            b3 = _C1 * x * w
-            b4 = _C2 * x * y * w
-            b5 = _C2 * y * z * w
-            b6 = _C20 * (3.0 * z * z - 1.0) * w
-            b7 = _C2 * x * z * w
-            b8 = _C22 * (x * x - y * y) * w
-            for ch in range(channels):
-                v = values[i, ch]
-                acc[0, ch] += b0 * v
-                acc[1, ch] += b1 * v
-                acc[2, ch] += b2 * v
-                acc[3, ch] += b3 * v
-                acc[4, ch] += b4 * v
-                acc[5, ch] += b5 * v
-                acc[6, ch] += b6 * v
-                acc[7, ch] += b7 * v
-                acc[8, ch] += b8 * v
-        partial[c] = acc
-    return partial.sum(axis=0)
 
 
 def project(
@@ -233,11 +129,14 @@ def project(
         raise ArgumentError("the environment has NaN or infinite values; fix or clamp them first")
     if f.dtype not in (np.float32, np.float64):
         f = f.astype(np.float64)
-    chunks = min(4 * numba.get_num_threads(), max(1, w.size // 16384))
+    # parallel partial sums, added in order; order 2 has its nine polynomials written out
+    # (~3x fewer operations than the recurrence, the same sums to rounding)
+    chunks = min(4 * threads.count(), max(1, w.size // 16384))
+    coeffs = np.empty(((order + 1) ** 2, f.shape[1]))
     if order == 2:
-        coeffs = _project_order2(f, d, w, chunks)
+        _native.project_order2(f, d, w, chunks, coeffs)
     else:
-        coeffs = _project(f, d, w, order, chunks)
+        _native.project(f, d, w, order, chunks, coeffs)
     return coeffs[:, 0] if scalar else coeffs
 
 
