@@ -1,7 +1,7 @@
 """Packages whose names load on first use: a command pays only for what it uses.
 
-``import bakeshop.sphere`` used to import every module of the package, and with them numba
-(half a second before any work); a package that calls :func:`export_lazily` instead imports the
+``import bakeshop.sphere`` used to import every module of the package, and with them scipy and
+the area filter's kernels; a package that calls :func:`export_lazily` instead imports the
 module that defines a name when the name is first read (``from bakeshop.sphere import
 guess_layout`` loads the layouts, not the area filter). What a name is and where it is defined
 do not change: the table is checked against every module by the architecture tests.

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 
 from bakeshop._lazy import export_lazily
 
-# names load from their module when first read (numba only with the kernels that need it)
+# names load from their module when first read (scipy and the kernels only where needed)
 export_lazily(
     __name__,
     {

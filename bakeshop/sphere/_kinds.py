@@ -1,5 +1,5 @@
-"""The layouts' kind numbers, by which the kernels of :mod:`bakeshop.sphere._maps` name a layout,
-apart from those kernels so that the layout classes load without numba."""
+"""The layouts' kind numbers, by which the compiled kernels (``src/sphere/maps.hpp``) name a
+layout."""
 
 (
     LATLONG,

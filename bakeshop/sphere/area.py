@@ -27,9 +27,8 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from bakeshop import progress, threads
-from bakeshop.sphere import _gather, _native, _plans
+from bakeshop.sphere import _native, _plans
 from bakeshop.sphere._cache import ByteBoundedCache
-from bakeshop.sphere._gather import EXCEPTION
 from bakeshop.sphere.layouts import MAX_EDGE, MAX_TEXELS, Layout, layout
 from bakeshop.sphere.reductions import box_reduce
 from bakeshop.sphere.rotation import key_matrix
@@ -55,7 +54,7 @@ class _Splat(NamedTuple):
     """The per-source-texel deposits of :func:`_splat` (see ``splat_plan`` in
     ``src/sphere/area.hpp``)."""
 
-    anchor: np.ndarray  # int32 (n,): first output texel of a 3x3 block, EXCEPTION, or -1
+    anchor: np.ndarray  # int32 (n,): first output texel of a 3x3 block, _native.EXCEPTION, or -1
     wq: np.ndarray  # float32 (n, 4): box weights along x and y
     scale: np.ndarray  # float32 (n,): the texel's solid angle
     width: np.ndarray  # float32 (n,): its footprint's narrower width
@@ -227,11 +226,11 @@ def _build(
         # magnifying everywhere (every source texel over 4/3 destination texels long along both
         # of its axes): the area filter is bilinear (an empty plan)
         return np.empty(0, np.int64), np.empty(0, np.int32), np.empty(0, np.float32)
-    where = np.flatnonzero(splat.anchor == EXCEPTION)
+    where = np.flatnonzero(splat.anchor == _native.EXCEPTION)
     merged = _merge(s, src_shape, d, dst_shape, rot, omega, where, splat.parts)
     if len(where):
         _native.deposit_exceptions(where, *merged, splat.width, splat.acc)
-        splat.anchor[where] = EXCEPTION - np.arange(len(where), dtype=np.int32)
+        splat.anchor[where] = _native.EXCEPTION - np.arange(len(where), dtype=np.int32)
     m = splat.acc.shape[1]
     alpha, inverse = np.empty(m, np.float32), np.empty(m, np.float32)
     omega_out = d.solid_angles(dst_shape).reshape(-1)
@@ -392,7 +391,7 @@ def supersample(
         rows = (top * k, bottom * k)
         plan = _plans.build(s.name, src_shape, d.name, fine, "bilinear", rotation, rows=rows)
         samples = np.empty((len(plan[0]), c), flat.dtype)
-        _gather.gather_plan_clamped(flat, sw, *plan, clamp, samples)
+        _native.gather_plan_clamped(flat, sw, *plan, clamp, samples)
         _, _, _, omega = next(texel_strips(d, fine, rows=rows, texels=1 << 62, directions=False))
         box_reduce(samples.reshape(-1, k * dw, c), omega.reshape(-1, k * dw), k, out[top:bottom])
     if len(bright):
@@ -495,7 +494,7 @@ def sample_taps_of(
     h, w, _ = s.grid(shape)
     taps = np.empty((len(dirs), 4), np.int32)
     frac = np.empty((len(dirs), 2), np.float32)
-    _gather.taps_of(s.kind, h, w, np.ascontiguousarray(dirs), False, taps, frac)
+    _native.taps_of(s.kind, h, w, np.ascontiguousarray(dirs), False, taps, frac)
     return taps, frac
 
 

@@ -17,7 +17,7 @@ Filters:
 
 Geometry is computed once per (source layout and shape, destination layout and shape,
 rotation, filter) and cached (:mod:`bakeshop.sphere._plans`, :mod:`bakeshop.sphere.area`):
-applying a cached plan is one numba-parallel gather over the output.
+applying a cached plan is one parallel gather over the output.
 """
 
 from __future__ import annotations
@@ -50,7 +50,7 @@ PLAN_BYTES = {"nearest": 4, "bilinear": 12}
 #: margin).
 AREA_SOURCE_BYTES = 80
 AREA_OUTPUT_BYTES = 180
-#: bytes any remap may hold besides (geometry tables, numba's scratch).
+#: bytes any remap may hold besides (geometry tables, the kernels' scratch).
 REMAP_OVERHEAD = 16 << 20
 #: what a supersampled area remap (large sources, :func:`bakeshop.sphere.area.supersample`)
 #: holds besides its output: a part's samples (taps, fractions, values, weights: ~96 bytes

@@ -1,4 +1,4 @@
-"""Before/after cases of bakeshop.light's kernels (issue 32): numba at b7d1cc9, C++ after.
+"""Before/after cases of bakeshop.light's kernels (issue 32): the old JIT at b7d1cc9, C++ after.
 
 Each case calls a function whose name and signature are the same on both sides; the inputs are
 made here, outside the timed thunks. The environment is a synthetic sky: a smooth gradient with

@@ -1,4 +1,4 @@
-"""Before/after cases of the motion slice's kernels (issue 32): numba (main before the port)
+"""Before/after cases of the motion slice's kernels (issue 32): the old JIT (main before the port)
 against the C++ kernels of bakeshop.water and bakeshop.buoyancy. Each case runs a function
 whose name and signature exist in both trees; the inputs are made here, outside the thunks."""
 

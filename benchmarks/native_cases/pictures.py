@@ -1,6 +1,6 @@
 """Before/after cases of the `pictures` slice of issue 32 (bakeshop.image display and resize,
 bakeshop.normals blend, tiling and transfer, bakeshop.photo merge): each thunk calls a public
-function whose name and signature are the same under numba (main before the port) and the C++
+function whose name and signature are the same under the old JIT (main before the port) and the C++
 kernels, on inputs built once here."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Before/after cases of the area filter's kernels (issue 32, slice sphere-area): each thunk
-runs a function of bakeshop.sphere whose name and signature are the same under numba (main at
+runs a function of bakeshop.sphere whose name and signature are the same under the old JIT (main at
 b7d1cc9) and compiled; the inputs are built here, outside the thunks."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 // The built-in integrator's step (bakeshop/buoyancy/builtin.py): semi-implicit Euler over the
-// bodies, in numba's operation order (3x3 products summed over j = 0, 1, 2).
+// bodies, in the old JIT's operation order (3x3 products summed over j = 0, 1, 2).
 #pragma once
 
 #include <cmath>

@@ -117,7 +117,7 @@ inline void accumulate(const double* hits_y, const int64_t* hits_w, const int64_
             if (winding <= 0) continue;
             const double ya = hits_y[order[h]];
             const double yb = hits_y[order[h + 1]];
-            // int() truncates toward zero, as numba did
+            // int() truncates toward zero, as the old JIT did
             const double ta = std::trunc((ya - y0) / cell), tb = std::trunc((yb - y0) / cell);
             const index_t ja =
                 ta > 0 ? (ta >= static_cast<double>(ny) ? ny : static_cast<index_t>(ta)) : 0;

@@ -87,7 +87,7 @@ inline RgbeResult rgbe_decode_serial(const uint8_t* data, index_t n, index_t pos
       }
     } else {
       index_t j = 0;
-      index_t shift = 0;  // grows by 8 a repeat record (int64, as numba had it)
+      index_t shift = 0;  // grows by 8 a repeat record (int64, as the old JIT had it)
       while (j < scanlen) {
         if (pos + 4 > n) return {kTruncated, s, pos};
         if (data[pos] == 1 && data[pos + 1] == 1 && data[pos + 2] == 1) {
@@ -170,7 +170,7 @@ inline RgbeWalk rgbe_scan(const uint8_t* data, index_t n, index_t pos, index_t s
       if (pos > n) return {done, start, 0};
     } else {
       index_t j = 0;
-      index_t shift = 0;  // grows by 8 a repeat record (int64, as numba had it)
+      index_t shift = 0;  // grows by 8 a repeat record (int64, as the old JIT had it)
       while (j < scanlen) {
         if (pos + 4 > n) return {done, start, 0};
         if (data[pos] == 1 && data[pos + 1] == 1 && data[pos + 2] == 1) {

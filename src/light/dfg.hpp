@@ -26,7 +26,7 @@ inline Vec3 ggx_half_vector(double u, double v, double alpha) {
   return {sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t};
 }
 
-// x ** 5 as numba unrolls a constant integer power: x * ((x * x) * (x * x)).
+// x ** 5 as the old JIT unrolls a constant integer power: x * ((x * x) * (x * x)).
 inline double pow5(double x) {
   const double x2 = x * x;
   return x * (x2 * x2);

@@ -15,7 +15,7 @@ namespace bakeshop::normals {
 inline double py_max(double a, double b) { return b > a ? b : a; }
 inline double py_min(double a, double b) { return b < a ? b : a; }
 
-// int(math.floor(x)) as numba computes it: out of the int64 range (and NaN) it is INT64_MIN,
+// int(math.floor(x)) as the old JIT computes it: out of the int64 range (and NaN) it is INT64_MIN,
 // the x86 conversion's "integer indefinite", without C++'s undefined behaviour.
 inline int64_t floor_int(double x) {
   const double f = std::floor(x);
@@ -58,7 +58,7 @@ inline bool chain_ok(const Chain& c, index_t count) {
 }
 
 // out += weight * the bilinear sample at texel coordinates (x, y) of the (h, w) level whose first
-// texel is texels[base]; each of the two sums is rounded to T as numba's `out[k] +=` did.
+// texel is texels[base]; each of the two sums is rounded to T as the old JIT's `out[k] +=` did.
 template <class T>
 inline void bilinear_add(const Chain& c, int64_t base, int64_t h, int64_t w, double x, double y,
                          bool wrap, double weight, T* out) {

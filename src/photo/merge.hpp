@@ -1,7 +1,7 @@
 // The merge of an exposure stack into HDR radiance with its confidence
 // (bakeshop/photo/merge.py's module notes): per pixel, the weighted mean of the unclipped
 // frames' estimates, an optional ghost test against the median frame, and the status of the
-// pixels no frame votes for. The float32 products and float64 sums are numba's, operation for
+// pixels no frame votes for. The float32 products and float64 sums are the old JIT's, operation for
 // operation.
 #pragma once
 

@@ -1,6 +1,6 @@
 // The area filter's geometry (bakeshop/sphere/area.py drives it; matrix.hpp makes the deposits
 // a matrix): source texels' footprints in the destination, their deposits (box overlaps, of
-// the whole texel or of its parts) and the blend towards bilinear. The arithmetic is the numba
+// the whole texel or of its parts) and the blend towards bilinear. The arithmetic is the old JIT
 // kernels', operation for operation (float32 where they stored float32).
 #pragma once
 
@@ -247,7 +247,7 @@ struct Part {
 
 // part_footprint from the source directions at the part's centre (x, y, z) and at the
 // midpoints of its right (a) and lower (b) edges. (The solid angle is taken with the centre
-// already rotated and the edges not yet, as the numba kernel did.)
+// already rotated and the edges not yet, as the old JIT kernel did.)
 inline Part part_of(double x, double y, double z, double ax, double ay, double az, double bx,
                     double by, double bz, const double* rot, int dkind, index_t dh, index_t dw) {
   const Vec3 r = rotate_t(rot, x, y, z);
@@ -356,7 +356,7 @@ inline index_t merge_taps(int32_t* taps, float* weights, index_t o, index_t e, d
       }
       for (index_t m = o; m < e; ++m) {
         if (n > 0 && taps[o + n - 1] == taps[m]) {
-          weights[o + n - 1] += weights[m];  // float32, as numba's
+          weights[o + n - 1] += weights[m];  // float32, as the old JIT's
         } else {
           taps[o + n] = taps[m];
           weights[o + n] = weights[m];

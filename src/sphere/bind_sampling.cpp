@@ -172,38 +172,6 @@ void bind_sampling(nb::module_& m) {
         sphere::latlong_trig(h, w, out.data());
       },
       "h"_a, "w"_a, "out"_a.noconvert(), release_gil());
-  // the scalar maps, for Python (bakeshop.sphere.kernels)
-  m.def(
-      "direction",
-      [](int kind, index_t h, index_t w, double f, double x, double y) {
-        check_kind(kind, h, w);
-        const sphere::Vec3 d = sphere::direction(kind, h, w, f, x, y);
-        return std::make_tuple(d.x, d.y, d.z);
-      },
-      "kind"_a, "h"_a, "w"_a, "f"_a, "x"_a, "y"_a);
-  m.def(
-      "coordinates",
-      [](int kind, index_t h, index_t w, double x, double y, double z) {
-        check_kind(kind, h, w);
-        const sphere::Coords c = sphere::coordinates(kind, h, w, x, y, z);
-        return std::make_tuple(c.f, c.x, c.y);
-      },
-      "kind"_a, "h"_a, "w"_a, "x"_a, "y"_a, "z"_a);
-  m.def(
-      "cube_face",
-      [](double x, double y, double z) {
-        const sphere::Face c = sphere::cube_face(x, y, z);
-        return std::make_tuple(c.f, c.sc, c.tc);
-      },
-      "x"_a, "y"_a, "z"_a);
-  m.def(
-      "valid",
-      [](int kind, index_t h, index_t w, double f, index_t i, index_t j) {
-        check_kind(kind, h, w);
-        return sphere::valid(kind, h, w, f, i, j);
-      },
-      "kind"_a, "h"_a, "w"_a, "f"_a, "i"_a, "j"_a);
-
   // --- gather.hpp -----------------------------------------------------------------------------
   m.attr("EXCEPTION") = sphere::EXCEPTION;
   m.def(

@@ -1,7 +1,7 @@
 // The area filter's exact deposits of a cube texel into a latlong's texels: its overlaps with
-// them, integrated (bakeshop/sphere/_cube_latlong.py; the area filter's splat_exceptions calls
+// them, integrated (the area filter's splat_exceptions calls
 // latlong_taps for every texel of a cube cut into parts on its way to a latlong). The same
-// arithmetic as the numba functions it replaces, operation for operation.
+// arithmetic as the old JIT functions it replaces, operation for operation.
 #pragma once
 
 #include <algorithm>

@@ -1,10 +1,10 @@
-// The remap plan and gather kernels (bakeshop/sphere/_gather.py): nearest and seam-aware
+// The remap plan and gather kernels (bakeshop/sphere/_plans.py): nearest and seam-aware
 // bilinear taps, built once per (source, destination, rotation) and applied as one parallel
-// gather. The same arithmetic as the numba kernels they replace, operation for operation: the
+// gather. The same arithmetic as the old JIT kernels they replace, operation for operation: the
 // nearest and bilinear results are bit-identical.
 //
-// Types: an image's weights are computed in its type T (float32 stays float32) where numba
-// computed them so, and in double where numba's int-float promotion made them double (the
+// Types: an image's weights are computed in its type T (float32 stays float32) where the old JIT
+// computed them so, and in double where the old JIT's int-float promotion made them double (the
 // seam/corner blend `bilinear_corner`, the clamped gather).
 #pragma once
 
@@ -111,7 +111,7 @@ inline std::vector<double> latlong_table(index_t h, index_t w) {
 }
 
 // The weights (1 - fx)(1 - fy), fx (1 - fy), (1 - fx) fy, fx fy of fractions of type F as
-// numba typed them: `1 - fx` is a double (int - float32 promotes), `fx * fy` stays an F.
+// the old JIT typed them: `1 - fx` is a double (int - float32 promotes), `fx * fy` stays an F.
 template <class F>
 inline void promoted_weights(F fx, F fy, double w[4]) {
   const double dx = fx, dy = fy;
@@ -410,7 +410,7 @@ inline void gather_bilinear(const T* src, index_t n_src, index_t nc, const int32
 }
 
 // gather_plan of the source with every value clamped to at most `clamp` (values in double,
-// weights as numba promoted them: promoted_weights of the float32 fractions).
+// weights as the old JIT promoted them: promoted_weights of the float32 fractions).
 template <class T>
 inline void gather_plan_clamped(const T* src, index_t n_src, index_t nc, index_t row,
                                 const int32_t* base, index_t count, const float* frac,
@@ -435,7 +435,7 @@ inline void gather_plan_clamped(const T* src, index_t n_src, index_t nc, index_t
       for (int q = 0; q < 4; ++q) {
         if (t[q] >= 0) {
           const double s = src[t[q] * nc + c];
-          v[q] = clamp < s ? clamp : s;  // numba's min(s, clamp)
+          v[q] = clamp < s ? clamp : s;  // the old JIT's min(s, clamp)
         } else {
           v[q] = 0.0;
         }

@@ -1,5 +1,5 @@
 // The layouts' maps as scalar inline functions: the one implementation of each formula
-// (bakeshop/sphere/_maps.py's numba functions, with the same names and arguments).
+// (bit-identical to the JIT functions of bakeshop/sphere/_maps.py they replaced).
 //
 // A layout is named by a kind number (Kind, bakeshop/sphere/_kinds.py) and two integers (h, w)
 // (a cube: h = w = S). Texel coordinates are (face, x, y) with texel i's centre at x = i + 0.5;
@@ -7,7 +7,7 @@
 // prefilters call these functions, so a direction is computed the same way everywhere.
 //
 // The arithmetic is the Python's, operation for operation (the build has -ffp-contract=off), so
-// that the results are bit-identical to the numba kernels they replace.
+// that the results are bit-identical to the old JIT kernels they replace.
 #pragma once
 
 #include <algorithm>
@@ -78,7 +78,7 @@ inline index_t trunc_index(double v) {
 }
 // int(math.floor(v)).
 inline index_t floor_index(double v) { return trunc_index(std::floor(v)); }
-// Python's a % b (b > 0; the sign of b); 0 for b == 0 as numba's error_model="numpy".
+// Python's a % b (b > 0; the sign of b); 0 for b == 0 as the old JIT's error_model="numpy".
 inline index_t py_mod(index_t a, index_t b) {
   if (b == 0) return 0;
   index_t r = a % b;

@@ -82,7 +82,7 @@ inline void splat_rows(const int32_t* anchor, index_t n, const float* wq, const 
                 continue;
               }
               indices[e] = static_cast<int32_t>(p);
-              // float32 throughout, as numba's float32 x float32
+              // float32 throughout, as the old JIT's float32 x float32
               values[e] = weights[e2] * alpha[q] * inverse[q];
             }
             cur[q] += 1;
@@ -146,7 +146,7 @@ inline void bilinear_rows(const float* alpha, index_t m, index_t row, const int3
       errors.fail("bilinear_rows: no fractions for a texel");
       continue;
     }
-    // as numba typed them: fx, fy float32, 1 - fx float64, fx * fy a float32 product
+    // as the old JIT typed them: fx, fy float32, 1 - fx float64, fx * fy a float32 product
     const float fx = frac[2 * q], fy = frac[2 * q + 1];
     const double w0 = (1 - static_cast<double>(fx)) * (1 - static_cast<double>(fy));
     const double w1 = fx * (1 - static_cast<double>(fy));
@@ -265,7 +265,7 @@ inline void area_gather(const T* src, index_t nc, const int64_t* indptr, const i
       double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
       for (int64_t e = indptr[q]; e < indptr[q + 1]; ++e) {
         const T* s = src + static_cast<index_t>(indices[e]) * nc + c;
-        // a float32 weight: its products with float32 texels are float32 (as numba's were)
+        // a float32 weight: its products with float32 texels are float32 (as the old JIT's were)
         const float w = values[e];
         s0 += w * s[0];
         if (k > 1) s1 += w * s[1];

@@ -1,6 +1,6 @@
 // Texel geometry and checks (bakeshop/sphere/texels.py): directions of rows or single texels,
 // cosines to an axis, and the count of non-finite values of an environment. The directions are
-// the maps' (maps.hpp), bit-identical to the numba kernels these replace.
+// the maps' (maps.hpp), bit-identical to the old JIT kernels these replace.
 #pragma once
 
 #include <cmath>

@@ -41,7 +41,7 @@ inline void part_taps(int skind, index_t sh, index_t sw, int dkind, index_t dh, 
       if (!valid(dkind, dh, dw, static_cast<double>(f), i, j) || !finite_coordinate(sx, sy)) {
         for (index_t k = 0; k < cols; ++k) t[k] = -1;
       } else if (nearest) {
-        // (resolve of the texel containing the point, as numba's _part_taps did: unlike
+        // (resolve of the texel containing the point, as the old JIT's _part_taps did: unlike
         // nearest_texel, a cube face does not own its far edges here)
         t[0] = static_cast<int32_t>(resolve(skind, sh, sw, sf, floor_index(sx), floor_index(sy), sx));
       } else {

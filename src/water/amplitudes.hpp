@@ -24,7 +24,7 @@ inline void mode_normals(uint64_t seed, const int64_t* mx, const int64_t* my, in
   const double two_pi = 2.0 * M_PI;
   for (index_t i = 0; i < count; ++i) {
     uint64_t state = splitmix64(base ^ static_cast<uint64_t>(mx[i]));
-    // int64 product wrapping as numba's (done unsigned: signed overflow is undefined in C++)
+    // int64 product wrapping as the old JIT's (done unsigned: signed overflow is undefined in C++)
     state = splitmix64(state ^ (static_cast<uint64_t>(my[i]) * 0x5851F42Dull));
     const double u1 = (static_cast<double>(splitmix64(state) >> 11) + 0.5) * scale;
     double u2 = static_cast<double>(splitmix64(state ^ 0xD1B54A32D192ED03ull) >> 11) + 0.5;

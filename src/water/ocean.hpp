@@ -1,7 +1,7 @@
 // Ocean frame synthesis (bakeshop/water/ocean.py): the spectra of a batch of frames (looped
 // through a phase table, or at free times) and the normals of the displaced surface. The
-// complex arithmetic is written out (CPython's and numba's product: ac - bd, ad + bc) so that
-// the results are numba's bit for bit.
+// complex arithmetic is written out (CPython's and the old JIT's product: ac - bd, ad + bc) so that
+// the results are the old JIT's bit for bit.
 #pragma once
 
 #include <cmath>
@@ -90,7 +90,7 @@ void loop_spectra(const std::complex<T>* a, const std::complex<T>* b, const int6
 }
 
 // out[f, p] = (a e^{-i w t_f} + b e^{i w t_f}) mult[p] for arbitrary times; the phase and the
-// products in double (as numba promoted them), stored as complex of T.
+// products in double (as the old JIT promoted them), stored as complex of T.
 template <class T>
 void free_spectra(const std::complex<T>* a, const std::complex<T>* b, const double* omega,
                   index_t rows, index_t cols, const double* times, index_t n_times,
@@ -150,7 +150,7 @@ void normals(const std::complex<T>* slope, const std::complex<T>* stretch,
 }
 
 // Unit normals (-hx, -hy, 1) / |.| of the undisplaced surface (planes as for `normals`); the
-// squares summed in T (as numba typed them), the rest in double.
+// squares summed in T (as the old JIT typed them), the rest in double.
 template <class T>
 void flat_normals(const std::complex<T>* slope, index_t stride, index_t frames, index_t rows,
                   index_t cols, T* out) {

@@ -1,5 +1,5 @@
 // The wave equation of bakeshop/water/ripples.py: one leapfrog step with the 9-point isotropic
-// Laplacian, in numba's operation order (a time stepper: the same order keeps the same bits).
+// Laplacian, in the old JIT's operation order (a time stepper: the same order keeps the same bits).
 #pragma once
 
 #include "common/kernel.hpp"

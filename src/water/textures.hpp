@@ -1,6 +1,6 @@
 // The preview shading of bakeshop/water/textures.py (shade): a normal map seen obliquely,
-// fresnel-weighted sky, a sun's glint. Float32 dot products as numba typed them, the rest in
-// double; powers by squaring as numba unrolls `x ** 5` and `x ** 600`.
+// fresnel-weighted sky, a sun's glint. Float32 dot products as the old JIT typed them, the rest in
+// double; powers by squaring as the old JIT unrolls `x ** 5` and `x ** 600`.
 #pragma once
 
 #include <algorithm>
@@ -9,7 +9,7 @@
 
 namespace bakeshop::water {
 
-// x ** n for a constant integer n >= 0, by numba's square-and-multiply.
+// x ** n for a constant integer n >= 0, by the old JIT's square-and-multiply.
 inline double powi(double x, unsigned n) {
   double r = 1.0;
   while (n != 0) {

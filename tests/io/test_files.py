@@ -279,7 +279,7 @@ def test_a_signal_at_any_moment_of_writing_leaves_no_temporary(tmp_path):
         "                done += 1\n"
         "                if done == 1:\n"  # in the loop of writes: the signal lands amid them
         "                    print('ready', flush=True)\n"
-        "        except BaseException:\n"  # numba may report the signal as a SystemError
+        "        except BaseException:\n"  # a library may report the signal as another error
         "            pass\n"
         "    left = [n for n in os.listdir(sys.argv[1]) if n.startswith('.')]\n"
         "    print(json.dumps([received, left, done]), flush=True)\n"

@@ -75,12 +75,12 @@ class Layout:
 
     # -- the three operations --------------------------------------------------------------------
 
-    #: kind number of the layout in the scalar maps (:mod:`bakeshop.sphere.kernels`).
+    #: kind number of the layout in the scalar maps (``src/sphere/maps.hpp``).
     kind = -1
 
     def grid(self, shape: Sequence[int]) -> tuple[int, int, int]:
         """``(h, w, faces)`` of a spatial shape, as the scalar maps take them
-        (:mod:`bakeshop.sphere.kernels`): a flat layout's ``(H, W, 1)``, the cube's
+        (``src/sphere/maps.hpp``): a flat layout's ``(H, W, 1)``, the cube's
         ``(S, S, 6)``."""
         h, w = self.check_shape(shape)
         return h, w, 1

@@ -1,7 +1,7 @@
 // bakeshop's signed BC6H encoder (bakeshop/io/compress/bc6h_signed.py): the one-subset modes
 // 3, 7, 11 and 15, endpoints on the block's principal axis refitted once by least squares, the
 // mode with the smallest error in the signed q domain kept. Float64 throughout, in the
-// operation order of the numba encoder it replaces (its encodings are bit-identical).
+// operation order of the old JIT encoder it replaces (its encodings are bit-identical).
 #pragma once
 
 #include <algorithm>
