@@ -1,6 +1,6 @@
 """Before/after cases of the io slice's kernels (issue 32): the old JIT (main before the
-port) against the C++ kernels. Each case runs a function whose name and signature exist in both trees; the
-inputs (and the files read) are made here, outside the thunks."""
+port) against the C++ kernels. Each case runs a function whose name and signature exist in both
+trees; the inputs (and the files read) are made here, outside the thunks."""
 
 from __future__ import annotations
 

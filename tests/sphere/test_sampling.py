@@ -443,8 +443,8 @@ def test_a_cube_texels_overlaps_with_a_latlongs_texels(face, j, i, rotation):
 def test_area_filter_from_a_cube_around_a_latlongs_poles_is_the_area_average(rotation):
     """Around a latlong's poles a cube texel covers a few rows and tens of columns; its exact
     overlaps (``src/sphere/cube_latlong.hpp``) make the filter the area average there: noise
-    from a 64^2 cube into a 128x64 latlong, the three rows at each pole against 64 x 64 nearest lookups
-    per output texel (see SPHERE_AREA_POLAR_RRMS)."""
+    from a 64^2 cube into a 128x64 latlong, the three rows at each pole against 64 x 64
+    nearest lookups per output texel (see SPHERE_AREA_POLAR_RRMS)."""
     img = np.random.default_rng(1).random((6, 64, 64, 1)).astype(np.float32)
     ref, valid = brute_force_area_average(img, "cube", "latlong", 64, 64, rotation)
     out = remap(img, "cube", "latlong", 64, filter="area", rotation=rotation)
