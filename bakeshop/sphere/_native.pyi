@@ -138,7 +138,6 @@ def latlong_taps(
 
 # --- end of sampling ---------------------------------------------------------------------------
 
-
 # --- the area filter (src/sphere/bind_area.cpp) ---
 
 def splat_rows(
@@ -200,7 +199,6 @@ def box_reduce(fine: np.ndarray, omega: np.ndarray, k: int, out: np.ndarray) -> 
 def peak_stats(
     values: np.ndarray, omega: np.ndarray, stats: np.ndarray, peaks: np.ndarray
 ) -> None: ...
-
 def splat_plan(
     skind: int,
     sh: int,
