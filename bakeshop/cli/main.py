@@ -16,6 +16,7 @@ import click
 
 from bakeshop import __version__, progress
 from bakeshop.cli._budget import max_time_option
+from bakeshop.cli._numbers import Integer
 from bakeshop.cli._process import ByteSize, record_command_writes, run
 
 #: command name -> (its module, the start of its help as ``--help`` lists it), in the order
@@ -183,10 +184,10 @@ class _Lazy(click.Group):
 )
 @click.option(
     "--threads",
-    type=click.IntRange(1, 4096),
+    type=Integer(1, 4096),
     metavar="N",
     help="Threads of the compiled kernels (default: OMP_NUM_THREADS when set, else every "
-    "processor this process may use); 1 to 4096.",
+    "processor this process may use).",
 )
 def cli(quiet: bool, max_decoded: int | None, threads: int | None) -> None:
     """The content pipeline of a real-time renderer: HDR light probes, panoramas and cube maps,
