@@ -17,7 +17,6 @@ NATIVE := CMakeLists.txt $(shell find src -name '*.cpp' -o -name '*.hpp')
 
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/pip install -q --upgrade pip
 
 $(BIN)/.installed: $(VENV)/bin/python pyproject.toml $(NATIVE)
 	$(BIN)/pip install -q -e '.[preview]'
