@@ -46,16 +46,22 @@ for label, thunk in cases:
     for _ in range(repeats):
         t = time.perf_counter(); thunk(); best = min(best, time.perf_counter() - t)
     found[label] = [first, best]
+import bakeshop
+print(bakeshop.__file__, file=sys.stderr)  # which tree ran
 print(json.dumps(found))
 """
 
 
 def run_cases(python: str, case_file: Path, repeats: int, env: dict[str, str]) -> dict:
-    done = subprocess.run([python, "-c", RUNNER, str(case_file), str(repeats)], env=env,
-                          capture_output=True, text=True, cwd=ROOT)  # fmt: skip
+    # run from an empty folder: `python -c` puts the working folder first on the path, which
+    # must not be a tree holding a bakeshop package
+    with tempfile.TemporaryDirectory() as empty:
+        done = subprocess.run([python, "-c", RUNNER, str(case_file.resolve()), str(repeats)],
+                              env=env, capture_output=True, text=True, cwd=empty)  # fmt: skip
     if done.returncode != 0:
         print(f"  {case_file.name}: failed: {done.stderr.strip().splitlines()[-1:]}")
         return {}
+    print(f"  {case_file.name}: ran {done.stderr.strip().splitlines()[-1]}")
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
