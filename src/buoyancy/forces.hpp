@@ -1,5 +1,5 @@
 // Buoyancy, fluid friction and the predictive stabiliser per sample point
-// (bakeshop/buoyancy/forces.py), one body per loop iteration. Numba ran this kernel with
+// (bakeshop/buoyancy/forces.py), one body per loop iteration. The old JIT ran this kernel with
 // fastmath (its sums could be reordered); here every sum is taken in the points' order.
 #pragma once
 
