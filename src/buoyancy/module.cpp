@@ -11,14 +11,6 @@ using namespace bakeshop;
 
 namespace {
 
-template <class A>
-bool shape_is(const A& a, std::initializer_list<size_t> dims) {
-  size_t i = 0;
-  for (size_t d : dims)
-    if (a.shape(i++) != d) return false;
-  return true;
-}
-
 // offsets (n + 1,) from 0, non-decreasing, ending at or below `total`
 bool csr_ok(const int64_t* offsets, size_t n, int64_t total) {
   if (offsets[0] < 0) return false;

@@ -9,6 +9,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
+#include <initializer_list>
 #include <string>
 
 #include "common/kernel.hpp"
@@ -29,5 +30,14 @@ inline void require(bool ok, const char* what) {
 }
 
 using release_gil = nb::call_guard<nb::gil_scoped_release>;
+
+// Whether array `a`'s leading dimensions are `dims`: require(shape_is(out, {h, w, 3}), "...").
+template <class A>
+bool shape_is(const A& a, std::initializer_list<size_t> dims) {
+  size_t i = 0;
+  for (size_t d : dims)
+    if (a.shape(i++) != d) return false;
+  return true;
+}
 
 }  // namespace bakeshop

@@ -14,14 +14,6 @@ using namespace bakeshop;
 
 namespace {
 
-template <class A>
-bool shape_is(const A& a, std::initializer_list<size_t> dims) {
-  size_t i = 0;
-  for (size_t d : dims)
-    if (a.shape(i++) != d) return false;
-  return true;
-}
-
 template <class T>
 void bind_ocean(nb::module_& m) {
   using C = std::complex<T>;
